@@ -1,0 +1,16 @@
+// CPU backend: kernels/ compiled as C++, run in tiles over all cores.
+#pragma once
+#include "core/image.h"
+#include "cpu/kernel_params.h"
+
+namespace obscura::cpu {
+
+using glsl::HbaoParams;
+
+// AO for every texel of `ao` (same size as depth/normal buffers, p.width x p.height).
+void runHbao(const HbaoParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, int threads);
+
+// Geometry-aware blur of `ao` in place: a horizontal then a vertical pass.
+void runBlur(const HbaoParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, int radius, int threads);
+
+} // namespace obscura::cpu

@@ -1,0 +1,49 @@
+#include "parallel.h"
+
+#include <algorithm>
+#include <atomic>
+#include <exception>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace obscura::cpu {
+
+int resolveThreads(int requested) {
+    if (requested > 0) return requested;
+    unsigned hw = std::thread::hardware_concurrency();
+    return hw > 0 ? (int)hw : 1;
+}
+
+void parallelForTiles(const Box2i& region, int tileSize, int threads, const std::function<void(const Box2i&)>& fn) {
+    if (region.empty()) return;
+    const int tilesX = (region.width() + tileSize - 1) / tileSize;
+    const int tilesY = (region.height() + tileSize - 1) / tileSize;
+    const int tileCount = tilesX * tilesY;
+    std::atomic<int> next{0};
+    std::exception_ptr failure;
+    std::mutex failureMutex;
+    auto worker = [&] {
+        for (int i = next++; i < tileCount; i = next++) {
+            const int tx = i % tilesX, ty = i / tilesX;
+            Box2i tile{region.x0 + tx * tileSize, region.y0 + ty * tileSize, 0, 0};
+            tile.x1 = std::min(tile.x0 + tileSize, region.x1);
+            tile.y1 = std::min(tile.y0 + tileSize, region.y1);
+            try {
+                fn(tile);
+            } catch (...) {
+                std::lock_guard<std::mutex> lock(failureMutex);
+                if (!failure) failure = std::current_exception();
+                next = tileCount; // stop handing out work
+            }
+        }
+    };
+    const int n = std::max(1, std::min(resolveThreads(threads), tileCount));
+    std::vector<std::thread> pool;
+    for (int t = 1; t < n; ++t) pool.emplace_back(worker);
+    worker();
+    for (auto& th : pool) th.join();
+    if (failure) std::rethrow_exception(failure);
+}
+
+} // namespace obscura::cpu

@@ -1,0 +1,52 @@
+// The obscura operator: a pure function over in-memory planes. It knows nothing
+// about files, argv, OFX clips or numpy; hosts adapt their data to these views.
+#pragma once
+#include "camera.h"
+#include "image.h"
+#include "settings.h"
+#include "cpu/kernel_params.h"
+
+#include <string>
+#include <vector>
+
+namespace obscura {
+
+struct OperatorInputs {
+    Box2i displayWindow;        // display window, origin (0,0) by convention
+    Box2i dataWindow;           // the rectangle the planes cover (may exceed the display window)
+    ConstPlane depth;           // 1 channel, required
+    ConstPlane normal;          // 3 channels, required
+    ConstPlane position;        // 3 channels, optional (world space)
+    DepthKind depthKind = DepthKind::Planar;
+    NormalSpace normalSpace = NormalSpace::World;
+    Camera camera;
+};
+
+struct StageTiming {
+    std::string name;
+    double seconds = 0;
+};
+
+struct OperatorStats {
+    long long pixels = 0;
+    long long skyPixels = 0;          // 0, +inf or >= sky depth: skipped, AO = 1
+    long long invalidDepthPixels = 0; // NaN or negative: treated as holes (skipped, AO = 1)
+    long long zeroNormalPixels = 0;   // non-sky pixels whose normal has ~zero length
+    std::string device;               // "cpu (N threads)", ...
+    std::vector<StageTiming> timings;
+};
+
+struct OperatorOutputs {
+    Image ao;                         // 1 channel over the data window
+    OperatorStats stats;
+};
+
+using glsl::HbaoParams;
+
+// The kernel parameter block for these inputs and settings (shared by every backend).
+HbaoParams makeHbaoParams(const OperatorInputs& in, const Settings& settings);
+
+// Throws obscura::Error on inconsistent inputs (sizes, missing camera pose for world normals...).
+OperatorOutputs runOperator(const OperatorInputs& in, const Settings& settings);
+
+} // namespace obscura

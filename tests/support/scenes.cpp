@@ -1,0 +1,125 @@
+#include "support/scenes.h"
+
+#include <cmath>
+#include <limits>
+
+namespace obscura::test {
+
+namespace {
+Camera lookAt(glm::dvec3 eye, glm::dvec3 target) {
+    Camera c;
+    const glm::dvec3 back = glm::normalize(eye - target);               // camera +Z
+    const glm::dvec3 right = glm::normalize(glm::cross(glm::dvec3(0, 1, 0), back));
+    const glm::dvec3 up = glm::cross(back, right);
+    c.cameraToWorld = glm::dmat4(glm::dvec4(right, 0), glm::dvec4(up, 0), glm::dvec4(back, 0), glm::dvec4(eye, 1));
+    c.hasPose = true;
+    return c;
+}
+} // namespace
+
+Camera lookAtPerspective(glm::dvec3 eye, glm::dvec3 target, double hfovRad, int width, int height) {
+    Camera c = lookAt(eye, target);
+    c.projection = Projection::Perspective;
+    c.fx = c.fy = 0.5 * width / std::tan(0.5 * hfovRad);
+    c.cx = 0.5 * width;
+    c.cy = 0.5 * height;
+    c.source = "test";
+    return c;
+}
+
+Camera lookAtOrthographic(glm::dvec3 eye, glm::dvec3 target, double orthoWidth, int width, int height) {
+    Camera c = lookAt(eye, target);
+    c.projection = Projection::Orthographic;
+    c.fx = c.fy = width / orthoWidth;
+    c.cx = 0.5 * width;
+    c.cy = 0.5 * height;
+    c.source = "test";
+    return c;
+}
+
+Rect planeRect(glm::dvec3 point, glm::dvec3 s, glm::dvec3 t, double half) {
+    return Rect{point - half * s - half * t, 2 * half * s, 2 * half * t};
+}
+
+OperatorInputs SceneBuffers::inputs() const {
+    OperatorInputs in;
+    in.displayWindow = display;
+    in.dataWindow = data;
+    in.depth = depth.view();
+    in.normal = normal.view();
+    in.position = position.view();
+    in.depthKind = depthKind;
+    in.normalSpace = NormalSpace::World;
+    in.camera = camera;
+    return in;
+}
+
+bool SceneBuffers::pixelOf(const glm::dvec3& world, int& x, int& y) const {
+    const glm::dvec3 pc = glm::dvec3(glm::inverse(camera.cameraToWorld) * glm::dvec4(world, 1.0));
+    double px, py;
+    if (camera.projection == Projection::Orthographic) {
+        px = camera.cx + camera.fx * pc.x;
+        py = camera.cy - camera.fy * pc.y;
+    } else {
+        px = camera.cx + camera.fx * pc.x / -pc.z;
+        py = camera.cy - camera.fy * pc.y / -pc.z;
+    }
+    x = (int)std::floor(px) - data.x0;
+    y = (int)std::floor(py) - data.y0;
+    return x >= 0 && y >= 0 && x < data.width() && y < data.height();
+}
+
+SceneBuffers renderScene(const std::vector<Rect>& rects, const Camera& cam, Box2i display, Box2i data,
+                         DepthKind depthKind, float skyDepth) {
+    SceneBuffers sb;
+    sb.display = display;
+    sb.data = data;
+    sb.camera = cam;
+    sb.depthKind = depthKind;
+    const int w = data.width(), h = data.height();
+    sb.depth = Image(w, h, 1, skyDepth);
+    sb.normal = Image(w, h, 3, 0.0f);
+    sb.position = Image(w, h, 3, 0.0f);
+    const glm::dmat3 rot(cam.cameraToWorld);
+    const glm::dvec3 eye(cam.cameraToWorld[3]);
+    for (int y = 0; y < h; ++y) {
+        for (int x = 0; x < w; ++x) {
+            const double px = data.x0 + x + 0.5, py = data.y0 + y + 0.5;
+            const glm::dvec3 xy((px - cam.cx) / cam.fx, (cam.cy - py) / cam.fy, 0.0);
+            glm::dvec3 oCam(0.0), dCam(xy.x, xy.y, -1.0);
+            if (cam.projection == Projection::Orthographic) {
+                oCam = glm::dvec3(xy.x, xy.y, 0.0);
+                dCam = glm::dvec3(0, 0, -1);
+            }
+            const glm::dvec3 o = eye + rot * oCam, d = rot * dCam;
+            double best = std::numeric_limits<double>::infinity();
+            glm::dvec3 bestN(0.0);
+            for (const Rect& r : rects) {
+                const glm::dvec3 n = glm::normalize(glm::cross(r.u, r.v));
+                const double denom = glm::dot(n, d);
+                if (std::abs(denom) < 1e-15) continue;
+                const double t = glm::dot(n, r.origin - o) / denom;
+                if (!(t > 1e-9 && t < best)) continue;
+                const glm::dvec3 q = o + t * d - r.origin;
+                const double a = glm::dot(q, r.u) / glm::dot(r.u, r.u);
+                const double b = glm::dot(q, r.v) / glm::dot(r.v, r.v);
+                if (a < 0 || a > 1 || b < 0 || b > 1) continue;
+                best = t;
+                bestN = denom < 0 ? n : -n;
+            }
+            if (!std::isfinite(best)) continue;
+            const glm::dvec3 p = o + best * d;
+            // dCam has z = -1, so t is the planar depth; radial depth is the distance to the eye.
+            *sb.depth.at(x, y) = (float)(depthKind == DepthKind::Radial ? best * glm::length(dCam) : best);
+            float* n = sb.normal.at(x, y);
+            float* pos = sb.position.at(x, y);
+            for (int c = 0; c < 3; ++c) {
+                n[c] = (float)bestN[c];
+                pos[c] = (float)p[c];
+            }
+        }
+    }
+    return sb;
+}
+
+} // namespace obscura::test

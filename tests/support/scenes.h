@@ -1,0 +1,43 @@
+// Analytic test scenes: rectangles ray-cast at pixel centres into exact
+// depth / normal / position planes, through the same camera conventions as obscura.
+#pragma once
+#include "core/camera.h"
+#include "core/image.h"
+#include "core/operator.h"
+
+#include <glm/glm.hpp>
+#include <vector>
+
+namespace obscura::test {
+
+// Points origin + a*u + b*v for a, b in [0, 1]; an infinite plane is a huge rectangle.
+struct Rect {
+    glm::dvec3 origin, u, v;
+};
+
+struct SceneBuffers {
+    Box2i display, data;
+    Image depth, normal, position;  // depth planar (or radial); normal/position world space
+    Camera camera;
+    DepthKind depthKind = DepthKind::Planar;
+
+    OperatorInputs inputs() const;   // views of these buffers, world normals
+    // Pixel (data-window coordinates) where a world point projects; returns false if outside.
+    bool pixelOf(const glm::dvec3& world, int& x, int& y) const;
+};
+
+// Camera at `eye` looking at `target` (OpenGL convention), +Y up.
+Camera lookAtPerspective(glm::dvec3 eye, glm::dvec3 target, double hfovRad, int width, int height);
+Camera lookAtOrthographic(glm::dvec3 eye, glm::dvec3 target, double orthoWidth, int width, int height);
+
+// Ray-casts the rectangles. `data` may be larger than the display (overscan) or offset.
+SceneBuffers renderScene(const std::vector<Rect>& rects, const Camera& cam, Box2i display, Box2i data,
+                         DepthKind depthKind = DepthKind::Planar, float skyDepth = 1e10f);
+inline SceneBuffers renderScene(const std::vector<Rect>& rects, const Camera& cam, int width, int height) {
+    return renderScene(rects, cam, Box2i{0, 0, width, height}, Box2i{0, 0, width, height});
+}
+
+// The rectangle of a plane through `point` spanned by unit vectors s, t, `half` units each way.
+Rect planeRect(glm::dvec3 point, glm::dvec3 s, glm::dvec3 t, double half = 1e4);
+
+} // namespace obscura::test
