@@ -58,20 +58,20 @@ vec3 viewPosition(vec2 displayPos, float depth) {
     return ray * depth;
 }
 
-// S - P for two pixels, without forming S and P: at large depth both are big and
-// nearly equal, and subtracting them would cancel most significant digits.
-// Planar and orthographic: S - P = (dS - dP) rayS + dP (rayS - rayP), where the
-// ray difference comes straight from the pixel offset.
-vec3 viewOffset(vec2 displayP, float depthP, vec2 displayS, float depthS) {
-    vec2 dxy = vec2((displayS.x - displayP.x) * P.invFx, (displayP.y - displayS.y) * P.invFy);
-    float dDepth = depthS - depthP;
+// S - P for a sample `pixelOffset` pixels away from P, without forming S and P: at
+// large depth both are big and nearly equal, and their difference would cancel
+// most significant digits. With rayS = rayP + w (w from the pixel offset alone):
+// S - P = (dS - dP) rayP + dS w, every term small where the answer is small.
+vec3 viewOffset(vec3 rayP, float depthP, vec2 pixelOffset, float depthS) {
+    vec2 w = vec2(pixelOffset.x * P.invFx, -pixelOffset.y * P.invFy);
     if (P.orthographic != 0) {
-        return vec3(dxy, -dDepth);
+        return vec3(w, depthP - depthS);
     }
     if (P.radialDepth != 0) {
-        return viewPosition(displayS, depthS) - viewPosition(displayP, depthP);
+        vec3 rayS = rayP + vec3(w, 0.0f);
+        return rayS * (depthS * inversesqrt(dot(rayS, rayS))) - rayP * (depthP * inversesqrt(dot(rayP, rayP)));
     }
-    return dDepth * viewRay(displayS) + depthP * vec3(dxy, 0.0f);
+    return (depthS - depthP) * rayP + depthS * vec3(w, 0.0f);
 }
 
 // Unit vector towards the eye. Taken from the pixel's ray, not its position, so

@@ -80,12 +80,16 @@ float hbaoPixel(ivec2 texel) {
         float sinB = nV / nLen;
         float sinT = -cosB;                 // tangent elevation: perpendicular to n_p, on the E side
         // Off-slice samples return to the slice along the tangent plane: X' = X - A_t (A.X) / (1 - nA^2).
+        // Folded into the axes, so each sample costs two dot products: xE = E'.X, xV = V'.X.
         float inv = nA / max(1.0f - nA * nA, 1e-6f);
-        float kE = nE * inv;
-        float kV = nV * inv;
+        vec3 sliceE = E + (nE * inv) * A;
+        vec3 sliceV = V + (nV * inv) * A;
 
+        // Branch-free horizon search: a sample that does not count (sky, beyond R, behind the
+        // half-plane, below the tangent) gets the tangent elevation and cannot raise the horizon.
         float sinH = sinT;
-        float sinH2 = sinH * abs(sinH);     // signed square: compares sines without a sqrt per sample
+        float integralT = sliceIntegral(sinT, cosB, sinB, nLen);
+        float integralH = integralT;
         float sliceOcclusion = 0.0f;
         for (int s = 0; s < steps; ++s) {
             float offset = 1.0f + (float(s) + jitter) * stepPixels;
@@ -95,33 +99,26 @@ float hbaoPixel(ivec2 texel) {
                 break; // the image line has left the buffer for good
             }
             float sampleDepth = loadDepth(sampleTexel) * P.depthScale;
-            if (!isSurfaceDepth(sampleDepth)) {
-                continue;
-            }
-            vec3 X = viewOffset(centre, depth, samplePos, sampleDepth);
+            bool surface = isSurfaceDepth(sampleDepth);
+            vec3 X = viewOffset(ray, depth, samplePos - centre, surface ? sampleDepth : depth);
             float r2 = dot(X, X);
-            if (r2 > radius2 || r2 == 0.0f) {
-                continue; // beyond R (the paper ignores it) or the pixel itself
+            float xE = dot(sliceE, X);
+            float xV = dot(sliceV, X);
+            // xE <= 0 only happens when snapping pushed the sample into the opposite half-slice.
+            bool counts = surface && r2 <= radius2 && xE > 0.0f;
+            float sinA = counts ? max(xV * inversesqrt(xE * xE + xV * xV), sinT) : sinT;
+            if (P.linearFalloff != 0) {
+                // Each rise of the horizon is weighted by W(r) of the sample that made it (the paper's
+                // per-sample attenuation). The integral is monotonic above the tangent, so max() tracks it.
+                float integralA = sliceIntegral(sinA, cosB, sinB, nLen);
+                float w = max(1.0f - sqrt(r2) * invRadius, 0.0f);
+                sliceOcclusion += w * max(integralA - integralH, 0.0f);
+                integralH = max(integralH, integralA);
             }
-            float xA = dot(A, X);
-            float xE = dot(E, X) + kE * xA;
-            float xV = dot(V, X) + kV * xA;
-            if (!(xE > 0.0f)) {
-                continue; // only snapping can put a sample behind the slice's half-plane: it belongs to the opposite slice
-            }
-            float q = xE * xE + xV * xV;
-            if (xV * abs(xV) > sinH2 * q) {
-                float sinA = xV * inversesqrt(q);
-                if (P.linearFalloff != 0) {
-                    float w = max(1.0f - sqrt(r2) * invRadius, 0.0f);
-                    sliceOcclusion += w * (sliceIntegral(sinA, cosB, sinB, nLen) - sliceIntegral(sinH, cosB, sinB, nLen));
-                }
-                sinH = sinA;
-                sinH2 = sinH * abs(sinH);
-            }
+            sinH = max(sinH, sinA);
         }
         if (P.linearFalloff == 0) {
-            sliceOcclusion = sliceIntegral(sinH, cosB, sinB, nLen) - sliceIntegral(sinT, cosB, sinB, nLen);
+            sliceOcclusion = sliceIntegral(sinH, cosB, sinB, nLen) - integralT;
         }
         occlusion += sliceOcclusion;
     }

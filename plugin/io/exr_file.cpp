@@ -1,0 +1,422 @@
+#include "io/exr_file.h"
+
+#include "core/error.h"
+
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfInputPart.h>
+#include <OpenEXR/ImfMultiPartInputFile.h>
+#include <OpenEXR/ImfMultiPartOutputFile.h>
+#include <OpenEXR/ImfOutputPart.h>
+#include <OpenEXR/ImfPartType.h>
+#include <OpenEXR/ImfStandardAttributes.h>
+#include <OpenEXR/ImfStringAttribute.h>
+#include <OpenEXR/ImfThreading.h>
+#include <OpenEXR/ImfTiledInputPart.h>
+#include <OpenEXR/ImfTiledOutputPart.h>
+#include <Imath/half.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace obscura {
+namespace {
+
+std::atomic<bool> g_threadsSet{false};
+
+void ensureThreads() {
+    if (!g_threadsSet.load()) setExrThreads(0);
+}
+
+// OpenEXR messages can span lines; users get one.
+std::string oneLine(std::string s) {
+    for (char& c : s)
+        if (c == '\n' || c == '\r') c = ' ';
+    while (!s.empty() && s.back() == ' ') s.pop_back();
+    return s;
+}
+
+// OpenEXR's detail minus its leading 'Error ... file "path".' sentence: we name the file already.
+std::string detail(const std::exception& e) {
+    std::string s = oneLine(e.what());
+    size_t q = s.find(" file \""), end = q == std::string::npos ? q : s.find("\". ", q);
+    if (end != std::string::npos && end + 3 < s.size()) s = s.substr(end + 3);
+    return s;
+}
+
+std::string quoted(const std::string& p) { return "'" + p + "'"; }
+
+size_t bytesPerSample(Imf::PixelType t) { return t == Imf::HALF ? 2 : 4; }
+
+float sampleToFloat(const char* p, Imf::PixelType t) {
+    switch (t) {
+    case Imf::HALF: { half h; std::memcpy(&h, p, 2); return float(h); }
+    case Imf::UINT: { unsigned u; std::memcpy(&u, p, 4); return float(u); }
+    default: { float f; std::memcpy(&f, p, 4); return f; }
+    }
+}
+
+// Samples of `ch` over the part's data window.
+size_t channelSamples(const ExrPart& part, const ExrChannel& ch) {
+    return (size_t)sampleCount(part.dataWindow.x0, part.dataWindow.x1, ch.xSampling) *
+           (size_t)sampleCount(part.dataWindow.y0, part.dataWindow.y1, ch.ySampling);
+}
+
+// Slice over a tightly packed buffer of `ch`'s samples (display coords -> EXR coords via header).
+Imf::Slice makeSlice(const ExrPart& part, const ExrChannel& ch, Imf::PixelType type, const char* data) {
+    const Imath::Box2i& dw = part.header.dataWindow();
+    size_t bps = bytesPerSample(type);
+    size_t nx = (size_t)sampleCount(dw.min.x, dw.max.x + 1, ch.xSampling);
+    return Imf::Slice::Make(type, data, dw, bps, bps * nx, ch.xSampling, ch.ySampling);
+}
+
+// Level 0 of a tiled part, or all of a scanline part.
+void readPart(Imf::MultiPartInputFile& file, int p, const ExrPart& part, const Imf::FrameBuffer& fb) {
+    if (part.tiled) {
+        Imf::TiledInputPart in(file, p);
+        in.setFrameBuffer(fb);
+        in.readTiles(0, in.numXTiles(0) - 1, 0, in.numYTiles(0) - 1, 0, 0);
+    } else {
+        Imf::InputPart in(file, p);
+        in.setFrameBuffer(fb);
+        const Imath::Box2i& dw = part.header.dataWindow();
+        in.readPixels(dw.min.y, dw.max.y);
+    }
+}
+
+bool partComplete(Imf::MultiPartInputFile& file, int p, bool tiled) {
+    if (tiled) return Imf::TiledInputPart(file, p).isComplete();
+    return Imf::InputPart(file, p).isComplete();
+}
+
+// A raw (possibly subsampled) channel -> full-resolution float plane over the data window.
+Image toFloatPlane(const ExrPart& part, const ExrChannel& ch, const char* raw, Imf::PixelType type) {
+    const Box2i& d = part.dataWindow;
+    const Imath::Box2i& dw = part.header.dataWindow();
+    Image img(d.width(), d.height(), 1);
+    size_t bps = bytesPerSample(type);
+    int nx = sampleCount(dw.min.x, dw.max.x + 1, ch.xSampling);
+    auto floorDiv = [](int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); };
+    int sx0 = floorDiv(dw.min.x + ch.xSampling - 1, ch.xSampling);
+    int sy0 = floorDiv(dw.min.y + ch.ySampling - 1, ch.ySampling);
+    for (int y = 0; y < d.height(); ++y) {
+        int sy = floorDiv(dw.min.y + y, ch.ySampling) - sy0;
+        if (sy < 0) sy = 0;
+        for (int x = 0; x < d.width(); ++x) {
+            int sx = floorDiv(dw.min.x + x, ch.xSampling) - sx0;
+            if (sx < 0) sx = 0;
+            img.pixels[(size_t)y * d.width() + x] = sampleToFloat(raw + ((size_t)sy * nx + sx) * bps, type);
+        }
+    }
+    return img;
+}
+
+void checkMagic(const std::string& path) {
+    std::ifstream f(path, std::ios::binary);
+    if (!f) {
+        int err = errno;
+        if (!fs::exists(path)) throw Error("cannot open " + quoted(path) + ": no such file");
+        throw Error("cannot open " + quoted(path) + ": " + std::strerror(err));
+    }
+    if (fs::is_directory(path)) throw Error("cannot open " + quoted(path) + ": it is a directory");
+    unsigned char m[4] = {0, 0, 0, 0};
+    f.read(reinterpret_cast<char*>(m), 4);
+    unsigned magic = m[0] | (m[1] << 8) | (m[2] << 16) | ((unsigned)m[3] << 24);
+    if (f.gcount() != 4 || magic != 20000630u)
+        throw Error(quoted(path) + " is not an OpenEXR file");
+}
+
+} // namespace
+
+int sampleCount(int lo, int hiExclusive, int sampling) {
+    // Samples sit at coordinates divisible by `sampling` (EXR's rule).
+    if (sampling <= 1) return hiExclusive - lo;
+    auto floorDiv = [](int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); };
+    return floorDiv(hiExclusive - 1, sampling) - floorDiv(lo + sampling - 1, sampling) + 1;
+}
+
+int ExrPart::findChannel(const std::string& n) const {
+    for (size_t i = 0; i < channels.size(); ++i)
+        if (channels[i].name == n) return (int)i;
+    return -1;
+}
+
+Box2i toDisplayBox(const Imath::Box2i& w, const Imath::Box2i& disp) {
+    return Box2i{w.min.x - disp.min.x, w.min.y - disp.min.y, w.max.x + 1 - disp.min.x,
+                 w.max.y + 1 - disp.min.y};
+}
+
+void setExrThreads(int n) {
+    if (n <= 0) n = (int)std::max(1u, std::thread::hardware_concurrency());
+    Imf::setGlobalThreadCount(n);
+    g_threadsSet = true;
+}
+
+ExrInfo readExrInfo(const std::string& path) {
+    checkMagic(path);
+    ensureThreads();
+    ExrInfo info;
+    info.path = path;
+    try {
+        Imf::MultiPartInputFile file(path.c_str());
+        int n = file.parts();
+        info.multipart = n > 1;
+        for (int p = 0; p < n; ++p) {
+            const Imf::Header& h = file.header(p);
+            std::string type = h.hasType() ? h.type() : Imf::SCANLINEIMAGE;
+            if (type == Imf::DEEPSCANLINE || type == Imf::DEEPTILE)
+                throw Error(quoted(path) + " holds deep data (part " + std::to_string(p) +
+                            "), which obscura does not support");
+            ExrPart part;
+            part.header = h;
+            part.name = h.hasName() ? h.name() : "";
+            part.tiled = type == Imf::TILEDIMAGE || (!h.hasType() && h.hasTileDescription());
+            for (auto it = h.channels().begin(); it != h.channels().end(); ++it)
+                part.channels.push_back({it.name(), it.channel().type, it.channel().xSampling,
+                                         it.channel().ySampling});
+            part.displayWindow = toDisplayBox(h.displayWindow(), h.displayWindow());
+            part.dataWindow = toDisplayBox(h.dataWindow(), h.displayWindow());
+            info.parts.push_back(std::move(part));
+        }
+    } catch (const Error&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw Error(quoted(path) + " is truncated or corrupt: cannot read its header (" + detail(e) + ")");
+    }
+    return info;
+}
+
+std::vector<Image> readExrChannels(const std::string& path, const ExrInfo& info,
+                                   const std::vector<ChannelRef>& wanted, bool keepAll,
+                                   ExrPixels* out) {
+    const int nParts = (int)info.parts.size();
+    // Resolve wanted channels before touching pixel data: a typo is not corruption.
+    std::vector<int> wantedIdx;
+    for (const ChannelRef& r : wanted) {
+        if (r.part < 0 || r.part >= nParts)
+            throw Error(quoted(path) + " has no part " + std::to_string(r.part));
+        int c = info.parts[r.part].findChannel(r.name);
+        if (c < 0) throw Error(quoted(path) + " has no channel '" + r.name + "'" +
+                               (info.multipart ? " in part " + std::to_string(r.part) : std::string()));
+        wantedIdx.push_back(c);
+    }
+    if (keepAll && !out) throw Error("internal: readExrChannels keepAll needs an output");
+    ensureThreads();
+
+    // Raw buffers: every channel when keeping all; else float buffers for wanted ones only.
+    std::vector<std::vector<std::vector<char>>> raw(nParts);
+    std::vector<std::vector<char>> floats(wanted.size());
+    std::vector<Imf::FrameBuffer> fbs(nParts);
+    std::vector<bool> readIt(nParts, false);
+    for (int p = 0; p < nParts; ++p) {
+        const ExrPart& part = info.parts[p];
+        raw[p].resize(part.channels.size());
+        if (!keepAll) continue;
+        readIt[p] = true;
+        for (size_t c = 0; c < part.channels.size(); ++c) {
+            const ExrChannel& ch = part.channels[c];
+            raw[p][c].resize(channelSamples(part, ch) * bytesPerSample(ch.type));
+            fbs[p].insert(ch.name, makeSlice(part, ch, ch.type, raw[p][c].data()));
+        }
+    }
+    if (!keepAll) {
+        for (size_t i = 0; i < wanted.size(); ++i) {
+            const ExrPart& part = info.parts[wanted[i].part];
+            const ExrChannel& ch = part.channels[wantedIdx[i]];
+            floats[i].resize(channelSamples(part, ch) * 4);
+            fbs[wanted[i].part].insert(ch.name, makeSlice(part, ch, Imf::FLOAT, floats[i].data()));
+            readIt[wanted[i].part] = true;
+        }
+    }
+
+    try {
+        Imf::MultiPartInputFile file(path.c_str());
+        if (file.parts() != nParts) throw Error(quoted(path) + " changed while being read");
+        for (int p = 0; p < nParts; ++p) {
+            if (!readIt[p] || info.parts[p].dataWindow.empty()) continue;
+            if (!partComplete(file, p, info.parts[p].tiled))
+                throw Error(quoted(path) + " is truncated or corrupt: part " + std::to_string(p) +
+                            " is missing pixel data");
+            readPart(file, p, info.parts[p], fbs[p]);
+        }
+    } catch (const Error&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw Error(quoted(path) + " is truncated or corrupt: " + detail(e));
+    }
+
+    std::vector<Image> result;
+    for (size_t i = 0; i < wanted.size(); ++i) {
+        const ExrPart& part = info.parts[wanted[i].part];
+        const ExrChannel& ch = part.channels[wantedIdx[i]];
+        if (keepAll)
+            result.push_back(toFloatPlane(part, ch, raw[wanted[i].part][wantedIdx[i]].data(), ch.type));
+        else
+            result.push_back(toFloatPlane(part, ch, floats[i].data(), Imf::FLOAT));
+    }
+    if (out) {
+        out->info = info;
+        out->raw = std::move(raw);
+    }
+    return result;
+}
+
+namespace {
+
+std::vector<char> encodePlane(const Image& img, Imf::PixelType type) {
+    size_t bps = bytesPerSample(type);
+    std::vector<char> buf(img.pixels.size() * bps);
+    for (size_t i = 0; i < img.pixels.size(); ++i) {
+        float v = img.pixels[i];
+        char* p = buf.data() + i * bps;
+        if (type == Imf::HALF) {
+            half h(v);
+            std::memcpy(p, &h, 2);
+        } else if (type == Imf::UINT) {
+            unsigned u = v > 0 ? (v < 4294967295.0f ? (unsigned)v : 4294967295u) : 0u;  // NaN -> 0
+            std::memcpy(p, &u, 4);
+        } else {
+            std::memcpy(p, &v, 4);
+        }
+    }
+    return buf;
+}
+
+// One part's output header: the input header plus new channels and attributes.
+Imf::Header outputHeader(const ExrPart& part, const std::vector<const NewChannel*>& add,
+                         const std::vector<StringAttribute>& attrs, int p) {
+    Imf::Header h = part.header;
+    Imf::ChannelList list;  // ChannelList has no erase: rebuild it, dropping replaced channels
+    for (auto it = h.channels().begin(); it != h.channels().end(); ++it) {
+        bool replaced = false;
+        for (const NewChannel* nc : add) replaced |= nc->name == it.name();
+        if (!replaced) list.insert(it.name(), it.channel());
+    }
+    for (const NewChannel* nc : add) list.insert(nc->name, Imf::Channel(nc->type));
+    h.channels() = list;
+    for (const StringAttribute& a : attrs)
+        if (a.part == p) h.insert(a.name, Imf::StringAttribute(a.value));
+    if (h.hasTileDescription() && h.tileDescription().mode != Imf::ONE_LEVEL) {
+        // Only level 0 was read; lower levels would have to be rebuilt.
+        Imf::TileDescription td = h.tileDescription();
+        td.mode = Imf::ONE_LEVEL;
+        h.setTileDescription(td);
+    }
+    return h;
+}
+
+void writeParts(const std::string& tmp, const ExrPixels& in,
+                const std::vector<std::vector<const NewChannel*>>& byPart,
+                const std::vector<StringAttribute>& attrs) {
+    const int nParts = (int)in.info.parts.size();
+    std::vector<Imf::Header> headers;
+    for (int p = 0; p < nParts; ++p) headers.push_back(outputHeader(in.info.parts[p], byPart[p], attrs, p));
+    // OpenEXR does not convert on output: new planes go to their channel's type first.
+    std::vector<std::vector<std::vector<char>>> converted(nParts);
+    for (int p = 0; p < nParts; ++p)
+        for (const NewChannel* nc : byPart[p]) converted[p].push_back(encodePlane(nc->plane, nc->type));
+    Imf::MultiPartOutputFile file(tmp.c_str(), headers.data(), nParts);
+    for (int p = 0; p < nParts; ++p) {
+        const ExrPart& part = in.info.parts[p];
+        Imf::FrameBuffer fb;
+        for (size_t c = 0; c < part.channels.size(); ++c) {
+            const ExrChannel& ch = part.channels[c];
+            bool replaced = false;
+            for (const NewChannel* nc : byPart[p]) replaced |= nc->name == ch.name;
+            if (!replaced) fb.insert(ch.name, makeSlice(part, ch, ch.type, in.raw[p][c].data()));
+        }
+        for (size_t i = 0; i < byPart[p].size(); ++i) {
+            const NewChannel* nc = byPart[p][i];
+            ExrChannel ch{nc->name, nc->type, 1, 1};
+            fb.insert(nc->name, makeSlice(part, ch, nc->type, converted[p][i].data()));
+        }
+        if (part.dataWindow.empty()) continue;
+        if (part.tiled) {
+            Imf::TiledOutputPart outPart(file, p);
+            outPart.setFrameBuffer(fb);
+            outPart.writeTiles(0, outPart.numXTiles(0) - 1, 0, outPart.numYTiles(0) - 1, 0, 0);
+        } else {
+            Imf::OutputPart outPart(file, p);
+            outPart.setFrameBuffer(fb);
+            outPart.writePixels(part.dataWindow.height());
+        }
+    }
+}
+
+bool samePath(const std::string& a, const std::string& b) {
+    std::error_code ec;
+    if (fs::exists(a, ec) && fs::exists(b, ec)) return fs::equivalent(a, b, ec);
+    return fs::weakly_canonical(a, ec) == fs::weakly_canonical(b, ec);
+}
+
+} // namespace
+
+void writeExrWithNewChannels(const std::string& outPath, const ExrPixels& in,
+                             const std::vector<NewChannel>& add, bool allowOverwriteInput,
+                             const std::vector<StringAttribute>& attrs) {
+    const ExrInfo& info = in.info;
+    const int nParts = (int)info.parts.size();
+    if (nParts == 0 || (int)in.raw.size() != nParts)
+        throw Error("internal: no pixels kept for pass-through of " + quoted(info.path));
+    for (int p = 0; p < nParts; ++p) {
+        const ExrPart& part = info.parts[p];
+        if (in.raw[p].size() != part.channels.size())
+            throw Error("internal: pixels of " + quoted(info.path) + " were not all kept");
+        for (size_t c = 0; c < part.channels.size(); ++c)
+            if (in.raw[p][c].size() != channelSamples(part, part.channels[c]) * bytesPerSample(part.channels[c].type))
+                throw Error("internal: pixels of " + quoted(info.path) + " were not all kept");
+    }
+    if (!allowOverwriteInput && samePath(outPath, info.path))
+        throw Error("refusing to overwrite the input " + quoted(info.path) + " (use --in-place)");
+
+    std::vector<std::vector<const NewChannel*>> byPart(nParts);
+    for (const NewChannel& nc : add) {
+        if (nc.part < 0 || nc.part >= nParts)
+            throw Error("cannot add channel '" + nc.name + "' to " + quoted(outPath) + ": no part " +
+                        std::to_string(nc.part));
+        const Box2i& d = info.parts[nc.part].dataWindow;
+        if (nc.name.empty() || nc.plane.channels != 1 || nc.plane.width != d.width() ||
+            nc.plane.height != d.height())
+            throw Error("cannot add channel '" + nc.name + "' to " + quoted(outPath) +
+                        ": it needs a name and a 1-channel plane of " +
+                        std::to_string(d.width()) + "x" + std::to_string(d.height()) + " (the data window)");
+        for (const NewChannel* other : byPart[nc.part])
+            if (other->name == nc.name)
+                throw Error("cannot add channel '" + nc.name + "' twice to " + quoted(outPath));
+        byPart[nc.part].push_back(&nc);
+    }
+    for (const StringAttribute& a : attrs)
+        if (a.part < 0 || a.part >= nParts)
+            throw Error("cannot add attribute '" + a.name + "' to " + quoted(outPath) + ": no part " +
+                        std::to_string(a.part));
+
+    fs::path dir = fs::path(outPath).parent_path();
+    if (dir.empty()) dir = ".";
+    if (!fs::is_directory(dir))
+        throw Error("cannot write " + quoted(outPath) + ": directory '" + dir.string() + "' does not exist");
+
+    ensureThreads();
+    std::string tmp = outPath + ".tmp-" + std::to_string((long)::getpid());
+    try {
+        writeParts(tmp, in, byPart, attrs);  // file closed when this returns
+    } catch (const std::exception& e) {
+        std::remove(tmp.c_str());
+        throw Error("cannot write " + quoted(outPath) + ": " + detail(e));
+    }
+    if (std::rename(tmp.c_str(), outPath.c_str()) != 0) {
+        int err = errno;
+        std::remove(tmp.c_str());
+        throw Error("cannot write " + quoted(outPath) + ": rename failed: " + std::strerror(err));
+    }
+}
+
+} // namespace obscura

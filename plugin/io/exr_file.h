@@ -1,0 +1,90 @@
+// EXR file layer: headers, pixel reading (wanted channels as float, everything
+// else raw for pass-through) and atomic writing of a copy with new channels.
+#pragma once
+#include "core/image.h"
+
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfPixelType.h>
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace obscura {
+
+struct ExrChannel {
+    std::string name;
+    Imf::PixelType type = Imf::FLOAT;
+    int xSampling = 1, ySampling = 1;
+};
+
+struct ExrPart {
+    Imf::Header header;            // full header, every attribute kept for pass-through
+    std::string name;              // part name ("" for a single part without a name)
+    std::vector<ExrChannel> channels;  // sorted by name, as in the file
+    Box2i displayWindow, dataWindow;   // display coords: display min = (0,0), half-open
+    bool tiled = false;
+
+    int findChannel(const std::string& name) const;  // index or -1
+};
+
+struct ExrInfo {
+    std::string path;
+    std::vector<ExrPart> parts;
+    bool multipart = false;
+};
+
+// EXR's Box2i (inclusive) -> display-coordinate Box2i (half-open, display min = 0,0).
+Box2i toDisplayBox(const Imath::Box2i& window, const Imath::Box2i& displayWindow);
+
+// Headers only. Errors: missing file, not an EXR (magic number), deep data, unreadable header.
+ExrInfo readExrInfo(const std::string& path);
+
+struct ChannelRef {
+    int part = 0;
+    std::string name;
+};
+
+// Every channel of a file, raw in its own pixel type, for pass-through.
+struct ExrPixels {
+    ExrInfo info;
+    // [part][channel]: tightly packed samples over the data window (subsampled grid if sampled).
+    std::vector<std::vector<std::vector<char>>> raw;
+};
+
+// Number of samples of a channel along x / y over a part's data window.
+int sampleCount(int lo, int hiExclusive, int sampling);
+
+// Reads pixel data once. `wanted` come back as 1-channel float planes over their part's data
+// window (subsampled channels are replicated to full resolution). With keepAll, every channel
+// of every part is also kept raw in *out; otherwise only the wanted channels are decoded.
+// Truncated/corrupt data -> Error("'path' is truncated or corrupt: <detail>").
+std::vector<Image> readExrChannels(const std::string& path, const ExrInfo& info,
+                                   const std::vector<ChannelRef>& wanted, bool keepAll,
+                                   ExrPixels* out);
+
+struct NewChannel {
+    int part = 0;
+    std::string name;
+    Image plane;                    // 1 channel over that part's data window
+    Imf::PixelType type = Imf::HALF;
+};
+
+struct StringAttribute {
+    int part = 0;
+    std::string name, value;
+};
+
+// Writes every input part/channel/attribute/compression unchanged plus `add` (a new channel
+// with the name of an existing one replaces it) and `attrs`. Tiled mip/rip-mapped parts are
+// written as ONE_LEVEL (only level 0 is read). Written to "<out>.tmp-<pid>" and renamed; on
+// failure the temp file is removed. Refuses to replace the input unless allowOverwriteInput.
+void writeExrWithNewChannels(const std::string& outPath, const ExrPixels& in,
+                             const std::vector<NewChannel>& add, bool allowOverwriteInput,
+                             const std::vector<StringAttribute>& attrs = {});
+
+// OpenEXR's decode/encode thread pool; n <= 0 means all cores. Used lazily with all cores
+// if never called.
+void setExrThreads(int n);
+
+} // namespace obscura

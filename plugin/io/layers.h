@@ -1,0 +1,56 @@
+// Renderer presets: which EXR layers hold depth, normals, ... and the conventions
+// (depth kind, normal space) each renderer uses. All of it lives in one table in layers.cpp.
+#pragma once
+#include "core/settings.h"
+#include "io/exr_file.h"
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace obscura {
+
+enum class Role { Depth, Normal, Position, Beauty, Albedo, DirectDiffuse };
+
+const char* roleName(Role);                         // "depth", "normal", ..., "direct-diffuse"
+bool parseRole(const std::string&, Role&);
+const std::vector<Role>& allRoles();
+
+struct LayerBinding {
+    Role role = Role::Depth;
+    int part = 0;
+    std::string layer;                  // layer prefix ("" for top-level channels)
+    std::vector<std::string> channels;  // full channel names: 1 for depth, X,Y,Z order for
+                                        // vectors, R,G,B(,A) for colour
+};
+
+struct LayerPlan {
+    std::string preset;                 // "blender", "arnold", "renderman", "vray", "karma", "generic"
+    std::vector<LayerBinding> bindings; // only the roles found
+    DepthKind depthKind = DepthKind::Planar;
+    NormalSpace normalSpace = NormalSpace::World;
+    float skyDepth = 1e9f;
+    bool normalsLeftHanded = false;     // camera space looks down +z (RenderMan): caller flips z
+
+    const LayerBinding* find(Role) const;
+};
+
+// Preset names accepted by planLayers, "auto" first.
+const std::vector<std::string>& presetNames();
+
+// preset "auto" picks the preset whose names (and header hints) match best.
+// overrides: role -> a layer ("ViewLayer.Normal") or a channel ("Z"); an override naming
+// nothing throws an Error listing the layers found.
+LayerPlan planLayers(const ExrInfo& info, const std::string& preset,
+                     const std::map<Role, std::string>& overrides = {});
+
+// Throws Error naming the first missing role, the preset and the layers found.
+void requireRoles(const LayerPlan&, const ExrInfo&, const std::vector<Role>&);
+
+// "layer (channels) type" lines for --inspect; multipart lines start with "part: ".
+std::vector<std::string> listLayers(const ExrInfo&);
+
+// The binding's channels as references for readExrChannels.
+std::vector<ChannelRef> channelRefs(const LayerBinding&);
+
+} // namespace obscura

@@ -1,0 +1,88 @@
+#include "io/preview.h"
+
+#include "core/error.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <system_error>
+#include <vector>
+
+namespace obscura {
+namespace {
+
+// First line of an OpenImageIO error, so the user sees one line.
+std::string firstLine(std::string s) {
+    auto nl = s.find('\n');
+    if (nl != std::string::npos) s.resize(nl);
+    return s.empty() ? std::string("unknown OpenImageIO error") : s;
+}
+
+float clamp01(float v) { return std::isnan(v) ? 0.0f : std::min(1.0f, std::max(0.0f, v)); }
+
+float srgbOetf(float v) {
+    return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+}
+
+std::uint8_t quantise(float v) { return static_cast<std::uint8_t>(std::lround(v * 255.0f)); }
+
+} // namespace
+
+void writePreviewPng(const std::string& path, const Image& img, int channel) {
+    namespace fs = std::filesystem;
+    const std::string what = "cannot write preview " + path + ": ";
+    if (img.empty() || img.width <= 0 || img.height <= 0 || img.channels <= 0)
+        throw Error(what + "the image is empty");
+    if (channel >= img.channels)
+        throw Error(what + "channel " + std::to_string(channel) + " does not exist (the image has " +
+                    std::to_string(img.channels) + ")");
+
+    const bool rgb = channel < 0 && img.channels >= 3;
+    const int first = channel < 0 ? 0 : channel;
+    const int outChannels = rgb ? 3 : 1;
+
+    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(img.width) * img.height * outChannels);
+    std::size_t k = 0;
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x) {
+            const float* p = img.at(x, y);
+            for (int c = 0; c < outChannels; ++c) {
+                float v = clamp01(p[first + c]);
+                bytes[k++] = quantise(rgb ? srgbOetf(v) : v);
+            }
+        }
+
+    const fs::path target(path);
+    const fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) throw Error(what + "directory " + dir.string() + " does not exist");
+
+    // The temp name keeps the .png extension so nothing guesses another format.
+    const fs::path tmp = dir / ("." + target.filename().string() + ".tmp.png");
+    auto out = OIIO::ImageOutput::create("png");
+    if (!out) throw Error(what + firstLine(OIIO::geterror()));
+
+    OIIO::ImageSpec spec(img.width, img.height, outChannels, OIIO::TypeDesc::UINT8);
+    if (rgb) spec.attribute("oiio:ColorSpace", "sRGB");  // data previews stay untagged
+    spec.attribute("Software", "obscura");
+
+    bool ok = out->open(tmp.string(), spec) &&
+              out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
+    ok = out->close() && ok;
+    if (!ok) {
+        std::string msg = firstLine(out->geterror());
+        fs::remove(tmp, ec);
+        throw Error(what + msg);
+    }
+    fs::rename(tmp, target, ec);
+    if (ec) {
+        const std::string msg = ec.message();
+        fs::remove(tmp, ec);
+        throw Error(what + msg);
+    }
+}
+
+} // namespace obscura
