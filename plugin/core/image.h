@@ -1,6 +1,7 @@
 // In-memory planes: the currency of the operator. Views never own; Image owns.
 #pragma once
 #include <cstddef>
+#include <type_traits>
 #include <vector>
 
 namespace obscura {
@@ -34,6 +35,9 @@ struct PlaneView {
     std::ptrdiff_t xStride = 0, yStride = 0;
 
     bool valid() const { return data != nullptr && width > 0 && height > 0; }
+    // A mutable view reads as a const one.
+    template <class U = T, class = std::enable_if_t<!std::is_const_v<U>>>
+    operator PlaneView<const U>() const { return {data, width, height, channels, xStride, yStride}; }
     T* at(int x, int y) const { return data + y * yStride + x * xStride; }
 };
 using ConstPlane = PlaneView<const float>;

@@ -1,0 +1,343 @@
+#include "io/frame_job.h"
+
+#include "core/error.h"
+#include "io/preview.h"
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+#include <utility>
+
+namespace obscura {
+
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+struct StageTimer {
+    std::vector<StageTiming>* stages;
+    std::string name;
+    Clock::time_point t0 = Clock::now();
+    ~StageTimer() {
+        if (stages) stages->push_back({name, std::chrono::duration<double>(Clock::now() - t0).count()});
+    }
+};
+
+// Interleaves single-channel planes into one image.
+Image interleave(std::vector<Image>::iterator first, int channels) {
+    Image out(first->width, first->height, channels);
+    for (int c = 0; c < channels; ++c) {
+        const Image& src = *(first + c);
+        for (size_t i = 0, n = (size_t)src.width * src.height; i < n; ++i) out.pixels[i * channels + c] = src.pixels[i];
+    }
+    return out;
+}
+
+// The channel a --reference LAYER names: the exact channel, or the first of LAYER.{R,Y,V,Z,A,...}.
+std::string findReferenceChannel(const ExrPart& part, const std::string& layer, const ExrInfo& info) {
+    if (part.findChannel(layer) >= 0) return layer;
+    for (const char* suffix : {"R", "Y", "V", "Z", "X", "A", "r", "y"}) {
+        const std::string name = layer + "." + suffix;
+        if (part.findChannel(name) >= 0) return name;
+    }
+    std::string found;
+    for (const std::string& l : listLayers(info)) found += (found.empty() ? "" : "; ") + l;
+    throw Error("no reference layer '" + layer + "' in '" + info.path + "'; layers found: " + found);
+}
+
+bool sameFile(const std::string& a, const std::string& b) {
+    std::error_code ec;
+    if (fs::exists(a, ec) && fs::exists(b, ec)) return fs::equivalent(a, b, ec);
+    return fs::weakly_canonical(a, ec) == fs::weakly_canonical(b, ec);
+}
+
+// The sidecar the job names, or NAME.json next to the input.
+std::string sidecarFor(const FrameJob& job) {
+    return job.camera.sidecarPath.empty() ? findSidecar(job.input) : job.camera.sidecarPath;
+}
+
+bool cameraFullyGiven(const FrameJob& job) {
+    const bool lens = job.camera.fovDeg || job.camera.orthoWidth;
+    const bool pose = job.camera.cameraToWorld || job.normalSpace == NormalSpace::Camera;
+    return (lens && pose) || !sidecarFor(job).empty();
+}
+
+bool isSurface(float d, float sky) { return d > 0.0f && d < sky; }
+
+std::string pixelText(const Box2i& data, size_t index, int width) {
+    return std::to_string(data.x0 + (int)(index % width)) + "," + std::to_string(data.y0 + (int)(index / width));
+}
+
+// Checks the passes against the policy; counts non-unit normals for the report.
+void validatePixels(const FrameJob& job, const FramePasses& p, float sky, FrameReport& report) {
+    long long badDepth = 0, badNormal = 0, surface = 0, zeroNormal = 0;
+    size_t firstBadDepth = 0, firstBadNormal = 0;
+    const size_t n = p.depth.pixels.size();
+    for (size_t i = 0; i < n; ++i) {
+        const float d = p.depth.pixels[i];
+        if (std::isnan(d) || d < 0.0f) {
+            if (badDepth++ == 0) firstBadDepth = i;
+            continue;
+        }
+        if (!isSurface(d, sky)) continue;
+        ++surface;
+        const float* nv = &p.normal.pixels[i * 3];
+        const float len2 = nv[0] * nv[0] + nv[1] * nv[1] + nv[2] * nv[2];
+        if (!(len2 > 1e-12f && std::isfinite(len2))) {
+            if (len2 == 0.0f) ++zeroNormal;
+            if (badNormal++ == 0) firstBadNormal = i;
+        } else if (std::abs(std::sqrt(len2) - 1.0f) > 0.01f) {
+            ++report.nonUnitNormalPixels;
+        }
+    }
+    const std::string& path = job.input;
+    if (surface > 0 && zeroNormal == surface)
+        throw Error("'" + path + "': the normal pass is zero on every surface pixel; check --layer normal=NAME");
+    if (job.badPixels == BadPixelPolicy::Skip) {
+        if (badDepth) report.warnings.push_back(std::to_string(badDepth) + " NaN or negative depth pixels treated as holes");
+        if (badNormal) report.warnings.push_back(std::to_string(badNormal) + " surface pixels without a usable normal");
+        return;
+    }
+    if (badDepth)
+        throw Error("'" + path + "': depth has " + std::to_string(badDepth) + " NaN or negative pixel(s), first at " +
+                    pixelText(p.data, firstBadDepth, p.depth.width) + "; use --bad-pixels skip to treat them as holes");
+    if (badNormal)
+        throw Error("'" + path + "': " + std::to_string(badNormal) +
+                    " surface pixel(s) have a zero or non-finite normal, first at " +
+                    pixelText(p.data, firstBadNormal, p.depth.width) + "; use --bad-pixels skip to accept them");
+}
+
+} // namespace
+
+std::string aoChannelName(const std::string& layer) {
+    const size_t dot = layer.rfind('.');
+    if (dot != std::string::npos && dot + 2 == layer.size() && std::isupper((unsigned char)layer.back())) return layer;
+    return layer + ".Y";
+}
+
+FramePasses loadFramePasses(const FrameJob& job, bool keepAll, std::vector<StageTiming>* stages) {
+    StageTimer timer{stages, "read"};
+    FramePasses p;
+    p.info = readExrInfo(job.input);
+    p.plan = planLayers(p.info, job.preset, job.layerOverrides);
+    requireRoles(p.plan, p.info, {Role::Depth, Role::Normal});
+    const LayerBinding& depth = *p.plan.find(Role::Depth);
+    const LayerBinding& normal = *p.plan.find(Role::Normal);
+    p.part = depth.part;
+    const ExrPart& part = p.info.parts[p.part];
+    p.display = part.displayWindow;
+    p.data = part.dataWindow;
+    p.pixelAspect = part.header.pixelAspectRatio();
+    if (p.data.empty()) throw Error("'" + job.input + "': the data window is empty (0 pixels)");
+    auto samePixels = [&](const LayerBinding& b) {
+        if (p.info.parts[b.part].dataWindow != p.data)
+            throw Error("'" + job.input + "': the " + roleName(b.role) + " layer '" + b.layer +
+                        "' covers a different data window than the depth");
+    };
+    samePixels(normal);
+
+    std::vector<ChannelRef> wanted = channelRefs(depth);
+    for (const ChannelRef& c : channelRefs(normal)) wanted.push_back(c);
+    const LayerBinding* position = p.plan.find(Role::Position);
+    const bool readPosition = position && !cameraFullyGiven(job);
+    if (readPosition) {
+        samePixels(*position);
+        for (const ChannelRef& c : channelRefs(*position)) wanted.push_back(c);
+    }
+    if (!job.referenceLayer.empty())
+        wanted.push_back({p.part, findReferenceChannel(part, job.referenceLayer, p.info)});
+
+    std::vector<Image> planes = readExrChannels(job.input, p.info, wanted, keepAll, keepAll ? &p.raw : nullptr);
+    auto next = planes.begin();
+    p.depth = std::move(*next++);
+    p.normal = interleave(next, 3);
+    next += 3;
+    if (readPosition) {
+        p.position = interleave(next, 3);
+        next += 3;
+    }
+    if (!job.referenceLayer.empty()) p.reference = std::move(*next++);
+    return p;
+}
+
+Camera resolveFrameCamera(const FrameJob& job, const FramePasses& p) {
+    CameraRequest request = job.camera;
+    request.sidecarPath = sidecarFor(job);
+    const ConstPlane position = p.position.empty() ? ConstPlane{} : p.position.view();
+    return resolveCamera(request, &p.info.parts[p.part].header, position, p.data, p.display, p.pixelAspect);
+}
+
+FrameReport runFrameJob(const FrameJob& job) {
+    if (job.output.empty()) throw Error("no output file: give -o OUTPUT.exr");
+    if (!job.inPlace && sameFile(job.input, job.output))
+        throw Error("refusing to overwrite the input '" + job.input + "' (use --in-place)");
+    const fs::path outDir = fs::path(job.output).parent_path();
+    std::error_code ec;
+    if (!outDir.empty() && !fs::is_directory(outDir, ec))
+        throw Error("cannot write '" + job.output + "': directory '" + outDir.string() + "' does not exist");
+    setExrThreads(job.settings.threads);
+
+    FrameReport report;
+    FramePasses p = loadFramePasses(job, true, &report.stages);
+    {
+        StageTimer timer{&report.stages, "camera"};
+        report.camera = resolveFrameCamera(job, p);
+    }
+    report.depthKind = job.depthKind.value_or(p.plan.depthKind);
+    report.normalSpace = job.normalSpace.value_or(p.plan.normalSpace);
+    report.skyDepth = job.skyDepth.value_or(p.plan.skyDepth);
+    // Left-handed camera-space normals (+z forward) become OpenGL's (-z forward).
+    if (p.plan.normalsLeftHanded && report.normalSpace == NormalSpace::Camera && !job.normalSpace)
+        for (size_t i = 2; i < p.normal.pixels.size(); i += 3) p.normal.pixels[i] = -p.normal.pixels[i];
+    validatePixels(job, p, report.skyDepth, report);
+
+    OperatorInputs in;
+    in.displayWindow = p.display;
+    in.dataWindow = p.data;
+    in.depth = p.depth.view();
+    in.normal = p.normal.view();
+    in.depthKind = report.depthKind;
+    in.normalSpace = report.normalSpace;
+    in.camera = report.camera;
+    Settings settings = job.settings;
+    settings.skyDepth = report.skyDepth;
+    OperatorOutputs out;
+    {
+        StageTimer timer{&report.stages, "compute"};
+        out = runOperator(in, settings);
+    }
+    report.stats = out.stats;
+
+    if (!p.reference.empty()) {
+        const float sky = report.skyDepth;
+        report.reference = compareChannels(std::as_const(out.ao).view(), 0, std::as_const(p.reference).view(), 0, [&](int x, int y) {
+            return isSurface(*p.depth.at(x, y), sky);
+        });
+    }
+
+    report.aoChannel = aoChannelName(job.aoLayer);
+    {
+        StageTimer timer{&report.stages, "write"};
+        std::vector<NewChannel> add(1);
+        add[0].part = p.part;
+        add[0].name = report.aoChannel;
+        add[0].plane = std::move(out.ao);
+        add[0].type = job.aoFloat ? Imf::FLOAT : Imf::HALF;
+        const std::vector<StringAttribute> attrs = {
+            {p.part, "obscura/version", OBSCURA_VERSION_STRING},
+            {p.part, "obscura/" + report.aoChannel + "/colorspace", "raw"},
+            {p.part, "obscura/settings", frameReportJson(job, FrameReport{})},
+        };
+        writeExrWithNewChannels(job.output, p.raw, add, job.inPlace, attrs);
+        out.ao = std::move(add[0].plane);
+    }
+    if (!job.previewPath.empty()) {
+        StageTimer timer{&report.stages, "preview"};
+        // Preview the display window where the data covers it (overscan is not part of the frame).
+        const Box2i crop = intersect(p.data, p.display).empty() ? p.data : intersect(p.data, p.display);
+        Image view(crop.width(), crop.height(), 1);
+        for (int y = 0; y < crop.height(); ++y)
+            for (int x = 0; x < crop.width(); ++x)
+                *view.at(x, y) = *out.ao.at(x + crop.x0 - p.data.x0, y + crop.y0 - p.data.y0);
+        writePreviewPng(job.previewPath, view, 0);
+    }
+    return report;
+}
+
+std::string inspectFrame(const FrameJob& job) {
+    FramePasses p = loadFramePasses(job, false);
+    std::ostringstream os;
+    os << "file:    " << job.input << (p.info.multipart ? " (multipart, " : " (") << p.info.parts.size()
+       << " part" << (p.info.parts.size() > 1 ? "s)" : ")") << "\n";
+    os << "display: " << p.display.width() << "x" << p.display.height() << "  data window: [" << p.data.x0 << ","
+       << p.data.y0 << " - " << p.data.x1 << "," << p.data.y1 << ")\n";
+    os << "layers:\n";
+    for (const std::string& l : listLayers(p.info)) os << "  " << l << "\n";
+    os << "preset:  " << p.plan.preset << "\n";
+    os << "roles:\n";
+    for (Role r : allRoles()) {
+        const LayerBinding* b = p.plan.find(r);
+        os << "  " << roleName(r) << ": ";
+        if (!b) {
+            os << "(not found)\n";
+            continue;
+        }
+        for (size_t i = 0; i < b->channels.size(); ++i) os << (i ? ", " : "") << b->channels[i];
+        os << "\n";
+    }
+    os << "depth:   " << toString(job.depthKind.value_or(p.plan.depthKind))
+       << "   normals: " << toString(job.normalSpace.value_or(p.plan.normalSpace))
+       << (p.plan.normalsLeftHanded ? " (left-handed, z flipped)" : "")
+       << "   sky depth >= " << job.skyDepth.value_or(p.plan.skyDepth) << "\n";
+    try {
+        const Camera c = resolveFrameCamera(job, p);
+        os << "camera:  " << (c.projection == Projection::Perspective ? "perspective" : "orthographic");
+        if (c.projection == Projection::Perspective)
+            os << ", horizontal fov " << c.horizontalFovRad(p.display.width()) * 180.0 / M_PI << " deg";
+        else
+            os << ", width " << p.display.width() / c.fx;
+        os << ", from " << c.source << "\n";
+        if (c.hasPose) {
+            os << "  camera-to-world (rows):";
+            for (int r = 0; r < 3; ++r) {
+                os << (r ? "\n                          " : " ");
+                for (int col = 0; col < 4; ++col) os << (col ? " " : "") << c.cameraToWorld[col][r];
+            }
+            os << "\n";
+        }
+    } catch (const Error& e) {
+        os << "camera:  none (" << e.what() << ")\n";
+    }
+    os << "device:  cpu\n";
+    return os.str();
+}
+
+std::string frameReportJson(const FrameJob& job, const FrameReport& r) {
+    using nlohmann::json;
+    const Settings& s = job.settings;
+    json j;
+    j["obscura"] = OBSCURA_VERSION_STRING;
+    j["input"] = job.input;
+    j["output"] = job.output;
+    j["settings"] = {{"method", s.method},          {"radius", s.radius},
+                     {"directions", s.directions},  {"steps", s.steps},
+                     {"weighting", toString(s.weighting)}, {"falloff", toString(s.falloff)},
+                     {"blur", s.blur},              {"threads", s.threads},
+                     {"device", s.device}};
+    if (!r.aoChannel.empty()) {
+        j["output_channels"] = {{"ao", r.aoChannel}};
+        j["conventions"] = {{"depth", toString(r.depthKind)}, {"normals", toString(r.normalSpace)},
+                            {"sky_depth", r.skyDepth}};
+        json cam = {{"projection", r.camera.projection == Projection::Perspective ? "perspective" : "orthographic"},
+                    {"fx", r.camera.fx}, {"fy", r.camera.fy}, {"cx", r.camera.cx}, {"cy", r.camera.cy},
+                    {"source", r.camera.source}};
+        if (r.camera.fitResidualPx >= 0) cam["fit_residual_px"] = r.camera.fitResidualPx;
+        j["camera"] = cam;
+        json stages = json::object();
+        double total = 0;
+        for (const StageTiming& t : r.stages) {
+            stages[t.name] = t.seconds;
+            total += t.seconds;
+        }
+        j["timings_s"] = stages;
+        j["total_s"] = total;
+        j["stats"] = {{"pixels", r.stats.pixels}, {"sky_pixels", r.stats.skyPixels},
+                      {"invalid_depth_pixels", r.stats.invalidDepthPixels},
+                      {"zero_normal_pixels", r.stats.zeroNormalPixels},
+                      {"non_unit_normal_pixels", r.nonUnitNormalPixels}, {"device", r.stats.device}};
+        if (r.reference) {
+            const ErrorMetrics& m = *r.reference;
+            j["reference"] = {{"layer", job.referenceLayer}, {"pixels", m.pixels}, {"mae", m.mae}, {"rmse", m.rmse},
+                              {"psnr_db", std::isfinite(m.psnr) ? json(m.psnr) : json("inf")}, {"p99_abs", m.p99},
+                              {"max_abs", m.maxAbs}};
+        }
+        j["warnings"] = r.warnings;
+    }
+    return j.dump(r.aoChannel.empty() ? -1 : 2);
+}
+
+} // namespace obscura

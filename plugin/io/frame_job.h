@@ -1,0 +1,76 @@
+// One frame, file to file: read the passes a request needs, resolve the camera,
+// run the operator, write a copy of the input with the new layers. Shared by the
+// CLI and the Python module; the operator itself never sees a file.
+#pragma once
+#include "core/metrics.h"
+#include "core/operator.h"
+#include "io/camera_sources.h"
+#include "io/exr_file.h"
+#include "io/layers.h"
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace obscura {
+
+// What to do with pixels no renderer should write: NaN/negative depth, zero or
+// non-finite normals on surface pixels.
+enum class BadPixelPolicy { Error, Skip };
+
+struct FrameJob {
+    std::string input, output;
+    bool inPlace = false;                 // allow output == input
+    std::string preset = "auto";
+    std::map<Role, std::string> layerOverrides;
+    std::optional<DepthKind> depthKind;   // overrides the preset
+    std::optional<NormalSpace> normalSpace;
+    std::optional<float> skyDepth;        // overrides the preset's sky threshold
+    CameraRequest camera;                 // sidecarPath "" = NAME.json next to the input, if any
+    Settings settings;
+    std::string aoLayer = "obscura.AO";   // layer name; the channel is "<layer>.Y"
+    bool aoFloat = false;                 // --out-type float (default half)
+    std::string previewPath;              // PNG of the AO, optional
+    std::string referenceLayer;           // compare against this layer, optional
+    BadPixelPolicy badPixels = BadPixelPolicy::Error;
+};
+
+// The passes of one frame in memory, as the operator wants them.
+struct FramePasses {
+    ExrInfo info;
+    LayerPlan plan;
+    int part = 0;                         // the part holding depth
+    Box2i display, data;
+    double pixelAspect = 1.0;
+    Image depth, normal, position, reference;  // position/reference empty when not read
+    ExrPixels raw;                        // every channel, for pass-through (when kept)
+};
+
+struct FrameReport {
+    std::string aoChannel;
+    Camera camera;
+    DepthKind depthKind = DepthKind::Planar;
+    NormalSpace normalSpace = NormalSpace::World;
+    float skyDepth = 1e9f;
+    OperatorStats stats;
+    long long nonUnitNormalPixels = 0;    // normalised on the fly; counted for the report
+    std::vector<StageTiming> stages;      // read, camera, compute, write, preview
+    std::optional<ErrorMetrics> reference;
+    std::vector<std::string> warnings;
+};
+
+// Reads headers, plans layers and reads the pixels `job` needs (plus everything raw if keepAll).
+FramePasses loadFramePasses(const FrameJob& job, bool keepAll, std::vector<StageTiming>* stages = nullptr);
+// The camera this job would use for these passes.
+Camera resolveFrameCamera(const FrameJob& job, const FramePasses& passes);
+// The full pipeline. Throws obscura::Error (one line) on any failure; nothing is left on disk then.
+FrameReport runFrameJob(const FrameJob& job);
+// --inspect: layers found, roles, conventions and camera, as readable text.
+std::string inspectFrame(const FrameJob& job);
+// --report: settings, camera, timings and statistics as JSON text.
+std::string frameReportJson(const FrameJob& job, const FrameReport& report);
+// "<layer>.Y", or the name itself when it already ends in a single-letter channel.
+std::string aoChannelName(const std::string& layer);
+
+} // namespace obscura
