@@ -1,6 +1,7 @@
 #include "cli.h"
 
 #include "core/error.h"
+#include "gpu/gl_backend.h"
 #include "io/frame_job.h"
 
 #include <unistd.h>
@@ -136,11 +137,12 @@ const std::vector<Flag>& flags() {
              if (v != "half" && v != "float") throw UsageError("--out-type expects half or float, got '" + v + "'");
              o.job.aoFloat = v == "float";
          }},
-        {"--device", "cpu", "compute device (this build: cpu)",
+        {"--device", "auto|cpu|gl|gl-egl|gl-osmesa",
+         "where to compute (cpu): auto = a hardware EGL GPU if present, else the CPU; gl = EGL, else OSMesa",
          [](Options& o, const std::string& v) {
-             if (v != "cpu" && v != "auto")
-                 throw UsageError("--device '" + v + "' is not available in this build (available: cpu, auto)");
-             o.job.settings.device = "cpu";
+             if (!gpu::isDeviceName(v))
+                 throw UsageError("--device expects auto, cpu, gl, gl-egl or gl-osmesa, got '" + v + "'");
+             o.job.settings.device = v;
          }},
         {"--threads", "N", "CPU threads (default 0 = all cores)",
          [](Options& o, const std::string& v) { o.job.settings.threads = toInt("--threads", v); }},

@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "cpu/hbao_cpu.h"
 #include "cpu/parallel.h"
+#include "gpu/gl_backend.h"
 
 #include <algorithm>
 #include <chrono>
@@ -95,7 +96,22 @@ OperatorOutputs runOperator(const OperatorInputs& in, const Settings& s) {
     OperatorOutputs out;
     OperatorStats& st = out.stats;
     const int threads = cpu::resolveThreads(s.threads);
-    st.device = "cpu (" + std::to_string(threads) + " threads)";
+    gpu::GlBackend* gl = nullptr;
+    const std::string device = s.device.empty() ? "cpu" : s.device;
+    if (!gpu::isDeviceName(device))
+        throw Error("unknown device '" + device + "' (cpu, auto, gl, gl-egl, gl-osmesa)");
+    if (device == "auto") {
+        // auto means "a real GPU if there is one": a software GL would be slower than the CPU path.
+        try {
+            gl = &gpu::glBackendFor("gl-egl-hardware");
+        } catch (const Error& e) {
+            st.notes.push_back(std::string("--device auto: ") + e.what() + "; using the CPU");
+        }
+    } else if (device != "cpu") {
+        gl = &gpu::glBackendFor(device); // an explicit GL device fails rather than falling back
+    }
+    st.device = gl ? gl->info().backend + ": " + gl->info().renderer + ", OpenGL " + gl->info().version
+                   : "cpu (" + std::to_string(threads) + " threads)";
     st.pixels = in.dataWindow.area();
 
     auto t0 = Clock::now();
@@ -115,8 +131,16 @@ OperatorOutputs runOperator(const OperatorInputs& in, const Settings& s) {
     }
     st.timings.push_back({"scan", secondsSince(t0)});
 
-    t0 = Clock::now();
     out.ao = Image(in.dataWindow.width(), in.dataWindow.height(), 1, 1.0f);
+    if (gl) {
+        gpu::GlTimings t;
+        gl->runHbao(params, in.depth, in.normal, out.ao.view(), s.blur, &t);
+        st.timings.push_back({"gl-upload", t.upload});
+        st.timings.push_back({"gl-compute", t.compute});
+        st.timings.push_back({"gl-readback", t.readback});
+        return out;
+    }
+    t0 = Clock::now();
     cpu::runHbao(params, in.depth, in.normal, out.ao.view(), threads);
     st.timings.push_back({"hbao", secondsSince(t0)});
     if (s.blur > 0) {

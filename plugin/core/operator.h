@@ -32,7 +32,8 @@ struct OperatorStats {
     long long skyPixels = 0;          // 0, +inf or >= sky depth: skipped, AO = 1
     long long invalidDepthPixels = 0; // NaN or negative: treated as holes (skipped, AO = 1)
     long long zeroNormalPixels = 0;   // non-sky pixels whose normal has ~zero length
-    std::string device;               // "cpu (N threads)", ...
+    std::string device;               // "cpu (N threads)", "gl-osmesa: llvmpipe ..., OpenGL 4.5 ..."
+    std::vector<std::string> notes;   // e.g. why --device auto fell back to the CPU
     std::vector<StageTiming> timings;
 };
 

@@ -211,6 +211,7 @@ FrameReport runFrameJob(const FrameJob& job) {
         out = runOperator(in, settings);
     }
     report.stats = out.stats;
+    for (const std::string& note : out.stats.notes) report.warnings.push_back(note);
 
     if (!p.reference.empty()) {
         const float sky = report.skyDepth;

@@ -1,0 +1,26 @@
+// Built instead of the OpenGL backend when its headers are missing: every GL device fails clearly.
+#include "gpu/gl_backend.h"
+
+#include "core/error.h"
+
+namespace obscura::gpu {
+
+class GlContext {
+public:
+    virtual ~GlContext() = default;
+};
+enum class ContextKind { EglDevice, OSMesa };
+
+const ContextInfo& GlBackend::info() const {
+    static const ContextInfo none;
+    return none;
+}
+GlBackend::GlBackend(ContextKind, bool) { throw Error("this build of obscura has no OpenGL backend"); }
+GlBackend::~GlBackend() = default;
+void GlBackend::runHbao(const glsl::HbaoParams&, ConstPlane, ConstPlane, MutablePlane, int, GlTimings*, long long) {}
+bool isDeviceName(const std::string& n) {
+    return n == "cpu" || n == "auto" || n == "gl" || n == "gl-egl" || n == "gl-osmesa";
+}
+GlBackend& glBackendFor(const std::string&) { throw Error("this build of obscura has no OpenGL backend"); }
+
+} // namespace obscura::gpu
