@@ -25,6 +25,27 @@ std::string kernelText(const char* file) {
     throw Error(std::string("kernel source '") + file + "' is not embedded in this build");
 }
 
+// The largest projected radius over the frame (the nearest surface), as hbaoPixel computes it.
+float maxReachPixels(const glsl::HbaoParams& p, ConstPlane depth) {
+    if (p.orthographic) return std::min(p.radius * p.fx, p.maxRadiusPixels);
+    double zMin = INFINITY;
+    for (int y = 0; y < depth.height; ++y) {
+        const double ry = (p.cy - (p.originY + y + 0.5)) * p.invFy;
+        for (int x = 0; x < depth.width; ++x) {
+            double z = *depth.at(x, y) * (double)p.depthScale;
+            if (!(z >= 1.17549435e-38 && z < p.skyDepth)) continue;
+            if (p.radialDepth) {
+                const double rx = (p.originX + x + 0.5 - p.cx) * p.invFx;
+                z /= std::sqrt(1.0 + rx * rx + ry * ry);
+            }
+            zMin = std::min(zMin, z);
+        }
+    }
+    if (!std::isfinite(zMin)) return 0.0f;
+    const double r = p.radius * (double)p.fx / std::sqrt(std::max(zMin * zMin - (double)p.radius * p.radius, 1e-30));
+    return (float)std::min(r, (double)p.maxRadiusPixels);
+}
+
 enum Binding { kParams = 0, kDepth = 1, kNormal = 2, kAoIn = 3, kAoOut = 4 };
 constexpr int kGroup = 8;  // local_size_x/y in kGlBindings
 
@@ -66,7 +87,7 @@ void GlBackend::runHbao(const glsl::HbaoParams& p, ConstPlane depth, ConstPlane 
     GlTimings t;
     const int W = p.width, H = p.height;
     // How far a pixel's result reads: the HBAO samples (radius plus snapping), then the blur.
-    const int apron = (int)std::ceil(std::min(p.maxRadiusPixels, (float)std::max(W, H))) + 2 + std::max(blur, 0);
+    const int apron = (int)std::ceil(std::min(maxReachPixels(p, depth), (float)std::max(W, H))) + 2 + std::max(blur, 0);
     if (maxTexels <= 0) maxTexels = info().maxStorageBlockBytes / (3 * (long long)sizeof(float));  // normals: 3 floats
     const long long groupLimit = (long long)std::min(info().maxWorkGroups[0], info().maxWorkGroups[1]) * kGroup;
     int tileSide = std::max(W, H);

@@ -37,6 +37,32 @@ Camera lookAtOrthographic(glm::dvec3 eye, glm::dvec3 target, double orthoWidth, 
     return c;
 }
 
+void addBox(std::vector<Rect>& rects, glm::dvec3 lo, glm::dvec3 hi) {
+    const glm::dvec3 d = hi - lo;
+    const glm::dvec3 ex(d.x, 0, 0), ey(0, d.y, 0), ez(0, 0, d.z);
+    rects.push_back({lo, ex, ey});
+    rects.push_back({lo + ez, ex, ey});
+    rects.push_back({lo, ey, ez});
+    rects.push_back({lo + ex, ey, ez});
+    rects.push_back({lo, ex, ez});
+    rects.push_back({lo + ey, ex, ez});
+}
+
+std::vector<Rect> studioScene() {
+    const double L = 6.0;
+    std::vector<Rect> r = {Rect{glm::dvec3(-L, 0, -L), glm::dvec3(2 * L, 0, 0), glm::dvec3(0, 0, 2 * L)},  // floor
+                           Rect{glm::dvec3(-L, 0, -L), glm::dvec3(2 * L, 0, 0), glm::dvec3(0, 3, 0)},      // back wall
+                           Rect{glm::dvec3(-L, 0, -L), glm::dvec3(0, 3, 0), glm::dvec3(0, 0, 2 * L)}};     // left wall
+    addBox(r, glm::dvec3(-3.0, 0, -3.0), glm::dvec3(-1.5, 1.2, -1.5));
+    addBox(r, glm::dvec3(0.5, 0, -1.0), glm::dvec3(1.5, 0.6, 0.5));
+    addBox(r, glm::dvec3(-1.0, 0, 1.0), glm::dvec3(-0.6, 2.0, 1.4));  // a thin pillar
+    return r;
+}
+
+Camera studioCamera(int width, int height) {
+    return lookAtPerspective(glm::dvec3(3.5, 3.0, 6.5), glm::dvec3(-1.0, 0.6, -1.0), 65.0 * M_PI / 180, width, height);
+}
+
 Rect planeRect(glm::dvec3 point, glm::dvec3 s, glm::dvec3 t, double half) {
     return Rect{point - half * s - half * t, 2 * half * s, 2 * half * t};
 }

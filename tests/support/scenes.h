@@ -37,6 +37,13 @@ inline SceneBuffers renderScene(const std::vector<Rect>& rects, const Camera& ca
     return renderScene(rects, cam, Box2i{0, 0, width, height}, Box2i{0, 0, width, height});
 }
 
+// Appends the six faces of the axis-aligned box [lo, hi].
+void addBox(std::vector<Rect>& rects, glm::dvec3 lo, glm::dvec3 hi);
+// A floor, two walls meeting in a corner and a few boxes: creases, contact shadows,
+// silhouettes and sky, for tests that want a bit of everything. Seen by studioCamera().
+std::vector<Rect> studioScene();
+Camera studioCamera(int width, int height);
+
 // The rectangle of a plane through `point` spanned by unit vectors s, t, `half` units each way.
 Rect planeRect(glm::dvec3 point, glm::dvec3 s, glm::dvec3 t, double half = 1e4);
 

@@ -1,0 +1,160 @@
+// The GL path computes the same numbers as the CPU path: same kernels/ text, same
+// hash noise, same sample positions. These run on llvmpipe through OSMesa and
+// through Mesa's EGL device; a GL path that silently fell back to the CPU fails.
+#include "core/error.h"
+#include "core/operator.h"
+#include "gpu/gl_backend.h"
+#include "io/exr_file.h"
+#include "io/frame_job.h"
+#include "support/exr_fixtures.h"
+#include "support/scenes.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <unistd.h>
+
+using namespace obscura;
+using namespace obscura::test;
+
+namespace {
+
+const char* kGlDevices[] = {"gl-osmesa", "gl-egl"};
+
+double maxAbsDiff(const Image& a, const Image& b) {
+    EXPECT_EQ(a.pixels.size(), b.pixels.size());
+    double m = 0;
+    for (size_t i = 0; i < a.pixels.size() && i < b.pixels.size(); ++i)
+        m = std::max(m, (double)std::abs(a.pixels[i] - b.pixels[i]));
+    return m;
+}
+
+Settings makeSettings(const char* device, Weighting w, Falloff f, int blur) {
+    Settings s;
+    s.device = device;
+    s.radius = 0.8f;
+    s.weighting = w;
+    s.falloff = f;
+    s.blur = blur;
+    return s;
+}
+
+} // namespace
+
+TEST(GlParity, AnalyticScenesMatchCpu) {
+    const int W = 160, H = 120;
+    const SceneBuffers studio = renderScene(studioScene(), studioCamera(W, H), W, H);
+    const SceneBuffers ortho = renderScene(studioScene(), lookAtOrthographic(glm::dvec3(3.5, 3.0, 6.5),
+                                                                             glm::dvec3(-1.0, 0.6, -1.0), 9.0, W, H),
+                                           W, H);
+    for (const SceneBuffers* scene : {&studio, &ortho}) {
+        for (Weighting w : {Weighting::Uniform, Weighting::Cosine}) {
+            for (Falloff f : {Falloff::Linear, Falloff::None}) {
+                for (int blur : {0, 3}) {
+                    const OperatorOutputs cpu = runOperator(scene->inputs(), makeSettings("cpu", w, f, blur));
+                    for (const char* device : kGlDevices) {
+                        const OperatorOutputs gl = runOperator(scene->inputs(), makeSettings(device, w, f, blur));
+                        ASSERT_EQ(gl.stats.device.rfind(device, 0), 0u) << "ran on " << gl.stats.device;
+                        EXPECT_LE(maxAbsDiff(cpu.ao, gl.ao), 1e-3)
+                            << device << " " << toString(w) << " " << toString(f) << " blur " << blur;
+                    }
+                }
+            }
+        }
+    }
+}
+
+// A frame cut into many tiles with aprons gives exactly the one-tile result.
+TEST(GlParity, TilesEqualOneTile) {
+    const int W = 200, H = 150;
+    const SceneBuffers scene = renderScene(studioScene(), studioCamera(W, H), W, H);
+    const HbaoParams p = makeHbaoParams(scene.inputs(), makeSettings("gl-osmesa", Weighting::Cosine, Falloff::Linear, 2));
+    gpu::GlBackend& gl = gpu::glBackendFor("gl-osmesa");
+    Image whole(W, H, 1), tiled(W, H, 1);
+    gpu::GlTimings oneTile, manyTiles;
+    gl.runHbao(p, scene.depth.view(), scene.normal.view(), whole.view(), 2, &oneTile);
+    gl.runHbao(p, scene.depth.view(), scene.normal.view(), tiled.view(), 2, &manyTiles, 110 * 110);
+    EXPECT_EQ(oneTile.tiles, 1);
+    EXPECT_GT(manyTiles.tiles, 4);
+    EXPECT_EQ(whole.pixels, tiled.pixels);
+}
+
+// Through the file layer: a multipart, tiled, half-float file with overscan.
+TEST(GlParity, MultilayerFileMatchesCpu) {
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::path(OBSCURA_TEST_TMP) / ("gl-parity-" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const int W = 128, H = 96, over = 8;
+    const Box2i display{0, 0, W, H}, data{-over, -over, W + over, H + over};
+    const SceneBuffers scene = renderScene(studioScene(), studioCamera(W, H), display, data);
+    auto plane = [&](const Image& img, int c) {
+        return [&img, c, data](int x, int y) { return img.at(x - data.x0, y - data.y0)[c]; };
+    };
+    fixtures::FixturePart beauty, passes;
+    beauty.name = "rgba";
+    for (const char* c : {"R", "G", "B"}) {
+        fixtures::FixtureChannel ch;
+        ch.name = c;
+        beauty.channels.push_back(ch);
+    }
+    passes.name = "passes";
+    passes.tiled = true;
+    passes.tileWidth = passes.tileHeight = 32;
+        auto channel = [](std::string name, std::function<float(int, int)> value) {
+        fixtures::FixtureChannel c;
+        c.name = std::move(name);
+        c.type = Imf::HALF;
+        c.value = std::move(value);
+        return c;
+    };
+    passes.channels = {channel("Z", plane(scene.depth, 0))};
+    for (int c = 0; c < 3; ++c) passes.channels.push_back(channel(std::string("N.") + "XYZ"[c], plane(scene.normal, c)));
+    for (fixtures::FixturePart* part : {&beauty, &passes}) {
+        part->displayWindow = Imath::Box2i(Imath::V2i(0, 0), Imath::V2i(W - 1, H - 1));
+        part->dataWindow = Imath::Box2i(Imath::V2i(-over, -over), Imath::V2i(W + over - 1, H + over - 1));
+    }
+    const std::string input = (dir / "scene.exr").string();
+    fixtures::writeFixture(input, {beauty, passes});
+
+    const glm::dmat4& m = scene.camera.cameraToWorld;
+    std::array<double, 16> rows{};
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) rows[r * 4 + c] = m[c][r];
+    std::vector<Image> results;
+    for (const char* device : {"cpu", "gl-osmesa", "gl-egl"}) {
+        FrameJob job;
+        job.input = input;
+        job.output = (dir / (std::string(device) + ".exr")).string();
+        job.camera.fovDeg = 65.0;
+        job.camera.cameraToWorld = rows;
+        job.settings = makeSettings(device, Weighting::Cosine, Falloff::None, 0);
+        job.aoFloat = true;
+        const FrameReport report = runFrameJob(job);
+        ASSERT_EQ(report.stats.device.rfind(device, 0), 0u) << report.stats.device;
+        const ExrInfo info = readExrInfo(job.output);
+        results.push_back(std::move(readExrChannels(job.output, info, {{1, "obscura.AO.Y"}}, false, nullptr)[0]));
+    }
+    ASSERT_EQ(results[0].width, W + 2 * over);
+    double minAo = 1;
+    for (float v : results[0].pixels) minAo = std::min(minAo, (double)v);
+    EXPECT_LT(minAo, 0.6);  // the scene really is occluded somewhere
+    EXPECT_LE(maxAbsDiff(results[0], results[1]), 1e-3);
+    EXPECT_LE(maxAbsDiff(results[0], results[2]), 1e-3);
+    fs::remove_all(dir);
+}
+
+// An explicit GL device that cannot be made fails with one line; auto falls back and says why.
+TEST(GlParity, DeviceChoiceIsExplicit) {
+    const SceneBuffers scene = renderScene(studioScene(), studioCamera(32, 24), 32, 24);
+    Settings s = makeSettings("auto", Weighting::Uniform, Falloff::Linear, 0);
+    const OperatorOutputs out = runOperator(scene.inputs(), s);
+    if (out.stats.device.rfind("cpu", 0) == 0) {
+        ASSERT_EQ(out.stats.notes.size(), 1u);
+        EXPECT_NE(out.stats.notes[0].find("--device auto"), std::string::npos);
+    } else {
+        EXPECT_EQ(out.stats.device.rfind("gl-egl", 0), 0u);  // a hardware EGL device is present
+    }
+    s.device = "vulkan";
+    EXPECT_THROW(runOperator(scene.inputs(), s), Error);
+}
