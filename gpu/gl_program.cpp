@@ -2,15 +2,18 @@
 
 #include "core/error.h"
 
-#include <cctype>
 #include <sstream>
 
 namespace obscura::gpu {
 
 namespace {
 
-// First error line of a compiler log, with "<source>:<line>" (Mesa: "2:41(7): error",
-// NVIDIA: "2(41) : error") rewritten as "<file>:<line>".
+// Each part's lines are numbered from (index + 1) * kLineBase, so "<source>:<line>" in a log
+// maps back to a file whether or not the driver honours #line's source number (Mesa does not).
+constexpr long kLineBase = 100000;
+
+// First error line of a compiler log, with its location (Mesa: "0:100041(7): error",
+// NVIDIA: "0(100041) : error") rewritten as "<file>:<line>".
 std::string describeLog(const std::string& log, const std::vector<ShaderPart>& parts) {
     std::istringstream in(log);
     std::string line, first;
@@ -20,18 +23,18 @@ std::string describeLog(const std::string& log, const std::vector<ShaderPart>& p
         break;
     }
     if (first.empty()) first = log.substr(0, log.find('\n'));
-    size_t i = 0;
-    while (i < first.size() && std::isspace((unsigned char)first[i])) ++i;
-    size_t j = i;
-    while (j < first.size() && std::isdigit((unsigned char)first[j])) ++j;
-    if (j == i || j >= first.size() || (first[j] != ':' && first[j] != '(')) return first;
-    const int source = std::stoi(first.substr(i, j - i));
-    size_t k = j + 1;
-    while (k < first.size() && std::isdigit((unsigned char)first[k])) ++k;
-    if (k == j + 1 || source < 0 || source >= (int)parts.size()) return first;
-    const std::string lineNo = first.substr(j + 1, k - j - 1);
-    size_t rest = first.find_first_not_of(")(0123456789 :", k);
-    return parts[source].name + ":" + lineNo + ": " + (rest == std::string::npos ? first : first.substr(rest));
+    size_t i = first.find_first_of("0123456789");
+    if (i == std::string::npos) return first;
+    size_t j = first.find_first_not_of("0123456789", i);       // after the source number
+    if (j == std::string::npos || (first[j] != ':' && first[j] != '(')) return first;
+    const size_t k = first.find_first_not_of("0123456789", j + 1);  // after the line number
+    if (k == std::string::npos || k == j + 1) return first;
+    const long global = std::stol(first.substr(j + 1, k - j - 1));
+    const long part = global / kLineBase - 1;
+    if (part < 0 || part >= (long)parts.size()) return first;
+    const size_t rest = first.find_first_not_of(")(0123456789 :", k);
+    return parts[part].name + ":" + std::to_string(global % kLineBase) + ": " +
+           (rest == std::string::npos ? first : first.substr(rest));
 }
 
 std::string shaderLog(const GlApi& gl, GLuint shader) {
@@ -47,7 +50,7 @@ std::string shaderLog(const GlApi& gl, GLuint shader) {
 GLuint buildComputeProgram(const GlApi& gl, const std::string& kernel, const std::vector<ShaderPart>& parts) {
     std::string source = "#version 430 core\n";
     for (size_t i = 0; i < parts.size(); ++i)
-        source += "#line 1 " + std::to_string(i) + "\n" + parts[i].text + "\n";
+        source += "#line " + std::to_string((i + 1) * kLineBase + 1) + " " + std::to_string(i) + "\n" + parts[i].text + "\n";
     const GLuint shader = gl.CreateShader(GL_COMPUTE_SHADER);
     const char* text = source.c_str();
     gl.ShaderSource(shader, 1, &text, nullptr);

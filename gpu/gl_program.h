@@ -13,8 +13,8 @@ struct ShaderPart {
     std::string text;
 };
 
-// GLSL 4.30 core compute program of `parts` in order. Each part gets its own
-// #line source number, so an error maps back to its file. Throws obscura::Error
+// GLSL 4.30 core compute program of `parts` in order. Each part is numbered
+// with its own #line range, so an error maps back to its file and line. Throws obscura::Error
 // "GLSL error in kernel 'hbao', hbao.glsl:42: <compiler message>".
 GLuint buildComputeProgram(const GlApi& gl, const std::string& kernel, const std::vector<ShaderPart>& parts);
 

@@ -4,6 +4,8 @@
 #include "core/error.h"
 #include "core/operator.h"
 #include "gpu/gl_backend.h"
+#include "gpu/gl_context.h"
+#include "gpu/gl_program.h"
 #include "io/exr_file.h"
 #include "io/frame_job.h"
 #include "support/exr_fixtures.h"
@@ -157,4 +159,21 @@ TEST(GlParity, DeviceChoiceIsExplicit) {
     }
     s.device = "vulkan";
     EXPECT_THROW(runOperator(scene.inputs(), s), Error);
+}
+
+// A shader that does not compile fails with the kernel's name and its file:line.
+TEST(GlParity, ShaderErrorsNameKernelFileAndLine) {
+    auto context = gpu::GlContext::create(gpu::ContextKind::OSMesa);
+    const std::vector<gpu::ShaderPart> parts = {
+        {"first.glsl", "layout(local_size_x = 1) in;\nfloat ok() { return 1.0f; }\n"},
+        {"second.glsl", "\n\nvoid main() { float x = notDeclared(2.0f); }\n"}};
+    try {
+        gpu::buildComputeProgram(context->gl(), "broken", parts);
+        FAIL() << "a broken shader compiled";
+    } catch (const Error& e) {
+        const std::string m = e.what();
+        EXPECT_NE(m.find("kernel 'broken'"), std::string::npos) << m;
+        EXPECT_NE(m.find("second.glsl:3"), std::string::npos) << m;
+        EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+    }
 }

@@ -47,7 +47,36 @@ void checkSettings(const Settings& s) {
         throw Error("the sky depth threshold must be positive");
 }
 
+// The GL backend a device name asks for, or nullptr for the CPU. An explicit GL device
+// that cannot be made throws; "auto" falls back to the CPU and says why in `notes`.
+gpu::GlBackend* selectGlBackend(const std::string& requested, std::vector<std::string>& notes) {
+    const std::string device = requested.empty() ? "cpu" : requested;
+    if (!gpu::isDeviceName(device))
+        throw Error("unknown device '" + device + "' (cpu, auto, gl, gl-egl, gl-osmesa)");
+    if (device == "cpu") return nullptr;
+    if (device != "auto") return &gpu::glBackendFor(device);
+    // auto means "a real GPU if there is one": a software GL would be slower than the CPU path.
+    try {
+        return &gpu::glBackendFor("gl-egl-hardware");
+    } catch (const Error& e) {
+        notes.push_back(std::string("--device auto: ") + e.what() + "; using the CPU");
+        return nullptr;
+    }
+}
+
+std::string deviceDescription(const gpu::GlBackend* gl, int threads) {
+    if (!gl) return "cpu (" + std::to_string(threads) + " threads)";
+    return gl->info().backend + ": " + gl->info().renderer + ", OpenGL " + gl->info().version;
+}
+
 } // namespace
+
+std::string describeDevice(const Settings& s) {
+    std::vector<std::string> notes;
+    std::string d = deviceDescription(selectGlBackend(s.device, notes), cpu::resolveThreads(s.threads));
+    for (const std::string& n : notes) d += " (" + n + ")";
+    return d;
+}
 
 HbaoParams makeHbaoParams(const OperatorInputs& in, const Settings& s) {
     const Camera& cam = in.camera;
@@ -96,22 +125,8 @@ OperatorOutputs runOperator(const OperatorInputs& in, const Settings& s) {
     OperatorOutputs out;
     OperatorStats& st = out.stats;
     const int threads = cpu::resolveThreads(s.threads);
-    gpu::GlBackend* gl = nullptr;
-    const std::string device = s.device.empty() ? "cpu" : s.device;
-    if (!gpu::isDeviceName(device))
-        throw Error("unknown device '" + device + "' (cpu, auto, gl, gl-egl, gl-osmesa)");
-    if (device == "auto") {
-        // auto means "a real GPU if there is one": a software GL would be slower than the CPU path.
-        try {
-            gl = &gpu::glBackendFor("gl-egl-hardware");
-        } catch (const Error& e) {
-            st.notes.push_back(std::string("--device auto: ") + e.what() + "; using the CPU");
-        }
-    } else if (device != "cpu") {
-        gl = &gpu::glBackendFor(device); // an explicit GL device fails rather than falling back
-    }
-    st.device = gl ? gl->info().backend + ": " + gl->info().renderer + ", OpenGL " + gl->info().version
-                   : "cpu (" + std::to_string(threads) + " threads)";
+    gpu::GlBackend* gl = selectGlBackend(s.device, st.notes);
+    st.device = deviceDescription(gl, threads);
     st.pixels = in.dataWindow.area();
 
     auto t0 = Clock::now();

@@ -47,6 +47,10 @@ using glsl::HbaoParams;
 // The kernel parameter block for these inputs and settings (shared by every backend).
 HbaoParams makeHbaoParams(const OperatorInputs& in, const Settings& settings);
 
+// The device `settings.device` resolves to, with its renderer and GL version, for
+// --inspect. Throws obscura::Error when an explicit GL device cannot be made.
+std::string describeDevice(const Settings& settings);
+
 // Throws obscura::Error on inconsistent inputs (sizes, missing camera pose for world normals...).
 OperatorOutputs runOperator(const OperatorInputs& in, const Settings& settings);
 

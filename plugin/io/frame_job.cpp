@@ -293,7 +293,11 @@ std::string inspectFrame(const FrameJob& job) {
     } catch (const Error& e) {
         os << "camera:  none (" << e.what() << ")\n";
     }
-    os << "device:  cpu\n";
+    try {
+        os << "device:  " << describeDevice(job.settings) << "\n";
+    } catch (const Error& e) {
+        os << "device:  unavailable (" << e.what() << ")\n";
+    }
     return os.str();
 }
 
