@@ -86,6 +86,12 @@ const std::vector<Flag>& flags() {
          }},
         {"--falloff", "linear|none", "W(r) = 1 - r/R (default) or binary visibility within R",
          [](Options& o, const std::string& v) { o.job.settings.falloff = toEnum<Falloff>("--falloff", v, "linear or none"); }},
+        {"--quality", "low|medium|high|ultra",
+         "sample-count preset: 4x4+blur 2, 8x8+blur 1, 16x12, 32x24 (directions x steps); later flags override",
+         [](Options& o, const std::string& v) {
+             if (!applyQualityPreset(v, o.job.settings))
+                 throw UsageError("--quality expects low, medium, high or ultra, got '" + v + "'");
+         }},
         {"--blur", "N", "geometry-aware blur radius in pixels (default 0, off)",
          [](Options& o, const std::string& v) { o.job.settings.blur = toInt("--blur", v); }},
         {"--fov-deg", "F", "perspective camera, horizontal field of view of the display window",

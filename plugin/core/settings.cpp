@@ -2,6 +2,28 @@
 
 namespace obscura {
 
+const std::vector<QualityPreset>& qualityPresets() {
+    // Each level roughly quadruples the samples; the blur hides the noise of the sparse ones.
+    static const std::vector<QualityPreset> presets = {
+        {"low", 4, 4, 2},
+        {"medium", 8, 8, 1},   // the defaults, plus a light blur
+        {"high", 16, 12, 0},
+        {"ultra", 32, 24, 0},
+    };
+    return presets;
+}
+
+bool applyQualityPreset(const std::string& name, Settings& s) {
+    for (const QualityPreset& p : qualityPresets()) {
+        if (name != p.name) continue;
+        s.directions = p.directions;
+        s.steps = p.steps;
+        s.blur = p.blur;
+        return true;
+    }
+    return false;
+}
+
 const char* toString(Weighting w) { return w == Weighting::Uniform ? "uniform" : "cosine"; }
 const char* toString(Falloff f) { return f == Falloff::Linear ? "linear" : "none"; }
 const char* toString(DepthKind d) { return d == DepthKind::Planar ? "planar" : "radial"; }

@@ -2,6 +2,7 @@
 // (CLI flags, OFX parameters, Python keyword arguments).
 #pragma once
 #include <string>
+#include <vector>
 
 namespace obscura {
 
@@ -22,6 +23,15 @@ struct Settings {
     int threads = 0;            // 0 = all cores
     std::string device = "cpu";
 };
+
+// Named quality levels: directions x steps (and blur), from a preview to near-converged.
+struct QualityPreset {
+    const char* name;
+    int directions, steps, blur;
+};
+const std::vector<QualityPreset>& qualityPresets();  // low, medium, high, ultra
+// Applies the preset's sample counts to `s`; false for an unknown name.
+bool applyQualityPreset(const std::string& name, Settings& s);
 
 const char* toString(Weighting);
 const char* toString(Falloff);
