@@ -6,6 +6,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <cmath>
@@ -75,7 +76,10 @@ const std::vector<Flag>& flags() {
         {"--method", "hbao", "occlusion method (default hbao)",
          [](Options& o, const std::string& v) { o.job.settings.method = v; }},
         {"--radius", "R", "occlusion radius in world units (default 1)",
-         [](Options& o, const std::string& v) { o.job.settings.radius = (float)toNumber("--radius", v); }},
+         [](Options& o, const std::string& v) {
+             o.job.settings.radius = (float)toNumber("--radius", v);
+             if (!(o.job.settings.radius > 0.0f)) throw UsageError("--radius must be positive, got '" + v + "'");
+         }},
         {"--directions", "N", "directions (slices) per pixel (default 8)",
          [](Options& o, const std::string& v) { o.job.settings.directions = toInt("--directions", v); }},
         {"--steps", "N", "samples per direction (default 8)",
@@ -122,7 +126,12 @@ const std::vector<Flag>& flags() {
         {"--sky-depth", "D", "depth at or beyond which a pixel is sky (default: the preset's, 1e9)",
          [](Options& o, const std::string& v) { o.job.skyDepth = (float)toNumber("--sky-depth", v); }},
         {"--preset", "NAME", "renderer naming: auto (default), blender, arnold, renderman, vray, karma, generic",
-         [](Options& o, const std::string& v) { o.job.preset = v; }},
+         [](Options& o, const std::string& v) {
+             const auto& names = presetNames();
+             if (std::find(names.begin(), names.end(), v) == names.end())
+                 throw UsageError("--preset: unknown renderer '" + v + "' (auto, blender, arnold, renderman, vray, karma, generic)");
+             o.job.preset = v;
+         }},
         {"--layer", "ROLE=NAME", "use layer NAME for ROLE (depth, normal, position, beauty, albedo, direct-diffuse)",
          [](Options& o, const std::string& v) {
              auto [role, name] = splitAssignment("--layer", v);
@@ -277,6 +286,7 @@ int run(int argc, char** argv) {
             return 0;
         }
         if (o.job.output.empty()) throw UsageError("no output file: give -o OUTPUT.exr (or --inspect)");
+        if (!o.reportPath.empty()) requireOutputDirectory(o.reportPath);
         const FrameReport report = runFrameJob(o.job);
         if (report.reference) {
             const ErrorMetrics& m = *report.reference;

@@ -113,6 +113,13 @@ void validatePixels(const FrameJob& job, const FramePasses& p, float sky, FrameR
 
 } // namespace
 
+void requireOutputDirectory(const std::string& path) {
+    const fs::path dir = fs::path(path).parent_path();
+    std::error_code ec;
+    if (!dir.empty() && !fs::is_directory(dir, ec))
+        throw Error("cannot write '" + path + "': directory '" + dir.string() + "' does not exist");
+}
+
 std::string aoChannelName(const std::string& layer) {
     const size_t dot = layer.rfind('.');
     if (dot != std::string::npos && dot + 2 == layer.size() && std::isupper((unsigned char)layer.back())) return layer;
@@ -175,10 +182,9 @@ FrameReport runFrameJob(const FrameJob& job) {
     if (job.output.empty()) throw Error("no output file: give -o OUTPUT.exr");
     if (!job.inPlace && sameFile(job.input, job.output))
         throw Error("refusing to overwrite the input '" + job.input + "' (use --in-place)");
-    const fs::path outDir = fs::path(job.output).parent_path();
-    std::error_code ec;
-    if (!outDir.empty() && !fs::is_directory(outDir, ec))
-        throw Error("cannot write '" + job.output + "': directory '" + outDir.string() + "' does not exist");
+    // Every destination is checked before any work, so a bad one leaves nothing behind.
+    requireOutputDirectory(job.output);
+    if (!job.previewPath.empty()) requireOutputDirectory(job.previewPath);
     setExrThreads(job.settings.threads);
 
     FrameReport report;

@@ -70,6 +70,8 @@ FrameReport runFrameJob(const FrameJob& job);
 std::string inspectFrame(const FrameJob& job);
 // --report: settings, camera, timings and statistics as JSON text.
 std::string frameReportJson(const FrameJob& job, const FrameReport& report);
+// Throws obscura::Error when the directory `path` would be written into does not exist.
+void requireOutputDirectory(const std::string& path);
 // "<layer>.Y", or the name itself when it already ends in a single-letter channel.
 std::string aoChannelName(const std::string& layer);
 

@@ -1,0 +1,16 @@
+// Runs a program as a subprocess (no shell) and captures its exit code, stdout and stderr.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace obscura::test {
+
+struct CliResult {
+    int exitCode = -1;      // the exit status; 128 + N if killed by signal N; -1 if it could not start
+    std::string out, err;   // everything written to stdout / stderr
+};
+
+// argv[0] is `program`; `args` follow verbatim (no shell, no splitting, no globbing).
+CliResult runProgram(const std::string& program, const std::vector<std::string>& args);
+
+} // namespace obscura::test
