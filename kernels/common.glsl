@@ -74,6 +74,34 @@ vec3 viewOffset(vec3 rayP, float depthP, vec2 pixelOffset, float depthS) {
     return (depthS - depthP) * rayP + depthS * vec3(w, 0.0f);
 }
 
+// viewOffset for four samples at once, as components: (x, y, z)[i] = S_i - P for the
+// sample at pixelOffset (offsetX[i], offsetY[i]) with depth depthS[i]. Same arithmetic.
+void viewOffset4(vec3 rayP, float depthP, vec4 offsetX, vec4 offsetY, vec4 depthS,
+                 OUT(vec4) x, OUT(vec4) y, OUT(vec4) z) {
+    vec4 wx = offsetX * P.invFx;
+    vec4 wy = -offsetY * P.invFy;
+    if (P.orthographic != 0) {
+        x = wx;
+        y = wy;
+        z = depthP - depthS;
+        return;
+    }
+    if (P.radialDepth != 0) {
+        vec4 rayX = rayP.x + wx;
+        vec4 rayY = rayP.y + wy;
+        vec4 scaleS = depthS * inversesqrt(rayX * rayX + rayY * rayY + rayP.z * rayP.z);
+        vec3 p = rayP * (depthP * inversesqrt(dot(rayP, rayP)));
+        x = rayX * scaleS - p.x;
+        y = rayY * scaleS - p.y;
+        z = rayP.z * scaleS - p.z;
+        return;
+    }
+    vec4 dd = depthS - depthP;
+    x = dd * rayP.x + depthS * wx;
+    y = dd * rayP.y + depthS * wy;
+    z = dd * rayP.z;
+}
+
 // Unit vector towards the eye. Taken from the pixel's ray, not its position, so
 // it stays exact at any depth (tiny depths would underflow a normalisation).
 vec3 viewVector(vec3 ray) {
@@ -97,6 +125,10 @@ vec2 screenDirection(vec3 ray, vec3 dirVS) {
     return d * inversesqrt(max(dot(d, d), 1e-30f));
 }
 
+// Smallest n.V kept: only back-facing (or exactly edge-on) normals are bent. A surface seen
+// at a grazing angle keeps its true normal, or its own samples would rise above a bent tangent plane.
+CONST_GLOBAL float MIN_NORMAL_DOT_VIEW = 1e-6f;
+
 // View-space unit normal facing the viewer. Missing normals (zero, NaN) fall
 // back to the view vector; back-facing ones are bent just past the silhouette,
 // so a bad normal never produces NaN or a hemisphere facing away from the eye.
@@ -108,8 +140,8 @@ vec3 viewNormal(ivec2 texel, vec3 V) {
     }
     n *= inversesqrt(len2);
     float nv = dot(n, V);
-    if (nv < 0.01f) {
-        n = normalize(n + V * (0.01f - nv));
+    if (nv < MIN_NORMAL_DOT_VIEW) {
+        n = normalize(n + V * (MIN_NORMAL_DOT_VIEW - nv));
     }
     return n;
 }

@@ -27,13 +27,38 @@ float sliceIntegral(float s, float cosB, float sinB, float nLen) {
     return 0.5f * nLen * (0.5f * sin2aMinusB + asin(s) * cosB);
 }
 
+// Offsets 0..3 of the four steps processed together.
+CONST_GLOBAL vec4 STEP_LANES = vec4(0.0f, 1.0f, 2.0f, 3.0f);
+
+// Depth of the sample at buffer texel `t` if the step exists (`use`) and is inside the
+// buffer; 0 (not a surface) otherwise.
+float loadSampleDepth(ivec2 t, bool use) {
+    return use && insideBuffer(t) ? loadDepth(t) * P.depthScale : 0.0f;
+}
+
+// One sample of the horizon search, in step order. sinA: the sample's elevation, at least
+// sinT; a sample that does not count has sinA = sinT and leaves the slice unchanged.
+void horizonStep(float sinA, float weight, float cosB, float sinB, float nLen,
+                 INOUT(float) sinH, INOUT(float) integralH, INOUT(float) sliceOcclusion) {
+    // Each rise of the horizon is weighted by W(r) of the sample that made it (the paper's
+    // per-sample attenuation). The integral is monotonic above the tangent, so max() tracks it,
+    // and it only changes where the horizon rises: the costly cosine integral is skipped elsewhere.
+    if (P.linearFalloff != 0 && (P.cosineWeighting == 0 || sinA > sinH)) {
+        float integralA = sliceIntegral(sinA, cosB, sinB, nLen);
+        sliceOcclusion += weight * max(integralA - integralH, 0.0f);
+        integralH = max(integralH, integralA);
+    }
+    sinH = max(sinH, sinA);
+}
+
 // Ambient occlusion in [0,1] (1 = unoccluded) for one buffer texel.
 float hbaoPixel(ivec2 texel) {
     float depth = loadDepth(texel) * P.depthScale;
     if (!isSurfaceDepth(depth)) {
         return 1.0f;
     }
-    ivec2 displayPixel = texel + bufferOrigin();
+    ivec2 origin = bufferOrigin();
+    ivec2 displayPixel = texel + origin;
     vec2 centre = vec2(displayPixel) + 0.5f;
     vec3 ray = viewRay(centre);
     vec3 positionVS = viewPosition(centre, depth);
@@ -69,53 +94,83 @@ float hbaoPixel(ivec2 texel) {
     for (int d = 0; d < P.directions; ++d) {
         float phi = (float(d) + rotation) * (TWO_PI / float(P.directions));
         vec3 E = cos(phi) * B1 + sin(phi) * B2;
-        vec3 A = cross(E, V); // slice-plane normal
         vec2 dir = screenDirection(ray, E);
 
-        float nA = dot(n, A);
         float nE = dot(n, E);
-        float nV = dot(n, V);               // >= 0.01 after viewNormal
-        float nLen = sqrt(nE * nE + nV * nV); // length of the normal projected into the slice
+        float nV = dot(n, V);               // > 0 after viewNormal
+        float nLen = max(sqrt(nE * nE + nV * nV), 1e-12f); // length of the normal projected into the slice
         float cosB = nE / nLen;
         float sinB = nV / nLen;
         float sinT = -cosB;                 // tangent elevation: perpendicular to n_p, on the E side
-        // Off-slice samples return to the slice along the tangent plane: X' = X - A_t (A.X) / (1 - nA^2).
-        // Folded into the axes, so each sample costs two dot products: xE = E'.X, xV = V'.X.
-        float inv = nA / max(1.0f - nA * nA, 1e-6f);
-        vec3 sliceE = E + (nE * inv) * A;
-        vec3 sliceV = V + (nV * inv) * A;
+        // Off-slice samples (texel snapping) return to the slice along the tangent plane, which
+        // keeps their height above it: in tangent coordinates a = T.X along the slice's tangent T
+        // and b = (n.X) / |n_p| across it, rotated by the tangent elevation t into (xE, xV).
+        // Algebraically X - A_t (A.X) / (1 - nA^2), but without that division, which amplifies
+        // rounding by 1/(1 - nA^2) in slices that nearly contain the normal (grazing views).
+        vec3 T = (nV * E - nE * V) / nLen;
+        float cosT = sinB;
 
-        // Branch-free horizon search: a sample that does not count (sky, beyond R, behind the
-        // half-plane, below the tangent) gets the tangent elevation and cannot raise the horizon.
+        // Horizon search. A sample that does not count (outside the buffer, sky, beyond R, behind
+        // the half-plane) changes nothing, as one below the tangent (elevation clamped to sinT).
         float sinH = sinT;
         float integralT = sliceIntegral(sinT, cosB, sinB, nLen);
         float integralH = integralT;
         float sliceOcclusion = 0.0f;
-        for (int s = 0; s < steps; ++s) {
-            float offset = 1.0f + (float(s) + jitter) * stepPixels;
-            vec2 samplePos = floor(centre + dir * offset) + 0.5f;
-            ivec2 sampleTexel = ivec2(samplePos) - bufferOrigin();
-            if (!insideBuffer(sampleTexel)) {
+        // Four steps at a time: the per-step arithmetic is written on vec4 lanes, which a CPU
+        // compiles to SIMD and a GPU runs as four scalars; then the lanes update the horizon
+        // in step order. Lanes past the last step never count.
+        for (int s0 = 0; s0 < steps; s0 += 4) {
+            vec4 offset = 1.0f + ((vec4(float(s0)) + STEP_LANES) + jitter) * stepPixels;
+            // floor before the int conversion: ivec4() truncates towards zero, which would
+            // fold row -1 (or any negative overscan coordinate) onto row 0.
+            vec4 cornerX = floor(centre.x + dir.x * offset);
+            vec4 cornerY = floor(centre.y + dir.y * offset);
+            ivec4 texelX = ivec4(cornerX) - origin.x;
+            ivec4 texelY = ivec4(cornerY) - origin.y;
+            if (!insideBuffer(ivec2(texelX.x, texelY.x))) {
                 break; // the image line has left the buffer for good
             }
-            float sampleDepth = loadDepth(sampleTexel) * P.depthScale;
-            bool surface = isSurfaceDepth(sampleDepth);
-            vec3 X = viewOffset(ray, depth, samplePos - centre, surface ? sampleDepth : depth);
-            float r2 = dot(X, X);
-            float xE = dot(sliceE, X);
-            float xV = dot(sliceV, X);
-            // xE <= 0 only happens when snapping pushed the sample into the opposite half-slice.
-            bool counts = surface && r2 <= radius2 && xE > 0.0f;
-            float sinA = counts ? max(xV * inversesqrt(xE * xE + xV * xV), sinT) : sinT;
-            if (P.linearFalloff != 0) {
-                // Each rise of the horizon is weighted by W(r) of the sample that made it (the paper's
-                // per-sample attenuation). The integral is monotonic above the tangent, so max() tracks it.
-                float integralA = sliceIntegral(sinA, cosB, sinB, nLen);
-                float w = max(1.0f - sqrt(r2) * invRadius, 0.0f);
-                sliceOcclusion += w * max(integralA - integralH, 0.0f);
-                integralH = max(integralH, integralA);
+            // Once a step leaves the buffer every later one is outside too (the line is straight
+            // and the buffer convex), so masking the steps outside is the per-step `break`,
+            // and when the last of the four is inside, all are.
+            vec4 sampleDepth;
+            if (s0 + 3 < steps && insideBuffer(ivec2(texelX.w, texelY.w))) {
+                sampleDepth = vec4(loadDepth(ivec2(texelX.x, texelY.x)), loadDepth(ivec2(texelX.y, texelY.y)),
+                                   loadDepth(ivec2(texelX.z, texelY.z)), loadDepth(ivec2(texelX.w, texelY.w))) *
+                              P.depthScale;
+            } else {
+                sampleDepth = vec4(loadSampleDepth(ivec2(texelX.x, texelY.x), true),
+                                   loadSampleDepth(ivec2(texelX.y, texelY.y), s0 + 1 < steps),
+                                   loadSampleDepth(ivec2(texelX.z, texelY.z), s0 + 2 < steps),
+                                   loadSampleDepth(ivec2(texelX.w, texelY.w), s0 + 3 < steps));
             }
-            sinH = max(sinH, sinA);
+            // isSurfaceDepth per lane (depths below the smallest surface depth, NaN included, are
+            // moved to the sky first); holes and sky take the centre depth, which keeps X finite.
+            sampleDepth = mix(vec4(P.skyDepth), sampleDepth, greaterThanEqual(sampleDepth, vec4(MIN_SURFACE_DEPTH)));
+            bvec4 surface = lessThan(sampleDepth, vec4(P.skyDepth));
+            sampleDepth = mix(vec4(depth), sampleDepth, surface);
+            vec4 Xx;
+            vec4 Xy;
+            vec4 Xz;
+            viewOffset4(ray, depth, (cornerX + 0.5f) - centre.x, (cornerY + 0.5f) - centre.y, sampleDepth, Xx, Xy, Xz);
+            vec4 r2 = Xx * Xx + Xy * Xy + Xz * Xz;
+            vec4 a = T.x * Xx + T.y * Xy + T.z * Xz;
+            vec4 b = (n.x * Xx + n.y * Xy + n.z * Xz) / nLen;
+            vec4 xE = cosT * a - sinT * b;
+            vec4 xV = sinT * a + cosT * b;
+            // A sample counts if it is a surface within R in front of the half-plane (xE <= 0 only
+            // happens when snapping pushed it into the opposite half-slice); otherwise, and below
+            // the tangent, its elevation is the tangent's.
+            vec4 sinA = max(xV * inversesqrt(xE * xE + xV * xV), sinT);
+            sinA = mix(vec4(sinT), sinA, surface);
+            sinA = mix(vec4(sinT), sinA, lessThanEqual(r2, vec4(radius2)));
+            sinA = mix(vec4(sinT), sinA, greaterThan(xE, vec4(0.0f)));
+            // W(r) = 1 - r/R, linear falloff only
+            vec4 weight = P.linearFalloff != 0 ? max(1.0f - sqrt(r2) * invRadius, 0.0f) : vec4(0.0f);
+            horizonStep(sinA.x, weight.x, cosB, sinB, nLen, sinH, integralH, sliceOcclusion);
+            horizonStep(sinA.y, weight.y, cosB, sinB, nLen, sinH, integralH, sliceOcclusion);
+            horizonStep(sinA.z, weight.z, cosB, sinB, nLen, sinH, integralH, sliceOcclusion);
+            horizonStep(sinA.w, weight.w, cosB, sinB, nLen, sinH, integralH, sliceOcclusion);
         }
         if (P.linearFalloff == 0) {
             sliceOcclusion = sliceIntegral(sinH, cosB, sinB, nLen) - integralT;

@@ -11,7 +11,7 @@ PACKAGES=(
   libopencolorio-dev
   libglm-dev nlohmann-json3-dev
   libosmesa6-dev libegl-dev libgl-dev
-  libembree-dev
+  libembree-dev libtinyobjloader-dev
   libgtest-dev libgmock-dev googletest libbenchmark-dev
 )
 

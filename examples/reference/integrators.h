@@ -1,0 +1,57 @@
+// Per-pixel estimators: primary hit, direct light, one-bounce indirect diffuse,
+// and the four ray-traced AO definitions of obscura's DESIGN.md.
+#pragma once
+#include "camera.h"
+#include "tracer.h"
+
+#include <array>
+#include <cstdint>
+
+namespace reference {
+
+enum AoLayer { kUniformLinear, kUniformNone, kCosineLinear, kCosineNone, kAoLayers };
+extern const char* const kAoLayerNames[kAoLayers];  // "AO_uniform_linear", ...
+
+struct RenderSettings {
+    int width = 320, height = 240;
+    double radius = 1;
+    int aoRays = 256;  // per weighting; both falloffs share one hit distance
+    int giRays = 64;   // cosine-weighted rays per pixel for the sky light and one bounce
+    uint32_t seed = 1;
+    int threads = 0;   // 0: all cores
+};
+
+struct PixelResult {
+    bool sky = true;
+    glm::vec3 beauty{0.0f};
+    double depth = 1e10;
+    glm::dvec3 normal{0.0}, position{0.0};
+    glm::vec3 albedo{0.0f}, direct{0.0f}, indirect{0.0f};
+    std::array<double, kAoLayers> ao{1, 1, 1, 1}, aoStdErr{0, 0, 0, 0};
+    double indirectStdErr = 0;  // of the luminance of `indirect`
+};
+
+class Integrator {
+public:
+    Integrator(const Scene& scene, const Tracer& tracer, const PinholeCamera& camera, const RenderSettings& settings)
+        : scene_(scene), tracer_(tracer), camera_(camera), settings_(settings) {}
+    PixelResult shade(int x, int y) const;
+
+private:
+    // Sun and point lights at p (DiffDir units), with shadow rays.
+    glm::vec3 lights(const glm::dvec3& p, const glm::dvec3& n, double eps) const;
+    void ambientOcclusion(const glm::dvec3& origin, const glm::dvec3& n, uint32_t pixelSeed, PixelResult& out) const;
+    void diffuseLight(const glm::dvec3& origin, const glm::dvec3& n, uint32_t pixelSeed, PixelResult& out) const;
+
+    const Scene& scene_;
+    const Tracer& tracer_;
+    const PinholeCamera& camera_;
+    const RenderSettings& settings_;
+};
+
+// Ray-origin offset along the normal, relative to the magnitude of the position
+// and the distance travelled (float precision scales with both): works from
+// centimetres to kilometres in one scene.
+double offsetEpsilon(const glm::dvec3& p, double distance);
+
+} // namespace reference

@@ -1,0 +1,50 @@
+#include "render.h"
+
+#include <algorithm>
+#include <atomic>
+#include <thread>
+
+namespace reference {
+
+Frame render(const Integrator& integrator, const RenderSettings& settings) {
+    Frame f;
+    f.width = settings.width;
+    f.height = settings.height;
+    f.pixels.resize(size_t(f.width) * f.height);
+    std::atomic<int> nextRow{0};
+    auto work = [&] {
+        for (int y; (y = nextRow.fetch_add(1)) < f.height;)
+            for (int x = 0; x < f.width; ++x) f.pixels[size_t(y) * f.width + x] = integrator.shade(x, y);
+    };
+    const int threads = settings.threads > 0 ? settings.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+    std::vector<std::thread> pool;
+    for (int i = 1; i < threads; ++i) pool.emplace_back(work);
+    work();
+    for (auto& t : pool) t.join();
+    return f;
+}
+
+Convergence summarise(const Frame& frame) {
+    Convergence c;
+    for (const PixelResult& p : frame.pixels) {
+        if (p.sky) continue;
+        ++c.surfacePixels;
+        for (int l = 0; l < kAoLayers; ++l) {
+            c.aoMean[l] += p.ao[l];
+            c.aoStdErrMean[l] += p.aoStdErr[l];
+            c.aoStdErrMax[l] = std::max(c.aoStdErrMax[l], p.aoStdErr[l]);
+        }
+        c.indirectMean += 0.2126 * p.indirect.r + 0.7152 * p.indirect.g + 0.0722 * p.indirect.b;
+        c.indirectStdErrMean += p.indirectStdErr;
+        c.indirectStdErrMax = std::max(c.indirectStdErrMax, p.indirectStdErr);
+    }
+    if (c.surfacePixels > 0) {
+        const double n = double(c.surfacePixels);
+        for (int l = 0; l < kAoLayers; ++l) c.aoMean[l] /= n, c.aoStdErrMean[l] /= n;
+        c.indirectMean /= n;
+        c.indirectStdErrMean /= n;
+    }
+    return c;
+}
+
+} // namespace reference

@@ -1,0 +1,25 @@
+// The frame loop: every pixel through the integrator, rows shared among threads,
+// then the convergence summary over non-sky pixels.
+#pragma once
+#include "integrators.h"
+
+#include <vector>
+
+namespace reference {
+
+struct Frame {
+    int width = 0, height = 0;
+    std::vector<PixelResult> pixels;  // row-major, y down
+    const PixelResult& at(int x, int y) const { return pixels[size_t(y) * width + x]; }
+};
+
+struct Convergence {
+    size_t surfacePixels = 0;
+    std::array<double, kAoLayers> aoMean{}, aoStdErrMean{}, aoStdErrMax{};
+    double indirectMean = 0, indirectStdErrMean = 0, indirectStdErrMax = 0;  // luminance
+};
+
+Frame render(const Integrator& integrator, const RenderSettings& settings);
+Convergence summarise(const Frame& frame);
+
+} // namespace reference
