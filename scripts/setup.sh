@@ -5,14 +5,15 @@
 set -euo pipefail
 
 PACKAGES=(
-  build-essential cmake pkg-config git python3
+  build-essential cmake pkg-config git python3 python3-matplotlib
   libopenexr-dev libimath-dev
   libopenimageio-dev openimageio-tools
   libopencolorio-dev
   libglm-dev nlohmann-json3-dev
-  libosmesa6-dev libegl-dev libgl-dev
+  libosmesa6-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
   libembree-dev libtinyobjloader-dev
   libgtest-dev libgmock-dev googletest libbenchmark-dev
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-openimageio
 )
 
 missing=()

@@ -1,11 +1,14 @@
-// Throughput of the CPU HBAO path on a realistic 1920x1080 frame (floor, walls,
-// boxes, some sky) at 8 directions x 8 steps, in megapixels per second.
+// Throughput of HBAO on a realistic 1920x1080 frame (floor, walls, boxes, some sky)
+// at 8 directions x 8 steps, in megapixels per second, on the CPU (1 thread and all
+// threads) and on every OpenGL device this machine can open (gl-osmesa, gl-egl), side
+// by side. GL runs also report their upload / compute / readback split in ms.
 //
 // Every run also reports two ratios measured in this process, so numbers from
 // noisy machines stay comparable:
 //   "xCopy"  frame time / time to memcpy the depth + normal planes once
 //            ("AO costs as much as copying the inputs N times");
-//   "xBase"  frame time / frame time of the first run (1 thread, uniform, linear).
+//   "xBase"  frame time / frame time of the first run (1 thread, uniform, linear);
+//   "xCpu"   (GL runs) frame time / the all-threads CPU frame time of the same case.
 //
 // Environment: OBSCURA_BENCH_WIDTH / OBSCURA_BENCH_HEIGHT override the frame size.
 #include "core/operator.h"
@@ -18,6 +21,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <map>
 #include <string>
 #include <thread>
 #include <vector>
@@ -56,8 +60,9 @@ SceneBuffers& scene() {
     return sb;
 }
 
-Settings settingsFor(Weighting w, Falloff f, int threads) {
+Settings settingsFor(Weighting w, Falloff f, int threads, const std::string& device) {
     Settings s;
+    s.device = device;
     s.radius = 0.5f;
     s.directions = 8;
     s.steps = 8;
@@ -87,26 +92,53 @@ double copySeconds() {
     return t;
 }
 
-double gBaseSeconds = 0; // seconds per frame of the first (baseline) run
+double gBaseSeconds = 0;                   // seconds per frame of the first (baseline) run
+std::map<std::string, double> gCpuSeconds; // all-threads CPU seconds per frame, by case
 
-void BM_Hbao(benchmark::State& state, Weighting w, Falloff f, int threads) {
+void BM_Hbao(benchmark::State& state, Weighting w, Falloff f, int threads, std::string device, std::string caseName) {
     const SceneBuffers& sb = scene();
     const OperatorInputs in = sb.inputs();
-    const Settings s = settingsFor(w, f, threads);
+    const Settings s = settingsFor(w, f, threads, device);
     double seconds = 0;
+    std::map<std::string, double> stages;
     for (auto _ : state) {
         const auto t0 = std::chrono::steady_clock::now();
         OperatorOutputs out = runOperator(in, s);
         seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         benchmark::DoNotOptimize(out.ao.pixels.data());
+        for (const StageTiming& t : out.stats.timings) stages[t.name] += t.seconds;
     }
+    const double n = (double)state.iterations();
     const double pixels = (double)sb.depth.width * sb.depth.height;
-    const double perFrame = seconds / (double)state.iterations();
+    const double perFrame = seconds / n;
     if (gBaseSeconds == 0) gBaseSeconds = perFrame;
+    if (device == "cpu" && threads != 1) gCpuSeconds[caseName] = perFrame;
     state.SetItemsProcessed((int64_t)(state.iterations() * pixels));
     state.counters["MP/s"] = pixels * 1e-6 / perFrame;
     state.counters["xCopy"] = perFrame / copySeconds();
     state.counters["xBase"] = perFrame / gBaseSeconds;
+    if (device != "cpu") {
+        state.counters["upload_ms"] = stages["gl-upload"] / n * 1e3;
+        state.counters["compute_ms"] = stages["gl-compute"] / n * 1e3;
+        state.counters["readback_ms"] = stages["gl-readback"] / n * 1e3;
+        if (gCpuSeconds.count(caseName)) state.counters["xCpu"] = perFrame / gCpuSeconds[caseName];
+    }
+}
+
+// The GL devices that can be opened here, each with its renderer, printed once.
+std::vector<std::string> glDevices() {
+    std::vector<std::string> found;
+    for (const char* d : {"gl-osmesa", "gl-egl"}) {
+        Settings s;
+        s.device = d;
+        try {
+            std::printf("%-9s %s\n", d, describeDevice(s).c_str());
+            found.push_back(d);
+        } catch (const std::exception& e) {
+            std::printf("%-9s unavailable: %s\n", d, e.what());
+        }
+    }
+    return found;
 }
 
 } // namespace
@@ -127,17 +159,22 @@ int main(int argc, char** argv) {
                  {Weighting::Uniform, Falloff::None, "uniform/none"},
                  {Weighting::Cosine, Falloff::Linear, "cosine/linear"},
                  {Weighting::Cosine, Falloff::None, "cosine/none"}};
-    // The first registered run is the xBase reference: 1 thread, uniform, linear.
+    // The first registered run is the xBase reference: 1 thread, uniform, linear. CPU runs come
+    // first, so each GL run can be divided by the all-threads CPU time of its case.
+    auto add = [](const std::string& device, int threads, const auto& c) {
+        const std::string name = "hbao_8x8/" + std::string(c.name) + "/" + device +
+                                 (device == "cpu" ? "/threads:" + std::to_string(threads) : "");
+        benchmark::RegisterBenchmark(name.c_str(), BM_Hbao, c.w, c.f, threads, device, std::string(c.name))
+            ->Unit(benchmark::kMillisecond)
+            ->UseRealTime()
+            ->MinTime(0.5);
+    };
     for (int threads : {1, all}) {
         if (threads == all && all == 1) break;
-        for (const auto& c : cases) {
-            const std::string name = std::string("hbao_8x8/") + c.name + "/threads:" + std::to_string(threads);
-            benchmark::RegisterBenchmark(name.c_str(), BM_Hbao, c.w, c.f, threads)
-                ->Unit(benchmark::kMillisecond)
-                ->UseRealTime()
-                ->MinTime(0.5);
-        }
+        for (const auto& c : cases) add("cpu", threads, c);
     }
+    for (const std::string& device : glDevices())
+        for (const auto& c : cases) add(device, all, c);
     benchmark::Initialize(&argc, argv);
     if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
     benchmark::RunSpecifiedBenchmarks();
