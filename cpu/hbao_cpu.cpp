@@ -16,7 +16,7 @@ namespace obscura::glsl {
 
 // The backend side of the kernels' contract: loads from strided planes.
 struct CpuPasses {
-    HbaoParams P;
+    KernelParams P;
     ConstPlane depthPlane, normalPlane, aoPlane;
 
     float loadDepth(ivec2 t) const { return *depthPlane.at(t.x, t.y); }
@@ -24,7 +24,7 @@ struct CpuPasses {
         const float* n = normalPlane.at(t.x, t.y);
         return vec3(n[0], n[1], n[2]);
     }
-    float loadAo(ivec2 t) const { return *aoPlane.at(t.x, t.y); }
+    vec4 loadSignal(ivec2 t) const { return vec4(*aoPlane.at(t.x, t.y), 0.0f, 0.0f, 0.0f); }
 };
 
 struct BlurCpuKernel : CpuPasses {
@@ -54,13 +54,13 @@ HbaoTileFn selectHbaoTile() {
 }
 } // namespace
 
-void runHbao(const HbaoParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, int threads) {
+void runHbao(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, int threads) {
     static const HbaoTileFn hbaoTile = selectHbaoTile();
     const Box2i region{0, 0, p.width, p.height};
     parallelForTiles(region, kTile, threads, [&](const Box2i& tile) { hbaoTile(p, depth, normal, ao, tile); });
 }
 
-void runBlur(const HbaoParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, int radius, int threads) {
+void runBlur(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, int radius, int threads) {
     if (radius <= 0) return;
     std::vector<float> scratch((size_t)p.width * p.height);
     MutablePlane tmp{scratch.data(), p.width, p.height, 1, 1, p.width};

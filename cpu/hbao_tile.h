@@ -11,14 +11,14 @@
 namespace obscura::cpu {
 
 // Runs hbaoPixel over every texel of the tile; the entry point each ISA provides.
-using HbaoTileFn = void (*)(const glsl::HbaoParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao,
+using HbaoTileFn = void (*)(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao,
                             const Box2i& tile);
 
 namespace baseline {
-void hbaoTile(const glsl::HbaoParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile);
+void hbaoTile(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile);
 }
 namespace x86_64_v3 {
-void hbaoTile(const glsl::HbaoParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile);
+void hbaoTile(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile);
 }
 
 } // namespace obscura::cpu

@@ -13,16 +13,16 @@ namespace obscura::glsl {
 namespace {
 
 // A parameter block whose switches are fixed at compile time: the static members
-// hide HbaoParams' run-time ones, so `P.cosineWeighting` in the kernel is a constant.
+// hide KernelParams' run-time ones, so `P.cosineWeighting` in the kernel is a constant.
 template <int Cosine, int Linear>
-struct ParamsPerspPlanar : HbaoParams {
+struct ParamsPerspPlanar : KernelParams {
     static constexpr int cosineWeighting = Cosine;
     static constexpr int linearFalloff = Linear;
     static constexpr int orthographic = 0;
     static constexpr int radialDepth = 0;
 };
 template <int Cosine, int Linear>
-struct ParamsAnyCamera : HbaoParams {
+struct ParamsAnyCamera : KernelParams {
     static constexpr int cosineWeighting = Cosine;
     static constexpr int linearFalloff = Linear;
 };
@@ -55,12 +55,12 @@ struct HbaoCpuKernel {
 namespace obscura::cpu::OBSCURA_ISA {
 namespace {
 
-using glsl::HbaoParams;
+using glsl::KernelParams;
 
 template <class Params>
-void runTile(const HbaoParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile) {
+void runTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile) {
     glsl::HbaoCpuKernel<Params> k;
-    static_cast<HbaoParams&>(k.P) = p;
+    static_cast<KernelParams&>(k.P) = p;
     k.depthData = depth.data;
     k.depthXStride = depth.xStride;
     k.depthYStride = depth.yStride;
@@ -72,7 +72,7 @@ void runTile(const HbaoParams& p, ConstPlane depth, ConstPlane normal, MutablePl
 }
 
 template <int Cosine, int Linear>
-void runTileFor(const HbaoParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile) {
+void runTileFor(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile) {
     if (p.orthographic == 0 && p.radialDepth == 0)
         runTile<glsl::ParamsPerspPlanar<Cosine, Linear>>(p, depth, normal, ao, tile);
     else
@@ -81,7 +81,7 @@ void runTileFor(const HbaoParams& p, ConstPlane depth, ConstPlane normal, Mutabl
 
 } // namespace
 
-void hbaoTile(const HbaoParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile) {
+void hbaoTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile) {
     if (p.cosineWeighting != 0) {
         if (p.linearFalloff != 0) runTileFor<1, 1>(p, depth, normal, ao, tile);
         else runTileFor<1, 0>(p, depth, normal, ao, tile);

@@ -3,6 +3,6 @@
 #include "kernels/glsl_cpp.h"
 
 namespace obscura::glsl {
-#include "kernels/hbao_params.glsl"
-static_assert(sizeof(HbaoParams) == 64 + 6 * 16, "HbaoParams must match its std140 layout");
+#include "kernels/kernel_params.glsl"
+static_assert(sizeof(KernelParams) == 64 + 6 * 16 + 64 + 9 * 16 + 3 * 16, "KernelParams must match its std140 layout");
 } // namespace obscura::glsl

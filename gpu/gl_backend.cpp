@@ -26,7 +26,7 @@ std::string kernelText(const char* file) {
 }
 
 // The largest projected radius over the frame (the nearest surface), as hbaoPixel computes it.
-float maxReachPixels(const glsl::HbaoParams& p, ConstPlane depth) {
+float maxReachPixels(const glsl::KernelParams& p, ConstPlane depth) {
     if (p.orthographic) return std::min(p.radius * p.fx, p.maxRadiusPixels);
     double zMin = INFINITY;
     for (int y = 0; y < depth.height; ++y) {
@@ -56,7 +56,7 @@ GlBackend::GlBackend(ContextKind kind, bool hardwareOnly) : context_(GlContext::
     for (const GlKernel& k : glKernels()) {
         const std::vector<ShaderPart> parts = {
             {"glsl_prelude.glsl", kernelText("glsl_prelude.glsl")},
-            {"hbao_params.glsl", kernelText("hbao_params.glsl")},
+            {"kernel_params.glsl", kernelText("kernel_params.glsl")},
             {"gl_kernels.cpp (bindings)", kGlBindings},
             {"common.glsl", kernelText("common.glsl")},
             {k.file, kernelText(k.file)},
@@ -80,7 +80,7 @@ GlBackend::~GlBackend() {
     }
 }
 
-void GlBackend::runHbao(const glsl::HbaoParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, int blur,
+void GlBackend::runHbao(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, int blur,
                         GlTimings* timings, long long maxTexels) {
     context_->makeCurrent();
     const GlApi& gl = context_->gl();
@@ -106,7 +106,7 @@ void GlBackend::runHbao(const glsl::HbaoParams& p, ConstPlane depth, ConstPlane 
                                   : intersect(Box2i{inner.x0 - apron, inner.y0 - apron, inner.x1 + apron, inner.y1 + apron},
                                               Box2i{0, 0, W, H});
             const int bw = buf.width(), bh = buf.height();
-            glsl::HbaoParams q = p;
+            glsl::KernelParams q = p;
             q.width = bw;
             q.height = bh;
             q.originX = p.originX + buf.x0;

@@ -30,7 +30,7 @@ public:
     // AO (then `blur` passes of the geometry-aware blur) for the buffers p describes;
     // p.maxRadiusPixels bounds how far a pixel reads, which sizes the tile apron.
     // maxTexels (0 = from the context's limits) caps a tile, for tests of tiling.
-    void runHbao(const glsl::HbaoParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, int blur,
+    void runHbao(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, int blur,
                  GlTimings* timings = nullptr, long long maxTexels = 0);
 
 private:

@@ -4,7 +4,7 @@ namespace obscura::gpu {
 
 const char* const kGlBindings = R"glsl(
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(std140, binding = 0) uniform HbaoBlock { HbaoParams P; };
+layout(std140, binding = 0) uniform HbaoBlock { KernelParams P; };
 layout(std430, binding = 1) readonly buffer DepthBuffer { float depthData[]; };
 layout(std430, binding = 2) readonly buffer NormalBuffer { float normalData[]; };
 layout(std430, binding = 3) readonly buffer AoInBuffer { float aoInData[]; };
@@ -18,7 +18,7 @@ vec3 loadNormal(ivec2 t) {
     int i = 3 * texelIndex(t);
     return vec3(normalData[i], normalData[i + 1], normalData[i + 2]);
 }
-float loadAo(ivec2 t) { return aoInData[texelIndex(t)]; }
+vec4 loadSignal(ivec2 t) { return vec4(aoInData[texelIndex(t)], 0.0f, 0.0f, 0.0f); }
 bool outsideDispatch(ivec2 t) { return t.x >= P.width || t.y >= P.height; }
 )glsl";
 

@@ -17,7 +17,7 @@ const ContextInfo& GlBackend::info() const {
 }
 GlBackend::GlBackend(ContextKind, bool) { throw Error("this build of obscura has no OpenGL backend"); }
 GlBackend::~GlBackend() = default;
-void GlBackend::runHbao(const glsl::HbaoParams&, ConstPlane, ConstPlane, MutablePlane, int, GlTimings*, long long) {}
+void GlBackend::runHbao(const glsl::KernelParams&, ConstPlane, ConstPlane, MutablePlane, int, GlTimings*, long long) {}
 bool isDeviceName(const std::string& n) {
     return n == "cpu" || n == "auto" || n == "gl" || n == "gl-egl" || n == "gl-osmesa";
 }

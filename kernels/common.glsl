@@ -1,6 +1,6 @@
 // Shared per-pixel helpers: hashing, camera reconstruction, pass validation.
 // Requires the backend to provide: float loadDepth(ivec2 texel); vec3 loadNormal(ivec2 texel);
-// and a parameter block `P` with the HbaoParams members used here.
+// and a parameter block `P` with the KernelParams members used here.
 
 CONST_GLOBAL float PI = 3.14159265358979f;
 CONST_GLOBAL float TWO_PI = 6.28318530717959f;

@@ -1,5 +1,6 @@
 // HBAO through the operator on analytic scenes with known answers.
 #include "core/operator.h"
+#include "support/closed_forms.h"
 #include "support/scenes.h"
 
 #include <gtest/gtest.h>
@@ -32,21 +33,6 @@ const Case kCases[] = {{Weighting::Uniform, Falloff::Linear},
                        {Weighting::Uniform, Falloff::None},
                        {Weighting::Cosine, Falloff::Linear},
                        {Weighting::Cosine, Falloff::None}};
-
-// --- Closed forms for a point on a floor at distance d from an infinite wall (90-degree corner),
-// c = d / R. Derived by integrating over the cap of directions with w_x > c that hit the wall within R.
-double cornerAo(Weighting w, Falloff f, double c) {
-    c = std::min(std::max(c, 0.0), 1.0);
-    const double s = std::sqrt(1 - c * c);
-    if (w == Weighting::Uniform) {
-        if (f == Falloff::None) return 0.5 * (1 + c);                    // 1 - (1 - c) / 2
-        return 1 - 0.5 * ((1 - c) + (c > 0 ? c * std::log(c) : 0.0));   // W = 1 - c / w_x
-    }
-    const double capCos = M_PI / 4 - 0.5 * (c * s + std::asin(c));       // integral_c^1 sqrt(1-u^2) du
-    if (f == Falloff::None) return 1 - (2 / M_PI) * capCos;
-    const double capCosOverU = (c > 0 ? std::log((1 + s) / c) : 0.0) - s; // integral_c^1 sqrt(1-u^2)/u du
-    return 1 - (2 / M_PI) * (capCos - c * capCosOverU);
-}
 
 std::vector<Rect> cornerScene() {
     const double L = 1e3;

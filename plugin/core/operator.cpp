@@ -3,6 +3,8 @@
 #include "core/error.h"
 #include "cpu/hbao_cpu.h"
 #include "cpu/parallel.h"
+#include "cpu/ssdo_cpu.h"
+#include "core/environment.h"
 #include "gpu/gl_backend.h"
 
 #include <algorithm>
@@ -33,8 +35,14 @@ void checkPlane(const ConstPlane& plane, int channels, const Box2i& window, cons
 }
 
 void checkSettings(const Settings& s) {
-    if (s.method != "hbao")
-        throw Error("unknown method '" + s.method + "' (available: hbao)");
+    if (s.method != "hbao" && s.method != "ssdo")
+        throw Error("unknown method '" + s.method + "' (available: hbao, ssdo)");
+    if (s.ssdoSamples < 1 || s.ssdoSamples > 4096)
+        throw Error("--samples must be between 1 and 4096");
+    if (s.interleave < 1 || s.interleave > 8 || s.interleave * s.interleave > s.ssdoSamples)
+        throw Error("--interleave must be between 1 and 8, with at least one sample per pixel");
+    if (s.lights.size() > 4)
+        throw Error("at most 4 directional lights");
     if (!(std::isfinite(s.radius) && s.radius > 0.0f))
         throw Error("--radius must be a positive finite number of world units");
     if (s.directions < 1 || s.directions > 256)
@@ -45,6 +53,8 @@ void checkSettings(const Settings& s) {
         throw Error("--blur must be between 0 and 64 pixels");
     if (!(s.skyDepth > 0.0f))
         throw Error("the sky depth threshold must be positive");
+    if (!(s.maxRadiusPixels >= 0.0f && std::isfinite(s.maxRadiusPixels)))
+        throw Error("the maximum screen radius must be 0 (automatic) or a positive number of pixels");
 }
 
 // The GL backend a device name asks for, or nullptr for the CPU. An explicit GL device
@@ -69,6 +79,77 @@ std::string deviceDescription(const gpu::GlBackend* gl, int threads) {
     return gl->info().backend + ": " + gl->info().renderer + ", OpenGL " + gl->info().version;
 }
 
+// View space -> environment space (y up): the camera's rotation, the up-axis convention and
+// the user's rotation about up. Without a pose, view space stands in for world space.
+glm::mat4 viewToEnvironment(const Camera& cam, const Settings& s) {
+    const glm::mat3 viewToWorld = cam.hasPose ? glm::mat3(cam.cameraToWorld) : glm::mat3(1.0f);
+    glm::mat3 worldToEnv(1.0f);
+    if (s.zUp) worldToEnv = glm::mat3(glm::vec3(1, 0, 0), glm::vec3(0, 0, -1), glm::vec3(0, 1, 0)); // z up -> y up
+    const float a = s.envRotationDeg * (float)M_PI / 180.0f;
+    const glm::mat3 spin(glm::vec3(std::cos(a), 0, -std::sin(a)), glm::vec3(0, 1, 0), glm::vec3(std::sin(a), 0, std::cos(a)));
+    return glm::mat4(spin * worldToEnv * viewToWorld);
+}
+
+void fillSsdoParams(const OperatorInputs& in, const Settings& s, KernelParams& p) {
+    p.viewToEnv = viewToEnvironment(in.camera, s);
+    p.skyRadiance = glm::vec4(s.skyRadiance[0], s.skyRadiance[1], s.skyRadiance[2], 0.0f);
+    const glm::mat3 worldToView = in.camera.hasPose ? glm::mat3(glm::inverse(in.camera.cameraToWorld)) : glm::mat3(1.0f);
+    p.lightCount = (int)std::min<size_t>(s.lights.size(), 4);
+    for (int k = 0; k < p.lightCount; ++k) {
+        const auto& l = s.lights[k];
+        const glm::vec3 d = glm::normalize(worldToView * glm::vec3(l.direction[0], l.direction[1], l.direction[2]));
+        p.lightDirection[k] = glm::vec4(d, 0.0f);
+        p.lightIrradiance[k] = glm::vec4(l.irradiance[0], l.irradiance[1], l.irradiance[2], 0.0f);
+    }
+    p.ssdoSamples = s.ssdoSamples;
+    p.interleave = s.interleave;
+    p.bounce = s.bounce && in.radiance.valid() ? 1 : 0;
+    p.senderAlbedo = in.albedo.valid() ? 1 : 0;
+    p.envIntensity = s.envIntensity;
+    p.sampleArea = (float)M_PI * s.radius * s.radius / (float)s.ssdoSamples;
+    p.envWidth = p.envHeight = 0; // set by the caller once the map is prefiltered
+}
+
+// SSDO: plan what is needed (no bounce without a source, no map when none is given),
+// prefilter the environment to the per-pixel sample count, run, and blur over the
+// interleaving block.
+void runSsdoMethod(const OperatorInputs& in, const Settings& s, KernelParams p, gpu::GlBackend* gl, int threads,
+                   OperatorOutputs& out) {
+    if (s.bounce && !in.radiance.valid())
+        throw Error("the bounce (GI) needs a radiance source: a direct-diffuse or beauty pass");
+    if (in.radiance.valid()) checkPlane(in.radiance, 3, in.dataWindow, "bounce source");
+    if (in.albedo.valid()) checkPlane(in.albedo, 3, in.dataWindow, "albedo");
+    if (gl) throw Error("ssdo runs on the CPU in this build; use --device cpu");
+    OperatorStats& st = out.stats;
+    auto t0 = Clock::now();
+    Image level;
+    if (in.environment && !in.environment->empty()) {
+        if (in.environment->channels < 3) throw Error("the environment map needs 3 channels");
+        level = prefilterLatLong(*in.environment, std::max(1, s.ssdoSamples / (s.interleave * s.interleave)));
+        p.envWidth = level.width;
+        p.envHeight = level.height;
+        st.timings.push_back({"environment", secondsSince(t0)});
+    }
+    const int w = in.dataWindow.width(), h = in.dataWindow.height();
+    out.directional = Image(w, h, 3, 0.0f);
+    if (p.bounce) out.indirect = Image(w, h, 3, 0.0f);
+    Image unusedIndirect = p.bounce ? Image() : Image(w, h, 3, 0.0f);
+    Image& indirect = p.bounce ? out.indirect : unusedIndirect;
+    cpu::SsdoPlanes planes{in.depth, in.normal, in.radiance, in.albedo, level.empty() ? ConstPlane{} : ConstPlane(level.view())};
+    t0 = Clock::now();
+    cpu::runSsdo(p, planes, out.directional.view(), indirect.view(), out.ao.view(), threads);
+    st.timings.push_back({p.bounce ? "ssdo+bounce" : "ssdo", secondsSince(t0)});
+    // The interleaved subsets are gathered back by a blur as wide as the block (or --blur).
+    const int blur = s.blur > 0 ? s.blur : (s.interleave > 1 ? s.interleave : 0);
+    if (blur > 0) {
+        t0 = Clock::now();
+        cpu::runBlur4(p, in.depth, in.normal, out.directional.view(), blur, threads);
+        if (p.bounce) cpu::runBlur4(p, in.depth, in.normal, out.indirect.view(), blur, threads);
+        cpu::runBlur4(p, in.depth, in.normal, out.ao.view(), blur, threads);
+        st.timings.push_back({"blur", secondsSince(t0)});
+    }
+}
+
 } // namespace
 
 std::string describeDevice(const Settings& s) {
@@ -78,11 +159,11 @@ std::string describeDevice(const Settings& s) {
     return d;
 }
 
-HbaoParams makeHbaoParams(const OperatorInputs& in, const Settings& s) {
+KernelParams makeKernelParams(const OperatorInputs& in, const Settings& s) {
     const Camera& cam = in.camera;
     if (!cam.valid())
         throw Error("the camera has no valid projection (focal length or orthographic width)");
-    HbaoParams p{};
+    KernelParams p{};
     p.normalToView = glm::mat4(1.0f);
     if (in.normalSpace == NormalSpace::World) {
         if (!cam.hasPose)
@@ -99,7 +180,10 @@ HbaoParams makeHbaoParams(const OperatorInputs& in, const Settings& s) {
     p.radius = s.radius;
     p.skyDepth = s.skyDepth;
     // Bounds the sample loop: beyond the buffer's extent samples leave the buffer anyway.
-    p.maxRadiusPixels = (float)std::max(in.dataWindow.width(), in.dataWindow.height()) + 2.0f;
+    // A host rendering tiles pins it (settings.maxRadiusPixels), so tiles agree with the whole frame.
+    p.maxRadiusPixels = s.maxRadiusPixels > 0.0f
+                            ? s.maxRadiusPixels
+                            : (float)std::max(in.dataWindow.width(), in.dataWindow.height()) + 2.0f;
     p.depthScale = 1.0f;
     p.width = in.dataWindow.width();
     p.height = in.dataWindow.height();
@@ -111,6 +195,7 @@ HbaoParams makeHbaoParams(const OperatorInputs& in, const Settings& s) {
     p.linearFalloff = s.falloff == Falloff::Linear ? 1 : 0;
     p.orthographic = cam.projection == Projection::Orthographic ? 1 : 0;
     p.radialDepth = in.depthKind == DepthKind::Radial ? 1 : 0;
+    fillSsdoParams(in, s, p);
     return p;
 }
 
@@ -120,7 +205,7 @@ OperatorOutputs runOperator(const OperatorInputs& in, const Settings& s) {
         throw Error("the data window is empty (0 pixels)");
     checkPlane(in.depth, 1, in.dataWindow, "depth");
     checkPlane(in.normal, 3, in.dataWindow, "normal");
-    const HbaoParams params = makeHbaoParams(in, s);
+    const KernelParams params = makeKernelParams(in, s);
 
     OperatorOutputs out;
     OperatorStats& st = out.stats;
@@ -147,6 +232,10 @@ OperatorOutputs runOperator(const OperatorInputs& in, const Settings& s) {
     st.timings.push_back({"scan", secondsSince(t0)});
 
     out.ao = Image(in.dataWindow.width(), in.dataWindow.height(), 1, 1.0f);
+    if (s.method == "ssdo") {
+        runSsdoMethod(in, s, params, gl, threads, out);
+        return out;
+    }
     if (gl) {
         gpu::GlTimings t;
         gl->runHbao(params, in.depth, in.normal, out.ao.view(), s.blur, &t);

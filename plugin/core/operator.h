@@ -20,6 +20,11 @@ struct OperatorInputs {
     DepthKind depthKind = DepthKind::Planar;
     NormalSpace normalSpace = NormalSpace::World;
     Camera camera;
+
+    // ---- SSDO only ----
+    ConstPlane radiance;            // bounce source, 3 channels (needed for GI)
+    ConstPlane albedo;              // 3 channels, optional: multiplies the bounce source
+    const Image* environment = nullptr;  // lat-long RGB radiance; nullptr: the settings' sky colour
 };
 
 struct StageTiming {
@@ -39,13 +44,19 @@ struct OperatorStats {
 
 struct OperatorOutputs {
     Image ao;                         // 1 channel over the data window
+    Image directional;                // SSDO: DO irradiance, RGB (empty for HBAO)
+    Image indirect;                   // SSDO with bounce: one-bounce irradiance, RGB (empty otherwise)
     OperatorStats stats;
 };
 
-using glsl::HbaoParams;
+using glsl::KernelParams;
+using HbaoParams = KernelParams;  // transitional name, for hosts written before SSDO
 
 // The kernel parameter block for these inputs and settings (shared by every backend).
-HbaoParams makeHbaoParams(const OperatorInputs& in, const Settings& settings);
+KernelParams makeKernelParams(const OperatorInputs& in, const Settings& settings);
+inline KernelParams makeHbaoParams(const OperatorInputs& in, const Settings& settings) {
+    return makeKernelParams(in, settings);
+}
 
 // The device `settings.device` resolves to, with its renderer and GL version, for
 // --inspect. Throws obscura::Error when an explicit GL device cannot be made.

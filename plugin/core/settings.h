@@ -22,6 +22,23 @@ struct Settings {
     float skyDepth = 1e9f;      // depth at or beyond this (and inf/NaN/<=0) is background
     int threads = 0;            // 0 = all cores
     std::string device = "cpu";
+
+    // ---- method "ssdo" (Ritschel et al. 2009); `radius` is r_max ----
+    int ssdoSamples = 64;           // N, the sample set shared by an interleaving block
+    int interleave = 2;             // M: an M x M block splits the set (N / M^2 samples per pixel)
+    bool bounce = false;            // also compute one indirect bounce (GI)
+    float skyRadiance[3] = {1.0f, 1.0f, 1.0f};  // constant sky when there is no environment map
+    float envRotationDeg = 0.0f;    // turns the environment about the up axis
+    float envIntensity = 1.0f;
+    bool zUp = false;               // world up is +Z (Blender) rather than +Y, for the environment
+    struct DirectionalLight {
+        float direction[3];         // world space, towards the light
+        float irradiance[3];        // at normal incidence
+    };
+    std::vector<DirectionalLight> lights;  // at most 4
+    // Cap on the projected sampling radius in pixels; 0 = automatic (the data window's
+    // extent). Hosts that render in tiles pin it so every tile uses the same cap.
+    float maxRadiusPixels = 0.0f;
 };
 
 // Named quality levels: directions x steps (and blur), from a preview to near-converged.

@@ -1,0 +1,48 @@
+// The kernels' parameter block, one definition for host (C++ via GLM) and shader
+// (GLSL std140 uniform block). Members are mat4, vec4 (arrays) or groups of four
+// 4-byte scalars, so the std140 and C++ layouts are byte-identical.
+struct KernelParams {
+    mat4 normalToView;     // rotates input normals into view space (upper 3x3; identity for camera-space normals)
+
+    float fx, fy;          // perspective: focal length in pixels; orthographic: pixels per world unit
+    float cx, cy;          // principal point, display-window pixel coordinates
+
+    float invFx, invFy;    // 1/fx, 1/fy, so the inner loop multiplies instead of divides
+    float radius;          // R, world units
+    float skyDepth;        // depth at or beyond this is background
+
+    float maxRadiusPixels; // cap on the projected radius, keeps huge R and tiny depth bounded
+    float depthScale;      // multiplies loaded depth (1; lets hosts feed other units)
+    float pad0, pad1;
+
+    int width, height;     // size of the buffers the loads address
+    int originX, originY;  // display coordinates of buffer texel (0,0): noise and projection use display coords, so tiles agree
+
+    int directions;        // N_d
+    int steps;             // N_s
+    int cosineWeighting;   // 0: uniform solid angle (HBAO paper), 1: projected solid angle (ray-traced AO)
+    int linearFalloff;     // 0: binary visibility within R, 1: W(r) = 1 - r/R
+
+    int orthographic;      // 0: pinhole, 1: orthographic
+    int radialDepth;       // 0: depth is -z (planar), 1: depth is distance to the eye
+    int pad2, pad3;
+
+    // ---- SSDO (kernels/ssdo.glsl); `radius` above is its r_max ----
+    mat4 viewToEnv;              // view-space direction -> environment space (y up), rotation included
+    vec4 skyRadiance;            // constant sky radiance (rgb) when there is no environment map
+    vec4 lightDirection[4];      // directional lights: view-space unit vector towards each light
+    vec4 lightIrradiance[4];     // their irradiance at normal incidence (rgb)
+
+    int ssdoSamples;             // N: the whole sample set; each pixel uses N / (M*M) of it
+    int interleave;              // M: the pixels of an M x M block take disjoint subsets
+    int lightCount;              // directional lights in use, at most 4
+    int bounce;                  // 1: compute the one-bounce indirect light (GI)
+
+    int envWidth, envHeight;     // the prefiltered lat-long level uploaded; 0 x 0: no map, use skyRadiance
+    int senderAlbedo;            // 1: a sender's radiance is the bounce source times its albedo
+    int pad6;
+
+    float envIntensity;          // multiplies the environment (map or sky)
+    float sampleArea;            // A_s = pi r_max^2 / N: the disc area one bounce sample stands for
+    float pad4, pad5;
+};
