@@ -11,6 +11,7 @@ struct ContextInfo {
     std::string vendor;     // GL_VENDOR
     bool software = false;  // llvmpipe / softpipe / Mesa's software EGL device
     long long maxStorageBlockBytes = 0;
+    int maxStorageBindings = 0;   // GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS
     int maxWorkGroups[2] = {0, 0};
 };
 

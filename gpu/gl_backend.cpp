@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <vector>
 
 namespace obscura::gpu {
@@ -46,8 +47,54 @@ float maxReachPixels(const glsl::KernelParams& p, ConstPlane depth) {
     return (float)std::min(r, (double)p.maxRadiusPixels);
 }
 
-enum Binding { kParams = 0, kDepth = 1, kNormal = 2, kAoIn = 3, kAoOut = 4 };
+enum Binding {
+    kParams = 0, kDepth = 1, kNormal = 2, kSignalIn = 3, kSignalOut = 4,
+    kRadiance = 5, kAlbedo = 6, kEnv = 7, kDirectional = 8, kIndirect = 9, kBindings = 10
+};
 constexpr int kGroup = 8;  // local_size_x/y in kGlBindings
+
+// A tile of the frame: the texels it produces (inner) and those it reads (buf = inner + apron).
+struct Tile {
+    Box2i inner, buf;
+};
+
+// Tiles that fit the context's buffer and dispatch limits; one tile when the frame fits.
+// `apron` is how far a result reads; tiles then equal the one-tile result exactly.
+std::vector<Tile> planTiles(int W, int H, int apron, long long maxTexels, const ContextInfo& info) {
+    const long long groupLimit = (long long)std::min(info.maxWorkGroups[0], info.maxWorkGroups[1]) * kGroup;
+    std::vector<Tile> tiles;
+    if ((long long)W * H <= maxTexels && std::max(W, H) <= groupLimit) {
+        tiles.push_back({Box2i{0, 0, W, H}, Box2i{0, 0, W, H}});
+        return tiles;
+    }
+    const int side = (int)std::min<long long>((long long)std::sqrt((double)maxTexels), groupLimit) - 2 * apron;
+    if (side < 16)
+        throw Error("the radius (" + std::to_string(apron) + " px apron) is too large to tile on this GPU; use --device cpu");
+    for (int ty = 0; ty < H; ty += side)
+        for (int tx = 0; tx < W; tx += side) {
+            const Box2i inner{tx, ty, std::min(tx + side, W), std::min(ty + side, H)};
+            tiles.push_back({inner, intersect(Box2i{inner.x0 - apron, inner.y0 - apron, inner.x1 + apron, inner.y1 + apron},
+                                              Box2i{0, 0, W, H})});
+        }
+    return tiles;
+}
+
+// The channels of `plane` over `box`, packed as the shader reads them.
+void pack(ConstPlane plane, const Box2i& box, int channels, std::vector<float>& out) {
+    out.resize((size_t)box.width() * box.height() * channels);
+    size_t i = 0;
+    for (int y = box.y0; y < box.y1; ++y)
+        for (int x = box.x0; x < box.x1; ++x) {
+            const float* v = plane.at(x, y);
+            for (int c = 0; c < channels; ++c) out[i++] = v[c];
+        }
+}
+
+std::string hex(unsigned v) {
+    char b[16];
+    std::snprintf(b, sizeof b, "0x%04x", v);
+    return b;
+}
 
 } // namespace
 
@@ -64,7 +111,7 @@ GlBackend::GlBackend(ContextKind kind, bool hardwareOnly) : context_(GlContext::
         };
         programs_[k.name] = buildComputeProgram(gl, k.name, parts);
     }
-    gl.GenBuffers(5, buffers_);
+    gl.GenBuffers(kBufferCount, buffers_);
 }
 
 const ContextInfo& GlBackend::info() const { return context_->info(); }
@@ -73,108 +120,170 @@ GlBackend::~GlBackend() {
     try {
         context_->makeCurrent();
         const GlApi& gl = context_->gl();
-        gl.DeleteBuffers(5, buffers_);
+        gl.DeleteBuffers(kBufferCount, buffers_);
         for (auto& [name, program] : programs_) gl.DeleteProgram(program);
     } catch (...) {
         // Destruction at thread exit: the context may already be gone; nothing to report to.
     }
 }
 
-void GlBackend::runHbao(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, int blur,
-                        GlTimings* timings, long long maxTexels) {
+// Shared by every kernel: tiles, uploads the depth/normal (and whatever `upload` adds),
+// dispatches `run`, then `readback` copies each tile's inner texels out.
+void GlBackend::runTiled(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, int blur, long long maxTexels,
+                         GlTimings& t, const std::function<void(const Box2i& buf, const glsl::KernelParams& q)>& upload,
+                         const std::function<void(const glsl::KernelParams& q)>& run,
+                         const std::function<void(const Box2i& inner, const Box2i& buf)>& readback) {
     context_->makeCurrent();
     const GlApi& gl = context_->gl();
-    GlTimings t;
     const int W = p.width, H = p.height;
-    // How far a pixel's result reads: the HBAO samples (radius plus snapping), then the blur.
+    // How far a pixel's result reads: its samples (radius plus snapping), then the blur.
     const int apron = (int)std::ceil(std::min(maxReachPixels(p, depth), (float)std::max(W, H))) + 2 + std::max(blur, 0);
-    if (maxTexels <= 0) maxTexels = info().maxStorageBlockBytes / (3 * (long long)sizeof(float));  // normals: 3 floats
-    const long long groupLimit = (long long)std::min(info().maxWorkGroups[0], info().maxWorkGroups[1]) * kGroup;
-    int tileSide = std::max(W, H);
-    if ((long long)W * H > maxTexels || std::max(W, H) > groupLimit) {
-        tileSide = (int)std::min<long long>((long long)std::sqrt((double)maxTexels), groupLimit) - 2 * apron;
-        if (tileSide < 16)
-            throw Error("the radius (" + std::to_string(apron) + " px apron) is too large to tile on this GPU; use --device cpu");
+    if (maxTexels <= 0) maxTexels = info().maxStorageBlockBytes / (3 * (long long)sizeof(float));  // 3-float planes
+    std::vector<float> packed;
+    for (const Tile& tile : planTiles(W, H, apron, maxTexels, info())) {
+        glsl::KernelParams q = p;
+        q.width = tile.buf.width();
+        q.height = tile.buf.height();
+        q.originX = p.originX + tile.buf.x0;
+        q.originY = p.originY + tile.buf.y0;
+        auto t0 = Clock::now();
+        uploadBuffer(kParams, GL_UNIFORM_BUFFER, &q, sizeof(q));
+        pack(depth, tile.buf, 1, packed);
+        uploadBuffer(kDepth, GL_SHADER_STORAGE_BUFFER, packed.data(), packed.size() * sizeof(float));
+        pack(normal, tile.buf, 3, packed);
+        uploadBuffer(kNormal, GL_SHADER_STORAGE_BUFFER, packed.data(), packed.size() * sizeof(float));
+        upload(tile.buf, q);
+        t.upload += since(t0);
+
+        t0 = Clock::now();
+        run(q);
+        gl.MemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+        gl.Finish();
+        t.compute += since(t0);
+
+        t0 = Clock::now();
+        readback(tile.inner, tile.buf);
+        t.readback += since(t0);
+        ++t.tiles;
+        const GLenum err = gl.GetError();
+        if (err != GL_NO_ERROR) throw Error("OpenGL error " + hex(err) + " on " + info().backend);
     }
+}
 
-    std::vector<float> depthTile, normalTile, aoTile;
-    for (int ty = 0; ty < H; ty += tileSide) {
-        for (int tx = 0; tx < W; tx += tileSide) {
-            const Box2i inner{tx, ty, std::min(tx + tileSide, W), std::min(ty + tileSide, H)};
-            const Box2i buf = inner.width() == W && inner.height() == H
-                                  ? inner
-                                  : intersect(Box2i{inner.x0 - apron, inner.y0 - apron, inner.x1 + apron, inner.y1 + apron},
-                                              Box2i{0, 0, W, H});
-            const int bw = buf.width(), bh = buf.height();
-            glsl::KernelParams q = p;
-            q.width = bw;
-            q.height = bh;
-            q.originX = p.originX + buf.x0;
-            q.originY = p.originY + buf.y0;
+void GlBackend::uploadBuffer(int binding, unsigned target, const void* data, size_t bytes) {
+    const GlApi& gl = context_->gl();
+    gl.BindBuffer(target, buffers_[binding]);
+    gl.BufferData(target, (GLsizeiptr)std::max<size_t>(bytes, 16), data, GL_DYNAMIC_DRAW);
+    gl.BindBufferBase(target, binding, buffers_[binding]);
+}
 
-            auto t0 = Clock::now();
-            depthTile.resize((size_t)bw * bh);
-            normalTile.resize((size_t)bw * bh * 3);
-            for (int y = 0; y < bh; ++y)
-                for (int x = 0; x < bw; ++x) {
-                    const size_t i = (size_t)y * bw + x;
-                    depthTile[i] = *depth.at(buf.x0 + x, buf.y0 + y);
-                    const float* n = normal.at(buf.x0 + x, buf.y0 + y);
-                    normalTile[3 * i] = n[0];
-                    normalTile[3 * i + 1] = n[1];
-                    normalTile[3 * i + 2] = n[2];
-                }
-            auto upload = [&](int binding, GLenum target, const void* data, size_t bytes) {
-                gl.BindBuffer(target, buffers_[binding]);
-                gl.BufferData(target, (GLsizeiptr)bytes, data, GL_DYNAMIC_DRAW);
-                gl.BindBufferBase(target, binding, buffers_[binding]);
-            };
-            upload(kParams, GL_UNIFORM_BUFFER, &q, sizeof(q));
-            upload(kDepth, GL_SHADER_STORAGE_BUFFER, depthTile.data(), depthTile.size() * sizeof(float));
-            upload(kNormal, GL_SHADER_STORAGE_BUFFER, normalTile.data(), normalTile.size() * sizeof(float));
-            upload(kAoIn, GL_SHADER_STORAGE_BUFFER, nullptr, depthTile.size() * sizeof(float));
-            upload(kAoOut, GL_SHADER_STORAGE_BUFFER, nullptr, depthTile.size() * sizeof(float));
-            t.upload += since(t0);
+void GlBackend::dispatch(const char* program, const glsl::KernelParams& q) {
+    const GlApi& gl = context_->gl();
+    gl.UseProgram(programs_.at(program));
+    gl.DispatchCompute((GLuint)((q.width + kGroup - 1) / kGroup), (GLuint)((q.height + kGroup - 1) / kGroup), 1);
+}
 
-            t0 = Clock::now();
-            const GLuint groupsX = (GLuint)((bw + kGroup - 1) / kGroup), groupsY = (GLuint)((bh + kGroup - 1) / kGroup);
-            gl.UseProgram(programs_.at("hbao"));
-            gl.DispatchCompute(groupsX, groupsY, 1);
-            GLuint result = buffers_[kAoOut];
-            if (blur > 0) {
-                const GLuint blurProgram = programs_.at("blur");
-                gl.UseProgram(blurProgram);
-                gl.Uniform1i(gl.GetUniformLocation(blurProgram, "blurRadius"), blur);
-                for (int axis = 0; axis < 2; ++axis) {
-                    // Ping-pong: the previous pass's output is this pass's input.
-                    const GLuint src = result, dst = src == buffers_[kAoOut] ? buffers_[kAoIn] : buffers_[kAoOut];
-                    gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-                    gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, kAoIn, src);
-                    gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, kAoOut, dst);
-                    gl.Uniform2i(gl.GetUniformLocation(blurProgram, "blurAxis"), axis == 0, axis == 1);
-                    gl.DispatchCompute(groupsX, groupsY, 1);
-                    result = dst;
-                }
-            }
-            gl.MemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-            gl.Finish();
-            t.compute += since(t0);
+// Two geometry-aware blur passes over the `channels`-channel signal in buffer `binding`;
+// the result ends in the same buffer (ping-pong through the signal-out scratch).
+void GlBackend::blurBuffer(int binding, int channels, int radius, const glsl::KernelParams& q) {
+    if (radius <= 0) return;
+    const GlApi& gl = context_->gl();
+    const GLuint program = programs_.at("blur");
+    gl.UseProgram(program);
+    gl.Uniform1i(gl.GetUniformLocation(program, "blurRadius"), radius);
+    gl.Uniform1i(gl.GetUniformLocation(program, "signalChannels"), channels);
+    const size_t bytes = (size_t)q.width * q.height * channels * sizeof(float);
+    gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, buffers_[kScratch]);
+    gl.BufferData(GL_SHADER_STORAGE_BUFFER, (GLsizeiptr)bytes, nullptr, GL_DYNAMIC_DRAW);
+    const GLuint data = buffers_[binding], scratch = buffers_[kScratch];
+    for (int axis = 0; axis < 2; ++axis) {
+        gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, kSignalIn, axis == 0 ? data : scratch);
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, kSignalOut, axis == 0 ? scratch : data);
+        gl.Uniform2i(gl.GetUniformLocation(program, "blurAxis"), axis == 0, axis == 1);
+        gl.DispatchCompute((GLuint)((q.width + kGroup - 1) / kGroup), (GLuint)((q.height + kGroup - 1) / kGroup), 1);
+    }
+    gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, kSignalOut, buffers_[kSignalOut]);
+}
 
-            t0 = Clock::now();
-            aoTile.resize((size_t)bw * bh);
-            gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, result);
-            gl.GetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)(aoTile.size() * sizeof(float)), aoTile.data());
-            for (int y = inner.y0; y < inner.y1; ++y)
-                for (int x = inner.x0; x < inner.x1; ++x)
-                    *ao.at(x, y) = aoTile[(size_t)(y - buf.y0) * bw + (x - buf.x0)];
-            t.readback += since(t0);
-            ++t.tiles;
-            const GLenum err = gl.GetError();
-            if (err != GL_NO_ERROR)
-                throw Error("OpenGL error 0x" + [&] { char b[16]; std::snprintf(b, sizeof b, "%04x", err); return std::string(b); }() +
-                            " while running HBAO on " + info().backend);
+// Copies `channels` floats per texel of buffer `binding` over `inner` into `out`.
+void GlBackend::readInner(int binding, int channels, const Box2i& inner, const Box2i& buf, MutablePlane out) {
+    const GlApi& gl = context_->gl();
+    std::vector<float> data((size_t)buf.width() * buf.height() * channels);
+    gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, buffers_[binding]);
+    gl.GetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)(data.size() * sizeof(float)), data.data());
+    for (int y = inner.y0; y < inner.y1; ++y)
+        for (int x = inner.x0; x < inner.x1; ++x) {
+            const float* v = &data[((size_t)(y - buf.y0) * buf.width() + (x - buf.x0)) * channels];
+            float* o = out.at(x, y);
+            for (int c = 0; c < channels; ++c) o[c] = v[c];
         }
-    }
+}
+
+void GlBackend::runHbao(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, int blur,
+                        GlTimings* timings, long long maxTexels) {
+    GlTimings t;
+    runTiled(
+        p, depth, normal, blur, maxTexels, t,
+        [&](const Box2i& buf, const glsl::KernelParams&) {
+            uploadBuffer(kSignalOut, GL_SHADER_STORAGE_BUFFER, nullptr, (size_t)buf.width() * buf.height() * sizeof(float));
+        },
+        [&](const glsl::KernelParams& q) {
+            dispatch("hbao", q);
+            blurBuffer(kSignalOut, 1, blur, q);
+        },
+        [&](const Box2i& inner, const Box2i& buf) { readInner(kSignalOut, 1, inner, buf, ao); });
+    if (timings) *timings = t;
+}
+
+void GlBackend::runSsdo(const glsl::KernelParams& p, const SsdoInputs& in, MutablePlane directional, MutablePlane indirect,
+                        MutablePlane ao, int blur, GlTimings* timings) {
+    if (info().maxStorageBindings < kBindings)
+        throw Error(info().backend + " offers " + std::to_string(info().maxStorageBindings) +
+                    " storage buffer bindings; ssdo needs " + std::to_string(kBindings) + "; use --device cpu");
+    GlTimings t;
+    std::vector<float> packed;
+    runTiled(
+        p, in.depth, in.normal, blur, 0, t,
+        [&](const Box2i& buf, const glsl::KernelParams& q) {
+            const size_t texels = (size_t)buf.width() * buf.height();
+            if (q.bounce) {
+                pack(in.radiance, buf, 3, packed);
+                uploadBuffer(kRadiance, GL_SHADER_STORAGE_BUFFER, packed.data(), packed.size() * sizeof(float));
+            } else {
+                uploadBuffer(kRadiance, GL_SHADER_STORAGE_BUFFER, nullptr, 16);
+            }
+            if (in.albedo.valid()) {
+                pack(in.albedo, buf, 3, packed);
+                uploadBuffer(kAlbedo, GL_SHADER_STORAGE_BUFFER, packed.data(), packed.size() * sizeof(float));
+            } else {
+                uploadBuffer(kAlbedo, GL_SHADER_STORAGE_BUFFER, nullptr, 16);
+            }
+            if (in.environment.valid()) {
+                pack(in.environment, Box2i{0, 0, in.environment.width, in.environment.height}, 3, packed);
+                uploadBuffer(kEnv, GL_SHADER_STORAGE_BUFFER, packed.data(), packed.size() * sizeof(float));
+            } else {
+                uploadBuffer(kEnv, GL_SHADER_STORAGE_BUFFER, nullptr, 16);
+            }
+            uploadBuffer(kSignalOut, GL_SHADER_STORAGE_BUFFER, nullptr, texels * sizeof(float));
+            uploadBuffer(kDirectional, GL_SHADER_STORAGE_BUFFER, nullptr, texels * 3 * sizeof(float));
+            uploadBuffer(kIndirect, GL_SHADER_STORAGE_BUFFER, nullptr, texels * 3 * sizeof(float));
+        },
+        [&](const glsl::KernelParams& q) {
+            const GlApi& gl = context_->gl();
+            const GLuint program = programs_.at("ssdo");
+            gl.UseProgram(program);
+            gl.Uniform1i(gl.GetUniformLocation(program, "hasAlbedo"), in.albedo.valid() ? 1 : 0);
+            dispatch("ssdo", q);
+            blurBuffer(kDirectional, 3, blur, q);
+            if (q.bounce) blurBuffer(kIndirect, 3, blur, q);
+            blurBuffer(kSignalOut, 1, blur, q);
+        },
+        [&](const Box2i& inner, const Box2i& buf) {
+            readInner(kDirectional, 3, inner, buf, directional);
+            if (p.bounce) readInner(kIndirect, 3, inner, buf, indirect);
+            readInner(kSignalOut, 1, inner, buf, ao);
+        });
     if (timings) *timings = t;
 }
 

@@ -5,6 +5,7 @@
 #include "cpu/kernel_params.h"
 #include "gpu/device_info.h"
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -33,10 +34,29 @@ public:
     void runHbao(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, int blur,
                  GlTimings* timings = nullptr, long long maxTexels = 0);
 
+    struct SsdoInputs {
+        ConstPlane depth, normal, radiance, albedo;  // radiance used when p.bounce; albedo optional
+        ConstPlane environment;                      // the prefiltered lat-long level, or invalid
+    };
+    // Directional occlusion (RGB), indirect (RGB, when p.bounce) and AO, then `blur` passes on each.
+    void runSsdo(const glsl::KernelParams& p, const SsdoInputs& in, MutablePlane directional, MutablePlane indirect,
+                 MutablePlane ao, int blur, GlTimings* timings = nullptr);
+
 private:
+    void runTiled(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, int blur, long long maxTexels,
+                  GlTimings& t, const std::function<void(const Box2i& buf, const glsl::KernelParams& q)>& upload,
+                  const std::function<void(const glsl::KernelParams& q)>& run,
+                  const std::function<void(const Box2i& inner, const Box2i& buf)>& readback);
+    void uploadBuffer(int binding, unsigned target, const void* data, size_t bytes);
+    void dispatch(const char* program, const glsl::KernelParams& q);
+    void blurBuffer(int binding, int channels, int radius, const glsl::KernelParams& q);
+    void readInner(int binding, int channels, const Box2i& inner, const Box2i& buf, MutablePlane out);
+
+    static constexpr int kScratch = 10;      // blur ping-pong buffer, after the 10 binding points
+    static constexpr int kBufferCount = 11;
     std::unique_ptr<GlContext> context_;
     std::map<std::string, unsigned> programs_;  // GL program names
-    unsigned buffers_[5] = {0, 0, 0, 0, 0};
+    unsigned buffers_[kBufferCount] = {};
 };
 
 // "cpu", "auto", "gl", "gl-egl", "gl-osmesa"; returns false for an unknown name.

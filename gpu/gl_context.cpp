@@ -161,6 +161,7 @@ void GlContext::loadApi(void* (*getProc)(const char*), const char* backend) {
     GLint64 block = 0;
     gl_.GetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block);
     info_.maxStorageBlockBytes = block;
+    gl_.GetIntegerv(GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS, &info_.maxStorageBindings);
     gl_.GetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 0, &info_.maxWorkGroups[0]);
     gl_.GetIntegeri_v(GL_MAX_COMPUTE_WORK_GROUP_COUNT, 1, &info_.maxWorkGroups[1]);
     if (info_.renderer.find("llvmpipe") != std::string::npos || info_.renderer.find("softpipe") != std::string::npos)

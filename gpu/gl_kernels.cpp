@@ -2,15 +2,24 @@
 
 namespace obscura::gpu {
 
+// Buffer bindings (GlBackend uses the same numbers). A program may use at most 8
+// storage blocks (the OpenGL 4.3 minimum); none here uses more.
 const char* const kGlBindings = R"glsl(
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(std140, binding = 0) uniform HbaoBlock { KernelParams P; };
+layout(std140, binding = 0) uniform KernelBlock { KernelParams P; };
 layout(std430, binding = 1) readonly buffer DepthBuffer { float depthData[]; };
 layout(std430, binding = 2) readonly buffer NormalBuffer { float normalData[]; };
-layout(std430, binding = 3) readonly buffer AoInBuffer { float aoInData[]; };
-layout(std430, binding = 4) writeonly buffer AoOutBuffer { float aoOutData[]; };
+layout(std430, binding = 3) readonly buffer SignalInBuffer { float signalIn[]; };
+layout(std430, binding = 4) writeonly buffer SignalOutBuffer { float signalOut[]; };
+layout(std430, binding = 5) readonly buffer RadianceBuffer { float radianceData[]; };
+layout(std430, binding = 6) readonly buffer AlbedoBuffer { float albedoData[]; };
+layout(std430, binding = 7) readonly buffer EnvBuffer { float envData[]; };
+layout(std430, binding = 8) writeonly buffer DirectionalBuffer { float directionalOut[]; };
+layout(std430, binding = 9) writeonly buffer IndirectBuffer { float indirectOut[]; };
 uniform ivec2 blurAxis;
 uniform int blurRadius;
+uniform int signalChannels;   // channels per texel of signalIn / signalOut (1: AO, 3: DO or GI)
+uniform int hasAlbedo;        // 0: albedo 1 (no albedo pass bound)
 
 int texelIndex(ivec2 t) { return t.y * P.width + t.x; }
 float loadDepth(ivec2 t) { return depthData[texelIndex(t)]; }
@@ -18,14 +27,37 @@ vec3 loadNormal(ivec2 t) {
     int i = 3 * texelIndex(t);
     return vec3(normalData[i], normalData[i + 1], normalData[i + 2]);
 }
-vec4 loadSignal(ivec2 t) { return vec4(aoInData[texelIndex(t)], 0.0f, 0.0f, 0.0f); }
+vec4 loadSignal(ivec2 t) {
+    int i = signalChannels * texelIndex(t);
+    vec4 v = vec4(signalIn[i], 0.0f, 0.0f, 0.0f);
+    for (int c = 1; c < signalChannels; ++c) v[c] = signalIn[i + c];
+    return v;
+}
+void storeSignal(ivec2 t, vec4 v) {
+    int i = signalChannels * texelIndex(t);
+    for (int c = 0; c < signalChannels; ++c) signalOut[i + c] = v[c];
+}
+vec3 loadRadiance(ivec2 t) {
+    int i = 3 * texelIndex(t);
+    return vec3(radianceData[i], radianceData[i + 1], radianceData[i + 2]);
+}
+vec3 loadAlbedo(ivec2 t) {
+    if (hasAlbedo == 0) return vec3(1.0f);
+    int i = 3 * texelIndex(t);
+    return vec3(albedoData[i], albedoData[i + 1], albedoData[i + 2]);
+}
+vec3 loadEnv(ivec2 t) {
+    int i = 3 * (t.y * P.envWidth + t.x);
+    return vec3(envData[i], envData[i + 1], envData[i + 2]);
+}
 bool outsideDispatch(ivec2 t) { return t.x >= P.width || t.y >= P.height; }
 )glsl";
 
 const std::vector<GlKernel>& glKernels() {
     static const std::vector<GlKernel> kernels = {
-        {"hbao", "hbao.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; aoOutData[texelIndex(t)] = hbaoPixel(t); }"},
-        {"blur", "blur.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; aoOutData[texelIndex(t)] = blurPixel(t, blurAxis, blurRadius); }"},
+        {"hbao", "hbao.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; signalOut[texelIndex(t)] = hbaoPixel(t); }"},
+        {"blur", "blur.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; storeSignal(t, blurPixel4(t, blurAxis, blurRadius)); }"},
+        {"ssdo", "ssdo.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; vec3 d; vec3 g; float a; ssdoPixel(t, d, g, a); int i = texelIndex(t); signalOut[i] = a; for (int c = 0; c < 3; ++c) { directionalOut[3 * i + c] = d[c]; indirectOut[3 * i + c] = g[c]; } }"},
     };
     return kernels;
 }

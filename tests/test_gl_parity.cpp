@@ -71,7 +71,7 @@ TEST(GlParity, AnalyticScenesMatchCpu) {
 TEST(GlParity, TilesEqualOneTile) {
     const int W = 200, H = 150;
     const SceneBuffers scene = renderScene(studioScene(), studioCamera(W, H), W, H);
-    const HbaoParams p = makeHbaoParams(scene.inputs(), makeSettings("gl-osmesa", Weighting::Cosine, Falloff::Linear, 2));
+    const KernelParams p = makeKernelParams(scene.inputs(), makeSettings("gl-osmesa", Weighting::Cosine, Falloff::Linear, 2));
     gpu::GlBackend& gl = gpu::glBackendFor("gl-osmesa");
     Image whole(W, H, 1), tiled(W, H, 1);
     gpu::GlTimings oneTile, manyTiles;
@@ -175,5 +175,38 @@ TEST(GlParity, ShaderErrorsNameKernelFileAndLine) {
         EXPECT_NE(m.find("kernel 'broken'"), std::string::npos) << m;
         EXPECT_NE(m.find("second.glsl:3"), std::string::npos) << m;
         EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+    }
+}
+
+// SSDO (DO, GI and AO, with its interleaving blur) matches the CPU on both GL paths.
+TEST(GlParity, SsdoMatchesCpu) {
+    const int W = 128, H = 96;
+    const SceneBuffers scene = renderScene(studioScene(), studioCamera(W, H), W, H);
+    Image radiance(W, H, 3), albedo(W, H, 3), env(64, 32, 3);
+    for (int i = 0; i < W * H; ++i)
+        for (int c = 0; c < 3; ++c) {
+            radiance.pixels[3 * i + c] = 0.2f + 0.3f * c + 0.5f * scene.normal.pixels[3 * i + 1];
+            albedo.pixels[3 * i + c] = 0.8f - 0.2f * c;
+        }
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 64; ++x)
+            for (int c = 0; c < 3; ++c) env.at(x, y)[c] = 0.5f + 0.5f * std::sin(0.2f * x + c) * std::cos(0.3f * y);
+    OperatorInputs in = scene.inputs();
+    in.radiance = radiance.view();
+    in.albedo = albedo.view();
+    in.environment = &env;
+    Settings s;
+    s.method = "ssdo";
+    s.radius = 0.8f;
+    s.bounce = true;
+    s.lights.push_back({{0.3f, 0.9f, 0.2f}, {1.0f, 0.9f, 0.8f}});
+    const OperatorOutputs cpu = runOperator(in, s);
+    for (const char* device : kGlDevices) {
+        s.device = device;
+        const OperatorOutputs gl = runOperator(in, s);
+        ASSERT_EQ(gl.stats.device.rfind(device, 0), 0u) << gl.stats.device;
+        EXPECT_LE(maxAbsDiff(cpu.ao, gl.ao), 1e-3) << device;
+        EXPECT_LE(maxAbsDiff(cpu.directional, gl.directional), 1e-3) << device;
+        EXPECT_LE(maxAbsDiff(cpu.indirect, gl.indirect), 1e-3) << device;
     }
 }

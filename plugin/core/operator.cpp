@@ -119,7 +119,6 @@ void runSsdoMethod(const OperatorInputs& in, const Settings& s, KernelParams p, 
         throw Error("the bounce (GI) needs a radiance source: a direct-diffuse or beauty pass");
     if (in.radiance.valid()) checkPlane(in.radiance, 3, in.dataWindow, "bounce source");
     if (in.albedo.valid()) checkPlane(in.albedo, 3, in.dataWindow, "albedo");
-    if (gl) throw Error("ssdo runs on the CPU in this build; use --device cpu");
     OperatorStats& st = out.stats;
     auto t0 = Clock::now();
     Image level;
@@ -135,12 +134,22 @@ void runSsdoMethod(const OperatorInputs& in, const Settings& s, KernelParams p, 
     if (p.bounce) out.indirect = Image(w, h, 3, 0.0f);
     Image unusedIndirect = p.bounce ? Image() : Image(w, h, 3, 0.0f);
     Image& indirect = p.bounce ? out.indirect : unusedIndirect;
-    cpu::SsdoPlanes planes{in.depth, in.normal, in.radiance, in.albedo, level.empty() ? ConstPlane{} : ConstPlane(level.view())};
+    const ConstPlane environment = level.empty() ? ConstPlane{} : ConstPlane(level.view());
+    // The interleaved subsets are gathered back by a blur as wide as the block (or --blur).
+    const int blur = s.blur > 0 ? s.blur : (s.interleave > 1 ? s.interleave : 0);
+    if (gl) {
+        gpu::GlTimings t;
+        gl->runSsdo(p, {in.depth, in.normal, in.radiance, in.albedo, environment}, out.directional.view(),
+                    indirect.view(), out.ao.view(), blur, &t);
+        st.timings.push_back({"gl-upload", t.upload});
+        st.timings.push_back({"gl-compute", t.compute});
+        st.timings.push_back({"gl-readback", t.readback});
+        return;
+    }
+    cpu::SsdoPlanes planes{in.depth, in.normal, in.radiance, in.albedo, environment};
     t0 = Clock::now();
     cpu::runSsdo(p, planes, out.directional.view(), indirect.view(), out.ao.view(), threads);
     st.timings.push_back({p.bounce ? "ssdo+bounce" : "ssdo", secondsSince(t0)});
-    // The interleaved subsets are gathered back by a blur as wide as the block (or --blur).
-    const int blur = s.blur > 0 ? s.blur : (s.interleave > 1 ? s.interleave : 0);
     if (blur > 0) {
         t0 = Clock::now();
         cpu::runBlur4(p, in.depth, in.normal, out.directional.view(), blur, threads);
