@@ -3,13 +3,16 @@
 #include "core/error.h"
 #include "gpu/gl_backend.h"
 #include "io/frame_job.h"
+#include "io/sequence.h"
 
 #include <unistd.h>
 
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -29,8 +32,8 @@ struct UsageError : Error {
 
 struct Options {
     FrameJob job;
-    bool inspect = false, quiet = false, help = false, version = false;
-    std::string reportPath;
+    bool inspect = false, quiet = false, help = false, version = false, resume = false;
+    std::string reportPath, frames;
 };
 
 double toNumber(const std::string& flag, const std::string& v) {
@@ -55,6 +58,17 @@ E toEnum(const std::string& flag, const std::string& v, const char* choices) {
     return e;
 }
 
+// Exactly `count` comma-separated numbers.
+std::vector<double> toNumbers(const std::string& flag, const std::string& v, size_t count) {
+    std::vector<double> out;
+    std::stringstream ss(v);
+    std::string item;
+    while (std::getline(ss, item, ',')) out.push_back(toNumber(flag, item));
+    if (out.size() != count)
+        throw UsageError(flag + " expects " + std::to_string(count) + " comma-separated numbers, got '" + v + "'");
+    return out;
+}
+
 std::pair<std::string, std::string> splitAssignment(const std::string& flag, const std::string& v) {
     const size_t eq = v.find('=');
     if (eq == std::string::npos || eq == 0 || eq + 1 == v.size())
@@ -73,7 +87,7 @@ const std::vector<Flag>& flags() {
     static const std::vector<Flag> table = {
         {"-o", "OUTPUT.exr", "output file: a copy of the input with the AO layer added",
          [](Options& o, const std::string& v) { o.job.output = v; }},
-        {"--method", "hbao", "occlusion method (default hbao)",
+        {"--method", "hbao|ssdo", "hbao: ambient occlusion; ssdo: directional occlusion (DO), AO and, with --bounce, GI (default hbao)",
          [](Options& o, const std::string& v) { o.job.settings.method = v; }},
         {"--radius", "R", "occlusion radius in world units (default 1)",
          [](Options& o, const std::string& v) {
@@ -104,15 +118,9 @@ const std::vector<Flag>& flags() {
          [](Options& o, const std::string& v) { o.job.camera.orthoWidth = toNumber("--ortho-width", v); }},
         {"--camera-to-world", "m00,...,m33", "16 numbers, row-major, OpenGL convention (camera looks down -Z)",
          [](Options& o, const std::string& v) {
+             const std::vector<double> rows = toNumbers("--camera-to-world", v, 16);
              std::array<double, 16> m{};
-             std::stringstream ss(v);
-             std::string item;
-             int n = 0;
-             while (std::getline(ss, item, ',')) {
-                 if (n == 16) throw UsageError("--camera-to-world expects 16 comma-separated numbers");
-                 m[n++] = toNumber("--camera-to-world", item);
-             }
-             if (n != 16) throw UsageError("--camera-to-world expects 16 comma-separated numbers, got " + std::to_string(n));
+             std::copy(rows.begin(), rows.end(), m.begin());
              o.job.camera.cameraToWorld = m;
          }},
         {"--camera", "FILE.json", "camera sidecar (default: NAME.json next to the input, if present)",
@@ -141,12 +149,53 @@ const std::vector<Flag>& flags() {
                                   "' (depth, normal, position, beauty, albedo, direct-diffuse)");
              o.job.layerOverrides[r] = name;
          }},
-        {"--out-layer", "ao=NAME", "name of the AO layer written (default obscura.AO; channel NAME.Y)",
+        {"--out-layer", "ROLE=NAME",
+         "name an output layer: ao (default obscura.AO, channel NAME.Y), do, gi, relit (obscura.DO/GI/relit, "
+         "channels NAME.R/G/B); naming gi or relit also asks for it",
          [](Options& o, const std::string& v) {
              auto [role, name] = splitAssignment("--out-layer", v);
-             if (role != "ao") throw UsageError("--out-layer: unknown output '" + role + "' (available: ao)");
-             o.job.aoLayer = name;
+             if (role == "ao") o.job.aoLayer = name;
+             else if (role == "do") o.job.doLayer = name;
+             else if (role == "gi") o.job.giLayer = name, o.job.writeIndirect = true;
+             else if (role == "relit") o.job.relitLayer = name, o.job.writeRelit = true;
+             else throw UsageError("--out-layer: unknown output '" + role + "' (ao, do, gi, relit)");
          }},
+        {"--samples", "N", "ssdo: sample set per M x M block (default 64)",
+         [](Options& o, const std::string& v) { o.job.settings.ssdoSamples = toInt("--samples", v); }},
+        {"--interleave", "M", "ssdo: interleaved sampling over M x M pixels, then a blur of M (default 2; 1 = off)",
+         [](Options& o, const std::string& v) { o.job.settings.interleave = toInt("--interleave", v); }},
+        {"--bounce", nullptr, "ssdo: also compute one indirect bounce (GI layer)",
+         [](Options& o, const std::string&) { o.job.writeIndirect = true; }},
+        {"--bounce-source", "direct-diffuse|beauty|LAYER",
+         "radiance of the bouncing surfaces (default direct-diffuse, times the albedo pass)",
+         [](Options& o, const std::string& v) { o.job.bounceSource = v; }},
+        {"--env", "FILE", "ssdo: lat-long environment map (EXR, HDR, ...) lighting the open directions",
+         [](Options& o, const std::string& v) { o.job.envPath = v; }},
+        {"--env-rotate", "DEG", "turn the environment about the up axis",
+         [](Options& o, const std::string& v) { o.job.settings.envRotationDeg = (float)toNumber("--env-rotate", v); }},
+        {"--env-intensity", "X", "multiply the environment (or sky) radiance (default 1)",
+         [](Options& o, const std::string& v) { o.job.settings.envIntensity = (float)toNumber("--env-intensity", v); }},
+        {"--sky", "R,G,B", "ssdo: constant sky radiance when there is no --env (default 1,1,1)",
+         [](Options& o, const std::string& v) {
+             const std::vector<double> c = toNumbers("--sky", v, 3);
+             for (int i = 0; i < 3; ++i) o.job.settings.skyRadiance[i] = (float)c[i];
+         }},
+        {"--light", "X,Y,Z,R,G,B", "ssdo: a directional light (world direction towards it, irradiance); up to 4",
+         [](Options& o, const std::string& v) {
+             const std::vector<double> c = toNumbers("--light", v, 6);
+             Settings::DirectionalLight l{};
+             for (int i = 0; i < 3; ++i) l.direction[i] = (float)c[i], l.irradiance[i] = (float)c[i + 3];
+             o.job.settings.lights.push_back(l);
+         }},
+        {"--up", "y|z", "world up axis for the environment (default: z for Blender renders, else y)",
+         [](Options& o, const std::string& v) {
+             if (v != "y" && v != "z") throw UsageError("--up expects y or z, got '" + v + "'");
+             o.job.zUp = v == "z";
+         }},
+        {"--times-albedo", nullptr, "write DO and GI as albedo x E / pi (outgoing radiance) instead of irradiance E",
+         [](Options& o, const std::string&) { o.job.timesAlbedo = true; }},
+        {"--relit-direct", nullptr, "relit also adds the render's own direct diffuse light (albedo x direct)",
+         [](Options& o, const std::string&) { o.job.relitWithDirect = true; }},
         {"--out-type", "half|float", "pixel type of the AO channel (default half)",
          [](Options& o, const std::string& v) {
              if (v != "half" && v != "float") throw UsageError("--out-type expects half or float, got '" + v + "'");
@@ -174,6 +223,11 @@ const std::vector<Flag>& flags() {
          [](Options& o, const std::string& v) { o.job.previewPath = v; }},
         {"--in-place", nullptr, "allow OUTPUT to be the input file (replaced atomically)",
          [](Options& o, const std::string&) { o.job.inPlace = true; }},
+        {"--frames", "LIST", "frames of a sequence (INPUT and -o hold #### or %04d): 1-100, 1-100x2, 1,5,9-12 "
+                             "(default: every input frame found)",
+         [](Options& o, const std::string& v) { o.frames = v; }},
+        {"--resume", nullptr, "skip frames whose output already exists complete",
+         [](Options& o, const std::string&) { o.resume = true; }},
         {"--inspect", nullptr, "print the layers found, the role of each and the camera, then exit",
          [](Options& o, const std::string&) { o.inspect = true; }},
         {"--quiet", nullptr, "print nothing but errors", [](Options& o, const std::string&) { o.quiet = true; }},
@@ -266,6 +320,70 @@ void writeTextFile(const std::string& path, const std::string& text) {
     }
 }
 
+void runOneFrame(const Options& o, const FrameJob& job, const std::string& reportPath) {
+    if (!reportPath.empty()) requireOutputDirectory(reportPath);
+    const FrameReport report = runFrameJob(job);
+    if (report.reference) {
+        const ErrorMetrics& m = *report.reference;
+        std::printf("reference %s: MAE %.5f  RMSE %.5f  PSNR %.2f dB  p99 %.5f  (%lld pixels)\n",
+                    job.referenceLayer.c_str(), m.mae, m.rmse, m.psnr, m.p99, m.pixels);
+    }
+    if (!reportPath.empty()) writeTextFile(reportPath, frameReportJson(job, report));
+    if (!o.quiet && !isFramePattern(o.job.input)) printSummary(o, report);
+}
+
+// An output is complete when it reads back as an EXR holding the AO channel (writes are
+// atomic, so a file that exists was written whole; the read guards against other writers).
+bool outputComplete(const std::string& path, const std::string& aoChannel) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) return false;
+    try {
+        for (const ExrPart& part : readExrInfo(path).parts)
+            if (part.findChannel(aoChannel) >= 0) return true;
+    } catch (const Error&) {
+    }
+    return false;
+}
+
+// A frame sequence, with a progress line and --resume; stops at the first failing frame.
+int runSequence(const Options& o) {
+    if (!isFramePattern(o.job.output)) throw UsageError("the input is a sequence: -o needs a pattern too (e.g. out.####.exr)");
+    const std::vector<int> frames = o.frames.empty() ? existingFrames(o.job.input) : parseFrames(o.frames);
+    if (frames.empty()) throw Error("no frames match '" + o.job.input + "'");
+    const bool tty = ::isatty(2);
+    const auto start = std::chrono::steady_clock::now();
+    int done = 0, skipped = 0;
+    for (size_t i = 0; i < frames.size(); ++i) {
+        FrameJob job = o.job;
+        job.input = framePath(o.job.input, frames[i]);
+        job.output = framePath(o.job.output, frames[i]);
+        job.previewPath = framePath(o.job.previewPath, frames[i]);
+        if (o.resume && outputComplete(job.output, aoChannelName(job.aoLayer))) {
+            ++skipped;
+        } else {
+            try {
+                runOneFrame(o, job, framePath(o.reportPath, frames[i]));
+            } catch (const UsageError&) {
+                throw;
+            } catch (const std::exception& e) {
+                if (tty && !o.quiet) std::fputc('\n', stderr);
+                throw Error("frame " + std::to_string(frames[i]) + ": " + e.what());
+            }
+            ++done;
+        }
+        if (o.quiet) continue;
+        const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        const double perFrame = done ? elapsed / done : 0.0;
+        const int left = (int)(frames.size() - i - 1);
+        const int bar = (int)(20 * (i + 1) / frames.size());
+        std::fprintf(stderr, "%sobscura: [%s%s] %zu/%zu frames (%d skipped), %.2f s/frame, ETA %.0f s%s",
+                     tty ? "\r" : "", std::string(bar, '#').c_str(), std::string(20 - bar, '.').c_str(), i + 1,
+                     frames.size(), skipped, perFrame, perFrame * left, tty ? "" : "\n");
+    }
+    if (tty && !o.quiet) std::fputc('\n', stderr);
+    return 0;
+}
+
 } // namespace
 
 int run(int argc, char** argv) {
@@ -286,15 +404,9 @@ int run(int argc, char** argv) {
             return 0;
         }
         if (o.job.output.empty()) throw UsageError("no output file: give -o OUTPUT.exr (or --inspect)");
-        if (!o.reportPath.empty()) requireOutputDirectory(o.reportPath);
-        const FrameReport report = runFrameJob(o.job);
-        if (report.reference) {
-            const ErrorMetrics& m = *report.reference;
-            std::printf("reference %s: MAE %.5f  RMSE %.5f  PSNR %.2f dB  p99 %.5f  (%lld pixels)\n",
-                        o.job.referenceLayer.c_str(), m.mae, m.rmse, m.psnr, m.p99, m.pixels);
-        }
-        if (!o.reportPath.empty()) writeTextFile(o.reportPath, frameReportJson(o.job, report));
-        if (!o.quiet) printSummary(o, report);
+        if (isFramePattern(o.job.input)) return runSequence(o);
+        if (!o.frames.empty()) throw UsageError("--frames needs an input pattern such as shot.####.exr");
+        runOneFrame(o, o.job, o.reportPath);
         return 0;
     } catch (const UsageError& e) {
         std::fprintf(stderr, "obscura: %s\n", e.what());

@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "io/preview.h"
 
+#include <OpenImageIO/imageio.h>
 #include <nlohmann/json.hpp>
 
 #include <chrono>
@@ -111,7 +112,114 @@ void validatePixels(const FrameJob& job, const FramePasses& p, float sky, FrameR
                     pixelText(p.data, firstBadNormal, p.depth.width) + "; use --bad-pixels skip to accept them");
 }
 
+// R, G, B channel names of a layer in a part ("" layer: the top-level R, G, B).
+std::vector<std::string> rgbChannels(const ExrPart& part, const std::string& layer, const ExrInfo& info,
+                                     const char* what) {
+    std::vector<std::string> names;
+    for (const char* c : {"R", "G", "B"}) {
+        const std::string name = layer.empty() ? c : layer + "." + c;
+        if (part.findChannel(name) < 0) {
+            std::string found;
+            for (const std::string& l : listLayers(info)) found += (found.empty() ? "" : "; ") + l;
+            throw Error(std::string("no ") + what + " layer '" + layer + "' with R, G, B in '" + info.path +
+                        "'; layers found: " + found);
+        }
+        names.push_back(name);
+    }
+    return names;
+}
+
+std::vector<std::string> roleRgb(const LayerPlan& plan, Role role) {
+    const LayerBinding* b = plan.find(role);
+    if (!b) return {};
+    return {b->channels.begin(), b->channels.begin() + std::min<size_t>(3, b->channels.size())};
+}
+
+// Lat-long environment map, any format OpenImageIO reads, as RGB floats.
+Image readEnvironmentMap(const std::string& path) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) throw Error("cannot read environment map '" + path + "': " + OIIO::geterror());
+    const OIIO::ImageSpec& spec = in->spec();
+    if (spec.nchannels < 3) throw Error("environment map '" + path + "' has fewer than 3 channels");
+    Image rgb(spec.width, spec.height, 3);
+    if (!in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, rgb.pixels.data()))
+        throw Error("cannot read environment map '" + path + "': " + in->geterror());
+    return rgb;
+}
+
+// Three channels <layer>.R/G/B of an RGB image.
+void addRgbLayer(std::vector<NewChannel>& add, int part, const std::string& layer, const Image& rgb, Imf::PixelType type) {
+    for (int c = 0; c < 3; ++c) {
+        NewChannel ch;
+        ch.part = part;
+        ch.name = layer + "." + "RGB"[c];
+        ch.plane = Image(rgb.width, rgb.height, 1);
+        for (size_t i = 0; i < ch.plane.pixels.size(); ++i) ch.plane.pixels[i] = rgb.pixels[3 * i + c];
+        ch.type = type;
+        add.push_back(std::move(ch));
+    }
+}
+
+// DO, GI and relit as the request asks. Irradiance E by default; --times-albedo writes
+// albedo x E / pi, the outgoing radiance of the diffuse receiver. relit = albedo (DO + GI) / pi
+// (+ albedo x direct diffuse), the units a renderer's beauty uses for diffuse light.
+void addSsdoLayers(const FrameJob& job, const FramePasses& p, const OperatorOutputs& out, Imf::PixelType type,
+                   std::vector<NewChannel>& add, std::vector<StringAttribute>& attrs) {
+    auto toRadiance = [&](const Image& e) {
+        Image r = e;
+        for (size_t i = 0; i < r.pixels.size(); ++i) r.pixels[i] *= p.albedo.pixels[i] * (float)(1.0 / M_PI);
+        return r;
+    };
+    auto emit = [&](const std::string& layer, const Image& rgb) {
+        addRgbLayer(add, p.part, layer, rgb, type);
+        attrs.push_back({p.part, "obscura/" + layer + "/colorspace", "lin_rec709"});
+        attrs.push_back({p.part, "obscura/" + layer + "/units", job.timesAlbedo ? "radiance (albedo E / pi)" : "irradiance E"});
+    };
+    if (job.writeDirectional) emit(job.doLayer, job.timesAlbedo ? toRadiance(out.directional) : out.directional);
+    if (job.writeIndirect) emit(job.giLayer, job.timesAlbedo ? toRadiance(out.indirect) : out.indirect);
+    if (job.writeRelit) {
+        Image relit = out.directional;
+        for (size_t i = 0; i < relit.pixels.size(); ++i) {
+            relit.pixels[i] = p.albedo.pixels[i] * (relit.pixels[i] + out.indirect.pixels[i]) * (float)(1.0 / M_PI);
+            if (job.relitWithDirect) relit.pixels[i] += p.albedo.pixels[i] * p.directDiffuse.pixels[i];
+        }
+        addRgbLayer(add, p.part, job.relitLayer, relit, type);
+        attrs.push_back({p.part, "obscura/" + job.relitLayer + "/colorspace", "lin_rec709"});
+    }
+}
+
 } // namespace
+
+SsdoReads planSsdoReads(const FrameJob& job, const FramePasses& p) {
+    SsdoReads r;
+    if (job.settings.method != "ssdo") return r;  // AO alone reads no colour pass
+    const ExrPart& part = p.info.parts[p.part];
+    const bool bounce = job.writeIndirect || job.writeRelit;
+    if (bounce) {
+        if (job.bounceSource == "direct-diffuse") {
+            r.radiance = roleRgb(p.plan, Role::DirectDiffuse);
+            if (r.radiance.empty())
+                throw Error("'" + job.input + "' has no direct-diffuse layer for the bounce; use --bounce-source beauty "
+                            "or --layer direct-diffuse=NAME");
+            r.senderAlbedo = true;
+        } else if (job.bounceSource == "beauty") {
+            r.radiance = roleRgb(p.plan, Role::Beauty);
+            if (r.radiance.empty()) throw Error("'" + job.input + "' has no beauty layer for the bounce");
+        } else {
+            r.radiance = rgbChannels(part, job.bounceSource, p.info, "bounce source");
+        }
+    }
+    if ((bounce && r.senderAlbedo) || job.writeRelit || job.timesAlbedo) {
+        r.albedo = roleRgb(p.plan, Role::Albedo);
+        if (r.albedo.empty() && (job.writeRelit || job.timesAlbedo))
+            throw Error("'" + job.input + "' has no albedo layer (needed for relit or --times-albedo); use --layer albedo=NAME");
+    }
+    if (job.relitWithDirect) {
+        r.directDiffuse = roleRgb(p.plan, Role::DirectDiffuse);
+        if (r.directDiffuse.empty()) throw Error("'" + job.input + "' has no direct-diffuse layer for --relit-direct");
+    }
+    return r;
+}
 
 void requireOutputDirectory(const std::string& path) {
     const fs::path dir = fs::path(path).parent_path();
@@ -157,6 +265,9 @@ FramePasses loadFramePasses(const FrameJob& job, bool keepAll, std::vector<Stage
     }
     if (!job.referenceLayer.empty())
         wanted.push_back({p.part, findReferenceChannel(part, job.referenceLayer, p.info)});
+    const SsdoReads ssdo = planSsdoReads(job, p);
+    for (const std::vector<std::string>* rgb : {&ssdo.radiance, &ssdo.albedo, &ssdo.directDiffuse})
+        for (const std::string& c : *rgb) wanted.push_back({p.part, c});
 
     std::vector<Image> planes = readExrChannels(job.input, p.info, wanted, keepAll, keepAll ? &p.raw : nullptr);
     auto next = planes.begin();
@@ -168,6 +279,12 @@ FramePasses loadFramePasses(const FrameJob& job, bool keepAll, std::vector<Stage
         next += 3;
     }
     if (!job.referenceLayer.empty()) p.reference = std::move(*next++);
+    for (auto [names, image] : {std::pair{&ssdo.radiance, &p.radiance}, std::pair{&ssdo.albedo, &p.albedo},
+                                std::pair{&ssdo.directDiffuse, &p.directDiffuse}}) {
+        if (names->empty()) continue;
+        *image = interleave(next, 3);
+        next += 3;
+    }
     return p;
 }
 
@@ -211,6 +328,25 @@ FrameReport runFrameJob(const FrameJob& job) {
     in.camera = report.camera;
     Settings settings = job.settings;
     settings.skyDepth = report.skyDepth;
+    const bool ssdo = settings.method == "ssdo";
+    Image environment;
+    if (ssdo) {
+        const SsdoReads reads = planSsdoReads(job, p);
+        settings.bounce = job.writeIndirect || job.writeRelit;
+        settings.zUp = job.zUp.value_or(p.plan.preset == "blender");  // Blender's world is Z-up
+        if (!p.radiance.empty()) in.radiance = p.radiance.view();
+        if (reads.senderAlbedo && !p.albedo.empty()) in.albedo = p.albedo.view();
+        if (!job.envPath.empty()) {  // loaded only when the method lights with it
+            StageTimer timer{&report.stages, "environment"};
+            environment = readEnvironmentMap(job.envPath);
+            in.environment = &environment;
+            report.plan.push_back("environment " + job.envPath + " (" + std::to_string(environment.width) + "x" +
+                                  std::to_string(environment.height) + ")");
+        }
+        report.plan.push_back(std::string("ssdo") + (settings.bounce ? " + bounce from " + job.bounceSource : " (no bounce)"));
+    } else {
+        report.plan.push_back("hbao");
+    }
     OperatorOutputs out;
     {
         StageTimer timer{&report.stages, "compute"};
@@ -229,18 +365,20 @@ FrameReport runFrameJob(const FrameJob& job) {
     report.aoChannel = aoChannelName(job.aoLayer);
     {
         StageTimer timer{&report.stages, "write"};
+        const Imf::PixelType type = job.aoFloat ? Imf::FLOAT : Imf::HALF;
         std::vector<NewChannel> add(1);
         add[0].part = p.part;
         add[0].name = report.aoChannel;
-        add[0].plane = std::move(out.ao);
-        add[0].type = job.aoFloat ? Imf::FLOAT : Imf::HALF;
-        const std::vector<StringAttribute> attrs = {
+        add[0].plane = out.ao;
+        add[0].type = type;
+        std::vector<StringAttribute> attrs = {
             {p.part, "obscura/version", OBSCURA_VERSION_STRING},
             {p.part, "obscura/" + report.aoChannel + "/colorspace", "raw"},
             {p.part, "obscura/settings", frameReportJson(job, FrameReport{})},
         };
+        if (ssdo) addSsdoLayers(job, p, out, type, add, attrs);
+        for (const NewChannel& c : add) report.written.push_back(c.name);
         writeExrWithNewChannels(job.output, p.raw, add, job.inPlace, attrs);
-        out.ao = std::move(add[0].plane);
     }
     if (!job.previewPath.empty()) {
         StageTimer timer{&report.stages, "preview"};

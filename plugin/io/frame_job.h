@@ -34,6 +34,17 @@ struct FrameJob {
     std::string previewPath;              // PNG of the AO, optional
     std::string referenceLayer;           // compare against this layer, optional
     BadPixelPolicy badPixels = BadPixelPolicy::Error;
+
+    // ---- method ssdo: what to write and where its light comes from ----
+    bool writeDirectional = true;         // DO (ssdo always computes it; this only decides the layer)
+    bool writeIndirect = false;           // GI: runs the bounce pass
+    bool writeRelit = false;              // albedo x (DO + GI) / pi
+    bool relitWithDirect = false;         // ... plus the render's own direct diffuse light
+    bool timesAlbedo = false;             // DO/GI written as albedo x E / pi (outgoing radiance) instead of E
+    std::string doLayer = "obscura.DO", giLayer = "obscura.GI", relitLayer = "obscura.relit";
+    std::string bounceSource = "direct-diffuse";  // "direct-diffuse", "beauty" or a layer name
+    std::string envPath;                  // lat-long EXR/HDR/...; "" = constant sky (settings.skyRadiance)
+    std::optional<bool> zUp;              // world up axis for the environment; default from the preset
 };
 
 // The passes of one frame in memory, as the operator wants them.
@@ -44,11 +55,14 @@ struct FramePasses {
     Box2i display, data;
     double pixelAspect = 1.0;
     Image depth, normal, position, reference;  // position/reference empty when not read
+    Image radiance, albedo, directDiffuse;      // SSDO inputs, read only when the request needs them
     ExrPixels raw;                        // every channel, for pass-through (when kept)
 };
 
 struct FrameReport {
     std::string aoChannel;
+    std::vector<std::string> written;     // every channel added to the output
+    std::vector<std::string> plan;        // what ran, in order (passes read, kernels, maps loaded)
     Camera camera;
     DepthKind depthKind = DepthKind::Planar;
     NormalSpace normalSpace = NormalSpace::World;
@@ -59,6 +73,15 @@ struct FrameReport {
     std::optional<ErrorMetrics> reference;
     std::vector<std::string> warnings;
 };
+
+// The colour passes an SSDO request reads (channel names in the depth's part); empty for HBAO.
+struct SsdoReads {
+    std::vector<std::string> radiance;       // the bounce source, when GI or relit is asked for
+    std::vector<std::string> albedo;         // sender albedo (direct-diffuse source), relit, --times-albedo
+    std::vector<std::string> directDiffuse;  // --relit-direct
+    bool senderAlbedo = false;               // senders radiate source x albedo
+};
+SsdoReads planSsdoReads(const FrameJob& job, const FramePasses& passes);
 
 // Reads headers, plans layers and reads the pixels `job` needs (plus everything raw if keepAll).
 FramePasses loadFramePasses(const FrameJob& job, bool keepAll, std::vector<StageTiming>* stages = nullptr);
