@@ -485,6 +485,8 @@ std::string frameReportJson(const FrameJob& job, const FrameReport& r) {
                               {"max_abs", m.maxAbs}};
         }
         j["warnings"] = r.warnings;
+        j["plan"] = r.plan;
+        j["written"] = r.written;
     }
     return j.dump(r.aoChannel.empty() ? -1 : 2);
 }
