@@ -192,6 +192,10 @@ const std::vector<Flag>& flags() {
              if (v != "y" && v != "z") throw UsageError("--up expects y or z, got '" + v + "'");
              o.job.zUp = v == "z";
          }},
+        {"--colorspace", "NAME", "colour space of the input's colour passes (default: from the EXR header)",
+         [](Options& o, const std::string& v) { o.job.colourSpace = v; }},
+        {"--env-colorspace", "NAME", "colour space of the environment map (default: from its metadata)",
+         [](Options& o, const std::string& v) { o.job.envColourSpace = v; }},
         {"--times-albedo", nullptr, "write DO and GI as albedo x E / pi (outgoing radiance) instead of irradiance E",
          [](Options& o, const std::string&) { o.job.timesAlbedo = true; }},
         {"--relit-direct", nullptr, "relit also adds the render's own direct diffuse light (albedo x direct)",

@@ -1,6 +1,7 @@
 #include "io/frame_job.h"
 
 #include "core/error.h"
+#include "io/colour.h"
 #include "io/preview.h"
 
 #include <OpenImageIO/imageio.h>
@@ -135,8 +136,8 @@ std::vector<std::string> roleRgb(const LayerPlan& plan, Role role) {
     return {b->channels.begin(), b->channels.begin() + std::min<size_t>(3, b->channels.size())};
 }
 
-// Lat-long environment map, any format OpenImageIO reads, as RGB floats.
-Image readEnvironmentMap(const std::string& path) {
+// Lat-long environment map, any format OpenImageIO reads, as RGB floats in the working space.
+Image readEnvironmentMap(const std::string& path, const std::string& colourSpace, FrameReport& report) {
     auto in = OIIO::ImageInput::open(path);
     if (!in) throw Error("cannot read environment map '" + path + "': " + OIIO::geterror());
     const OIIO::ImageSpec& spec = in->spec();
@@ -144,6 +145,11 @@ Image readEnvironmentMap(const std::string& path) {
     Image rgb(spec.width, spec.height, 3);
     if (!in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, rgb.pixels.data()))
         throw Error("cannot read environment map '" + path + "': " + in->geterror());
+    const ColourManager& cm = colourManager();
+    const ColourSpaceGuess space = cm.detectColourSpace(colourMetadata(spec), colourSpace);
+    if (!space.warning.empty()) report.warnings.push_back("environment: " + space.warning);
+    cm.toWorkingSpace(rgb, space.name);
+    report.plan.push_back("environment colour: " + space.name + " (" + space.source + ") -> " + cm.workingSpace());
     return rgb;
 }
 
@@ -163,8 +169,10 @@ void addRgbLayer(std::vector<NewChannel>& add, int part, const std::string& laye
 // DO, GI and relit as the request asks. Irradiance E by default; --times-albedo writes
 // albedo x E / pi, the outgoing radiance of the diffuse receiver. relit = albedo (DO + GI) / pi
 // (+ albedo x direct diffuse), the units a renderer's beauty uses for diffuse light.
-void addSsdoLayers(const FrameJob& job, const FramePasses& p, const OperatorOutputs& out, Imf::PixelType type,
-                   std::vector<NewChannel>& add, std::vector<StringAttribute>& attrs) {
+std::vector<std::string> addSsdoLayers(const FrameJob& job, const FramePasses& p, const OperatorOutputs& out,
+                                       Imf::PixelType type, std::vector<NewChannel>& add,
+                                       std::vector<StringAttribute>& attrs) {
+    std::vector<std::string> layers;
     auto toRadiance = [&](const Image& e) {
         Image r = e;
         for (size_t i = 0; i < r.pixels.size(); ++i) r.pixels[i] *= p.albedo.pixels[i] * (float)(1.0 / M_PI);
@@ -172,7 +180,7 @@ void addSsdoLayers(const FrameJob& job, const FramePasses& p, const OperatorOutp
     };
     auto emit = [&](const std::string& layer, const Image& rgb) {
         addRgbLayer(add, p.part, layer, rgb, type);
-        attrs.push_back({p.part, "obscura/" + layer + "/colorspace", "lin_rec709"});
+        layers.push_back(layer);
         attrs.push_back({p.part, "obscura/" + layer + "/units", job.timesAlbedo ? "radiance (albedo E / pi)" : "irradiance E"});
     };
     if (job.writeDirectional) emit(job.doLayer, job.timesAlbedo ? toRadiance(out.directional) : out.directional);
@@ -184,8 +192,9 @@ void addSsdoLayers(const FrameJob& job, const FramePasses& p, const OperatorOutp
             if (job.relitWithDirect) relit.pixels[i] += p.albedo.pixels[i] * p.directDiffuse.pixels[i];
         }
         addRgbLayer(add, p.part, job.relitLayer, relit, type);
-        attrs.push_back({p.part, "obscura/" + job.relitLayer + "/colorspace", "lin_rec709"});
+        layers.push_back(job.relitLayer);
     }
+    return layers;
 }
 
 } // namespace
@@ -334,11 +343,21 @@ FrameReport runFrameJob(const FrameJob& job) {
         const SsdoReads reads = planSsdoReads(job, p);
         settings.bounce = job.writeIndirect || job.writeRelit;
         settings.zUp = job.zUp.value_or(p.plan.preset == "blender");  // Blender's world is Z-up
+        if (!p.radiance.empty() || !p.albedo.empty() || !p.directDiffuse.empty()) {
+            // Colour passes enter the working space of the OpenColorIO config; data passes stay as they are.
+            const ColourManager& cm = colourManager();
+            const ColourSpaceGuess space = cm.detectColourSpace(p.info.parts[p.part].header, job.colourSpace);
+            if (!space.warning.empty()) report.warnings.push_back(space.warning);
+            for (Image* img : {&p.radiance, &p.albedo, &p.directDiffuse})
+                if (!img->empty()) cm.toWorkingSpace(*img, space.name);
+            report.plan.push_back("colour: " + space.name + " (" + space.source + ") -> " + cm.workingSpace());
+            report.inputColourSpace = space.name;
+        }
         if (!p.radiance.empty()) in.radiance = p.radiance.view();
         if (reads.senderAlbedo && !p.albedo.empty()) in.albedo = p.albedo.view();
         if (!job.envPath.empty()) {  // loaded only when the method lights with it
             StageTimer timer{&report.stages, "environment"};
-            environment = readEnvironmentMap(job.envPath);
+            environment = readEnvironmentMap(job.envPath, job.envColourSpace, report);
             in.environment = &environment;
             report.plan.push_back("environment " + job.envPath + " (" + std::to_string(environment.width) + "x" +
                                   std::to_string(environment.height) + ")");
@@ -373,10 +392,20 @@ FrameReport runFrameJob(const FrameJob& job) {
         add[0].type = type;
         std::vector<StringAttribute> attrs = {
             {p.part, "obscura/version", OBSCURA_VERSION_STRING},
-            {p.part, "obscura/" + report.aoChannel + "/colorspace", "raw"},
             {p.part, "obscura/settings", frameReportJson(job, FrameReport{})},
         };
-        if (ssdo) addSsdoLayers(job, p, out, type, add, attrs);
+        std::vector<std::string> colourLayers;
+        if (ssdo) colourLayers = addSsdoLayers(job, p, out, type, add, attrs);
+        // AO is data (raw); DO, GI and relit are in the config's working space.
+        std::string note;
+        const ColourManager& cm = colourManager();
+        const std::string inputSpace = report.inputColourSpace.empty()
+                                           ? cm.detectColourSpace(p.info.parts[p.part].header, job.colourSpace).name
+                                           : report.inputColourSpace;
+        for (StringAttribute& a : cm.tagOutputPart(p.raw.info.parts[p.part].header, p.part, inputSpace, colourLayers,
+                                                   {report.aoChannel}, &note))
+            attrs.push_back(std::move(a));
+        if (!note.empty()) report.plan.push_back(note);
         for (const NewChannel& c : add) report.written.push_back(c.name);
         writeExrWithNewChannels(job.output, p.raw, add, job.inPlace, attrs);
     }
@@ -384,11 +413,17 @@ FrameReport runFrameJob(const FrameJob& job) {
         StageTimer timer{&report.stages, "preview"};
         // Preview the display window where the data covers it (overscan is not part of the frame).
         const Box2i crop = intersect(p.data, p.display).empty() ? p.data : intersect(p.data, p.display);
-        Image view(crop.width(), crop.height(), 1);
+        // SSDO previews its DO through the config's display/view; AO is data, shown as is.
+        const Image& source = ssdo ? out.directional : out.ao;
+        Image view(crop.width(), crop.height(), source.channels);
         for (int y = 0; y < crop.height(); ++y)
             for (int x = 0; x < crop.width(); ++x)
-                *view.at(x, y) = *out.ao.at(x + crop.x0 - p.data.x0, y + crop.y0 - p.data.y0);
-        writePreviewPng(job.previewPath, view, 0);
+                for (int c = 0; c < source.channels; ++c)
+                    view.at(x, y)[c] = source.at(x + crop.x0 - p.data.x0, y + crop.y0 - p.data.y0)[c];
+        if (ssdo)
+            colourManager().writeDisplayPreview(job.previewPath, view);
+        else
+            writePreviewPng(job.previewPath, view, 0);
     }
     return report;
 }

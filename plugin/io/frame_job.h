@@ -45,6 +45,8 @@ struct FrameJob {
     std::string bounceSource = "direct-diffuse";  // "direct-diffuse", "beauty" or a layer name
     std::string envPath;                  // lat-long EXR/HDR/...; "" = constant sky (settings.skyRadiance)
     std::optional<bool> zUp;              // world up axis for the environment; default from the preset
+    std::string colourSpace;              // --colorspace: the input's colour passes; "" = from the header
+    std::string envColourSpace;           // --env-colorspace; "" = from the map's metadata
 };
 
 // The passes of one frame in memory, as the operator wants them.
@@ -63,6 +65,7 @@ struct FrameReport {
     std::string aoChannel;
     std::vector<std::string> written;     // every channel added to the output
     std::vector<std::string> plan;        // what ran, in order (passes read, kernels, maps loaded)
+    std::string inputColourSpace;         // of the colour passes, when any was read
     Camera camera;
     DepthKind depthKind = DepthKind::Planar;
     NormalSpace normalSpace = NormalSpace::World;

@@ -29,13 +29,50 @@ float srgbOetf(float v) {
 
 std::uint8_t quantise(float v) { return static_cast<std::uint8_t>(std::lround(v * 255.0f)); }
 
+// The file part shared by both writers: 8-bit bytes -> PNG, temp file + rename.
+void writePngBytes(const std::string& path, const std::string& what, int width, int height,
+                   int channels, const std::vector<std::uint8_t>& bytes, const std::string& colourSpaceTag) {
+    namespace fs = std::filesystem;
+    const fs::path target(path);
+    const fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) throw Error(what + "directory " + dir.string() + " does not exist");
+
+    // The temp name keeps the .png extension so nothing guesses another format.
+    const fs::path tmp = dir / ("." + target.filename().string() + ".tmp.png");
+    auto out = OIIO::ImageOutput::create("png");
+    if (!out) throw Error(what + firstLine(OIIO::geterror()));
+
+    OIIO::ImageSpec spec(width, height, channels, OIIO::TypeDesc::UINT8);
+    if (!colourSpaceTag.empty()) spec.attribute("oiio:ColorSpace", colourSpaceTag);  // data previews stay untagged
+    spec.attribute("Software", "obscura");
+
+    bool ok = out->open(tmp.string(), spec) &&
+              out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
+    ok = out->close() && ok;
+    if (!ok) {
+        std::string msg = firstLine(out->geterror());
+        fs::remove(tmp, ec);
+        throw Error(what + msg);
+    }
+    fs::rename(tmp, target, ec);
+    if (ec) {
+        const std::string msg = ec.message();
+        fs::remove(tmp, ec);
+        throw Error(what + msg);
+    }
+}
+
+void requireImage(const Image& img, const std::string& what) {
+    if (img.empty() || img.width <= 0 || img.height <= 0 || img.channels <= 0)
+        throw Error(what + "the image is empty");
+}
+
 } // namespace
 
 void writePreviewPng(const std::string& path, const Image& img, int channel) {
-    namespace fs = std::filesystem;
     const std::string what = "cannot write preview " + path + ": ";
-    if (img.empty() || img.width <= 0 || img.height <= 0 || img.channels <= 0)
-        throw Error(what + "the image is empty");
+    requireImage(img, what);
     if (channel >= img.channels)
         throw Error(what + "channel " + std::to_string(channel) + " does not exist (the image has " +
                     std::to_string(img.channels) + ")");
@@ -54,35 +91,21 @@ void writePreviewPng(const std::string& path, const Image& img, int channel) {
                 bytes[k++] = quantise(rgb ? srgbOetf(v) : v);
             }
         }
+    writePngBytes(path, what, img.width, img.height, outChannels, bytes, rgb ? "sRGB" : "");
+}
 
-    const fs::path target(path);
-    const fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
-    std::error_code ec;
-    if (!fs::is_directory(dir, ec)) throw Error(what + "directory " + dir.string() + " does not exist");
-
-    // The temp name keeps the .png extension so nothing guesses another format.
-    const fs::path tmp = dir / ("." + target.filename().string() + ".tmp.png");
-    auto out = OIIO::ImageOutput::create("png");
-    if (!out) throw Error(what + firstLine(OIIO::geterror()));
-
-    OIIO::ImageSpec spec(img.width, img.height, outChannels, OIIO::TypeDesc::UINT8);
-    if (rgb) spec.attribute("oiio:ColorSpace", "sRGB");  // data previews stay untagged
-    spec.attribute("Software", "obscura");
-
-    bool ok = out->open(tmp.string(), spec) &&
-              out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
-    ok = out->close() && ok;
-    if (!ok) {
-        std::string msg = firstLine(out->geterror());
-        fs::remove(tmp, ec);
-        throw Error(what + msg);
-    }
-    fs::rename(tmp, target, ec);
-    if (ec) {
-        const std::string msg = ec.message();
-        fs::remove(tmp, ec);
-        throw Error(what + msg);
-    }
+void writeEncodedPreviewPng(const std::string& path, const Image& img, const std::string& colourSpaceTag) {
+    const std::string what = "cannot write preview " + path + ": ";
+    requireImage(img, what);
+    const int outChannels = img.channels >= 3 ? 3 : 1;
+    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(img.width) * img.height * outChannels);
+    std::size_t k = 0;
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x) {
+            const float* p = img.at(x, y);
+            for (int c = 0; c < outChannels; ++c) bytes[k++] = quantise(clamp01(p[c]));
+        }
+    writePngBytes(path, what, img.width, img.height, outChannels, bytes, colourSpaceTag);
 }
 
 } // namespace obscura

@@ -15,4 +15,10 @@ namespace obscura {
 // NaN is written as 0. Throws obscura::Error with a one-line message on failure.
 void writePreviewPng(const std::string& path, const Image& img, int channel = 0);
 
+// Writes values that are already display-encoded (e.g. through an OpenColorIO display/view
+// transform): channels 0..2 as RGB (channel 0 as grey with fewer than 3 channels), clamped
+// to [0,1] and quantised with no transfer function, atomically like writePreviewPng.
+// `colourSpaceTag`, when not empty, is stored as oiio:ColorSpace. Throws obscura::Error.
+void writeEncodedPreviewPng(const std::string& path, const Image& img, const std::string& colourSpaceTag);
+
 } // namespace obscura

@@ -1,0 +1,924 @@
+// obscura as an OpenFX image effect (General context): an adapter from OFX clips,
+// parameters and render windows to the operator (core/operator.h).
+//
+// Coordinates. OFX images live in pixel coordinates, y up, origin bottom-left, rows
+// possibly stored bottom-up or top-down (rowBytes < 0); the operator's planes are
+// display-window coordinates, y down. The one conversion between them is FrameMap.
+//
+// Tiles. A render window is computed from the depth/normal data over the window plus
+// an apron of the largest projected radius (+ texel snapping + blur), clipped to the
+// Depth clip's region of definition, with the radius cap pinned (Settings::
+// maxRadiusPixels) so every tile runs the kernel exactly as the whole frame does.
+#include "ofx_api.h"
+
+#include "core/camera.h"
+#include "core/error.h"
+#include "core/operator.h"
+#include "core/settings.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <new>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#define OBSCURA_OFX_EXPORT extern "C" __attribute__((visibility("default")))
+
+namespace {
+
+using namespace obscura;
+
+// ---------------------------------------------------------------------------
+// Host suites: fetched once at load, read-only afterwards.
+// ---------------------------------------------------------------------------
+
+OfxHost* gHost = nullptr;
+const OfxPropertySuiteV1* gProp = nullptr;
+const OfxImageEffectSuiteV1* gEffect = nullptr;
+const OfxParameterSuiteV1* gParam = nullptr;
+const OfxMessageSuiteV1* gMessage = nullptr;  // optional
+
+constexpr const char* kPluginId = "io.github.obscura.AmbientOcclusion";
+constexpr unsigned kVersionMajor = OBSCURA_OFX_VERSION_MAJOR;
+constexpr unsigned kVersionMinor = OBSCURA_OFX_VERSION_MINOR;
+
+// Clips.
+constexpr const char* kClipSource = kOfxImageEffectSimpleSourceClipName;
+constexpr const char* kClipDepth = "Depth";
+constexpr const char* kClipNormal = "Normal";
+constexpr const char* kClipPosition = "Position";
+constexpr const char* kClipAlbedo = "Albedo";
+constexpr const char* kClipOutput = kOfxImageEffectOutputClipName;
+
+// Parameters (names are also script names).
+constexpr const char* kParamOutput = "output";
+constexpr const char* kParamStrength = "strength";
+constexpr const char* kParamMethod = "method";
+constexpr const char* kParamRadius = "radius";
+constexpr const char* kParamDirections = "directions";
+constexpr const char* kParamSteps = "steps";
+constexpr const char* kParamWeighting = "weighting";
+constexpr const char* kParamFalloff = "falloff";
+constexpr const char* kParamBlur = "blur";
+constexpr const char* kParamProjection = "projection";
+constexpr const char* kParamFov = "fovDeg";
+constexpr const char* kParamOrthoWidth = "orthoWidth";
+constexpr const char* kParamCameraToWorld = "cameraToWorld";
+constexpr const char* kParamDepthKind = "depthKind";
+constexpr const char* kParamNormalSpace = "normalSpace";
+constexpr const char* kParamSkyDepth = "skyDepth";
+constexpr const char* kParamMaxScreenRadius = "maxScreenRadius";
+constexpr const char* kParamDevice = "device";
+constexpr const char* kParamThreads = "threads";
+constexpr const char* kGroupCamera = "cameraGroup";
+constexpr const char* kGroupAdvanced = "advancedGroup";
+constexpr const char* kPage = "controls";
+
+// What the Output clip carries. Hosts store a choice as its index, so new outputs (DO,
+// GI, relit...) are appended to this table, never inserted: saved projects keep meaning.
+enum class OutputKind { Ao, BeautyTimesAo };
+struct OutputOption {
+    OutputKind kind;
+    const char* label;
+    bool needsSource;  // reads the Source (beauty) clip
+};
+const OutputOption kOutputOptions[] = {
+    {OutputKind::Ao, "AO", false},
+    {OutputKind::BeautyTimesAo, "Beauty x AO", true},
+};
+constexpr int kOutputCount = int(sizeof(kOutputOptions) / sizeof(kOutputOptions[0]));
+
+const char* const kMethods[] = {"hbao"};
+const char* const kWeightings[] = {"uniform", "cosine"};
+const char* const kFalloffs[] = {"linear", "none"};
+const char* const kProjections[] = {"perspective", "orthographic"};
+const char* const kDepthKinds[] = {"planar", "radial"};
+const char* const kNormalSpaces[] = {"world", "camera"};
+const char* const kDevices[] = {"cpu", "auto", "gl", "gl-egl", "gl-osmesa"};
+
+template <class T, size_t N>
+constexpr int countOf(const T (&)[N]) {
+    return int(N);
+}
+
+// ---------------------------------------------------------------------------
+// Small helpers over the property suite
+// ---------------------------------------------------------------------------
+
+struct OfxFailure {
+    OfxStatus status;
+};
+
+void check(OfxStatus st) {
+    if (st != kOfxStatOK) throw OfxFailure{st};
+}
+
+std::string getString(OfxPropertySetHandle p, const char* name, int index = 0) {
+    char* v = nullptr;
+    if (gProp->propGetString(p, name, index, &v) != kOfxStatOK || !v) return {};
+    return v;
+}
+
+int getInt(OfxPropertySetHandle p, const char* name, int fallback, int index = 0) {
+    int v = fallback;
+    if (gProp->propGetInt(p, name, index, &v) != kOfxStatOK) return fallback;
+    return v;
+}
+
+double getDouble(OfxPropertySetHandle p, const char* name, double fallback, int index = 0) {
+    double v = fallback;
+    if (gProp->propGetDouble(p, name, index, &v) != kOfxStatOK) return fallback;
+    return v;
+}
+
+void setStrings(OfxPropertySetHandle p, const char* name, std::initializer_list<const char*> values) {
+    int i = 0;
+    for (const char* v : values) gProp->propSetString(p, name, i++, v);
+}
+
+OfxPropertySetHandle effectProps(OfxImageEffectHandle effect) {
+    OfxPropertySetHandle p = nullptr;
+    check(gEffect->getPropertySet(effect, &p));
+    return p;
+}
+
+OfxPropertySetHandle clipProps(OfxImageClipHandle clip) {
+    OfxPropertySetHandle p = nullptr;
+    check(gEffect->clipGetPropertySet(clip, &p));
+    return p;
+}
+
+bool connected(OfxImageClipHandle clip) {
+    return clip && getInt(clipProps(clip), kOfxImageClipPropConnected, 0) != 0;
+}
+
+void postMessage(OfxImageEffectHandle effect, const char* type, const std::string& text) {
+    if (gMessage) gMessage->message(effect, type, nullptr, "%s", text.c_str());
+}
+
+// ---------------------------------------------------------------------------
+// Per-instance data: clip and parameter handles, nothing mutable after creation.
+// ---------------------------------------------------------------------------
+
+struct Instance {
+    OfxImageEffectHandle effect = nullptr;
+    OfxImageClipHandle source = nullptr, depth = nullptr, normal = nullptr, position = nullptr, albedo = nullptr,
+                       output = nullptr;
+    OfxParamHandle output_ = nullptr, strength = nullptr, method = nullptr, radius = nullptr, directions = nullptr,
+                   steps = nullptr, weighting = nullptr, falloff = nullptr, blur = nullptr, projection = nullptr,
+                   fov = nullptr, orthoWidth = nullptr, cameraToWorld = nullptr, depthKind = nullptr,
+                   normalSpace = nullptr, skyDepth = nullptr, maxScreenRadius = nullptr, device = nullptr,
+                   threads = nullptr;
+};
+
+Instance* instanceOf(OfxImageEffectHandle effect) {
+    void* p = nullptr;
+    check(gProp->propGetPointer(effectProps(effect), kOfxPropInstanceData, 0, &p));
+    if (!p) throw OfxFailure{kOfxStatErrBadHandle};
+    return static_cast<Instance*>(p);
+}
+
+// The parameter values at one time, as the operator wants them.
+struct Params {
+    OutputKind output = OutputKind::Ao;
+    double strength = 1;
+    Settings settings;
+    Projection projection = Projection::Perspective;
+    double fovDeg = 0, orthoWidth = 0;
+    std::string cameraToWorld;
+    DepthKind depthKind = DepthKind::Planar;
+    NormalSpace normalSpace = NormalSpace::World;
+    double maxScreenRadius = 0;  // 0 = automatic (frame extent)
+};
+
+int choiceAt(OfxParamHandle h, OfxTime t, int count) {
+    int v = 0;
+    check(gParam->paramGetValueAtTime(h, t, &v));
+    return std::clamp(v, 0, count - 1);
+}
+int intAt(OfxParamHandle h, OfxTime t) {
+    int v = 0;
+    check(gParam->paramGetValueAtTime(h, t, &v));
+    return v;
+}
+double doubleAt(OfxParamHandle h, OfxTime t) {
+    double v = 0;
+    check(gParam->paramGetValueAtTime(h, t, &v));
+    return v;
+}
+std::string stringAt(OfxParamHandle h, OfxTime t) {
+    char* v = nullptr;
+    check(gParam->paramGetValueAtTime(h, t, &v));
+    return v ? std::string(v) : std::string();
+}
+
+// "auto" means a real GPU when there is one. Probing costs a context creation, so the
+// answer (a property of the machine, not of an instance) is found once per process.
+std::string resolveDevice(const std::string& requested) {
+    if (requested != "auto") return requested;
+    static std::once_flag once;
+    static bool hardware = false;
+    std::call_once(once, [] {
+        try {
+            Settings probe;
+            probe.device = "auto";
+            hardware = describeDevice(probe).find("using the CPU") == std::string::npos;
+        } catch (...) {
+            hardware = false;
+        }
+    });
+    return hardware ? "auto" : "cpu";
+}
+
+Params readParams(const Instance& in, OfxTime t) {
+    Params p;
+    p.output = kOutputOptions[choiceAt(in.output_, t, kOutputCount)].kind;
+    p.strength = std::clamp(doubleAt(in.strength, t), 0.0, 1.0);
+    Settings& s = p.settings;
+    s.method = kMethods[choiceAt(in.method, t, countOf(kMethods))];
+    s.radius = (float)doubleAt(in.radius, t);
+    s.directions = intAt(in.directions, t);
+    s.steps = intAt(in.steps, t);
+    s.weighting = choiceAt(in.weighting, t, 2) == 0 ? Weighting::Uniform : Weighting::Cosine;
+    s.falloff = choiceAt(in.falloff, t, 2) == 0 ? Falloff::Linear : Falloff::None;
+    s.blur = intAt(in.blur, t);
+    s.skyDepth = (float)doubleAt(in.skyDepth, t);
+    s.threads = intAt(in.threads, t);
+    s.device = resolveDevice(kDevices[choiceAt(in.device, t, countOf(kDevices))]);
+    p.projection = choiceAt(in.projection, t, 2) == 0 ? Projection::Perspective : Projection::Orthographic;
+    p.fovDeg = doubleAt(in.fov, t);
+    p.orthoWidth = doubleAt(in.orthoWidth, t);
+    p.cameraToWorld = stringAt(in.cameraToWorld, t);
+    p.depthKind = choiceAt(in.depthKind, t, 2) == 0 ? DepthKind::Planar : DepthKind::Radial;
+    p.normalSpace = choiceAt(in.normalSpace, t, 2) == 0 ? NormalSpace::World : NormalSpace::Camera;
+    p.maxScreenRadius = std::max(0.0, doubleAt(in.maxScreenRadius, t));
+    return p;
+}
+
+// 16 numbers, row-major, OpenGL convention: the same as the CLI's --camera-to-world.
+glm::dmat4 parseCameraToWorld(const std::string& text) {
+    std::vector<double> v;
+    std::string item;
+    std::stringstream ss(text);
+    while (std::getline(ss, item, ',')) {
+        const size_t a = item.find_first_not_of(" \t\r\n"), b = item.find_last_not_of(" \t\r\n");
+        if (a == std::string::npos) throw Error("camera-to-world: empty number in '" + text + "'");
+        item = item.substr(a, b - a + 1);
+        char* end = nullptr;
+        const double x = std::strtod(item.c_str(), &end);
+        if (end == item.c_str() || *end != '\0' || !std::isfinite(x))
+            throw Error("camera-to-world: '" + item + "' is not a number");
+        v.push_back(x);
+    }
+    if (v.size() != 16) throw Error("camera-to-world expects 16 comma-separated numbers, got " + std::to_string(v.size()));
+    glm::dmat4 m;
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) m[c][r] = v[r * 4 + c];
+    if (std::fabs(v[12]) > 1e-6 || std::fabs(v[13]) > 1e-6 || std::fabs(v[14]) > 1e-6 || std::fabs(v[15] - 1) > 1e-6 ||
+        std::fabs(glm::determinant(glm::dmat3(m))) < 1e-12)
+        throw Error("camera-to-world must be an invertible affine 4x4 (rows, last row 0 0 0 1)");
+    return m;
+}
+
+// ---------------------------------------------------------------------------
+// Geometry: OFX pixel coordinates (y up) <-> the operator's display coordinates (y down)
+// ---------------------------------------------------------------------------
+
+// Half-open pixel rectangle in OFX pixel coordinates (y up).
+struct PixRect {
+    int x1 = 0, y1 = 0, x2 = 0, y2 = 0;
+    bool empty() const { return x2 <= x1 || y2 <= y1; }
+    int width() const { return x2 - x1; }
+    int height() const { return y2 - y1; }
+};
+
+PixRect intersect(const PixRect& a, const PixRect& b) {
+    PixRect r{std::max(a.x1, b.x1), std::max(a.y1, b.y1), std::min(a.x2, b.x2), std::min(a.y2, b.y2)};
+    return r.empty() ? PixRect{} : r;
+}
+PixRect grow(const PixRect& a, int by) { return {a.x1 - by, a.y1 - by, a.x2 + by, a.y2 + by}; }
+
+// The frame of one render: pixel aspect, the display window (the project extent) and the
+// region of definition of the depth pass (the data window), all at render scale 1 (the
+// plugin declares no multi-resolution support, so hosts never render it at another scale).
+struct FrameMap {
+    double par = 1;
+    int displayW = 0, displayH = 0;  // display window: OFX pixels [0, W) x [0, H)
+    PixRect rod;                      // Depth clip's region of definition, OFX pixels
+
+    // Canonical <-> pixel (x is divided by the pixel aspect ratio).
+    PixRect toPixels(const OfxRectD& r) const {
+        return {(int)std::floor(r.x1 / par + 1e-6), (int)std::floor(r.y1 + 1e-6), (int)std::ceil(r.x2 / par - 1e-6),
+                (int)std::ceil(r.y2 - 1e-6)};
+    }
+    OfxRectD toCanonical(const PixRect& r) const {
+        if (r.empty()) return {0, 0, 0, 0};
+        return {r.x1 * par, (double)r.y1, r.x2 * par, (double)r.y2};
+    }
+    // The single flip: an OFX pixel rectangle as a display-window box (y down).
+    Box2i toDisplay(const PixRect& r) const { return Box2i{r.x1, displayH - r.y2, r.x2, displayH - r.y1}; }
+    // Row `row` (y down) of the display box of `r` is OFX row:
+    int ofxRow(const PixRect& r, int row) const { return r.y2 - 1 - row; }
+};
+
+FrameMap frameMap(const Instance& in, OfxTime t) {
+    FrameMap f;
+    OfxPropertySetHandle props = effectProps(in.effect);
+    f.par = getDouble(props, kOfxImageEffectPropProjectPixelAspectRatio, 1.0);
+    if (!(f.par > 0)) f.par = 1;
+    double extent[2] = {0, 0};
+    if (gProp->propGetDoubleN(props, kOfxImageEffectPropProjectExtent, 2, extent) != kOfxStatOK)
+        throw Error("the host gives no project extent (the display window the camera's field of view spans)");
+    f.displayW = (int)std::lround(extent[0] / f.par);
+    f.displayH = (int)std::lround(extent[1]);
+    OfxRectD rod{0, 0, 0, 0};
+    check(gEffect->clipGetRegionOfDefinition(in.depth, t, &rod));
+    f.rod = f.toPixels(rod);
+    return f;
+}
+
+Camera makeCamera(const Params& p, const FrameMap& f) {
+    Camera cam;
+    if (p.projection == Projection::Perspective) {
+        if (!(p.fovDeg > 0 && p.fovDeg < 180)) throw Error("the field of view must be between 0 and 180 degrees");
+        cam = Camera::perspectiveFromFov(p.fovDeg * 3.14159265358979323846 / 180, f.displayW, f.displayH, f.par);
+    } else {
+        if (!(p.orthoWidth > 0)) throw Error("the orthographic width must be positive");
+        cam = Camera::orthographic(p.orthoWidth, f.displayW, f.displayH, f.par);
+    }
+    const bool hasText = p.cameraToWorld.find_first_not_of(" \t\r\n") != std::string::npos;
+    if (hasText) {
+        cam.cameraToWorld = parseCameraToWorld(p.cameraToWorld);
+        cam.hasPose = true;
+    }
+    cam.source = "OFX parameters";
+    return cam;
+}
+
+// The cap on the projected radius, the same for every tile of the frame: the parameter,
+// or with 0 (automatic) the CLI's rule over the whole frame (its extent + 2 pixels).
+float radiusCap(const Params& p, const FrameMap& f) {
+    if (p.maxScreenRadius > 0) return (float)p.maxScreenRadius;
+    return (float)std::max(f.rod.width(), f.rod.height()) + 2.0f;
+}
+
+// How far from a pixel its AO reads, in pixels: the projected radius (bounded by the cap;
+// for an orthographic camera R * pixels-per-unit), the texel snapping of the samples, then
+// the two blur passes. Known before any depth is fetched, so it can answer the RoI action.
+int apronPixels(const Params& p, const Camera& cam, float cap) {
+    double reach = cap;
+    if (cam.projection == Projection::Orthographic) reach = std::min<double>(p.settings.radius * cam.fx, cap);
+    return (int)std::ceil(reach) + 2 + std::max(p.settings.blur, 0);
+}
+
+// The depth/normal pixels a render window reads.
+PixRect dataRegion(const PixRect& window, int apron, const FrameMap& f) { return intersect(grow(window, apron), f.rod); }
+
+// ---------------------------------------------------------------------------
+// Images fetched from clips
+// ---------------------------------------------------------------------------
+
+class ClipImage {
+public:
+    ClipImage() = default;
+    ClipImage(const ClipImage&) = delete;
+    ClipImage& operator=(const ClipImage&) = delete;
+    ~ClipImage() {
+        if (handle_) gEffect->clipReleaseImage(handle_);
+    }
+
+    // region = nullptr: the whole image the host offers (the render window for Output).
+    bool fetch(OfxImageClipHandle clip, OfxTime t, const OfxRectD* region, const char* what) {
+        if (gEffect->clipGetImage(clip, t, region, &handle_) != kOfxStatOK || !handle_) {
+            handle_ = nullptr;
+            return false;
+        }
+        const std::string depth = getString(handle_, kOfxImageEffectPropPixelDepth);
+        if (depth != kOfxBitDepthFloat)
+            throw Error(std::string("the ") + what + " image is " + depth + "; only 32-bit float is supported");
+        const std::string comps = getString(handle_, kOfxImageEffectPropComponents);
+        comps_ = comps == kOfxImageComponentRGBA ? 4 : comps == kOfxImageComponentRGB ? 3 : comps == kOfxImageComponentAlpha ? 1 : 0;
+        if (comps_ == 0) throw Error(std::string("the ") + what + " image has unsupported components " + comps);
+        void* data = nullptr;
+        check(gProp->propGetPointer(handle_, kOfxImagePropData, 0, &data));
+        data_ = static_cast<char*>(data);
+        int b[4] = {0, 0, 0, 0};
+        check(gProp->propGetIntN(handle_, kOfxImagePropBounds, 4, b));
+        bounds_ = {b[0], b[1], b[2], b[3]};
+        rowBytes_ = getInt(handle_, kOfxImagePropRowBytes, 0);
+        if (!data_ && !bounds_.empty()) throw Error(std::string("the ") + what + " image has no pixels");
+        return true;
+    }
+
+    int components() const { return comps_; }
+    const PixRect& bounds() const { return bounds_; }
+    // The pixel at OFX pixel (x, y), or nullptr outside the image's bounds.
+    float* pixel(int x, int y) const {
+        if (x < bounds_.x1 || x >= bounds_.x2 || y < bounds_.y1 || y >= bounds_.y2) return nullptr;
+        return reinterpret_cast<float*>(data_ + (std::ptrdiff_t)(y - bounds_.y1) * rowBytes_) + (size_t)(x - bounds_.x1) * comps_;
+    }
+
+private:
+    OfxPropertySetHandle handle_ = nullptr;
+    char* data_ = nullptr;
+    PixRect bounds_;
+    int rowBytes_ = 0;
+    int comps_ = 0;
+};
+
+// Copies `channels` channels of `img` over OFX region `r` into a packed display-ordered
+// (y down) plane; pixels the image does not cover read `fill`.
+Image toDisplayPlane(const ClipImage& img, const PixRect& r, const FrameMap& f, int channels, float fill) {
+    Image out(r.width(), r.height(), channels, fill);
+    for (int row = 0; row < r.height(); ++row) {
+        const int y = f.ofxRow(r, row);
+        for (int col = 0; col < r.width(); ++col) {
+            const float* p = img.pixel(r.x1 + col, y);
+            if (!p) continue;
+            float* o = out.at(col, row);
+            for (int c = 0; c < channels; ++c) o[c] = c < img.components() ? p[c] : fill;
+        }
+    }
+    return out;
+}
+
+// ---------------------------------------------------------------------------
+// Actions
+// ---------------------------------------------------------------------------
+
+OfxStatus onLoad() {
+    if (!gHost) return kOfxStatErrMissingHostFeature;
+    gProp = static_cast<const OfxPropertySuiteV1*>(gHost->fetchSuite(gHost->host, kOfxPropertySuite, 1));
+    gEffect = static_cast<const OfxImageEffectSuiteV1*>(gHost->fetchSuite(gHost->host, kOfxImageEffectSuite, 1));
+    gParam = static_cast<const OfxParameterSuiteV1*>(gHost->fetchSuite(gHost->host, kOfxParameterSuite, 1));
+    gMessage = static_cast<const OfxMessageSuiteV1*>(gHost->fetchSuite(gHost->host, kOfxMessageSuite, 1));
+    if (!gProp || !gEffect || !gParam) return kOfxStatErrMissingHostFeature;
+    return kOfxStatOK;
+}
+
+bool hostHasColourManagement() {
+    if (!gHost) return false;
+    const std::string style = getString(gHost->host, kOfxImageEffectPropColourManagementStyle);
+    return !style.empty() && style != kOfxImageEffectPropColourManagementNone;
+}
+
+OfxStatus onDescribe(OfxImageEffectHandle effect) {
+    OfxPropertySetHandle p = effectProps(effect);
+    gProp->propSetString(p, kOfxPropLabel, 0, "obscura AO");
+    gProp->propSetString(p, kOfxPropShortLabel, 0, "obscura");
+    gProp->propSetString(p, kOfxPropLongLabel, 0, "obscura ambient occlusion");
+    gProp->propSetString(p, kOfxImageEffectPluginPropGrouping, 0, "obscura");
+    gProp->propSetString(p, kOfxPropPluginDescription, 0,
+                         "Screen-space ambient occlusion (HBAO) from the depth and normal passes of a render. "
+                         "Shuffle each pass into its clip: Depth (first channel), Normal (RGB), optional "
+                         "Position and Albedo; Source is the beauty.");
+    gProp->propSetInt(p, kOfxPropVersion, 0, (int)kVersionMajor);
+    gProp->propSetInt(p, kOfxPropVersion, 1, (int)kVersionMinor);
+    gProp->propSetString(p, kOfxPropVersionLabel, 0, OBSCURA_OFX_VERSION_STRING);
+    setStrings(p, kOfxImageEffectPropSupportedContexts, {kOfxImageEffectContextGeneral});
+    setStrings(p, kOfxImageEffectPropSupportedPixelDepths, {kOfxBitDepthFloat});
+    gProp->propSetInt(p, kOfxImageEffectPluginPropSingleInstance, 0, 0);
+    // Renders share nothing: per-render buffers, read-only instance data, GL contexts per thread.
+    gProp->propSetString(p, kOfxImageEffectPluginRenderThreadSafety, 0, kOfxImageEffectRenderFullySafe);
+    // The operator spreads a render over all cores itself.
+    gProp->propSetInt(p, kOfxImageEffectPluginPropHostFrameThreading, 0, 0);
+    gProp->propSetInt(p, kOfxImageEffectPropSupportsMultiResolution, 0, 0);
+    gProp->propSetInt(p, kOfxImageEffectPropSupportsTiles, 0, 1);
+    gProp->propSetInt(p, kOfxImageEffectPropTemporalClipAccess, 0, 0);
+    gProp->propSetInt(p, kOfxImageEffectPropSupportsMultipleClipDepths, 0, 0);
+    gProp->propSetInt(p, kOfxImageEffectPropSupportsMultipleClipPARs, 0, 0);
+    gProp->propSetInt(p, kOfxImageEffectPluginPropFieldRenderTwiceAlways, 0, 0);
+    if (hostHasColourManagement())
+        gProp->propSetString(p, kOfxImageEffectPropColourManagementStyle, 0, kOfxImageEffectPropColourManagementBasic);
+    return kOfxStatOK;
+}
+
+void defineClip(OfxImageEffectHandle effect, const char* name, std::initializer_list<const char*> comps, bool optional,
+                const char* hint) {
+    OfxPropertySetHandle c = nullptr;
+    check(gEffect->clipDefine(effect, name, &c));
+    setStrings(c, kOfxImageEffectPropSupportedComponents, comps);
+    gProp->propSetInt(c, kOfxImageClipPropOptional, 0, optional ? 1 : 0);
+    gProp->propSetInt(c, kOfxImageEffectPropTemporalClipAccess, 0, 0);
+    gProp->propSetInt(c, kOfxImageEffectPropSupportsTiles, 0, 1);
+    gProp->propSetInt(c, kOfxImageClipPropIsMask, 0, 0);
+    if (hint) gProp->propSetString(c, kOfxPropLabel, 0, hint);
+}
+
+struct ParamDef {
+    OfxParamSetHandle set;
+    std::vector<std::string> topLevel;
+
+    OfxPropertySetHandle define(const char* type, const char* name, const char* label, const char* hint,
+                                const char* parent = nullptr) {
+        OfxPropertySetHandle p = nullptr;
+        check(gParam->paramDefine(set, type, name, &p));
+        gProp->propSetString(p, kOfxPropLabel, 0, label);
+        gProp->propSetString(p, kOfxParamPropScriptName, 0, name);
+        if (hint) gProp->propSetString(p, kOfxParamPropHint, 0, hint);
+        if (parent)
+            gProp->propSetString(p, kOfxParamPropParent, 0, parent);
+        else
+            topLevel.push_back(name);
+        return p;
+    }
+    void choice(const char* name, const char* label, const char* hint, std::vector<const char*> options, int def,
+                const char* parent = nullptr) {
+        OfxPropertySetHandle p = define(kOfxParamTypeChoice, name, label, hint, parent);
+        for (int i = 0; i < (int)options.size(); ++i) gProp->propSetString(p, kOfxParamPropChoiceOption, i, options[i]);
+        gProp->propSetInt(p, kOfxParamPropDefault, 0, def);
+        gProp->propSetInt(p, kOfxParamPropAnimates, 0, 0);
+    }
+    void integer(const char* name, const char* label, const char* hint, int def, int lo, int hi, int dlo, int dhi,
+                 const char* parent = nullptr) {
+        OfxPropertySetHandle p = define(kOfxParamTypeInteger, name, label, hint, parent);
+        gProp->propSetInt(p, kOfxParamPropDefault, 0, def);
+        gProp->propSetInt(p, kOfxParamPropMin, 0, lo);
+        gProp->propSetInt(p, kOfxParamPropMax, 0, hi);
+        gProp->propSetInt(p, kOfxParamPropDisplayMin, 0, dlo);
+        gProp->propSetInt(p, kOfxParamPropDisplayMax, 0, dhi);
+    }
+    void real(const char* name, const char* label, const char* hint, double def, double lo, double hi, double dlo,
+              double dhi, const char* parent = nullptr, const char* doubleType = kOfxParamDoubleTypePlain) {
+        OfxPropertySetHandle p = define(kOfxParamTypeDouble, name, label, hint, parent);
+        gProp->propSetString(p, kOfxParamPropDoubleType, 0, doubleType);
+        gProp->propSetDouble(p, kOfxParamPropDefault, 0, def);
+        gProp->propSetDouble(p, kOfxParamPropMin, 0, lo);
+        gProp->propSetDouble(p, kOfxParamPropMax, 0, hi);
+        gProp->propSetDouble(p, kOfxParamPropDisplayMin, 0, dlo);
+        gProp->propSetDouble(p, kOfxParamPropDisplayMax, 0, dhi);
+        gProp->propSetInt(p, kOfxParamPropDigits, 0, 4);
+    }
+    void group(const char* name, const char* label) {
+        OfxPropertySetHandle p = define(kOfxParamTypeGroup, name, label, nullptr);
+        gProp->propSetInt(p, kOfxParamPropGroupOpen, 0, 1);
+    }
+};
+
+OfxStatus onDescribeInContext(OfxImageEffectHandle effect, OfxPropertySetHandle inArgs) {
+    if (getString(inArgs, kOfxImageEffectPropContext) != kOfxImageEffectContextGeneral) return kOfxStatErrUnsupported;
+    defineClip(effect, kClipSource, {kOfxImageComponentRGBA, kOfxImageComponentAlpha}, true, nullptr);
+    defineClip(effect, kClipDepth, {kOfxImageComponentRGBA, kOfxImageComponentAlpha}, false, nullptr);
+    defineClip(effect, kClipNormal, {kOfxImageComponentRGBA}, false, nullptr);
+    defineClip(effect, kClipPosition, {kOfxImageComponentRGBA}, true, nullptr);
+    defineClip(effect, kClipAlbedo, {kOfxImageComponentRGBA}, true, nullptr);
+    defineClip(effect, kClipOutput, {kOfxImageComponentRGBA, kOfxImageComponentAlpha}, false, nullptr);
+
+    ParamDef d;
+    check(gEffect->getParamSet(effect, &d.set));
+    std::vector<const char*> outputs;
+    for (const OutputOption& o : kOutputOptions) outputs.push_back(o.label);
+    d.choice(kParamOutput, "Output", "What the Output clip carries: the AO (RGB = AO, A = 1), or the beauty (Source) "
+                                     "multiplied by the AO",
+             outputs, 0);
+    d.real(kParamStrength, "Strength", "Blend of the AO towards 1 (0 = off: the effect passes the beauty through)",
+           1.0, 0.0, 1.0, 0.0, 1.0);
+    d.choice(kParamMethod, "Method", "Occlusion method (--method)", {kMethods[0]}, 0);
+    d.real(kParamRadius, "Radius", "Radius in world units (--radius)", 1.0, 1e-6, 1e9, 0.01, 10.0);
+    d.integer(kParamDirections, "Directions", "Slices per pixel (--directions)", 8, 1, 256, 1, 32);
+    d.integer(kParamSteps, "Steps", "Samples per slice (--steps)", 8, 1, 256, 1, 32);
+    d.choice(kParamWeighting, "Weighting",
+             "uniform: the HBAO paper's solid angle; cosine: projected solid angle, as a ray tracer's AO pass "
+             "(--weighting)",
+             {kWeightings[0], kWeightings[1]}, 0);
+    d.choice(kParamFalloff, "Falloff", "linear: W(r) = 1 - r/R; none: binary visibility within R (--falloff)",
+             {kFalloffs[0], kFalloffs[1]}, 0);
+    d.integer(kParamBlur, "Blur", "Geometry-aware blur radius in pixels, 0 = off (--blur)", 0, 0, 64, 0, 16);
+
+    d.group(kGroupCamera, "Camera");
+    d.choice(kParamProjection, "Projection", "Perspective (field of view) or orthographic (width) camera",
+             {kProjections[0], kProjections[1]}, 0, kGroupCamera);
+    d.real(kParamFov, "Field of View", "Horizontal field of view across the project format, degrees (--fov-deg)",
+           39.5977, 1e-3, 179.999, 1.0, 120.0, kGroupCamera, kOfxParamDoubleTypeAngle);
+    d.real(kParamOrthoWidth, "Ortho Width", "World units across the project format (--ortho-width)", 10.0, 1e-9, 1e12,
+           0.1, 100.0, kGroupCamera);
+    {
+        OfxPropertySetHandle p = d.define(kOfxParamTypeString, kParamCameraToWorld, "Camera to World",
+                                          "16 numbers m00,...,m33, row-major, OpenGL convention (camera looks down -Z); "
+                                          "needed for world-space normals (--camera-to-world)",
+                                          kGroupCamera);
+        gProp->propSetString(p, kOfxParamPropDefault, 0, "");
+        gProp->propSetString(p, kOfxParamPropStringMode, 0, kOfxParamStringIsSingleLine);
+        gProp->propSetInt(p, kOfxParamPropAnimates, 0, 0);
+    }
+    d.choice(kParamDepthKind, "Depth", "planar: camera-space Z; radial: distance to the eye (--depth)",
+             {kDepthKinds[0], kDepthKinds[1]}, 0, kGroupCamera);
+    d.choice(kParamNormalSpace, "Normals", "Space of the Normal clip's RGB (--normals)",
+             {kNormalSpaces[0], kNormalSpaces[1]}, 0, kGroupCamera);
+
+    d.group(kGroupAdvanced, "Advanced");
+    d.real(kParamSkyDepth, "Sky Depth", "Depth at or beyond which a pixel is sky (--sky-depth)", 1e9, 1e-6, 1e38, 1.0,
+           1e10, kGroupAdvanced);
+    d.real(kParamMaxScreenRadius, "Max Screen Radius",
+           "Cap on the projected radius in pixels; it is also the apron requested around each tile. "
+           "0 = automatic (the frame's extent, as the command line: every tile then reads the whole frame)",
+           256.0, 0.0, 1e6, 0.0, 1024.0, kGroupAdvanced);
+    d.choice(kParamDevice, "Device", "Compute device (--device); auto = a hardware GPU if present, else the CPU",
+             {kDevices[0], kDevices[1], kDevices[2], kDevices[3], kDevices[4]}, 1, kGroupAdvanced);
+    d.integer(kParamThreads, "Threads", "CPU threads, 0 = all cores (--threads)", 0, 0, 1024, 0, 64, kGroupAdvanced);
+
+    OfxPropertySetHandle page = d.define(kOfxParamTypePage, kPage, "Controls", nullptr);
+    d.topLevel.pop_back();  // the page itself
+    for (int i = 0; i < (int)d.topLevel.size(); ++i)
+        gProp->propSetString(page, kOfxParamPropPageChild, i, d.topLevel[i].c_str());
+    return kOfxStatOK;
+}
+
+OfxParamHandle param(OfxParamSetHandle set, const char* name) {
+    OfxParamHandle h = nullptr;
+    check(gParam->paramGetHandle(set, name, &h, nullptr));
+    return h;
+}
+
+OfxImageClipHandle clip(OfxImageEffectHandle effect, const char* name) {
+    OfxImageClipHandle h = nullptr;
+    check(gEffect->clipGetHandle(effect, name, &h, nullptr));
+    return h;
+}
+
+void updateEnabled(const Instance& in) {
+    int projection = 0, normals = 0;
+    gParam->paramGetValue(in.projection, &projection);
+    gParam->paramGetValue(in.normalSpace, &normals);
+    auto enable = [](OfxParamHandle h, bool on) {
+        OfxPropertySetHandle p = nullptr;
+        if (gParam->paramGetPropertySet(h, &p) == kOfxStatOK) gProp->propSetInt(p, kOfxParamPropEnabled, 0, on ? 1 : 0);
+    };
+    enable(in.fov, projection == 0);
+    enable(in.orthoWidth, projection == 1);
+    enable(in.cameraToWorld, normals == 0);
+}
+
+OfxStatus onCreateInstance(OfxImageEffectHandle effect) {
+    auto in = std::make_unique<Instance>();
+    in->effect = effect;
+    in->source = clip(effect, kClipSource);
+    in->depth = clip(effect, kClipDepth);
+    in->normal = clip(effect, kClipNormal);
+    in->position = clip(effect, kClipPosition);
+    in->albedo = clip(effect, kClipAlbedo);
+    in->output = clip(effect, kClipOutput);
+    OfxParamSetHandle set = nullptr;
+    check(gEffect->getParamSet(effect, &set));
+    in->output_ = param(set, kParamOutput);
+    in->strength = param(set, kParamStrength);
+    in->method = param(set, kParamMethod);
+    in->radius = param(set, kParamRadius);
+    in->directions = param(set, kParamDirections);
+    in->steps = param(set, kParamSteps);
+    in->weighting = param(set, kParamWeighting);
+    in->falloff = param(set, kParamFalloff);
+    in->blur = param(set, kParamBlur);
+    in->projection = param(set, kParamProjection);
+    in->fov = param(set, kParamFov);
+    in->orthoWidth = param(set, kParamOrthoWidth);
+    in->cameraToWorld = param(set, kParamCameraToWorld);
+    in->depthKind = param(set, kParamDepthKind);
+    in->normalSpace = param(set, kParamNormalSpace);
+    in->skyDepth = param(set, kParamSkyDepth);
+    in->maxScreenRadius = param(set, kParamMaxScreenRadius);
+    in->device = param(set, kParamDevice);
+    in->threads = param(set, kParamThreads);
+    check(gProp->propSetPointer(effectProps(effect), kOfxPropInstanceData, 0, in.get()));
+    updateEnabled(*in);
+    in.release();
+    return kOfxStatOK;
+}
+
+OfxStatus onDestroyInstance(OfxImageEffectHandle effect) {
+    void* p = nullptr;
+    OfxPropertySetHandle props = effectProps(effect);
+    if (gProp->propGetPointer(props, kOfxPropInstanceData, 0, &p) == kOfxStatOK && p) {
+        delete static_cast<Instance*>(p);
+        gProp->propSetPointer(props, kOfxPropInstanceData, 0, nullptr);
+    }
+    return kOfxStatOK;
+}
+
+OfxStatus onInstanceChanged(OfxImageEffectHandle effect) {
+    updateEnabled(*instanceOf(effect));
+    return kOfxStatOK;
+}
+
+OfxStatus onGetRegionOfDefinition(OfxImageEffectHandle effect, OfxPropertySetHandle inArgs,
+                                  OfxPropertySetHandle outArgs) {
+    const Instance& in = *instanceOf(effect);
+    if (!connected(in.depth)) return kOfxStatReplyDefault;
+    OfxRectD rod{0, 0, 0, 0};
+    check(gEffect->clipGetRegionOfDefinition(in.depth, getDouble(inArgs, kOfxPropTime, 0), &rod));
+    // The AO exists where the depth does (the data window, overscan included).
+    check(gProp->propSetDoubleN(outArgs, kOfxImageEffectPropRegionOfDefinition, 4, &rod.x1));
+    return kOfxStatOK;
+}
+
+OfxStatus onGetRegionsOfInterest(OfxImageEffectHandle effect, OfxPropertySetHandle inArgs,
+                                 OfxPropertySetHandle outArgs) {
+    const Instance& in = *instanceOf(effect);
+    const OfxTime t = getDouble(inArgs, kOfxPropTime, 0);
+    OfxRectD region{0, 0, 0, 0};
+    check(gProp->propGetDoubleN(inArgs, kOfxImageEffectPropRegionOfInterest, 4, &region.x1));
+    const Params p = readParams(in, t);
+    const OfxRectD none{0, 0, 0, 0};
+    auto setRoi = [&](const char* clipName, const OfxRectD& r) {
+        gProp->propSetDoubleN(outArgs, (std::string(kOfxImageClipPropRoI) + clipName).c_str(), 4, &r.x1);
+    };
+    if (connected(in.depth)) {
+        const FrameMap f = frameMap(in, t);
+        const bool computes = p.strength > 0;  // as onRender
+        PixRect data;
+        if (computes) {
+            const int apron = apronPixels(p, makeCamera(p, f), radiusCap(p, f));
+            data = dataRegion(f.toPixels(region), apron, f);
+        }
+        const OfxRectD dataRoi = f.toCanonical(data);
+        setRoi(kClipDepth, dataRoi);
+        setRoi(kClipNormal, dataRoi);
+    }
+    // Inputs the chosen output does not read are not requested at all.
+    const bool needsSource = kOutputOptions[(int)p.output].needsSource;
+    setRoi(kClipSource, needsSource ? region : none);
+    setRoi(kClipPosition, none);
+    setRoi(kClipAlbedo, none);
+    return kOfxStatOK;
+}
+
+OfxStatus onGetClipPreferences(OfxImageEffectHandle effect, OfxPropertySetHandle outArgs) {
+    const Instance& in = *instanceOf(effect);
+    int outputIndex = 0;
+    check(gParam->paramGetValue(in.output_, &outputIndex));
+    const OutputOption& o = kOutputOptions[std::clamp(outputIndex, 0, kOutputCount - 1)];
+    for (const char* name : {kClipSource, kClipDepth, kClipNormal, kClipPosition, kClipAlbedo, kClipOutput})
+        gProp->propSetString(outArgs, (std::string(kOfxImageClipPropDepthPrefix) + name).c_str(), 0, kOfxBitDepthFloat);
+    if (o.needsSource && connected(in.source)) {
+        const std::string premult = getString(clipProps(in.source), kOfxImageEffectPropPreMultiplication);
+        gProp->propSetString(outArgs, kOfxImageEffectPropPreMultiplication, 0,
+                             premult.empty() ? kOfxImagePreMultiplied : premult.c_str());
+    } else {
+        gProp->propSetString(outArgs, kOfxImageEffectPropPreMultiplication, 0, kOfxImageOpaque);
+    }
+    if (hostHasColourManagement()) {
+        // Depth, normals and positions are data: never colour-convert them.
+        for (const char* name : {kClipDepth, kClipNormal, kClipPosition})
+            gProp->propSetString(outArgs, (std::string(kOfxImageClipPropPreferredColourspacesPrefix) + name).c_str(), 0,
+                                 kOfxColourspaceRaw);
+        const std::string outSpace = o.needsSource ? std::string(kOfxColourspaceClipPrefix) + kClipSource
+                                                   : std::string(kOfxColourspaceRaw);
+        gProp->propSetString(clipProps(in.output), kOfxImageClipPropColourspace, 0, outSpace.c_str());
+    }
+    return kOfxStatOK;
+}
+
+OfxStatus onIsIdentity(OfxImageEffectHandle effect, OfxPropertySetHandle inArgs, OfxPropertySetHandle outArgs) {
+    const Instance& in = *instanceOf(effect);
+    const OfxTime t = getDouble(inArgs, kOfxPropTime, 0);
+    const Params p = readParams(in, t);
+    // Off (strength 0): the beauty passes through untouched.
+    if (p.strength <= 0 && kOutputOptions[(int)p.output].needsSource && connected(in.source)) {
+        gProp->propSetString(outArgs, kOfxPropName, 0, kClipSource);
+        gProp->propSetDouble(outArgs, kOfxPropTime, 0, t);
+        return kOfxStatOK;
+    }
+    return kOfxStatReplyDefault;
+}
+
+OfxStatus onRender(OfxImageEffectHandle effect, OfxPropertySetHandle inArgs) {
+    const Instance& in = *instanceOf(effect);
+    const OfxTime t = getDouble(inArgs, kOfxPropTime, 0);
+    int w[4] = {0, 0, 0, 0};
+    check(gProp->propGetIntN(inArgs, kOfxImageEffectPropRenderWindow, 4, w));
+    const PixRect window{w[0], w[1], w[2], w[3]};
+    const Params p = readParams(in, t);
+    const FrameMap f = frameMap(in, t);
+    const bool needsSource = kOutputOptions[(int)p.output].needsSource;
+
+    ClipImage out;
+    if (!out.fetch(in.output, t, nullptr, "Output")) throw Error("the host gave no Output image");
+
+    // The AO over the render window, display-ordered (y down), or none when the effect is off.
+    const bool computes = p.strength > 0;
+    const PixRect data = computes ? dataRegion(window, apronPixels(p, makeCamera(p, f), radiusCap(p, f)), f) : PixRect{};
+    Image ao;
+    if (computes && !data.empty()) {
+        const OfxRectD region = f.toCanonical(data);
+        ClipImage depth, normal;
+        if (!depth.fetch(in.depth, t, &region, "Depth")) throw Error("the Depth clip gave no image");
+        if (!normal.fetch(in.normal, t, &region, "Normal")) throw Error("the Normal clip gave no image");
+        if (normal.components() < 3) throw Error("the Normal clip must be RGB(A): normals are three channels");
+        // Holes outside what the host delivered read as sky (depth 0) and missing normals.
+        const Image depthPlane = toDisplayPlane(depth, data, f, 1, 0.0f);
+        const Image normalPlane = toDisplayPlane(normal, data, f, 3, 0.0f);
+        if (gEffect->abort(effect)) return kOfxStatOK;
+
+        OperatorInputs oi;
+        oi.displayWindow = Box2i{0, 0, f.displayW, f.displayH};
+        oi.dataWindow = f.toDisplay(data);
+        oi.depth = depthPlane.view();
+        oi.normal = normalPlane.view();
+        oi.depthKind = p.depthKind;
+        oi.normalSpace = p.normalSpace;
+        oi.camera = makeCamera(p, f);
+        Settings s = p.settings;
+        s.maxRadiusPixels = radiusCap(p, f);  // the same for every tile
+        ao = runOperator(oi, s).ao;
+    }
+
+    ClipImage source;
+    if (needsSource) {
+        if (!connected(in.source)) throw Error("the Beauty x AO output needs the Source clip");
+        const OfxRectD region = f.toCanonical(window);
+        if (!source.fetch(in.source, t, &region, "Source")) throw Error("the Source clip gave no image");
+    }
+
+    const float strength = (float)p.strength;
+    const int oc = out.components();
+    const PixRect target = intersect(window, out.bounds());
+    for (int y = target.y1; y < target.y2; ++y) {
+        for (int x = target.x1; x < target.x2; ++x) {
+            float* o = out.pixel(x, y);
+            const bool inFrame = x >= f.rod.x1 && x < f.rod.x2 && y >= f.rod.y1 && y < f.rod.y2;
+            float a = 1.0f;
+            if (!ao.empty() && x >= data.x1 && x < data.x2 && y >= data.y1 && y < data.y2)
+                a = *ao.at(x - data.x1, data.y2 - 1 - y);  // FrameMap::ofxRow, inverted
+            if (strength < 1.0f) a = 1.0f - strength * (1.0f - a);
+            if (!needsSource) {
+                if (!inFrame) {
+                    std::fill(o, o + oc, 0.0f);
+                } else if (oc == 1) {
+                    o[0] = a;
+                } else {
+                    o[0] = o[1] = o[2] = a;
+                    if (oc == 4) o[3] = 1.0f;
+                }
+                continue;
+            }
+            const float* s = source.pixel(x, y);
+            const int sc = source.components();
+            if (!s) {
+                std::fill(o, o + oc, 0.0f);
+                continue;
+            }
+            const float alpha = sc == 1 ? s[0] : sc == 4 ? s[3] : 1.0f;
+            const float m = inFrame ? a : 1.0f;
+            if (oc == 1) {
+                o[0] = alpha;
+            } else {
+                for (int c = 0; c < 3; ++c) o[c] = (sc >= 3 ? s[c] : 0.0f) * m;
+                if (oc == 4) o[3] = alpha;
+            }
+        }
+    }
+    return kOfxStatOK;
+}
+
+OfxStatus mainEntry(const char* action, const void* handle, OfxPropertySetHandle inArgs, OfxPropertySetHandle outArgs) {
+    OfxImageEffectHandle effect = (OfxImageEffectHandle)handle;
+    try {
+        if (!std::strcmp(action, kOfxActionLoad)) return onLoad();
+        if (!gProp || !gEffect || !gParam) return kOfxStatErrMissingHostFeature;
+        if (!std::strcmp(action, kOfxActionUnload)) return kOfxStatOK;
+        if (!std::strcmp(action, kOfxActionDescribe)) return onDescribe(effect);
+        if (!std::strcmp(action, kOfxImageEffectActionDescribeInContext)) return onDescribeInContext(effect, inArgs);
+        if (!std::strcmp(action, kOfxActionCreateInstance)) return onCreateInstance(effect);
+        if (!std::strcmp(action, kOfxActionDestroyInstance)) return onDestroyInstance(effect);
+        if (!std::strcmp(action, kOfxActionInstanceChanged)) return onInstanceChanged(effect);
+        if (!std::strcmp(action, kOfxImageEffectActionGetRegionOfDefinition))
+            return onGetRegionOfDefinition(effect, inArgs, outArgs);
+        if (!std::strcmp(action, kOfxImageEffectActionGetRegionsOfInterest))
+            return onGetRegionsOfInterest(effect, inArgs, outArgs);
+        if (!std::strcmp(action, kOfxImageEffectActionGetClipPreferences)) return onGetClipPreferences(effect, outArgs);
+        if (!std::strcmp(action, kOfxImageEffectActionIsIdentity)) return onIsIdentity(effect, inArgs, outArgs);
+        if (!std::strcmp(action, kOfxImageEffectActionRender)) return onRender(effect, inArgs);
+        if (!std::strcmp(action, kOfxImageEffectActionBeginSequenceRender) ||
+            !std::strcmp(action, kOfxImageEffectActionEndSequenceRender))
+            return kOfxStatOK;
+        return kOfxStatReplyDefault;
+    } catch (const OfxFailure& e) {
+        return e.status == kOfxStatOK ? kOfxStatFailed : e.status;
+    } catch (const std::bad_alloc&) {
+        return kOfxStatErrMemory;
+    } catch (const std::exception& e) {
+        if (effect && std::strcmp(action, kOfxActionDescribe) != 0)
+            postMessage(effect, kOfxMessageError, std::string("obscura: ") + e.what());
+        return kOfxStatFailed;
+    } catch (...) {
+        return kOfxStatFailed;
+    }
+}
+
+void setHost(OfxHost* host) { gHost = host; }
+
+OfxPlugin gPlugin = {kOfxImageEffectPluginApi, kOfxImageEffectPluginApiVersion, kPluginId, kVersionMajor,
+                     kVersionMinor, setHost, mainEntry};
+
+} // namespace
+
+OBSCURA_OFX_EXPORT int OfxGetNumberOfPlugins(void) { return 1; }
+
+OBSCURA_OFX_EXPORT OfxPlugin* OfxGetPlugin(int nth) { return nth == 0 ? &gPlugin : nullptr; }

@@ -1,0 +1,811 @@
+// The Python host: a pybind11 module over the same operator (plugin/core) and frame
+// job (plugin/io) as the CLI. numpy arrays are viewed in place (strided planes), never
+// converted; the GIL is released while pixels are read, computed or written.
+#include "core/error.h"
+#include "core/operator.h"
+#include "gpu/gl_backend.h"
+#include "io/camera_sources.h"
+#include "io/frame_job.h"
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace py = pybind11;
+using namespace py::literals;
+
+namespace obscura::python {
+
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// Argument helpers. Wrong types raise TypeError (Python's own conversions); wrong values,
+// shapes, dtypes and layouts raise ValueError; failures of the core raise obscura.Error.
+
+[[noreturn]] void valueError(const std::string& message) { throw py::value_error(message); }
+
+std::string typeName(const py::handle& obj) { return py::str(py::type::handle_of(obj).attr("__name__")); }
+
+std::string pathArg(const py::handle& obj, const char* what) {
+    if (obj.is_none()) valueError(std::string(what) + " must be a path, got None");
+    py::object p = py::module_::import("os").attr("fsdecode")(py::module_::import("os").attr("fspath")(obj));
+    std::string s = p.cast<std::string>();
+    if (s.empty()) valueError(std::string(what) + " must not be empty");
+    return s;
+}
+
+std::string strArg(const py::handle& obj, const char* what) {
+    if (!py::isinstance<py::str>(obj))
+        throw py::type_error(std::string(what) + " must be a str, got " + typeName(obj));
+    return obj.cast<std::string>();
+}
+
+double floatArg(const py::handle& obj, const char* what) {
+    if (py::isinstance<py::str>(obj) || obj.is_none())
+        throw py::type_error(std::string(what) + " must be a number, got " + typeName(obj));
+    const double v = py::float_(py::reinterpret_borrow<py::object>(obj)).cast<double>();
+    if (!std::isfinite(v)) valueError(std::string(what) + " must be finite, got " + std::to_string(v));
+    return v;
+}
+
+long long intArg(const py::handle& obj, const char* what) {
+    if (py::isinstance<py::bool_>(obj) || py::isinstance<py::float_>(obj) || py::isinstance<py::str>(obj) ||
+        obj.is_none())
+        throw py::type_error(std::string(what) + " must be an int, got " + typeName(obj));
+    PyObject* index = PyNumber_Index(obj.ptr());
+    if (!index) throw py::error_already_set();
+    py::int_ i = py::reinterpret_steal<py::int_>(index);
+    const long long v = PyLong_AsLongLong(i.ptr());
+    if (v == -1 && PyErr_Occurred()) throw py::error_already_set();
+    return v;
+}
+
+int intInRange(const py::handle& obj, const char* what, long long lo, long long hi) {
+    const long long v = intArg(obj, what);
+    if (v < lo || v > hi)
+        valueError(std::string(what) + " must be between " + std::to_string(lo) + " and " + std::to_string(hi) +
+                   ", got " + std::to_string(v));
+    return (int)v;
+}
+
+template <class E>
+E enumArg(const py::handle& obj, const char* what, const char* choices) {
+    const std::string s = strArg(obj, what);
+    E e{};
+    if (!parse(s, e)) valueError(std::string(what) + " must be " + choices + ", got '" + s + "'");
+    return e;
+}
+
+std::string choiceArg(const py::handle& obj, const char* what, const std::vector<std::string>& choices) {
+    const std::string s = strArg(obj, what);
+    if (std::find(choices.begin(), choices.end(), s) != choices.end()) return s;
+    std::string all;
+    for (const std::string& c : choices) all += (all.empty() ? "'" : ", '") + c + "'";
+    valueError(std::string(what) + " must be one of " + all + ", got '" + s + "'");
+}
+
+// 16 numbers row-major (4x4 nested or flat), OpenGL convention; checked to be an affine,
+// invertible transform.
+std::array<double, 16> matrixRowsArg(const py::handle& obj, const char* what) {
+    py::array_t<double, py::array::c_style | py::array::forcecast> a;
+    try {
+        a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(obj);
+    } catch (const py::error_already_set&) {
+    }
+    if (!a || !((a.ndim() == 2 && a.shape(0) == 4 && a.shape(1) == 4) || (a.ndim() == 1 && a.shape(0) == 16))) {
+        PyErr_Clear();
+        valueError(std::string(what) + " must be a 4x4 matrix (or 16 numbers, row-major), got " + typeName(obj));
+    }
+    std::array<double, 16> rows{};
+    std::copy(a.data(), a.data() + 16, rows.begin());
+    try {
+        (void)cameraToWorldFromRows(rows, what);
+    } catch (const Error& e) {
+        valueError(e.what());
+    }
+    return rows;
+}
+
+py::array_t<double> matrixToRows(const glm::dmat4& m) {
+    py::array_t<double> out({4, 4});
+    auto r = out.mutable_unchecked<2>();
+    for (int row = 0; row < 4; ++row)
+        for (int col = 0; col < 4; ++col) r(row, col) = m[col][row];  // glm is column-major
+    return out;
+}
+
+py::tuple boxToTuple(const Box2i& b) { return py::make_tuple(b.x0, b.y0, b.x1, b.y1); }
+
+Box2i boxArg(const py::handle& obj, const char* what) {
+    if (!py::isinstance<py::sequence>(obj) || py::isinstance<py::str>(obj) || py::len(obj) != 4)
+        valueError(std::string(what) + " must be (x0, y0, x1, y1), half-open pixel bounds, got " + typeName(obj));
+    py::sequence s = py::reinterpret_borrow<py::sequence>(obj);
+    const int lim = 1 << 30;
+    Box2i b{intInRange(s[0], what, -lim, lim), intInRange(s[1], what, -lim, lim), intInRange(s[2], what, -lim, lim),
+            intInRange(s[3], what, -lim, lim)};
+    if (b.empty()) valueError(std::string(what) + " is empty: x1 must exceed x0 and y1 must exceed y0");
+    return b;
+}
+
+// A numpy array as a strided plane, without copying. `channels` 1: shape (H, W); 3: (H, W, 3).
+ConstPlane planeArg(const py::handle& obj, const char* what, int channels) {
+    if (!py::isinstance<py::array>(obj))
+        throw py::type_error(std::string(what) + " must be a numpy.ndarray of float32, got " + typeName(obj));
+    py::array a = py::reinterpret_borrow<py::array>(obj);
+    if (!py::isinstance<py::array_t<float, 0>>(a))
+        valueError(std::string(what) + " must have dtype float32 (native byte order), got " +
+                   std::string(py::str(a.dtype())) + "; convert it with " + what + ".astype(numpy.float32)");
+    std::string shape = "(";
+    for (py::ssize_t i = 0; i < a.ndim(); ++i) shape += (i ? ", " : "") + std::to_string(a.shape(i));
+    shape += a.ndim() == 1 ? ",)" : ")";
+    const bool shapeOk = channels == 1 ? a.ndim() == 2 : (a.ndim() == 3 && a.shape(2) == channels);
+    if (!shapeOk)
+        valueError(std::string(what) + " must have shape " + (channels == 1 ? "(H, W)" : "(H, W, 3)") + ", got " +
+                   shape);
+    if (a.shape(0) < 1 || a.shape(1) < 1) valueError(std::string(what) + " is empty: shape " + shape);
+    if (a.shape(0) > (1 << 30) || a.shape(1) > (1 << 30)) valueError(std::string(what) + " is too large: " + shape);
+    const auto* data = static_cast<const float*>(a.data());
+    const bool aligned = reinterpret_cast<std::uintptr_t>(data) % alignof(float) == 0;
+    const py::ssize_t f = (py::ssize_t)sizeof(float);
+    if (!aligned || a.strides(0) % f || a.strides(1) % f)
+        valueError(std::string(what) + " is not aligned to whole float32 elements; pass numpy.ascontiguousarray(" +
+                   what + ")");
+    if (channels > 1 && a.strides(2) != f)
+        valueError(std::string(what) + "'s " + std::to_string(channels) +
+                   " components must be adjacent in memory (strides[2] == 4 bytes, got " +
+                   std::to_string(a.strides(2)) + "); pass numpy.ascontiguousarray(" + what + ")");
+    ConstPlane p;
+    p.data = data;
+    p.height = (int)a.shape(0);
+    p.width = (int)a.shape(1);
+    p.channels = channels;
+    p.yStride = a.strides(0) / f;
+    p.xStride = a.strides(1) / f;
+    return p;
+}
+
+// An owned image handed to numpy without a copy: the array keeps it alive.
+py::array imageToArray(Image&& image, bool squeeze) {
+    auto* owned = new Image(std::move(image));
+    py::capsule keep(owned, [](void* p) { delete static_cast<Image*>(p); });
+    const py::ssize_t h = owned->height, w = owned->width, c = owned->channels, f = sizeof(float);
+    if (c == 1 && squeeze)
+        return py::array_t<float>({h, w}, {w * f, f}, owned->pixels.data(), keep);
+    return py::array_t<float>({h, w, c}, {w * c * f, c * f, f}, owned->pixels.data(), keep);
+}
+
+Camera cameraArg(const py::handle& obj) {
+    if (!py::isinstance<Camera>(obj))
+        throw py::type_error("camera must be an obscura.Camera (Camera.perspective, Camera.orthographic, "
+                             "Camera.from_sidecar or read_passes()['camera']), got " + typeName(obj));
+    return obj.cast<Camera>();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Settings: the CLI's flags as keyword arguments. `quality` is applied first; explicit
+// directions/steps/blur then override it, as later flags do on the command line.
+
+struct SettingArgs {
+    py::object quality, method, radius, directions, steps, weighting, falloff, blur, device, threads;
+};
+
+Settings settingsFrom(const SettingArgs& a) {
+    Settings s;
+    if (!a.quality.is_none()) {
+        const std::string q = strArg(a.quality, "quality");
+        if (!applyQualityPreset(q, s)) valueError("quality must be 'low', 'medium', 'high' or 'ultra', got '" + q + "'");
+    }
+    if (!a.method.is_none()) s.method = choiceArg(a.method, "method", {"hbao"});
+    if (!a.radius.is_none()) {
+        s.radius = (float)floatArg(a.radius, "radius");
+        if (!(s.radius > 0.0f)) valueError("radius must be a positive number of world units, got " + std::to_string(s.radius));
+    }
+    if (!a.directions.is_none()) s.directions = intInRange(a.directions, "directions", 1, 256);
+    if (!a.steps.is_none()) s.steps = intInRange(a.steps, "steps", 1, 256);
+    if (!a.weighting.is_none()) s.weighting = enumArg<Weighting>(a.weighting, "weighting", "'uniform' or 'cosine'");
+    if (!a.falloff.is_none()) s.falloff = enumArg<Falloff>(a.falloff, "falloff", "'linear' or 'none'");
+    if (!a.blur.is_none()) s.blur = intInRange(a.blur, "blur", 0, 64);
+    if (!a.device.is_none()) {
+        s.device = strArg(a.device, "device");
+        if (!gpu::isDeviceName(s.device))
+            valueError("device must be 'cpu', 'auto', 'gl', 'gl-egl' or 'gl-osmesa', got '" + s.device + "'");
+    }
+    if (!a.threads.is_none()) s.threads = intInRange(a.threads, "threads", 0, 1 << 16);
+    return s;
+}
+
+#define OBSCURA_SETTING_ARGS                                                                                         \
+    py::arg("quality") = py::none(), py::arg("method") = py::none(), py::arg("radius") = py::none(),                \
+        py::arg("directions") = py::none(), py::arg("steps") = py::none(), py::arg("weighting") = py::none(),       \
+        py::arg("falloff") = py::none(), py::arg("blur") = py::none(), py::arg("device") = py::none(),              \
+        py::arg("threads") = py::none()
+
+// ---------------------------------------------------------------------------------------------
+// compute_ao
+
+struct ViewArgs {
+    py::object camera, normals, depthKind, skyDepth, dataWindow, displayWindow;
+};
+
+py::array computeAo(const py::object& depthObj, const py::object& normalObj, const ViewArgs& v, const SettingArgs& sa) {
+    OperatorInputs in;
+    in.depth = planeArg(depthObj, "depth", 1);
+    in.normal = planeArg(normalObj, "normal", 3);
+    if (in.normal.width != in.depth.width || in.normal.height != in.depth.height)
+        valueError("normal covers " + std::to_string(in.normal.height) + "x" + std::to_string(in.normal.width) +
+                   " pixels (H x W) but depth covers " + std::to_string(in.depth.height) + "x" +
+                   std::to_string(in.depth.width) + "; they must be the same size");
+    const Box2i full{0, 0, in.depth.width, in.depth.height};
+    in.dataWindow = v.dataWindow.is_none() ? full : boxArg(v.dataWindow, "data_window");
+    if (in.dataWindow.width() != in.depth.width || in.dataWindow.height() != in.depth.height)
+        valueError("data_window is " + std::to_string(in.dataWindow.width()) + "x" +
+                   std::to_string(in.dataWindow.height()) + " (W x H) but the arrays are " +
+                   std::to_string(in.depth.width) + "x" + std::to_string(in.depth.height));
+    in.displayWindow = v.displayWindow.is_none() ? full : boxArg(v.displayWindow, "display_window");
+    if (!v.normals.is_none()) in.normalSpace = enumArg<NormalSpace>(v.normals, "normals", "'world' or 'camera'");
+    if (!v.depthKind.is_none()) in.depthKind = enumArg<DepthKind>(v.depthKind, "depth_kind", "'planar' or 'radial'");
+    Settings settings = settingsFrom(sa);
+    if (!v.skyDepth.is_none()) {
+        settings.skyDepth = (float)floatArg(v.skyDepth, "sky_depth");
+        if (!(settings.skyDepth > 0.0f)) valueError("sky_depth must be positive");
+    }
+    in.camera = cameraArg(v.camera);
+    if (!in.camera.valid()) valueError("the camera has no valid projection (focal length or orthographic width)");
+    if (in.normalSpace == NormalSpace::World && !in.camera.hasPose)
+        valueError("normals='world' needs the camera's pose: give the Camera a camera_to_world matrix, "
+                   "or pass camera-space normals with normals='camera'");
+
+    OperatorOutputs out;
+    {
+        // depthObj / normalObj stay referenced by the caller's frame for the whole call.
+        py::gil_scoped_release release;
+        out = runOperator(in, settings);
+    }
+    return imageToArray(std::move(out.ao), true);
+}
+
+// ---------------------------------------------------------------------------------------------
+// File-level jobs: a FrameJob built from keyword arguments named like the CLI's flags.
+
+struct FileArgs {
+    py::object preset, layer, camera, fovDeg, orthoWidth, cameraToWorld, depth, normals, skyDepth;
+};
+
+FrameJob jobFrom(const py::object& path, const FileArgs& f) {
+    FrameJob job;
+    job.input = pathArg(path, "path");
+    if (!f.preset.is_none()) job.preset = choiceArg(f.preset, "preset", presetNames());
+    if (!f.layer.is_none()) {
+        if (!py::isinstance<py::dict>(f.layer))
+            throw py::type_error("layer must be a dict {role: layer name}, e.g. {'normal': 'ViewLayer.Normal'}, got " +
+                                 typeName(f.layer));
+        for (auto item : py::reinterpret_borrow<py::dict>(f.layer)) {
+            const std::string role = strArg(item.first, "layer role");
+            Role r;
+            if (!parseRole(role, r))
+                valueError("layer: unknown role '" + role + "' (depth, normal, position, beauty, albedo, direct-diffuse)");
+            job.layerOverrides[r] = strArg(item.second, "layer name");
+        }
+    }
+    if (!f.camera.is_none()) job.camera.sidecarPath = pathArg(f.camera, "camera");
+    if (!f.fovDeg.is_none()) {
+        const double fov = floatArg(f.fovDeg, "fov_deg");
+        if (!(fov > 0 && fov < 180)) valueError("fov_deg must be between 0 and 180, got " + std::to_string(fov));
+        job.camera.fovDeg = fov;
+    }
+    if (!f.orthoWidth.is_none()) {
+        const double w = floatArg(f.orthoWidth, "ortho_width");
+        if (!(w > 0)) valueError("ortho_width must be positive, got " + std::to_string(w));
+        job.camera.orthoWidth = w;
+    }
+    if (job.camera.fovDeg && job.camera.orthoWidth) valueError("give either fov_deg or ortho_width, not both");
+    if (!f.cameraToWorld.is_none()) job.camera.cameraToWorld = matrixRowsArg(f.cameraToWorld, "camera_to_world");
+    if (!f.depth.is_none()) job.depthKind = enumArg<DepthKind>(f.depth, "depth", "'planar' or 'radial'");
+    if (!f.normals.is_none()) job.normalSpace = enumArg<NormalSpace>(f.normals, "normals", "'world' or 'camera'");
+    if (!f.skyDepth.is_none()) {
+        const double d = floatArg(f.skyDepth, "sky_depth");
+        if (!(d > 0)) valueError("sky_depth must be positive");
+        job.skyDepth = (float)d;
+    }
+    return job;
+}
+
+#define OBSCURA_FILE_ARGS                                                                                           \
+    py::arg("preset") = py::none(), py::arg("layer") = py::none(), py::arg("camera") = py::none(),                 \
+        py::arg("fov_deg") = py::none(), py::arg("ortho_width") = py::none(),                                      \
+        py::arg("camera_to_world") = py::none(), py::arg("depth") = py::none(), py::arg("normals") = py::none(),  \
+        py::arg("sky_depth") = py::none()
+
+Image interleave(std::vector<Image>& planes, size_t first, int channels) {
+    Image out(planes[first].width, planes[first].height, channels);
+    for (int c = 0; c < channels; ++c) {
+        const Image& src = planes[first + c];
+        for (size_t i = 0, n = (size_t)src.width * src.height; i < n; ++i) out.pixels[i * channels + c] = src.pixels[i];
+    }
+    return out;
+}
+
+// Like loadFramePasses, but the position pass is always read when the file has one.
+FramePasses readPasses(const FrameJob& job) {
+    FramePasses p;
+    p.info = readExrInfo(job.input);
+    p.plan = planLayers(p.info, job.preset, job.layerOverrides);
+    requireRoles(p.plan, p.info, {Role::Depth, Role::Normal});
+    const LayerBinding& depth = *p.plan.find(Role::Depth);
+    const LayerBinding& normal = *p.plan.find(Role::Normal);
+    p.part = depth.part;
+    const ExrPart& part = p.info.parts[p.part];
+    p.display = part.displayWindow;
+    p.data = part.dataWindow;
+    p.pixelAspect = part.header.pixelAspectRatio();
+    if (p.data.empty()) throw Error("'" + job.input + "': the data window is empty (0 pixels)");
+    if (p.info.parts[normal.part].dataWindow != p.data)
+        throw Error("'" + job.input + "': the normal layer '" + normal.layer +
+                    "' covers a different data window than the depth");
+    std::vector<ChannelRef> wanted = channelRefs(depth);
+    for (const ChannelRef& c : channelRefs(normal)) wanted.push_back(c);
+    const LayerBinding* position = p.plan.find(Role::Position);
+    const bool readPosition = position && p.info.parts[position->part].dataWindow == p.data;
+    if (readPosition)
+        for (const ChannelRef& c : channelRefs(*position)) wanted.push_back(c);
+    std::vector<Image> planes = readExrChannels(job.input, p.info, wanted, false, nullptr);
+    p.depth = std::move(planes[0]);
+    p.normal = interleave(planes, 1, 3);
+    if (readPosition) p.position = interleave(planes, 4, 3);
+    return p;
+}
+
+py::dict readPassesPy(const py::object& path, const FileArgs& f) {
+    const FrameJob job = jobFrom(path, f);
+    FramePasses p;
+    std::optional<Camera> camera;
+    std::string cameraError;
+    DepthKind depthKind = DepthKind::Planar;
+    NormalSpace normalSpace = NormalSpace::World;
+    float sky = 1e9f;
+    {
+        py::gil_scoped_release release;
+        p = readPasses(job);
+        try {
+            camera = resolveFrameCamera(job, p);
+        } catch (const Error& e) {
+            cameraError = e.what();
+        }
+        depthKind = job.depthKind.value_or(p.plan.depthKind);
+        normalSpace = job.normalSpace.value_or(p.plan.normalSpace);
+        sky = job.skyDepth.value_or(p.plan.skyDepth);
+        // Left-handed camera-space normals (+z forward) become OpenGL's, as runFrameJob does.
+        if (p.plan.normalsLeftHanded && normalSpace == NormalSpace::Camera && !job.normalSpace)
+            for (size_t i = 2; i < p.normal.pixels.size(); i += 3) p.normal.pixels[i] = -p.normal.pixels[i];
+    }
+    py::dict layers;
+    for (const LayerBinding& b : p.plan.bindings) layers[py::str(roleName(b.role))] = py::cast(b.channels);
+    py::dict d;
+    d["depth"] = imageToArray(std::move(p.depth), true);
+    d["normal"] = imageToArray(std::move(p.normal), false);
+    if (!p.position.empty()) d["position"] = imageToArray(std::move(p.position), false);
+    d["camera"] = camera ? py::cast(*camera) : py::none();
+    d["camera_error"] = camera ? py::none() : py::cast(cameraError);
+    d["normals"] = toString(normalSpace);
+    d["depth_kind"] = toString(depthKind);
+    d["sky_depth"] = (double)sky;
+    d["data_window"] = boxToTuple(p.data);
+    d["display_window"] = boxToTuple(p.display);
+    d["pixel_aspect"] = p.pixelAspect;
+    d["preset"] = p.plan.preset;
+    d["layers"] = layers;
+    d["part"] = p.part;
+    d["path"] = job.input;
+    return d;
+}
+
+void writeTextFile(const std::string& path, const std::string& text) {
+    const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
+    {
+        std::ofstream f(tmp, std::ios::binary);
+        f << text << "\n";
+        if (!f.good()) {
+            std::remove(tmp.c_str());
+            throw Error("cannot write '" + path + "'");
+        }
+    }
+    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+        std::remove(tmp.c_str());
+        throw Error("cannot write '" + path + "'");
+    }
+}
+
+struct OutputArgs {
+    py::object outLayer, outType, badPixels, reference, report, preview, inPlace;
+};
+
+py::object processPy(const py::object& path, const py::object& out, const FileArgs& f, const SettingArgs& sa,
+                     const OutputArgs& o) {
+    FrameJob job = jobFrom(path, f);
+    job.output = pathArg(out, "out");
+    job.settings = settingsFrom(sa);
+    if (!o.outLayer.is_none()) {
+        if (py::isinstance<py::dict>(o.outLayer)) {
+            for (auto item : py::reinterpret_borrow<py::dict>(o.outLayer)) {
+                const std::string role = strArg(item.first, "out_layer role");
+                if (role != "ao") valueError("out_layer: unknown output '" + role + "' (available: ao)");
+                job.aoLayer = strArg(item.second, "out_layer name");
+            }
+        } else {
+            job.aoLayer = strArg(o.outLayer, "out_layer");
+        }
+        if (job.aoLayer.empty()) valueError("out_layer must not be empty");
+    }
+    if (!o.outType.is_none()) job.aoFloat = choiceArg(o.outType, "out_type", {"half", "float"}) == "float";
+    if (!o.badPixels.is_none())
+        job.badPixels = choiceArg(o.badPixels, "bad_pixels", {"error", "skip"}) == "skip" ? BadPixelPolicy::Skip
+                                                                                       : BadPixelPolicy::Error;
+    if (!o.reference.is_none()) job.referenceLayer = strArg(o.reference, "reference");
+    if (!o.preview.is_none()) job.previewPath = pathArg(o.preview, "preview");
+    if (!o.inPlace.is_none()) job.inPlace = py::bool_(o.inPlace);
+    const std::string reportPath = o.report.is_none() ? std::string() : pathArg(o.report, "report");
+
+    std::string json;
+    {
+        py::gil_scoped_release release;
+        if (!reportPath.empty()) requireOutputDirectory(reportPath);
+        const FrameReport report = runFrameJob(job);
+        json = frameReportJson(job, report);
+        if (!reportPath.empty()) writeTextFile(reportPath, json);
+    }
+    return py::module_::import("json").attr("loads")(json);
+}
+
+std::string inspectPy(const py::object& path, const FileArgs& f, const py::object& device) {
+    FrameJob job = jobFrom(path, f);
+    if (!device.is_none()) {
+        SettingArgs sa{py::none(), py::none(), py::none(), py::none(), py::none(),
+                       py::none(), py::none(), py::none(), device,      py::none()};
+        job.settings = settingsFrom(sa);
+    }
+    py::gil_scoped_release release;
+    return inspectFrame(job);
+}
+
+py::array readLayerPy(const py::object& path, const py::object& nameObj) {
+    const std::string file = pathArg(path, "path");
+    const std::string name = strArg(nameObj, "name");
+    Image image;
+    {
+        py::gil_scoped_release release;
+        const ExrInfo info = readExrInfo(file);
+        std::vector<ChannelRef> wanted;
+        for (size_t p = 0; p < info.parts.size() && wanted.empty(); ++p) {
+            const ExrPart& part = info.parts[p];
+            if (part.findChannel(name) >= 0) {
+                wanted.push_back({(int)p, name});
+                break;
+            }
+            // LAYER.c channels, in a conventional order: R G B A, X Y Z, then the rest by name.
+            std::vector<std::string> found;
+            for (const ExrChannel& c : part.channels)
+                if (c.name.size() > name.size() + 1 && c.name.compare(0, name.size() + 1, name + ".") == 0 &&
+                    c.name.find('.', name.size() + 1) == std::string::npos)
+                    found.push_back(c.name);
+            auto rank = [&](const std::string& n) {
+                static const std::string order = "RGBAXYZW";
+                const std::string suffix = n.substr(name.size() + 1);
+                const size_t i = suffix.size() == 1 ? order.find(suffix[0]) : std::string::npos;
+                return i == std::string::npos ? order.size() : i;
+            };
+            std::stable_sort(found.begin(), found.end(),
+                             [&](const std::string& a, const std::string& b) { return rank(a) < rank(b); });
+            for (const std::string& n : found) wanted.push_back({(int)p, n});
+        }
+        if (wanted.empty()) {
+            std::string all;
+            for (const std::string& l : listLayers(info)) all += (all.empty() ? "" : "; ") + l;
+            throw Error("no channel or layer '" + name + "' in '" + file + "'; layers found: " + all);
+        }
+        std::vector<Image> planes = readExrChannels(file, info, wanted, false, nullptr);
+        image = planes.size() == 1 ? std::move(planes[0]) : interleave(planes, 0, (int)planes.size());
+    }
+    return imageToArray(std::move(image), true);
+}
+
+std::string cameraRepr(const Camera& c) {
+    std::ostringstream os;
+    os.precision(9);
+    os << "obscura.Camera(" << (c.projection == Projection::Perspective ? "perspective" : "orthographic")
+       << ", fx=" << c.fx << ", fy=" << c.fy << ", cx=" << c.cx << ", cy=" << c.cy
+       << (c.hasPose ? ", posed" : ", no pose");
+    if (!c.source.empty()) os << ", source='" << c.source << "'";
+    os << ")";
+    return os.str();
+}
+
+Camera withPose(Camera c, const py::object& m) {
+    if (!m.is_none()) {
+        c.cameraToWorld = cameraToWorldFromRows(matrixRowsArg(m, "camera_to_world"), "camera_to_world");
+        c.hasPose = true;
+    }
+    return c;
+}
+
+void checkDisplaySize(int width, int height) {
+    if (width < 1 || height < 1)
+        valueError("width and height are the display window's size in pixels and must be positive, got " +
+                   std::to_string(width) + "x" + std::to_string(height));
+}
+
+const char* kModuleDoc = R"doc(obscura: screen-space ambient occlusion (HBAO) for renders that already exist.
+
+The same operator and file pipeline as the ``obscura`` command, for numpy:
+
+- ``compute_ao(depth, normal, camera=..., **settings)`` -> float32 (H, W) AO from arrays
+  (viewed in place, never converted: float32, shape (H, W) and (H, W, 3)).
+- ``read_passes(path)`` -> dict of the depth/normal/position planes, camera and conventions
+  of a multilayer EXR, found by renderer preset as the CLI does.
+- ``ao_from_passes(passes, **settings)`` -> compute_ao over a read_passes() dict.
+- ``process(path, out, **settings)`` -> the CLI's ``--report`` JSON as a dict; writes OUT.
+- ``inspect(path)`` -> the CLI's ``--inspect`` text; ``read_layer(path, name)`` -> an EXR layer.
+- ``Camera.perspective / .orthographic / .from_sidecar``.
+
+Settings are the CLI's flags with underscores: radius, directions, steps, weighting
+('uniform' | 'cosine'), falloff ('linear' | 'none'), blur, quality ('low' | 'medium' |
+'high' | 'ultra', applied before directions/steps/blur), method ('hbao'), device, threads.
+
+Errors: bad arguments (shape, dtype, memory layout, unknown names, out-of-range values) raise
+ValueError (TypeError for a wrong kind of object); a failure of the file pipeline or the
+operator (missing or corrupt file, no camera, bad pixels, unwritable output) raises
+obscura.Error, a RuntimeError whose message is the CLI's one-line error.
+The GIL is released while files are read or written and while the AO is computed.)doc";
+
+} // namespace
+} // namespace obscura::python
+
+PYBIND11_MODULE(obscura, m) {
+    using namespace obscura;
+    using namespace obscura::python;
+    m.doc() = kModuleDoc;
+    m.attr("__version__") = OBSCURA_VERSION_STRING;
+    py::register_exception<Error>(m, "Error", PyExc_RuntimeError);
+    m.attr("Error").attr("__doc__") =
+        "A failure reported by obscura's file pipeline or operator (missing, unreadable or corrupt file, no "
+        "camera, bad pixels, unwritable output). Subclass of RuntimeError; str(e) is one line naming the file "
+        "and the problem, as the CLI prints it.";
+
+    py::class_<Camera>(m, "Camera", R"doc(A pinhole or orthographic camera (OpenGL convention: camera looks down -Z, +Y up).
+
+Pixel (x, y) has its centre at (x + 0.5, y + 0.5) in display-window coordinates, y down.
+Build one with Camera.perspective, Camera.orthographic or Camera.from_sidecar, or take
+read_passes(path)['camera']. camera_to_world is a 4x4 row-major matrix (numpy float64),
+or None when only the intrinsics are known.)doc")
+        .def(py::init([](double fx, py::object fy, py::object cx, py::object cy, py::object c2w, bool ortho) {
+                 if (!(fx > 0) || !std::isfinite(fx)) valueError("fx must be positive");
+                 Camera c;
+                 c.projection = ortho ? Projection::Orthographic : Projection::Perspective;
+                 c.fx = fx;
+                 c.fy = fy.is_none() ? fx : floatArg(fy, "fy");
+                 if (!(c.fy > 0)) valueError("fy must be positive");
+                 c.cx = floatArg(cx, "cx");
+                 c.cy = floatArg(cy, "cy");
+                 c.source = "python";
+                 return withPose(c, c2w);
+             }),
+             py::arg("fx"), py::kw_only(), py::arg("fy") = py::none(), py::arg("cx"), py::arg("cy"),
+             py::arg("camera_to_world") = py::none(), py::arg("orthographic") = false,
+             R"doc(Camera from intrinsics: fx, fy focal lengths in pixels (orthographic: pixels per world
+unit; fy defaults to fx), principal point (cx, cy) in display pixels.)doc")
+        .def_static(
+            "perspective",
+            [](double fovDeg, int width, int height, py::object c2w, double pixelAspect) {
+                if (!(fovDeg > 0 && fovDeg < 180)) valueError("fov_deg must be between 0 and 180, got " + std::to_string(fovDeg));
+                checkDisplaySize(width, height);
+                if (!(pixelAspect > 0) || !std::isfinite(pixelAspect)) valueError("pixel_aspect must be positive");
+                Camera c = Camera::perspectiveFromFov(fovDeg * M_PI / 180.0, width, height, pixelAspect);
+                c.source = "python (perspective)";
+                return withPose(c, c2w);
+            },
+            py::arg("fov_deg"), py::arg("width"), py::arg("height"), py::arg("camera_to_world") = py::none(),
+            py::arg("pixel_aspect") = 1.0,
+            R"doc(Perspective camera with horizontal field of view fov_deg across a display window of
+width x height pixels (the CLI's --fov-deg); optional 4x4 camera_to_world (--camera-to-world).)doc")
+        .def_static(
+            "orthographic",
+            [](double widthWorld, int width, int height, py::object c2w, double pixelAspect) {
+                if (!(widthWorld > 0) || !std::isfinite(widthWorld)) valueError("width_world must be positive");
+                checkDisplaySize(width, height);
+                if (!(pixelAspect > 0) || !std::isfinite(pixelAspect)) valueError("pixel_aspect must be positive");
+                Camera c = Camera::orthographic(widthWorld, width, height, pixelAspect);
+                c.source = "python (orthographic)";
+                return withPose(c, c2w);
+            },
+            py::arg("width_world"), py::arg("width"), py::arg("height"), py::arg("camera_to_world") = py::none(),
+            py::arg("pixel_aspect") = 1.0,
+            R"doc(Orthographic camera width_world world units across a display window of width x height
+pixels (the CLI's --ortho-width).)doc")
+        .def_static(
+            "from_sidecar",
+            [](const py::object& path, int width, int height, double pixelAspect) {
+                const std::string p = pathArg(path, "path");
+                checkDisplaySize(width, height);
+                py::gil_scoped_release release;
+                return cameraFromSidecar(p, Box2i{0, 0, width, height}, pixelAspect);
+            },
+            py::arg("path"), py::arg("width"), py::arg("height"), py::arg("pixel_aspect") = 1.0,
+            R"doc(Camera from a JSON sidecar (camera_to_world rows, horizontal_fov_rad or ortho_width), as
+--camera FILE.json reads it, for a display window of width x height pixels. Raises obscura.Error
+when the file is missing or invalid.)doc")
+        .def_property_readonly(
+            "projection", [](const Camera& c) { return c.projection == Projection::Perspective ? "perspective" : "orthographic"; },
+            "'perspective' or 'orthographic'.")
+        .def_property_readonly("fx", [](const Camera& c) { return c.fx; }, "Focal length in pixels (orthographic: pixels per unit).")
+        .def_property_readonly("fy", [](const Camera& c) { return c.fy; })
+        .def_property_readonly("cx", [](const Camera& c) { return c.cx; }, "Principal point, display pixels.")
+        .def_property_readonly("cy", [](const Camera& c) { return c.cy; })
+        .def_property(
+            "camera_to_world",
+            [](const Camera& c) -> py::object { return c.hasPose ? py::object(matrixToRows(c.cameraToWorld)) : py::none(); },
+            [](Camera& c, py::object m) {
+                if (m.is_none()) {
+                    c.cameraToWorld = glm::dmat4(1.0);
+                    c.hasPose = false;
+                } else {
+                    c = withPose(c, m);
+                }
+            },
+            "4x4 row-major camera-to-world matrix (OpenGL convention), or None if the pose is unknown.")
+        .def_property_readonly("has_pose", [](const Camera& c) { return c.hasPose; })
+        .def_property_readonly("source", [](const Camera& c) { return c.source; },
+                               "Where the camera came from (flags, sidecar, header, fit, python).")
+        .def_property_readonly(
+            "fit_residual_px",
+            [](const Camera& c) -> py::object { return c.fitResidualPx >= 0 ? py::cast(c.fitResidualPx) : py::none(); },
+            "RMS reprojection error of a fit to the position pass, None if not fitted.")
+        .def(
+            "horizontal_fov_deg", [](const Camera& c, int width) { return c.horizontalFovRad(width) * 180.0 / M_PI; },
+            py::arg("width"), "Horizontal FOV across a display `width` pixels wide (0 for orthographic).")
+        .def("__repr__", &cameraRepr);
+
+    m.def(
+        "compute_ao",
+        [](const py::object& depth, const py::object& normal, py::object camera, py::object normals,
+           py::object depthKind, py::object skyDepth, py::object dataWindow, py::object displayWindow,
+           py::object quality, py::object method, py::object radius, py::object directions, py::object steps,
+           py::object weighting, py::object falloff, py::object blur, py::object device, py::object threads) {
+            return computeAo(depth, normal, ViewArgs{camera, normals, depthKind, skyDepth, dataWindow, displayWindow},
+                             SettingArgs{quality, method, radius, directions, steps, weighting, falloff, blur, device,
+                                         threads});
+        },
+        py::arg("depth"), py::arg("normal"), py::kw_only(), py::arg("camera"), py::arg("normals") = "world",
+        py::arg("depth_kind") = "planar", py::arg("sky_depth") = 1e9, py::arg("data_window") = py::none(),
+        py::arg("display_window") = py::none(), OBSCURA_SETTING_ARGS,
+        R"doc(Ambient occlusion of in-memory passes: a float32 array (H, W), 1 = unoccluded.
+
+depth: float32 (H, W), planar camera depth (or distance to the eye with depth_kind='radial').
+normal: float32 (H, W, 3), world space (normals='world', needs camera.camera_to_world) or
+OpenGL camera space (normals='camera').
+Both are read in place, without a copy, whatever their strides (slices, transposes, broadcasts),
+as long as strides are whole float32 elements and a normal's 3 components are adjacent.
+Anything else raises ValueError (no silent conversion: use .astype(numpy.float32) or
+numpy.ascontiguousarray). Pixels with depth 0, inf, >= sky_depth, NaN or negative are
+background (AO = 1).
+
+camera: obscura.Camera. data_window: (x0, y0, x1, y1) the arrays cover in display-window
+pixels (default (0, 0, W, H); larger than the display window for overscan). display_window:
+the frame's (x0, y0, x1, y1), default (0, 0, W, H).
+Settings (defaults as the CLI): radius=1.0 world units, directions=8, steps=8,
+weighting='uniform'|'cosine', falloff='linear'|'none', blur=0 px, quality=None ('low',
+'medium', 'high', 'ultra'; explicit directions/steps/blur override it), method='hbao',
+device='cpu', threads=0 (all cores). The GIL is released while computing.)doc");
+
+    m.def(
+        "ao_from_passes",
+        [](const py::dict& passes, py::object quality, py::object method, py::object radius, py::object directions,
+           py::object steps, py::object weighting, py::object falloff, py::object blur, py::object device,
+           py::object threads) {
+            for (const char* key : {"depth", "normal", "camera"})
+                if (!passes.contains(key)) valueError(std::string("passes has no '") + key + "' (use read_passes())");
+            py::object camera = passes["camera"];
+            if (camera.is_none()) {
+                const py::object why =
+                    passes.contains("camera_error") ? py::object(passes["camera_error"]) : py::object(py::none());
+                throw Error(why.is_none() ? std::string("the passes have no camera")
+                                          : why.cast<std::string>());
+            }
+            auto get = [&](const char* key) -> py::object {
+                return passes.contains(key) ? py::object(passes[key]) : py::object(py::none());
+            };
+            return computeAo(passes["depth"], passes["normal"],
+                             ViewArgs{camera, get("normals"), get("depth_kind"), get("sky_depth"), get("data_window"),
+                                      get("display_window")},
+                             SettingArgs{quality, method, radius, directions, steps, weighting, falloff, blur, device,
+                                         threads});
+        },
+        py::arg("passes"), py::kw_only(), OBSCURA_SETTING_ARGS,
+        R"doc(compute_ao over a read_passes() dict, with its camera, conventions (normals, depth_kind,
+sky_depth) and windows: the same AO that process() writes for that file and these settings.
+Raises obscura.Error when the passes have no camera (see passes['camera_error']).)doc");
+
+    m.def(
+        "read_passes",
+        [](const py::object& path, py::object preset, py::object layer, py::object camera, py::object fovDeg,
+           py::object orthoWidth, py::object c2w, py::object depth, py::object normals, py::object skyDepth) {
+            return readPassesPy(path, FileArgs{preset, layer, camera, fovDeg, orthoWidth, c2w, depth, normals, skyDepth});
+        },
+        py::arg("path"), py::kw_only(), OBSCURA_FILE_ARGS,
+        R"doc(The passes of a multilayer EXR, found as the CLI finds them, as a dict:
+
+'depth' float32 (H, W); 'normal' float32 (H, W, 3) (RenderMan's left-handed camera normals
+already flipped to OpenGL's); 'position' float32 (H, W, 3) when the file has one;
+'camera' obscura.Camera or None ('camera_error' then says why); 'normals' 'world'|'camera';
+'depth_kind' 'planar'|'radial'; 'sky_depth'; 'data_window' and 'display_window'
+(x0, y0, x1, y1), half-open, display min = (0, 0); 'pixel_aspect'; 'preset'; 'layers'
+{role: [channel names]}; 'part'; 'path'. Arrays cover the data window.
+
+Keywords as process(): preset ('auto', 'blender', 'arnold', 'renderman', 'vray', 'karma',
+'generic'), layer={role: name}, camera (sidecar path; default NAME.json next to the file),
+fov_deg, ortho_width, camera_to_world (4x4 row-major), depth, normals, sky_depth.
+Raises obscura.Error for a missing/unreadable file or missing passes.)doc");
+
+    m.def(
+        "process",
+        [](const py::object& path, const py::object& out, py::object quality, py::object method, py::object radius,
+           py::object directions, py::object steps, py::object weighting, py::object falloff, py::object blur,
+           py::object device, py::object threads, py::object preset, py::object layer, py::object camera,
+           py::object fovDeg, py::object orthoWidth, py::object c2w, py::object depth, py::object normals,
+           py::object skyDepth, py::object outLayer, py::object outType, py::object badPixels, py::object reference,
+           py::object report, py::object preview, py::object inPlace) {
+            return processPy(path, out, FileArgs{preset, layer, camera, fovDeg, orthoWidth, c2w, depth, normals, skyDepth},
+                             SettingArgs{quality, method, radius, directions, steps, weighting, falloff, blur, device,
+                                         threads},
+                             OutputArgs{outLayer, outType, badPixels, reference, report, preview, inPlace});
+        },
+        py::arg("path"), py::arg("out"), py::kw_only(), OBSCURA_SETTING_ARGS, OBSCURA_FILE_ARGS,
+        py::arg("out_layer") = py::none(), py::arg("out_type") = py::none(), py::arg("bad_pixels") = py::none(),
+        py::arg("reference") = py::none(), py::arg("report") = py::none(), py::arg("preview") = py::none(),
+        py::arg("in_place") = py::none(),
+        R"doc(obscura PATH -o OUT [flags]: writes OUT, a copy of PATH with the AO layer added, and returns
+the --report JSON as a dict (settings, camera, conventions, timings_s, stats, reference, warnings).
+
+Keywords are the CLI's flags with underscores: quality, method, radius, directions, steps,
+weighting, falloff, blur, device, threads; preset, layer={role: name}, camera (sidecar path),
+fov_deg, ortho_width, camera_to_world (4x4 or 16 numbers, row-major), depth ('planar' |
+'radial'), normals ('world' | 'camera'), sky_depth; out_layer (name, or {'ao': name}),
+out_type ('half' | 'float'), bad_pixels ('error' | 'skip'), reference (layer name), report
+(also write the JSON there), preview (PNG path), in_place (bool).
+Outputs are written atomically; on obscura.Error nothing is left behind.)doc");
+
+    m.def(
+        "inspect",
+        [](const py::object& path, py::object preset, py::object layer, py::object camera, py::object fovDeg,
+           py::object orthoWidth, py::object c2w, py::object depth, py::object normals, py::object skyDepth,
+           py::object device) {
+            return inspectPy(path, FileArgs{preset, layer, camera, fovDeg, orthoWidth, c2w, depth, normals, skyDepth},
+                             device);
+        },
+        py::arg("path"), py::kw_only(), OBSCURA_FILE_ARGS, py::arg("device") = py::none(),
+        "obscura PATH --inspect: the layers, roles, conventions, camera and device, as text.");
+
+    m.def("read_layer", &readLayerPy, py::arg("path"), py::arg("name"),
+          R"doc(One channel ('obscura.AO.Y') as float32 (H, W), or a layer ('ViewLayer.Normal') as float32
+(H, W, C) with its channels in R, G, B, A / X, Y, Z order, over its part's data window.
+Raises obscura.Error when the file or the name is missing.)doc");
+
+    py::dict quality;
+    for (const QualityPreset& q : qualityPresets())
+        quality[py::str(q.name)] = py::dict("directions"_a = q.directions, "steps"_a = q.steps, "blur"_a = q.blur);
+    m.attr("QUALITY_PRESETS") = quality;
+    m.attr("PRESETS") = py::tuple(py::cast(presetNames()));
+}

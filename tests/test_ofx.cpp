@@ -1,0 +1,657 @@
+// The OpenFX plugin, through a test host (tests/ofx_host) that loads the built bundle with
+// dlopen as Nuke, Natron or Resolve would and drives describe / describeInContext /
+// createInstance / getRegionsOfInterest / isIdentity / render over tiles. Its output is
+// compared with the command line on the same planes: identical pixels, whole frame and tiled.
+#include "ofx_host/ofx_host.h"
+#include "support/cli_runner.h"
+#include "support/exr_fixtures.h"
+#include "support/scenes.h"
+
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace fs = std::filesystem;
+using namespace obscura;
+using namespace obscura::ofxhost;
+using obscura::test::SceneBuffers;
+
+namespace {
+
+const std::string kBundle = OBSCURA_OFX_BUNDLE;
+
+fs::path scratchRoot() { return fs::path(OBSCURA_TEST_TMP) / ("ofx-" + std::to_string(::getpid())); }
+struct ScratchCleanup : ::testing::Environment {
+    void TearDown() override {
+        if (::testing::UnitTest::GetInstance()->Passed()) fs::remove_all(scratchRoot());
+    }
+};
+const auto* const kCleanup = ::testing::AddGlobalTestEnvironment(new ScratchCleanup);
+
+fs::path testDir() {
+    const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    std::string name = std::string(info->test_suite_name()) + "." + info->name();
+    for (char& c : name)
+        if (c == '/') c = '_';
+    const fs::path dir = scratchRoot() / name;
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+std::string readText(const fs::path& p) {
+    std::ifstream f(p);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+}
+
+// 17 significant digits: the plugin and the CLI parse the same doubles.
+std::string num(double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.17g", v);
+    return buf;
+}
+std::string rowsOf(const glm::dmat4& m) {
+    std::string s;
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) s += (s.empty() ? "" : ",") + num(m[c][r]);
+    return s;
+}
+
+// ---------------------------------------------------------------------------
+// A scene as EXR planes (for the CLI) and as OFX clip images (for the plugin)
+// ---------------------------------------------------------------------------
+
+struct Config {
+    std::string name;
+    bool orthographic = false;
+    DepthKind depth = DepthKind::Planar;
+    NormalSpace normals = NormalSpace::World;
+    int overscan = 0;               // data window margin beyond the display window
+    double radius = 0.5;
+    int directions = 8, steps = 8;
+    bool cosine = false, noFalloff = false;
+    int blur = 0;
+    double maxScreenRadius = 256;   // the plugin's cap (0 = automatic, the CLI's rule)
+};
+
+// gtest names a parameter by its config's name.
+void PrintTo(const Config& c, std::ostream* os) { *os << c.name; }
+
+constexpr int kW = 96, kH = 64;
+
+struct Scene {
+    SceneBuffers buf;
+    Camera cam;
+    double fovDeg = 0, orthoWidth = 0;
+    HostImage depthClip, normalClip, beautyClip;  // OFX pixel coordinates, y up
+};
+
+Scene makeScene(const Config& c) {
+    Scene s;
+    const glm::dvec3 eye(3.5, 3.0, 6.5), target(-1.0, 0.6, -1.0);
+    if (c.orthographic) {
+        s.orthoWidth = 11.0;
+        s.cam = test::lookAtOrthographic(eye, target, s.orthoWidth, kW, kH);
+    } else {
+        s.fovDeg = 65.0;
+        s.cam = test::lookAtPerspective(eye, target, s.fovDeg * 3.14159265358979323846 / 180, kW, kH);
+    }
+    const Box2i display{0, 0, kW, kH};
+    const Box2i data{-c.overscan, -c.overscan, kW + c.overscan, kH + c.overscan};
+    s.buf = test::renderScene(test::studioScene(), s.cam, display, data, c.depth);
+    if (c.normals == NormalSpace::Camera) {
+        const glm::dmat3 toCam = glm::dmat3(s.cam.worldToCamera());
+        for (int y = 0; y < data.height(); ++y)
+            for (int x = 0; x < data.width(); ++x) {
+                float* n = s.buf.normal.at(x, y);
+                const glm::dvec3 v = toCam * glm::dvec3(n[0], n[1], n[2]);
+                n[0] = (float)v.x, n[1] = (float)v.y, n[2] = (float)v.z;
+            }
+    }
+    // OFX rows are y up: OFX y = H - 1 - display y.
+    const OfxRectI b{data.x0, kH - data.y1, data.x1, kH - data.y0};
+    s.depthClip = HostImage(b, 1);
+    s.normalClip = HostImage(b, 4);
+    s.beautyClip = HostImage(b, 4);
+    for (int dy = data.y0; dy < data.y1; ++dy)
+        for (int dx = data.x0; dx < data.x1; ++dx) {
+            const int oy = kH - 1 - dy;
+            const float* n = s.buf.normal.at(dx - data.x0, dy - data.y0);
+            s.depthClip.at(dx, oy)[0] = *s.buf.depth.at(dx - data.x0, dy - data.y0);
+            float* o = s.normalClip.at(dx, oy);
+            o[0] = n[0], o[1] = n[1], o[2] = n[2], o[3] = 1.0f;
+            float* bt = s.beautyClip.at(dx, oy);
+            bt[0] = 0.25f + 0.5f * (dx & 7) / 8.0f, bt[1] = 0.75f, bt[2] = 0.125f * (dy & 7), bt[3] = (dx & 1) ? 1.0f : 0.5f;
+        }
+    return s;
+}
+
+// The CLI's AO over the data window, y down (EXR rows), from --out-type float.
+std::vector<float> runCli(const Config& c, const Scene& s, const fs::path& dir) {
+    using namespace fixtures;
+    const Box2i data = s.buf.data;
+    FixturePart part;
+    part.displayWindow = Imath::Box2i(Imath::V2i(0, 0), Imath::V2i(kW - 1, kH - 1));
+    part.dataWindow = Imath::Box2i(Imath::V2i(data.x0, data.y0), Imath::V2i(data.x1 - 1, data.y1 - 1));
+    auto channel = [&](const char* name, const Image& img, int k) {
+        FixtureChannel ch;
+        ch.name = name;
+        ch.type = Imf::FLOAT;
+        ch.value = [&img, k, data](int x, int y) { return img.at(x - data.x0, y - data.y0)[k]; };
+        return ch;
+    };
+    part.channels = {channel("Z", s.buf.depth, 0), channel("N.X", s.buf.normal, 0), channel("N.Y", s.buf.normal, 1),
+                     channel("N.Z", s.buf.normal, 2)};
+    const fs::path in = dir / "planes.exr", out = dir / "ao.exr";
+    writeFixture(in.string(), {part});
+
+    std::vector<std::string> args = {in.string(), "-o", out.string(), "--out-type", "float", "--quiet",
+                                     "--radius", num(c.radius), "--directions", std::to_string(c.directions),
+                                     "--steps", std::to_string(c.steps), "--weighting", c.cosine ? "cosine" : "uniform",
+                                     "--falloff", c.noFalloff ? "none" : "linear", "--blur", std::to_string(c.blur),
+                                     "--depth", toString(c.depth), "--normals", toString(c.normals),
+                                     "--camera-to-world", rowsOf(s.cam.cameraToWorld), "--device", "cpu"};
+    if (c.orthographic) {
+        args.insert(args.end(), {"--ortho-width", num(s.orthoWidth)});
+    } else {
+        args.insert(args.end(), {"--fov-deg", num(s.fovDeg)});
+    }
+    const test::CliResult r = test::runProgram(OBSCURA_CLI_PATH, args);
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    if (r.exitCode != 0) return {};
+
+    Imf::InputFile file(out.string().c_str());
+    const Imath::Box2i dw = file.header().dataWindow();
+    EXPECT_EQ(dw.min.x, data.x0);
+    EXPECT_EQ(dw.max.y, data.y1 - 1);
+    const int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
+    EXPECT_NE(file.header().channels().findChannel("obscura.AO.Y"), nullptr);
+    EXPECT_EQ(file.header().channels().findChannel("obscura.AO.Y")->type, Imf::FLOAT);
+    std::vector<float> ao((size_t)w * h);
+    Imf::FrameBuffer fb;
+    fb.insert("obscura.AO.Y", Imf::Slice::Make(Imf::FLOAT, ao.data(), dw, sizeof(float), sizeof(float) * w));
+    file.setFrameBuffer(fb);
+    file.readPixels(dw.min.y, dw.max.y);
+    return ao;
+}
+
+// ---------------------------------------------------------------------------
+// Driving the plugin
+// ---------------------------------------------------------------------------
+
+struct Loaded {
+    std::unique_ptr<Host> host;
+    std::unique_ptr<Instance> inst;
+    void reset() {  // the instance goes first: destroying it is an action of its host
+        inst.reset();
+        host.reset();
+    }
+};
+
+// Loads, describes and instantiates the plugin over the scene's clips.
+Loaded instantiate(const Scene& s, bool withBeauty = false, int outputComponents = 4,
+                   const std::string& bundle = kBundle) {
+    Loaded l;
+    l.host = std::make_unique<Host>(bundle);
+    EXPECT_EQ(l.host->error(), "");
+    if (!l.host->plugin()) return l;
+    EXPECT_EQ(l.host->load(), kOfxStatOK);
+    EXPECT_EQ(l.host->describe(), kOfxStatOK);
+    std::map<std::string, const HostImage*> inputs = {{"Depth", &s.depthClip}, {"Normal", &s.normalClip}};
+    if (withBeauty) inputs["Source"] = &s.beautyClip;
+    ProjectSetup project;
+    project.width = kW;
+    project.height = kH;
+    project.outputComponents = outputComponents;
+    OfxStatus st = kOfxStatFailed;
+    l.inst = l.host->createInstance(project, inputs, &st);
+    EXPECT_EQ(st, kOfxStatOK);
+    return l;
+}
+
+void applyConfig(Instance& inst, const Config& c, const Scene& s) {
+    EXPECT_EQ(inst.setDouble("radius", c.radius), kOfxStatOK);
+    EXPECT_EQ(inst.setInt("directions", c.directions), kOfxStatOK);
+    EXPECT_EQ(inst.setInt("steps", c.steps), kOfxStatOK);
+    EXPECT_EQ(inst.setInt("weighting", c.cosine ? 1 : 0), kOfxStatOK);
+    EXPECT_EQ(inst.setInt("falloff", c.noFalloff ? 1 : 0), kOfxStatOK);
+    EXPECT_EQ(inst.setInt("blur", c.blur), kOfxStatOK);
+    EXPECT_EQ(inst.setInt("projection", c.orthographic ? 1 : 0), kOfxStatOK);
+    if (c.orthographic)
+        EXPECT_EQ(inst.setDouble("orthoWidth", s.orthoWidth), kOfxStatOK);
+    else
+        EXPECT_EQ(inst.setDouble("fovDeg", s.fovDeg), kOfxStatOK);
+    EXPECT_EQ(inst.setString("cameraToWorld", rowsOf(s.cam.cameraToWorld)), kOfxStatOK);
+    EXPECT_EQ(inst.setInt("depthKind", c.depth == DepthKind::Radial ? 1 : 0), kOfxStatOK);
+    EXPECT_EQ(inst.setInt("normalSpace", c.normals == NormalSpace::Camera ? 1 : 0), kOfxStatOK);
+    EXPECT_EQ(inst.setDouble("maxScreenRadius", c.maxScreenRadius), kOfxStatOK);
+    EXPECT_EQ(inst.setInt("device", 0), kOfxStatOK);  // cpu: the CLI runs on the CPU too
+}
+
+// Compares the plugin's frame (y up) with the CLI's AO (y down) pixel for pixel, bitwise.
+void expectSameAsCli(const HostImage& frame, const std::vector<float>& cli, const Box2i& data, const char* what) {
+    ASSERT_EQ(frame.bounds.x1, data.x0) << what;
+    ASSERT_EQ(frame.width(), data.width()) << what;
+    ASSERT_EQ(frame.height(), data.height()) << what;
+    ASSERT_EQ(cli.size(), (size_t)data.width() * data.height()) << what;
+    int differing = 0;
+    std::string first;
+    for (int dy = data.y0; dy < data.y1; ++dy)
+        for (int dx = data.x0; dx < data.x1; ++dx) {
+            const float* p = frame.at(dx, kH - 1 - dy);
+            const float want = cli[(size_t)(dy - data.y0) * data.width() + (dx - data.x0)];
+            const bool same = std::memcmp(&p[0], &want, sizeof(float)) == 0 && p[1] == p[0] && p[2] == p[0] && p[3] == 1.0f;
+            if (!same && differing++ == 0)
+                first = "at display (" + std::to_string(dx) + "," + std::to_string(dy) + "): plugin " + num(p[0]) +
+                        ", CLI " + num(want);
+        }
+    EXPECT_EQ(differing, 0) << what << ": " << differing << " pixels differ, first " << first;
+}
+
+bool sameBits(const HostImage& a, const HostImage& b) {
+    return a.bounds.x1 == b.bounds.x1 && a.bounds.y1 == b.bounds.y1 && a.bounds.x2 == b.bounds.x2 &&
+           a.bounds.y2 == b.bounds.y2 && a.components == b.components &&
+           std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(float)) == 0;
+}
+
+std::string joined(const std::vector<std::string>& v) {
+    std::string s;
+    for (const auto& x : v) s += x + "\n";
+    return s;
+}
+
+// ---------------------------------------------------------------------------
+// The bundle and what the plugin declares
+// ---------------------------------------------------------------------------
+
+TEST(OfxBundle, LayoutInfoPlistAndExports) {
+    const fs::path bin = fs::path(kBundle) / "Contents" / OBSCURA_OFX_ARCH / "obscura.ofx";
+    ASSERT_TRUE(fs::is_regular_file(bin)) << bin;
+    const std::string plist = readText(fs::path(kBundle) / "Contents" / "Info.plist");
+    EXPECT_NE(plist.find("<key>CFBundleExecutable</key>"), std::string::npos);
+    EXPECT_NE(plist.find("<string>obscura.ofx</string>"), std::string::npos);
+    EXPECT_NE(plist.find("<string>BNDL</string>"), std::string::npos);
+
+    Host host(kBundle);
+    ASSERT_EQ(host.error(), "");
+    EXPECT_EQ(host.numberOfPlugins(), 1);
+    ASSERT_NE(host.plugin(), nullptr);
+    EXPECT_STREQ(host.plugin()->pluginApi, "OfxImageEffectPluginAPI");
+    EXPECT_EQ(host.plugin()->apiVersion, 1);
+    EXPECT_STREQ(host.plugin()->pluginIdentifier, "io.github.obscura.AmbientOcclusion");
+
+    // Only the two OFX entry points are exported: nothing of obscura (or its static
+    // dependencies) can clash with the host's own symbols.
+    const test::CliResult nm = test::runProgram("/usr/bin/nm", {"-D", "--defined-only", bin.string()});
+    if (nm.exitCode == 0) {
+        std::istringstream lines(nm.out);
+        std::string line;
+        std::vector<std::string> exported;
+        while (std::getline(lines, line)) {
+            std::istringstream f(line);
+            std::string addr, type, name;
+            f >> addr >> type >> name;
+            if (type == "T" || type == "D" || type == "B" || type == "R") exported.push_back(name);
+        }
+        std::sort(exported.begin(), exported.end());
+        EXPECT_EQ(exported, (std::vector<std::string>{"OfxGetNumberOfPlugins", "OfxGetPlugin"}));
+    }
+}
+
+// The header's strings are the standard's (both sides of the test use that header, so
+// check the ones the ABI hangs on against the specification's spelling).
+TEST(OfxApi, StringsAreTheStandardOnes) {
+    EXPECT_STREQ(kOfxActionDescribe, "OfxActionDescribe");
+    EXPECT_STREQ(kOfxImageEffectActionDescribeInContext, "OfxImageEffectActionDescribeInContext");
+    EXPECT_STREQ(kOfxImageEffectActionGetRegionsOfInterest, "OfxImageEffectActionGetRegionsOfInterest");
+    EXPECT_STREQ(kOfxImageEffectActionGetRegionOfDefinition, "OfxImageEffectActionGetRegionOfDefinition");
+    EXPECT_STREQ(kOfxImageEffectActionRender, "OfxImageEffectActionRender");
+    EXPECT_STREQ(kOfxImageEffectActionIsIdentity, "OfxImageEffectActionIsIdentity");
+    EXPECT_STREQ(kOfxImageEffectPropSupportedContexts, "OfxImageEffectPropSupportedContexts");
+    EXPECT_STREQ(kOfxImageEffectContextGeneral, "OfxImageEffectContextGeneral");
+    EXPECT_STREQ(kOfxImageClipPropRoI, "OfxImageClipPropRoI_");
+    EXPECT_STREQ(kOfxPropertySuite, "OfxPropertySuite");
+    EXPECT_STREQ(kOfxImageEffectSuite, "OfxImageEffectSuite");
+    EXPECT_STREQ(kOfxParameterSuite, "OfxParameterSuite");
+    EXPECT_STREQ(kOfxBitDepthFloat, "OfxBitDepthFloat");
+    EXPECT_STREQ(kOfxImagePropRowBytes, "OfxImagePropRowBytes");
+    EXPECT_EQ(kOfxStatReplyDefault, 14);
+    EXPECT_EQ(kOfxStatErrMissingHostFeature, 4);
+    EXPECT_EQ(sizeof(OfxPropertySuiteV1), 18 * sizeof(void*));
+    EXPECT_EQ(sizeof(OfxImageEffectSuiteV1), 15 * sizeof(void*));
+    EXPECT_EQ(sizeof(OfxParameterSuiteV1), 18 * sizeof(void*));
+}
+
+TEST(OfxDescribe, DeclaresContextsDepthsClipsAndParameters) {
+    Host host(kBundle);
+    ASSERT_EQ(host.error(), "");
+    ASSERT_EQ(host.load(), kOfxStatOK);
+    ASSERT_EQ(host.describe(), kOfxStatOK);
+    const auto suites = host.fetchedSuites();
+    for (const char* s : {"OfxPropertySuite v1", "OfxImageEffectSuite v1", "OfxParameterSuite v1"})
+        EXPECT_NE(std::find(suites.begin(), suites.end(), s), suites.end()) << s;
+
+    const PropertySet& d = host.descriptor().props;
+    EXPECT_EQ(d.strings(kOfxImageEffectPropSupportedContexts), (std::vector<std::string>{kOfxImageEffectContextGeneral}));
+    EXPECT_EQ(d.strings(kOfxImageEffectPropSupportedPixelDepths), (std::vector<std::string>{kOfxBitDepthFloat}));
+    EXPECT_EQ(d.string(kOfxImageEffectPluginRenderThreadSafety), kOfxImageEffectRenderFullySafe);
+    EXPECT_EQ(d.integer(kOfxImageEffectPropSupportsTiles), 1);
+    EXPECT_EQ(d.integer(kOfxImageEffectPropSupportsMultiResolution), 0);
+    EXPECT_EQ(d.integer(kOfxImageEffectPluginPropSingleInstance), 0);
+    EXPECT_EQ(d.integer(kOfxImageEffectPropTemporalClipAccess), 0);
+
+    struct ClipWant {
+        const char* name;
+        int optional;
+    };
+    for (ClipWant c : {ClipWant{"Source", 1}, {"Depth", 0}, {"Normal", 0}, {"Position", 1}, {"Albedo", 1}, {"Output", 0}}) {
+        const Clip* clip = host.descriptor().clip(c.name);
+        ASSERT_NE(clip, nullptr) << c.name;
+        EXPECT_EQ(clip->props.integer(kOfxImageClipPropOptional), c.optional) << c.name;
+        const auto comps = clip->props.strings(kOfxImageEffectPropSupportedComponents);
+        EXPECT_NE(std::find(comps.begin(), comps.end(), kOfxImageComponentRGBA), comps.end()) << c.name;
+    }
+    const ParamSet& params = host.descriptor().params;
+    for (const char* p : {"output", "strength", "method", "radius", "directions", "steps", "weighting", "falloff", "blur",
+                          "projection", "fovDeg", "orthoWidth", "cameraToWorld", "depthKind", "normalSpace", "skyDepth",
+                          "maxScreenRadius", "device", "threads"})
+        EXPECT_NE(params.find(p), nullptr) << p;
+    EXPECT_EQ(params.find("output")->props.strings(kOfxParamPropChoiceOption),
+              (std::vector<std::string>{"AO", "Beauty x AO"}));
+    EXPECT_EQ(params.find("radius")->props.doubles(kOfxParamPropDefault), (std::vector<double>{1.0}));
+    EXPECT_EQ(params.find("directions")->props.ints(kOfxParamPropDefault), (std::vector<int>{8}));
+    EXPECT_EQ(params.find("maxScreenRadius")->props.doubles(kOfxParamPropDefault), (std::vector<double>{256.0}));
+    EXPECT_EQ(params.find("device")->props.strings(kOfxParamPropChoiceOption),
+              (std::vector<std::string>{"cpu", "auto", "gl", "gl-egl", "gl-osmesa"}));
+}
+
+TEST(OfxDescribe, ClipPreferencesKeepDataRaw) {
+    const Config c;
+    const Scene s = makeScene(c);
+    Loaded l = instantiate(s);
+    ASSERT_TRUE(l.inst);
+    PropertySet prefs;
+    ASSERT_EQ(l.inst->clipPreferences(prefs), kOfxStatOK);
+    EXPECT_EQ(prefs.string("OfxImageClipPropPreferredColourspaces_Depth"), "Raw");
+    EXPECT_EQ(prefs.string("OfxImageClipPropPreferredColourspaces_Normal"), "Raw");
+    EXPECT_EQ(prefs.string("OfxImageClipPropDepth_Output"), kOfxBitDepthFloat);
+    EXPECT_EQ(prefs.string(kOfxImageEffectPropPreMultiplication), kOfxImageOpaque);
+    EXPECT_EQ(l.inst->effect().clip("Output")->props.string(kOfxImageClipPropColourspace), "Raw");
+}
+
+// ---------------------------------------------------------------------------
+// Identical to the CLI, whole frame and tiled
+// ---------------------------------------------------------------------------
+
+class OfxMatchesCli : public ::testing::TestWithParam<Config> {};
+
+TEST_P(OfxMatchesCli, WholeFrameAndTilesAreTheCliPixels) {
+    const Config c = GetParam();
+    const fs::path dir = testDir();
+    const Scene s = makeScene(c);
+    const std::vector<float> cli = runCli(c, s, dir);
+    ASSERT_FALSE(cli.empty());
+
+    Loaded l = instantiate(s);
+    ASSERT_TRUE(l.inst);
+    applyConfig(*l.inst, c, s);
+    OfxRectD rod{};
+    ASSERT_EQ(l.inst->regionOfDefinition(rod), kOfxStatOK);
+    EXPECT_EQ(rod.x1, s.depthClip.bounds.x1);
+    EXPECT_EQ(rod.y2, s.depthClip.bounds.y2);
+
+    std::vector<std::string> problems;
+    const HostImage whole = l.inst->renderFrame(0, 0, 1, problems);
+    EXPECT_EQ(joined(problems), "");
+    expectSameAsCli(whole, cli, s.buf.data, "whole frame");
+
+    for (auto [tw, th, threads] : {std::tuple{32, 32, 1}, std::tuple{17, 11, 3}, std::tuple{kW + 2 * c.overscan, 5, 2}}) {
+        problems.clear();
+        const HostImage tiled = l.inst->renderFrame(tw, th, threads, problems);
+        EXPECT_EQ(joined(problems), "") << tw << "x" << th;
+        EXPECT_TRUE(sameBits(tiled, whole)) << "tiles " << tw << "x" << th << " differ from the whole frame";
+        expectSameAsCli(tiled, cli, s.buf.data, "tiled");
+    }
+    EXPECT_EQ(l.host->messages(), std::vector<std::string>{});
+}
+
+Config cfg(std::string name) {
+    Config c;
+    c.name = std::move(name);
+    return c;
+}
+
+INSTANTIATE_TEST_SUITE_P(Configs, OfxMatchesCli,
+                         ::testing::Values(cfg("perspective"),
+                                           [] {
+                                               Config c = cfg("cosine_none_blur_auto_cap");
+                                               c.cosine = true, c.noFalloff = true, c.blur = 2, c.radius = 1.0;
+                                               c.maxScreenRadius = 0;
+                                               return c;
+                                           }(),
+                                           [] {
+                                               Config c = cfg("orthographic_overscan");
+                                               c.orthographic = true, c.overscan = 6, c.directions = 6, c.steps = 5;
+                                               return c;
+                                           }(),
+                                           [] {
+                                               Config c = cfg("radial_camera_normals");
+                                               c.depth = DepthKind::Radial, c.normals = NormalSpace::Camera;
+                                               c.blur = 1, c.overscan = 3;
+                                               return c;
+                                           }()),
+                         [](const ::testing::TestParamInfo<Config>& i) { return i.param.name; });
+
+// ---------------------------------------------------------------------------
+// Host behaviour: regions of interest, tiles, identity, instances
+// ---------------------------------------------------------------------------
+
+// With a cap the radius actually reaches, tiles still equal the whole frame, and each
+// tile asks for exactly its window plus the apron (cap + 2 + blur), clipped to the RoD.
+TEST(OfxHostBehaviour, PinnedCapTilesEqualWholeFrameWithExactApron) {
+    Config c;
+    c.radius = 3.0, c.maxScreenRadius = 7.5, c.blur = 2;
+    const Scene s = makeScene(c);
+    Loaded l = instantiate(s);
+    ASSERT_TRUE(l.inst);
+    applyConfig(*l.inst, c, s);
+
+    std::map<std::string, OfxRectD> rois;
+    ASSERT_EQ(l.inst->regionsOfInterest({40, 20, 56, 36}, rois), kOfxStatOK);
+    const int apron = 8 + 2 + 2;
+    const OfxRectD want{40.0 - apron, 20.0 - apron, 56.0 + apron, 36.0 + apron};
+    for (const char* clip : {"Depth", "Normal"}) {
+        EXPECT_EQ(rois[clip].x1, want.x1) << clip;
+        EXPECT_EQ(rois[clip].y1, want.y1) << clip;
+        EXPECT_EQ(rois[clip].x2, want.x2) << clip;
+        EXPECT_EQ(rois[clip].y2, want.y2) << clip;
+    }
+    // Near a corner the apron is clipped to the depth's RoD: never more than exists.
+    ASSERT_EQ(l.inst->regionsOfInterest({0, 0, 8, 8}, rois), kOfxStatOK);
+    EXPECT_EQ(rois["Depth"].x1, 0.0);
+    EXPECT_EQ(rois["Depth"].y1, 0.0);
+    EXPECT_EQ(rois["Depth"].x2, 8.0 + apron);
+    // Inputs the AO output does not read are not requested.
+    for (const char* clip : {"Source", "Position", "Albedo"}) {
+        EXPECT_EQ(rois[clip].x2 - rois[clip].x1, 0.0) << clip;
+    }
+
+    std::vector<std::string> problems;
+    const HostImage whole = l.inst->renderFrame(0, 0, 1, problems);
+    for (auto [tw, th] : {std::pair{8, 8}, std::pair{23, 9}, std::pair{1, 64}}) {
+        const HostImage tiled = l.inst->renderFrame(tw, th, 2, problems);
+        EXPECT_TRUE(sameBits(tiled, whole)) << tw << "x" << th;
+    }
+    EXPECT_EQ(joined(problems), "");
+    // The cap binds here, so the automatic (CLI) cap gives a different image: the pin matters.
+    ASSERT_EQ(l.inst->setDouble("maxScreenRadius", 0.0), kOfxStatOK);
+    const HostImage autoCap = l.inst->renderFrame(0, 0, 1, problems);
+    EXPECT_FALSE(sameBits(autoCap, whole));
+}
+
+TEST(OfxHostBehaviour, PositiveRowBytesAndAlphaOutput) {
+    const Config c;
+    const Scene s = makeScene(c);
+    Loaded rgba = instantiate(s);
+    ASSERT_TRUE(rgba.inst);
+    applyConfig(*rgba.inst, c, s);
+    std::vector<std::string> problems;
+    const HostImage ref = rgba.inst->renderFrame(0, 0, 1, problems);
+    rgba.reset();
+
+    Loaded alpha = instantiate(s, false, 1);
+    ASSERT_TRUE(alpha.inst);
+    alpha.host->negativeRowBytes = false;
+    applyConfig(*alpha.inst, c, s);
+    const HostImage a = alpha.inst->renderFrame(16, 16, 2, problems);
+    EXPECT_EQ(joined(problems), "");
+    ASSERT_EQ(a.components, 1);
+    for (size_t i = 0; i < a.pixels.size(); ++i) ASSERT_EQ(a.pixels[i], ref.pixels[i * 4]) << i;
+}
+
+TEST(OfxHostBehaviour, BeautyTimesAoAndIdentityWhenOff) {
+    const Config c;
+    const Scene s = makeScene(c);
+    Loaded l = instantiate(s, true);
+    ASSERT_TRUE(l.inst);
+    applyConfig(*l.inst, c, s);
+    std::vector<std::string> problems;
+    const HostImage ao = l.inst->renderFrame(0, 0, 1, problems);
+
+    ASSERT_EQ(l.inst->setInt("output", 1), kOfxStatOK);
+    std::map<std::string, OfxRectD> rois;
+    ASSERT_EQ(l.inst->regionsOfInterest({10, 10, 20, 20}, rois), kOfxStatOK);
+    EXPECT_EQ(rois["Source"].x1, 10.0);  // the beauty is read under the window only
+    EXPECT_EQ(rois["Source"].x2, 20.0);
+    const HostImage lit = l.inst->renderFrame(24, 16, 2, problems);
+    EXPECT_EQ(joined(problems), "");
+    for (int y = lit.bounds.y1; y < lit.bounds.y2; ++y)
+        for (int x = lit.bounds.x1; x < lit.bounds.x2; ++x) {
+            const float* b = s.beautyClip.at(x, y);
+            const float a = ao.at(x, y)[0];
+            const float* o = lit.at(x, y);
+            ASSERT_EQ(o[0], b[0] * a);
+            ASSERT_EQ(o[1], b[1] * a);
+            ASSERT_EQ(o[2], b[2] * a);
+            ASSERT_EQ(o[3], b[3]);
+        }
+
+    // Strength 0 is "off": an identity on Source, so the host need not render at all.
+    ASSERT_EQ(l.inst->setDouble("strength", 0.0), kOfxStatOK);
+    std::string clip;
+    EXPECT_EQ(l.inst->isIdentity({0, 0, kW, kH}, clip), kOfxStatOK);
+    EXPECT_EQ(clip, "Source");
+    ASSERT_EQ(l.inst->setInt("output", 0), kOfxStatOK);
+    EXPECT_EQ(l.inst->isIdentity({0, 0, kW, kH}, clip), kOfxStatReplyDefault);
+    ASSERT_EQ(l.inst->regionsOfInterest({10, 10, 20, 20}, rois), kOfxStatOK);
+    EXPECT_EQ(rois["Depth"].x2 - rois["Depth"].x1, 0.0);  // AO off reads no depth
+    const HostImage white = l.inst->renderFrame(0, 0, 1, problems);
+    EXPECT_EQ(joined(problems), "");
+    for (int y = white.bounds.y1; y < white.bounds.y2; ++y)
+        for (int x = white.bounds.x1; x < white.bounds.x2; ++x) ASSERT_EQ(white.at(x, y)[0], 1.0f);
+}
+
+// Two instances with different settings, rendering at the same time, each get their own result.
+TEST(OfxHostBehaviour, InstancesShareNoState) {
+    Config c1, c2;
+    c2.radius = 1.5, c2.cosine = true, c2.directions = 4;
+    const Scene s = makeScene(c1);
+    Loaded l = instantiate(s);
+    ASSERT_TRUE(l.inst);
+    applyConfig(*l.inst, c1, s);
+    ProjectSetup project;
+    project.width = kW, project.height = kH;
+    OfxStatus st = kOfxStatFailed;
+    auto second = l.host->createInstance(project, {{"Depth", &s.depthClip}, {"Normal", &s.normalClip}}, &st);
+    ASSERT_EQ(st, kOfxStatOK);
+    applyConfig(*second, c2, s);
+
+    std::vector<std::string> p1, p2;
+    const HostImage a = l.inst->renderFrame(0, 0, 1, p1);
+    const HostImage b = second->renderFrame(0, 0, 1, p1);
+    EXPECT_FALSE(sameBits(a, b));
+    HostImage a2, b2;
+    std::thread t1([&] { a2 = l.inst->renderFrame(20, 20, 2, p1); });
+    std::thread t2([&] { b2 = second->renderFrame(13, 30, 2, p2); });
+    t1.join();
+    t2.join();
+    EXPECT_EQ(joined(p1) + joined(p2), "");
+    EXPECT_TRUE(sameBits(a, a2));
+    EXPECT_TRUE(sameBits(b, b2));
+}
+
+TEST(OfxHostBehaviour, FailuresAreReportedThroughTheMessageSuite) {
+    const Config c;
+    const Scene s = makeScene(c);
+    Loaded l = instantiate(s);
+    ASSERT_TRUE(l.inst);
+    applyConfig(*l.inst, c, s);
+    ASSERT_EQ(l.inst->setString("cameraToWorld", ""), kOfxStatOK);  // world normals without a pose
+    HostImage frame(OfxRectI{0, 0, kW, kH}, 4);
+    EXPECT_EQ(l.inst->render({0, 0, 16, 16}, frame), kOfxStatFailed);
+    const auto msgs = l.host->messages();
+    ASSERT_EQ(msgs.size(), 1u);
+    EXPECT_NE(msgs[0].find("OfxMessageError"), std::string::npos) << msgs[0];
+    EXPECT_NE(msgs[0].find("camera pose"), std::string::npos) << msgs[0];
+    EXPECT_EQ(l.host->liveImages(), 0);
+
+    ASSERT_EQ(l.inst->setString("cameraToWorld", "1,2,3"), kOfxStatOK);
+    EXPECT_EQ(l.inst->render({0, 0, 16, 16}, frame), kOfxStatFailed);
+    EXPECT_EQ(l.host->liveImages(), 0);
+}
+
+// ---------------------------------------------------------------------------
+// cmake --install lays out a bundle a host can load from OFX_PLUGIN_PATH
+// ---------------------------------------------------------------------------
+
+TEST(OfxInstall, CmakeInstallLaysOutALoadableBundle) {
+    const fs::path prefix = testDir() / "prefix";
+    const test::CliResult r = test::runProgram(
+        OBSCURA_CMAKE_COMMAND, {"--install", OBSCURA_BUILD_DIR, "--prefix", prefix.string(), "--component", "ofx"});
+    ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+    const fs::path bundle = prefix / "OFX" / "Plugins" / "obscura.ofx.bundle";
+    EXPECT_TRUE(fs::is_regular_file(bundle / "Contents" / "Info.plist"));
+    EXPECT_TRUE(fs::is_regular_file(bundle / "Contents" / OBSCURA_OFX_ARCH / "obscura.ofx"));
+    // Nothing else is installed by the component.
+    std::vector<std::string> files;
+    for (const auto& e : fs::recursive_directory_iterator(prefix))
+        if (e.is_regular_file()) files.push_back(fs::relative(e.path(), prefix).string());
+    std::sort(files.begin(), files.end());
+    EXPECT_EQ(files, (std::vector<std::string>{"OFX/Plugins/obscura.ofx.bundle/Contents/Info.plist",
+                                               std::string("OFX/Plugins/obscura.ofx.bundle/Contents/") +
+                                                   OBSCURA_OFX_ARCH + "/obscura.ofx"}));
+
+    // The installed copy renders the same pixels as the build tree's.
+    const Config c;
+    const Scene s = makeScene(c);
+    std::vector<std::string> problems;
+    Loaded built = instantiate(s);
+    ASSERT_TRUE(built.inst);
+    applyConfig(*built.inst, c, s);
+    const HostImage a = built.inst->renderFrame(0, 0, 1, problems);
+    built.reset();
+    Loaded installed = instantiate(s, false, 4, bundle.string());
+    ASSERT_TRUE(installed.inst);
+    applyConfig(*installed.inst, c, s);
+    const HostImage b = installed.inst->renderFrame(32, 32, 1, problems);
+    EXPECT_EQ(joined(problems), "");
+    EXPECT_TRUE(sameBits(a, b));
+}
+
+} // namespace
