@@ -1,0 +1,367 @@
+"""The obscura Python module: parity with the CLI, argument checking, zero-copy views, files."""
+import json
+import os
+import threading
+import time
+import tracemalloc
+
+import numpy as np
+import pytest
+
+import obscura
+from conftest import (CLI, FOV_DEG, SAMPLES, cli_matrix, pose_matrix, read_channel, run_cli, synthetic_scene,
+                      write_exr)
+
+ROOM = SAMPLES / "room.exr"
+
+
+def camera(width=96, height=64):
+    return obscura.Camera.perspective(FOV_DEG, width, height, camera_to_world=pose_matrix())
+
+
+# Each case: keyword arguments of compute_ao, and the same as CLI flags (in the CLI's order).
+CASES = {
+    "defaults": ({}, []),
+    "cosine-none-blur": (dict(radius=0.7, directions=6, steps=5, weighting="cosine", falloff="none", blur=2),
+                         ["--radius", 0.7, "--directions", 6, "--steps", 5, "--weighting", "cosine",
+                          "--falloff", "none", "--blur", 2]),
+    "quality-low-steps": (dict(quality="low", steps=6, radius=1.5), ["--quality", "low", "--steps", 6, "--radius", 1.5]),
+}
+
+
+@pytest.mark.parametrize("case", sorted(CASES))
+def test_compute_ao_matches_cli_exactly(tmp, case):
+    kwargs, flags = CASES[case]
+    depth, normal = synthetic_scene()
+    src, out = tmp / "scene.exr", tmp / "scene_ao.exr"
+    write_exr(src, depth, normal)
+    run_cli(src, "-o", out, "--preset", "generic", "--fov-deg", FOV_DEG, "--camera-to-world",
+            cli_matrix(pose_matrix()), "--out-type", "float", "--quiet", *flags)
+    expected = read_channel(out, "obscura.AO.Y")
+
+    ao = obscura.compute_ao(depth, normal, camera=camera(), **kwargs)
+    assert ao.shape == depth.shape and ao.dtype == np.float32
+    assert ao.flags.c_contiguous
+    np.testing.assert_array_equal(ao, expected)
+    assert 0.0 <= ao.min() < 0.999 and ao.max() <= 1.0  # the scene does occlude something
+    assert np.all(ao[:6, :48] == 1.0)                    # sky pixels
+
+
+def test_process_matches_cli_and_returns_report(tmp):
+    depth, normal = synthetic_scene()
+    src = tmp / "scene.exr"
+    write_exr(src, depth, normal, sidecar=True)        # camera from scene.json, as the CLI finds it
+    cli_out, py_out, report_path = tmp / "cli.exr", tmp / "py.exr", tmp / "py.json"
+    run_cli(src, "-o", cli_out, "--radius", 0.8, "--weighting", "cosine", "--out-type", "float", "--quiet")
+    report = obscura.process(src, py_out, radius=0.8, weighting="cosine", out_type="float", report=report_path)
+    assert py_out.exists()
+    np.testing.assert_array_equal(read_channel(py_out, "obscura.AO.Y"), read_channel(cli_out, "obscura.AO.Y"))
+    assert report["settings"]["radius"] == pytest.approx(0.8)
+    assert report["settings"]["weighting"] == "cosine"
+    assert report["output_channels"] == {"ao": "obscura.AO.Y"}
+    assert report["camera"]["source"].startswith("sidecar:")
+    assert report["stats"]["pixels"] == depth.size
+    assert report["stats"]["sky_pixels"] == 6 * 48
+    assert {"read", "camera", "compute", "write"} <= set(report["timings_s"])
+    assert json.loads(report_path.read_text()) == report
+    # The passes of the same file through the arrays path give the same AO.
+    passes = obscura.read_passes(src)
+    np.testing.assert_array_equal(obscura.ao_from_passes(passes, radius=0.8, weighting="cosine"),
+                                  read_channel(py_out, "obscura.AO.Y"))
+
+
+def test_process_options(tmp):
+    depth, normal = synthetic_scene()
+    src = tmp / "scene.exr"
+    write_exr(src, depth, normal)
+    out, preview = tmp / "out.exr", tmp / "out.png"
+    report = obscura.process(str(src), str(out), fov_deg=FOV_DEG, camera_to_world=pose_matrix().reshape(-1),
+                             preset="generic", out_layer={"ao": "occ"}, preview=preview, quality="low", threads=1)
+    assert report["output_channels"] == {"ao": "occ.Y"}
+    assert report["settings"]["directions"] == 4 and report["settings"]["threads"] == 1
+    assert preview.exists() and preview.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert obscura.read_layer(out, "occ").shape == depth.shape
+    with pytest.raises(obscura.Error, match="refusing to overwrite"):
+        obscura.process(src, src)
+
+
+def test_read_passes_room_sample():
+    p = obscura.read_passes(ROOM)
+    assert p["depth"].shape == (320, 320) and p["depth"].dtype == np.float32
+    assert p["normal"].shape == (320, 320, 3) and p["normal"].dtype == np.float32
+    assert p["position"].shape == (320, 320, 3)
+    assert p["preset"] == "blender"
+    assert p["layers"]["depth"] == ["ViewLayer.Depth.Z"]
+    assert p["data_window"] == (0, 0, 320, 320) and p["display_window"] == (0, 0, 320, 320)
+    assert p["normals"] == "world" and p["depth_kind"] == "planar"
+    cam = p["camera"]
+    assert isinstance(cam, obscura.Camera) and cam.has_pose and cam.source.startswith("sidecar:")
+    side = obscura.Camera.from_sidecar(SAMPLES / "room.json", 320, 320)
+    assert side.fx == cam.fx and np.array_equal(side.camera_to_world, cam.camera_to_world)
+    n = np.linalg.norm(p["normal"], axis=-1)
+    surface = (p["depth"] > 0) & (p["depth"] < p["sky_depth"])
+    assert surface.any() and abs(np.median(n[surface]) - 1.0) < 0.02  # unit, but averaged at edges
+    # The planes match an independent reader.
+    np.testing.assert_array_equal(p["depth"], read_channel(ROOM, "ViewLayer.Depth.Z"))
+
+
+def test_room_arrays_match_process_and_cli(tmp):
+    settings = dict(radius=1.0, weighting="cosine", falloff="none")
+    p = obscura.read_passes(ROOM)
+    ao = obscura.ao_from_passes(p, **settings)
+    report = obscura.process(ROOM, tmp / "room_ao.exr", out_type="float", reference="ViewLayer.AO", **settings)
+    np.testing.assert_array_equal(ao, obscura.read_layer(tmp / "room_ao.exr", "obscura.AO.Y"))
+    run_cli(ROOM, "-o", tmp / "room_cli.exr", "--radius", 1, "--weighting", "cosine", "--falloff", "none",
+            "--out-type", "float", "--quiet")
+    np.testing.assert_array_equal(ao, read_channel(tmp / "room_cli.exr", "obscura.AO.Y"))
+    ref = report["reference"]
+    assert ref["layer"] == "ViewLayer.AO" and 18.0 < ref["psnr_db"] < 40.0
+
+
+def test_read_layer(tmp):
+    n = obscura.read_layer(ROOM, "ViewLayer.Normal")
+    assert n.shape == (320, 320, 3)
+    np.testing.assert_array_equal(n, obscura.read_passes(ROOM)["normal"])
+    assert obscura.read_layer(ROOM, "ViewLayer.Depth.Z").shape == (320, 320)
+    with pytest.raises(obscura.Error, match="no channel or layer 'nope'"):
+        obscura.read_layer(ROOM, "nope")
+
+
+# ---------------------------------------------------------------------------------------------
+# Argument checking
+
+@pytest.fixture
+def scene():
+    depth, normal = synthetic_scene()
+    return depth, normal, camera()
+
+
+@pytest.mark.parametrize("bad", [
+    lambda d, n: (d, n[..., 0]),                         # 2-D normal
+    lambda d, n: (d, n[..., :2]),                        # 2 components
+    lambda d, n: (d[..., None], n),                      # 3-D depth
+    lambda d, n: (d[:-1], n),                            # mismatched sizes
+    lambda d, n: (d, n[:, :-1]),
+    lambda d, n: (d[:0], n[:0]),                         # empty
+    lambda d, n: (d.astype(np.float64), n),              # dtypes
+    lambda d, n: (d, n.astype(np.float64)),
+    lambda d, n: (np.ones(d.shape, np.int32), n),
+    lambda d, n: (d, n.astype(np.float16)),
+    lambda d, n: (d.astype(">f4"), n),                   # byte-swapped float32
+    lambda d, n: (d, np.ascontiguousarray(np.moveaxis(n, -1, 0)).transpose(1, 2, 0)),  # planar components
+], ids=["normal-2d", "normal-2ch", "depth-3d", "rows", "cols", "empty", "depth-f64", "normal-f64",
+        "depth-int", "normal-f16", "depth-bigendian", "normal-planar"])
+def test_bad_arrays_raise_value_error(scene, bad):
+    depth, normal, cam = scene
+    d, n = bad(depth, normal)
+    with pytest.raises(ValueError) as e:
+        obscura.compute_ao(d, n, camera=cam)
+    assert "\n" not in str(e.value)
+
+
+def test_messages_say_what_is_expected(scene):
+    depth, normal, cam = scene
+    with pytest.raises(ValueError, match=r"normal must have shape \(H, W, 3\), got \(64, 96\)"):
+        obscura.compute_ao(depth, normal[..., 0], camera=cam)
+    with pytest.raises(ValueError, match=r"depth must have dtype float32.*got float64.*astype"):
+        obscura.compute_ao(depth.astype(np.float64), normal, camera=cam)
+    with pytest.raises(ValueError, match="same size"):
+        obscura.compute_ao(depth[1:], normal, camera=cam)
+    with pytest.raises(TypeError, match="numpy.ndarray"):
+        obscura.compute_ao(depth.tolist(), normal, camera=cam)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(radius=0), "radius must be a positive"),
+    (dict(radius=-1.0), "radius must be a positive"),
+    (dict(radius=float("nan")), "radius must be finite"),
+    (dict(directions=0), "directions must be between 1 and 256"),
+    (dict(steps=1000), "steps must be between 1 and 256"),
+    (dict(blur=-1), "blur must be between 0 and 64"),
+    (dict(threads=-2), "threads must be between"),
+    (dict(weighting="cos"), "weighting must be 'uniform' or 'cosine'"),
+    (dict(falloff="exp"), "falloff must be 'linear' or 'none'"),
+    (dict(quality="max"), "quality must be"),
+    (dict(method="ssao"), "method must be one of 'hbao'"),
+    (dict(device="cuda"), "device must be"),
+    (dict(normals="object"), "normals must be 'world' or 'camera'"),
+    (dict(depth_kind="z"), "depth_kind must be 'planar' or 'radial'"),
+    (dict(sky_depth=0.0), "sky_depth must be positive"),
+    (dict(data_window=(0, 0, 10, 10)), "data_window is 10x10"),
+    (dict(data_window=(0, 0, 1)), "data_window must be"),
+])
+def test_bad_settings_raise_value_error(scene, kwargs, match):
+    depth, normal, cam = scene
+    with pytest.raises(ValueError, match=match):
+        obscura.compute_ao(depth, normal, camera=cam, **kwargs)
+
+
+def test_wrong_types_raise_type_error(scene):
+    depth, normal, cam = scene
+    with pytest.raises(TypeError):
+        obscura.compute_ao(depth, normal, camera=cam, directions=2.5)
+    with pytest.raises(TypeError):
+        obscura.compute_ao(depth, normal, camera="room.json")
+    with pytest.raises(TypeError):
+        obscura.compute_ao(depth, normal)                       # camera is required
+    with pytest.raises(TypeError):
+        obscura.compute_ao(depth, normal, camera=cam, radiuss=1)  # unknown keyword
+
+
+def test_camera_checks(scene):
+    depth, normal, _ = scene
+    unposed = obscura.Camera.perspective(FOV_DEG, 96, 64)
+    with pytest.raises(ValueError, match="needs the camera's pose"):
+        obscura.compute_ao(depth, normal, camera=unposed)
+    # Camera-space normals need no pose.
+    n_cam = (normal.reshape(-1, 3) @ pose_matrix()[:3, :3]).reshape(normal.shape).astype(np.float32)
+    a = obscura.compute_ao(depth, n_cam, camera=unposed, normals="camera")
+    b = obscura.compute_ao(depth, normal, camera=camera())
+    assert np.abs(a - b).max() < 1e-3
+    with pytest.raises(ValueError, match="fov_deg must be between 0 and 180"):
+        obscura.Camera.perspective(180, 96, 64)
+    with pytest.raises(ValueError, match="camera_to_world must be a 4x4"):
+        obscura.Camera.perspective(40, 96, 64, camera_to_world=np.eye(3))
+    with pytest.raises(ValueError, match="camera_to_world"):
+        obscura.Camera.perspective(40, 96, 64, camera_to_world=np.zeros((4, 4)))
+    with pytest.raises(ValueError, match="width and height"):
+        obscura.Camera.orthographic(2.0, 0, 64)
+
+
+def test_camera_properties():
+    m = pose_matrix()
+    c = obscura.Camera.perspective(60.0, 200, 100, camera_to_world=m)
+    assert c.projection == "perspective" and c.has_pose
+    assert c.fx == pytest.approx(100 / np.tan(np.radians(30))) and c.fy == c.fx
+    assert (c.cx, c.cy) == (100.0, 50.0)
+    assert c.horizontal_fov_deg(200) == pytest.approx(60.0)
+    np.testing.assert_allclose(c.camera_to_world, m)
+    c.camera_to_world = None
+    assert not c.has_pose and c.camera_to_world is None
+    o = obscura.Camera.orthographic(4.0, 200, 100)
+    assert o.projection == "orthographic" and o.fx == 50.0 and o.horizontal_fov_deg(200) == 0.0
+    k = obscura.Camera(300.0, cx=50, cy=40, camera_to_world=m.tolist())
+    assert k.fy == 300.0 and k.has_pose and "perspective" in repr(k)
+
+
+# ---------------------------------------------------------------------------------------------
+# Zero-copy views
+
+def test_strided_views_give_the_same_result(scene):
+    depth, normal, cam = scene
+    expected = obscura.compute_ao(depth, normal, camera=cam)
+    # Every other pixel of a 2x larger buffer: strides (2 rows, 2 pixels).
+    big_d = np.zeros((128, 192), np.float32)
+    big_n = np.zeros((128, 192, 4), np.float32)   # RGBA-like interleave, normal in the first 3
+    big_d[::2, ::2] = depth
+    big_n[::2, ::2, :3] = normal
+    d_view, n_view = big_d[::2, ::2], big_n[::2, ::2, :3]
+    assert not d_view.flags.c_contiguous and not n_view.flags.c_contiguous
+    np.testing.assert_array_equal(obscura.compute_ao(d_view, n_view, camera=cam), expected)
+    # Column-major depth, reversed-row (negative stride) views.
+    np.testing.assert_array_equal(obscura.compute_ao(np.asfortranarray(depth), normal, camera=cam), expected)
+    flipped = obscura.compute_ao(np.ascontiguousarray(depth[::-1])[::-1], np.ascontiguousarray(normal[::-1])[::-1],
+                                 camera=cam)
+    np.testing.assert_array_equal(flipped, expected)
+    # Read-only arrays are fine: nothing is written to the inputs.
+    d_ro = depth.copy()
+    d_ro.flags.writeable = False
+    np.testing.assert_array_equal(obscura.compute_ao(d_ro, normal, camera=cam), expected)
+
+
+def test_inputs_are_not_copied():
+    # A broadcast normal (stride 0) is 12 bytes of memory; a copy would allocate H*W*3 floats.
+    h, w = 512, 768
+    depth = np.full((h, w), 6.0, np.float32)
+    normal = np.broadcast_to(np.array([0.0, 0.0, 1.0], np.float32), (h, w, 3))
+    cam = obscura.Camera.perspective(40.0, w, h, camera_to_world=np.eye(4))
+    tracemalloc.start()
+    try:
+        ao = obscura.compute_ao(depth, normal, camera=cam, directions=2, steps=2)
+        _, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    assert peak < h * w * 4 // 4, f"{peak} bytes traced: the inputs were copied"
+    assert np.allclose(ao, 1.0, atol=1e-5)   # an infinite plane facing the camera is unoccluded
+
+
+def test_result_owns_its_memory(scene):
+    depth, normal, cam = scene
+    ao = obscura.compute_ao(depth, normal, camera=cam)
+    del depth, normal
+    ao2 = ao.copy()
+    ao[:] = 0.5
+    assert ao.base is not None and ao2.min() < 1.0
+
+
+def test_gil_is_released_while_computing():
+    h, w = 384, 512
+    depth, normal = synthetic_scene(w, h)
+    cam = obscura.Camera.perspective(FOV_DEG, w, h, camera_to_world=pose_matrix())
+    done = {}
+
+    def work():
+        t0 = time.perf_counter()
+        obscura.compute_ao(depth, normal, camera=cam, directions=24, steps=16, threads=1)
+        done["t"] = time.perf_counter() - t0
+
+    ticks = []
+    worker = threading.Thread(target=work)
+    worker.start()
+    while worker.is_alive():
+        ticks.append(time.perf_counter())
+        time.sleep(0.001)
+    worker.join()
+    duration = done["t"]
+    gaps = np.diff(ticks) if len(ticks) > 1 else np.array([duration])
+    if duration < 0.2:
+        pytest.skip(f"compute too fast ({duration:.3f} s) to observe")
+    assert gaps.max() < 0.5 * duration, f"main thread stalled {gaps.max():.3f} s of {duration:.3f} s"
+
+
+# ---------------------------------------------------------------------------------------------
+# File errors
+
+def test_missing_file_raises_obscura_error(tmp):
+    missing = tmp / "nope.exr"
+    for call in (lambda: obscura.read_passes(missing), lambda: obscura.process(missing, tmp / "o.exr"),
+                 lambda: obscura.inspect(missing), lambda: obscura.read_layer(missing, "Z")):
+        with pytest.raises(obscura.Error) as e:
+            call()
+        msg = str(e.value)
+        assert isinstance(e.value, RuntimeError)
+        assert "\n" not in msg and str(missing) in msg and "no such file" in msg
+    assert not (tmp / "o.exr").exists()
+
+
+def test_file_errors_leave_nothing_behind(tmp):
+    not_exr = tmp / "text.exr"
+    not_exr.write_text("hello")
+    with pytest.raises(obscura.Error, match="not an OpenEXR file"):
+        obscura.process(not_exr, tmp / "o.exr")
+    with pytest.raises(obscura.Error, match="does not exist"):
+        obscura.process(ROOM, tmp / "missing-dir" / "o.exr")
+    with pytest.raises(obscura.Error, match="no reference layer"):
+        obscura.process(ROOM, tmp / "o.exr", reference="NoSuchLayer")
+    assert sorted(p.name for p in tmp.iterdir()) == ["text.exr"]
+
+
+def test_process_bad_keywords_raise_value_error(tmp):
+    for kwargs, match in [(dict(preset="maya"), "preset must be one of"), (dict(layer={"colour": "X"}), "unknown role"),
+                          (dict(out_type="double"), "out_type must be one of"), (dict(fov_deg=0), "fov_deg"),
+                          (dict(fov_deg=40, ortho_width=2), "not both"), (dict(bad_pixels="ignore"), "bad_pixels"),
+                          (dict(out_layer={"gi": "x"}), "unknown output"), (dict(camera_to_world=[1, 2]), "4x4")]:
+        with pytest.raises(ValueError, match=match):
+            obscura.process(ROOM, tmp / "o.exr", **kwargs)
+    assert not (tmp / "o.exr").exists()
+
+
+def test_inspect_and_metadata():
+    text = obscura.inspect(ROOM)
+    assert "preset:  blender" in text and "ViewLayer.Depth.Z" in text
+    assert obscura.__version__.count(".") == 2
+    assert obscura.QUALITY_PRESETS["low"] == {"directions": 4, "steps": 4, "blur": 2}
+    assert "blender" in obscura.PRESETS
+    assert issubclass(obscura.Error, RuntimeError)
+    for f in (obscura.compute_ao, obscura.read_passes, obscura.process, obscura.ao_from_passes):
+        assert f.__doc__ and len(f.__doc__) > 200
