@@ -1,0 +1,28 @@
+// The per-scene contact sheet: a 2 x 2 PNG of
+//   top-left  the input beauty (ViewLayer.Combined, clamped, sRGB OETF)
+//   top-right obscura's AO           bottom-left the converged reference AO
+//   bottom-right |obscura - reference| as a heat map (inferno, 0 .. heatMax, sky grey),
+//                with a scale bar under it.
+// AO panels are data shown as grey levels with no transfer function (0.5 -> 128).
+#pragma once
+#include "core/image.h"
+
+#include <string>
+
+namespace report {
+
+struct SheetPanels {
+    std::string exrPath;                 // beauty source (ViewLayer.Combined.R/G/B)
+    const obscura::Image* ao = nullptr;  // one channel, same size as the EXR
+    const obscura::Image* reference = nullptr;
+    const obscura::Image* depth = nullptr;  // sky where depth is not in (0, skyDepth)
+    float skyDepth = 1e9f;
+    std::string aoLabel, referenceLabel;  // e.g. "obscura hbao high cpu", "reference 1024 rays"
+    double heatMax = 0.25;                // |error| mapped to the top of the colour scale
+};
+
+// Writes the sheet as an 8-bit PNG. Returns false when text could not be drawn (no font
+// OpenImageIO can find): the sheet is then written without labels. Throws on I/O failure.
+bool writeContactSheet(const std::string& pngPath, const SheetPanels& panels);
+
+} // namespace report

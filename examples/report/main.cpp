@@ -1,0 +1,242 @@
+// obscura_report: the error-against-run-time report (DESIGN.md, "Error report").
+// For each scene: a converged ray-traced reference (cached), the ray tracer's own
+// error-versus-time curve, then every method x quality preset x device of obscura,
+// timed (median after a warm-up) and measured against the reference over non-sky
+// pixels. Writes results.csv, results.json, <scene>_sheet.png and error_vs_time.png.
+#include "contact_sheet.h"
+#include "obscura_runs.h"
+#include "reference_runs.h"
+#include "report_options.h"
+#include "results_table.h"
+#include "timing.h"
+
+#include "core/error.h"
+#include "core/settings.h"
+
+#include <cstdarg>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <filesystem>
+#include <thread>
+
+namespace fs = std::filesystem;
+using namespace report;
+
+namespace {
+
+std::string shellQuote(const std::string& s) {
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+void progress(const char* format, ...) __attribute__((format(printf, 1, 2)));
+void progress(const char* format, ...) {
+    va_list args;
+    va_start(args, format);
+    std::vprintf(format, args);
+    va_end(args);
+    std::fflush(stdout);
+}
+
+std::string metricsText(const obscura::ErrorMetrics& m) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "RMSE %.4f, PSNR %.1f dB, p99 %.3f", m.rmse, m.psnr, m.p99);
+    return buf;
+}
+
+// Devices that can be made here; the others are skipped with the reason kept for the JSON.
+std::vector<std::string> usableDevices(const std::vector<std::string>& wanted, nlohmann::json& skipped) {
+    std::vector<std::string> usable;
+    for (const std::string& d : wanted) {
+        obscura::Settings s;
+        s.device = d;
+        try {
+            progress("device %s: %s\n", d.c_str(), obscura::describeDevice(s).c_str());
+            usable.push_back(d);
+        } catch (const std::exception& e) {
+            progress("device %s: unavailable, skipped (%s)\n", d.c_str(), e.what());
+            skipped[d] = e.what();
+        }
+    }
+    return usable;
+}
+
+nlohmann::json presetTable() {
+    nlohmann::json t = nlohmann::json::array();
+    for (const obscura::QualityPreset& p : obscura::qualityPresets())
+        t.push_back({{"name", p.name}, {"directions", p.directions}, {"steps", p.steps}, {"blur", p.blur},
+                     {"samples_per_pixel", p.directions * p.steps}});
+    return t;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    const ReportOptions o = parseReportOptions(argc, argv);
+    const ReferenceSettings& rs = o.reference;
+    const Clock::time_point start = Clock::now();
+    try {
+        fs::create_directories(o.outDir);
+        fs::create_directories(o.cacheDir);
+        nlohmann::json skippedDevices = nlohmann::json::object();
+        const std::vector<std::string> devices = usableDevices(o.devices, skippedDevices);
+        std::vector<ResultRow> rows;
+        nlohmann::json scenes = nlohmann::json::array();
+        bool labels = true;
+        const int sceneCount = int(o.scenes.size());
+        for (int si = 0; si < sceneCount; ++si) {
+            const std::string& name = o.scenes[si];
+            char tag[96];
+            std::snprintf(tag, sizeof tag, "[scene %d/%d %s]", si + 1, sceneCount, name.c_str());
+            progress("%s building the scene and its BVH\n", tag);
+            const SceneRig rig(name, rs.width, rs.height);
+
+            progress("%s converged reference: %d AO rays per pixel at %dx%d ...\n", tag, rs.convergedRays, rs.width,
+                     rs.height);
+            const ConvergedReference conv = ensureConvergedReference(rig, rs, o.cacheDir);
+            if (conv.cached) progress("%s   reused %s\n", tag, conv.path.c_str());
+            else progress("%s   rendered in %.1f s -> %s\n", tag, conv.seconds, conv.path.c_str());
+            const LoadedFrame frame = loadFrame(conv.path, o.definition.exrLayer());
+            const obscura::Image& truth = frame.passes.reference;
+
+            ResultRow base;
+            base.scene = name;
+            base.definition = o.definition.name;
+            base.width = rs.width;
+            base.height = rs.height;
+            base.radius = frame.radius;
+
+            for (int rays : rs.curveRays) {
+                const TracedAo t = traceAo(rig, rs, rays, o.definition.referenceLayer);
+                ResultRow r = base;
+                r.method = "raytrace";
+                r.preset = "rays-" + std::to_string(rays);
+                r.device = "cpu-embree";
+                r.deviceDetail = "Embree 3, " + std::to_string(std::max(1u, std::thread::hardware_concurrency())) +
+                                 " threads; both weightings traced";
+                r.rays = rays;
+                r.runs = t.runs;
+                r.timeMs = 1e3 * t.medianSeconds;
+                r.stageMs = {{"render", r.timeMs}};
+                r.metrics = nonSkyError(t.ao, truth, frame);
+                progress("%s raytrace %4d rays: %9.2f ms, %s\n", tag, rays, r.timeMs, metricsText(r.metrics).c_str());
+                rows.push_back(r);
+            }
+
+            const obscura::OperatorInputs in = operatorInputs(frame);
+            obscura::Image sheetAo;
+            std::string sheetLabel;
+            for (const std::string& method : o.methods)
+                for (const std::string& preset : o.presets)
+                    for (const std::string& device : devices) {
+                        obscura::Settings s;
+                        s.method = method;
+                        applyQualityPreset(preset, s);
+                        s.radius = float(frame.radius);
+                        s.weighting = o.definition.weighting;
+                        s.falloff = o.definition.falloff;
+                        s.skyDepth = frame.skyDepth;
+                        s.device = device;
+                        TimedOperator t = timeOperator(in, s, rs.runs, rs.runBudgetSeconds);
+                        ResultRow r = base;
+                        r.method = method;
+                        r.preset = preset;
+                        r.device = device;
+                        r.deviceDetail = t.deviceDetail;
+                        r.directions = s.directions;
+                        r.steps = s.steps;
+                        r.blur = s.blur;
+                        r.runs = t.runs;
+                        r.timeMs = 1e3 * t.medianSeconds;
+                        for (const auto& [stage, seconds] : t.stageMedians) r.stageMs.emplace_back(stage, 1e3 * seconds);
+                        r.metrics = nonSkyError(t.ao, truth, frame);
+                        progress("%s %s %-6s %-9s: %9.2f ms, %s\n", tag, method.c_str(), preset.c_str(),
+                                 device.c_str(), r.timeMs, metricsText(r.metrics).c_str());
+                        rows.push_back(r);
+                        const bool wanted = method == o.methods.front() && preset == o.sheetPreset && device == o.sheetDevice;
+                        if (sheetAo.empty() || wanted) {
+                            sheetAo = std::move(t.ao);
+                            sheetLabel = "obscura " + method + " " + preset + " " + device;
+                        }
+                    }
+
+            if (!sheetAo.empty()) {
+                SheetPanels panels;
+                panels.exrPath = conv.path;
+                panels.ao = &sheetAo;
+                panels.reference = &truth;
+                panels.depth = &frame.passes.depth;
+                panels.skyDepth = frame.skyDepth;
+                panels.aoLabel = sheetLabel;
+                panels.referenceLabel = "ray traced, " + std::to_string(rs.convergedRays) + " rays";
+                panels.heatMax = o.heatMax;
+                const std::string sheet = (fs::path(o.outDir) / (name + "_sheet.png")).string();
+                labels = writeContactSheet(sheet, panels) && labels;
+                progress("%s contact sheet -> %s\n", tag, sheet.c_str());
+            }
+            scenes.push_back({{"scene", name}, {"radius", frame.radius}, {"reference", conv.path},
+                              {"reference_cached", conv.cached}, {"reference_render_s", conv.seconds},
+                              {"sheet_ao", sheetLabel}});
+        }
+
+        nlohmann::json meta = {
+            {"definition", o.definition.name},
+            {"reference_layer", o.definition.exrLayer() + ".Y"},
+            {"width", rs.width},
+            {"height", rs.height},
+            {"converged_rays", rs.convergedRays},
+            {"converged_seed", 1},
+            {"curve_rays", rs.curveRays},
+            {"curve_seed", 2},
+            {"runs", rs.runs},
+            {"run_budget_s", rs.runBudgetSeconds},
+            {"hardware_threads", std::max(1u, std::thread::hardware_concurrency())},
+            {"presets", presetTable()},
+            {"preset_order", o.presets},
+            {"methods", o.methods},
+            {"devices", devices},
+            {"skipped_devices", skippedDevices},
+            {"scenes", scenes},
+            {"sheet_labels", labels},
+            {"timing",
+             "obscura: median wall time of runOperator over `runs` runs after one warm-up run (fewer, at least one, "
+             "once the timed runs of a point have taken run_budget_s; the row's runs column says how many); it is "
+             "the compute "
+             "stage only (reading and writing EXR files are not part of this comparison). stage_ms holds the "
+             "operator's own stages (cpu: scan, hbao, blur; gl: scan, gl-upload, gl-compute, gl-readback). "
+             "raytrace: median wall time (same run rule, no warm-up) of reference_render's frame loop with AO only "
+             "(no GI), Embree BVH built "
+             "beforehand; it traces the uniform and the cosine AO rays (both weightings) plus the light's shadow "
+             "rays, so it is an upper bound for one definition."},
+            {"error",
+             "MAE, RMSE, PSNR (20 log10(1/RMSE), dB) and the 99th-percentile absolute error over non-sky pixels, "
+             "against the converged reference layer; the raytrace rows use an independent seed."},
+        };
+        const std::string csv = (fs::path(o.outDir) / "results.csv").string();
+        const std::string json = (fs::path(o.outDir) / "results.json").string();
+        meta["total_seconds"] = secondsSince(start);
+        writeCsv(csv, rows);
+        writeJson(json, rows, meta);
+        progress("wrote %s and %s (%zu rows)\n", csv.c_str(), json.c_str(), rows.size());
+        if (!labels) progress("note: OpenImageIO found no font; the contact sheets have no labels (panel order: "
+                              "beauty, obscura AO / reference AO, |error|)\n");
+
+        if (o.plot) {
+            const std::string png = (fs::path(o.outDir) / "error_vs_time.png").string();
+            const std::string command =
+                shellQuote(o.python) + " " + shellQuote(o.plotScript) + " " + shellQuote(json) + " " + shellQuote(png);
+            progress("plotting: %s\n", command.c_str());
+            if (std::system(command.c_str()) != 0) {
+                std::fprintf(stderr, "obscura_report: the plot script failed (is python3-matplotlib installed?)\n");
+                return 1;
+            }
+        }
+        progress("done in %.1f s\n", secondsSince(start));
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "obscura_report: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}

@@ -1,0 +1,77 @@
+#include "reference_runs.h"
+
+#include "reference/exr_output.h"
+#include "reference/render.h"
+#include "timing.h"
+
+#include <filesystem>
+
+namespace report {
+
+namespace {
+constexpr uint32_t kConvergedSeed = 1;
+constexpr uint32_t kCurveSeed = 2;  // independent of the converged samples: a prefix of them would flatter the curve
+} // namespace
+
+SceneRig::SceneRig(const std::string& name, int width, int height)
+    : scene(reference::makeScene(name)),
+      tracer(std::make_unique<reference::Tracer>(scene)),
+      camera(reference::PinholeCamera::lookAt(scene.camera, width, height)) {}
+
+ConvergedReference ensureConvergedReference(const SceneRig& rig, const ReferenceSettings& s, const std::string& cacheDir) {
+    ConvergedReference out;
+    out.path = (std::filesystem::path(cacheDir) / (rig.scene.name + "_" + std::to_string(s.width) + "x" +
+                                                   std::to_string(s.height) + "_ao" + std::to_string(s.convergedRays) +
+                                                   "_gi" + std::to_string(s.giRays) + ".exr"))
+                   .string();
+    const std::string sidecar = out.path.substr(0, out.path.size() - 4) + ".json";
+    if (std::filesystem::exists(out.path) && std::filesystem::exists(sidecar)) {
+        out.cached = true;
+        return out;
+    }
+    reference::RenderSettings rs;
+    rs.width = s.width;
+    rs.height = s.height;
+    rs.radius = rig.scene.defaultRadius;
+    rs.aoRays = s.convergedRays;
+    rs.giRays = s.giRays;
+    rs.seed = kConvergedSeed;
+    rs.threads = s.threads;
+    const Clock::time_point t0 = Clock::now();
+    const reference::Integrator integrator(rig.scene, *rig.tracer, rig.camera, rs);
+    const reference::Frame frame = reference::render(integrator, rs);
+    out.seconds = secondsSince(t0);
+    reference::writeReference(out.path, frame, rig.camera, {rig.scene.name, rs, reference::summarise(frame)});
+    return out;
+}
+
+TracedAo traceAo(const SceneRig& rig, const ReferenceSettings& s, int rays, int layer) {
+    reference::RenderSettings rs;
+    rs.width = s.width;
+    rs.height = s.height;
+    rs.radius = rig.scene.defaultRadius;
+    rs.aoRays = rays;
+    rs.giRays = 0;  // AO only: the sky light and the bounce are not part of an AO render
+    rs.seed = kCurveSeed;
+    rs.threads = s.threads;
+    const reference::Integrator integrator(rig.scene, *rig.tracer, rig.camera, rs);
+    std::vector<double> seconds;
+    reference::Frame frame;
+    double spent = 0;
+    for (int run = 0; run < std::max(1, s.runs) && (run == 0 || spent < s.runBudgetSeconds); ++run) {
+        const Clock::time_point t0 = Clock::now();
+        frame = reference::render(integrator, rs);
+        seconds.push_back(secondsSince(t0));
+        spent += seconds.back();
+    }
+    TracedAo out;
+    out.rays = rays;
+    out.runs = int(seconds.size());
+    out.medianSeconds = median(seconds);
+    out.ao = obscura::Image(frame.width, frame.height, 1);
+    for (int y = 0; y < frame.height; ++y)
+        for (int x = 0; x < frame.width; ++x) *out.ao.at(x, y) = float(frame.at(x, y).ao[layer]);
+    return out;
+}
+
+} // namespace report

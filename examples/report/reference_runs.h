@@ -1,0 +1,58 @@
+// The ray-traced side of the report, in-process with examples/reference's renderer:
+// the converged reference render (cached as an EXR) and the renderer's own
+// error-versus-time curve at a few AO ray counts.
+#pragma once
+#include "core/image.h"
+#include "reference/camera.h"
+#include "reference/integrators.h"
+#include "reference/scene.h"
+#include "reference/tracer.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace report {
+
+struct ReferenceSettings {
+    int width = 320, height = 240;
+    int convergedRays = 1024;                        // AO rays per pixel and weighting, seed 1
+    int giRays = 64;                                 // for the beauty of the converged render only
+    std::vector<int> curveRays = {1, 4, 16, 64, 256};  // the ray tracer's own curve, seed 2
+    int runs = 3;                                    // timed runs per point (median), after a warm-up for obscura
+    double runBudgetSeconds = 2.0;                   // fewer runs (at least 1) once a point has taken this long
+    int threads = 0;                                 // 0 = all cores
+};
+
+// A scene with its Embree BVH and camera, built once per scene; building is not timed.
+struct SceneRig {
+    SceneRig(const std::string& name, int width, int height);
+    SceneRig(const SceneRig&) = delete;
+    SceneRig& operator=(const SceneRig&) = delete;
+
+    reference::Scene scene;
+    std::unique_ptr<reference::Tracer> tracer;
+    reference::PinholeCamera camera;
+};
+
+struct ConvergedReference {
+    std::string path;     // <cacheDir>/<scene>_<W>x<H>_ao<N>_gi<M>.exr (+ the .json camera sidecar)
+    bool cached = false;  // found on disk, not rendered now
+    double seconds = 0;   // render time when rendered now
+};
+
+// The converged reference for this scene: reused when the cache holds it, rendered otherwise.
+ConvergedReference ensureConvergedReference(const SceneRig& rig, const ReferenceSettings& s, const std::string& cacheDir);
+
+struct TracedAo {
+    int rays = 0;
+    int runs = 0;              // timed renders (fewer than asked when over the run budget)
+    double medianSeconds = 0;  // whole render: primary rays, light shadow rays, AO rays of both weightings
+    obscura::Image ao;         // the AO layer asked for, one channel
+};
+
+// Renders AO only (no GI) with `rays` AO rays per pixel, s.runs times (within the run budget),
+// and keeps the layer `layer`.
+TracedAo traceAo(const SceneRig& rig, const ReferenceSettings& s, int rays, int layer);
+
+} // namespace report
