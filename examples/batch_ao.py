@@ -264,31 +264,39 @@ def main(argv=None):
     if args.jobs < 1:
         ap.error("--jobs must be at least 1")
 
+    return run_batch("batch_ao", args.pattern, frames, variants, args.out_dir, resume=args.resume, jobs=args.jobs,
+                     dry_run=args.dry_run, quiet=args.quiet)
+
+
+def run_batch(tool, pattern, frames, variants, out_dir, resume=False, jobs=1, dry_run=False, quiet=False):
+    """Every (variant, frame): skips complete outputs with `resume`, prints progress with an ETA
+    to stderr, writes OUT/batch.json. Returns the exit status: 1 if any frame failed, else 0.
+    Shared by batch_relight.py (and any other batch over registered RENDERERS)."""
     tasks = []
     for v in variants:
         for frame in frames:
-            src = frame_path(args.pattern, frame)
-            out, report = output_paths(args.out_dir, v, src)
+            src = frame_path(pattern, frame)
+            out, report = output_paths(out_dir, v, src)
             tasks.append(Task(v, frame, src, out, report))
-    todo = [t for t in tasks if not (args.resume and is_complete(t))]
+    todo = [t for t in tasks if not (resume and is_complete(t))]
     skipped = len(tasks) - len(todo)
-    log = (lambda *a: None) if args.quiet else (lambda msg: print(msg, file=sys.stderr, flush=True))
-    log(f"batch_ao: {len(frames)} frame(s) x {len(variants)} variant(s) = {len(tasks)} output(s); "
+    log = (lambda *a: None) if quiet else (lambda msg: print(msg, file=sys.stderr, flush=True))
+    log(f"{tool}: {len(frames)} frame(s) x {len(variants)} variant(s) = {len(tasks)} output(s); "
         f"{skipped} complete, {len(todo)} to do")
-    if args.dry_run:
+    if dry_run:
         for t in todo:
             print(f"{t.variant.name}: {t.src} -> {t.out}")
         return 0
 
-    os.makedirs(args.out_dir, exist_ok=True)
+    os.makedirs(out_dir, exist_ok=True)
     for v in variants:
-        os.makedirs(os.path.join(args.out_dir, v.name), exist_ok=True)
-    write_manifest(args.out_dir, args.pattern, frames, variants)
+        os.makedirs(os.path.join(out_dir, v.name), exist_ok=True)
+    write_manifest(out_dir, pattern, frames, variants)
 
     failures = []
     t_start = time.perf_counter()
     width = len(str(len(todo)))
-    with ThreadPoolExecutor(max_workers=args.jobs) as pool:
+    with ThreadPoolExecutor(max_workers=jobs) as pool:
         futures = {pool.submit(run_task, t): t for t in todo}
         for i, fut in enumerate(as_completed(futures), 1):
             t = futures[fut]
@@ -298,13 +306,17 @@ def main(argv=None):
                 seconds = fut.result()
                 log(f"[{i:{width}}/{len(todo)}] {t.variant.name} frame {t.frame}: {seconds:.2f} s  "
                     f"(elapsed {elapsed:.1f} s, eta {eta:.1f} s)")
-            except (obscura.Error, ValueError, OSError) as e:
+            except (obscura.Error, ValueError, TypeError, OSError) as e:
                 failures.append((t, str(e)))
                 print(f"[{i:{width}}/{len(todo)}] {t.variant.name} frame {t.frame}: FAILED: {e}",
                       file=sys.stderr, flush=True)
     done = len(todo) - len(failures)
-    print(f"batch_ao: {done} written, {skipped} skipped (complete), {len(failures)} failed "
-          f"in {time.perf_counter() - t_start:.1f} s -> {args.out_dir}", file=sys.stderr)
+    print(f"{tool}: {done} written, {skipped} skipped (complete), {len(failures)} failed "
+          f"in {time.perf_counter() - t_start:.1f} s -> {out_dir}", file=sys.stderr)
+    if failures:
+        print(f"{tool}: failed:", file=sys.stderr)
+        for t, err in failures:
+            print(f"  {t.variant.name} frame {t.frame} ({t.src}): {err}", file=sys.stderr)
     return 1 if failures else 0
 
 

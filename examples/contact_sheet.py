@@ -1,9 +1,13 @@
 #!/usr/bin/env python3
-"""A contact sheet PNG of AO variants: one labelled tile per variant.
+"""A contact sheet PNG of AO variants or relighting setups: one labelled tile per variant.
 
-From a batch (batch_ao.py's output directory; reads OUT/batch.json):
+From a batch (batch_ao.py's or batch_relight.py's output directory; reads OUT/batch.json):
 
     python3 examples/contact_sheet.py out --frame 12 -o sheet.png
+
+AO variants show their AO layer (grey); relighting setups (batch_relight.py) show their relit
+RGB layer through a plain sRGB encode (clipped to 0..1, --exposure stops first), each
+labelled with the setup's name.
 
 or straight from one frame, computing each variant in memory with obscura's arrays
 (read_passes once, then ao_from_passes per variant; nothing but the PNG is written):
@@ -61,17 +65,19 @@ def draw_text(img, text, x, y, scale, value):
 
 
 # ------------------------------------------------------------------------------------------
-# PNG (8-bit grey), written with zlib
+# PNG (8-bit grey or RGB), written with zlib
 
 
-def write_png(path, gray8):
-    h, w = gray8.shape
-    raw = b"".join(b"\x00" + gray8[y].tobytes() for y in range(h))
+def write_png(path, pixels8):
+    """pixels8: uint8 (H, W) grey or (H, W, 3) RGB."""
+    h, w = pixels8.shape[:2]
+    colour_type = 2 if pixels8.ndim == 3 else 0
+    raw = b"".join(b"\x00" + pixels8[y].tobytes() for y in range(h))
 
     def chunk(kind, data):
         return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
 
-    png = (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 0, 0, 0, 0)) +
+    png = (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, colour_type, 0, 0, 0)) +
            chunk(b"IDAT", zlib.compress(raw, 6)) + chunk(b"IEND", b""))
     tmp = f"{path}.tmp-{os.getpid()}"
     with open(tmp, "wb") as f:
@@ -79,9 +85,10 @@ def write_png(path, gray8):
     os.replace(tmp, path)
 
 
-def to_display(ao):
-    """Linear AO -> sRGB-encoded 0..1, as obscura --preview does."""
-    v = np.clip(np.nan_to_num(ao, nan=0.0), 0.0, 1.0).astype(np.float64)
+def to_display(ao, exposure=0.0):
+    """Linear AO (or RGB) -> sRGB-encoded 0..1, as obscura --preview does; `exposure` in stops."""
+    v = np.nan_to_num(np.asarray(ao, dtype=np.float64), nan=0.0) * (2.0 ** exposure)
+    v = np.clip(v, 0.0, 1.0)
     return np.where(v <= 0.0031308, 12.92 * v, 1.055 * np.power(v, 1 / 2.4) - 0.055)
 
 
@@ -96,6 +103,14 @@ def crop_to_display(ao, data_window, display_window):
     if x1 <= x0 or y1 <= y0:
         return ao
     return ao[y0 - dy0:y1 - dy0, x0 - dx0:x1 - dx0]
+
+
+def relit_layer(variant):
+    """The RGB layer a batch variant shows: its relit layer (batch_relight.py), else None (AO)."""
+    out_layer = variant.get("settings", {}).get("out_layer")
+    if isinstance(out_layer, dict) and "relit" in out_layer:
+        return out_layer["relit"]
+    return "obscura.relit" if variant.get("kind") == "relight" else None
 
 
 def tiles_from_batch(out_dir, frame, only):
@@ -113,8 +128,13 @@ def tiles_from_batch(out_dir, frame, only):
         if os.path.exists(report_path):
             with open(report_path) as f:
                 channel = json.load(f).get("output_channels", {}).get("ao", channel)
+        layer = relit_layer(v)
         try:
-            ao = obscura.read_layer(path, channel)
+            ao = obscura.read_layer(path, layer) if layer else obscura.read_layer(path, channel)
+            if layer and (ao.ndim != 3 or ao.shape[2] < 3):
+                raise obscura.Error(f"'{path}': layer '{layer}' is not RGB")
+            if layer:
+                ao = ao[..., :3]
             # The display window: read_passes knows it (the AO shares the depth's part).
             p = obscura.read_passes(path)
             ao = crop_to_display(ao, p["data_window"], p["display_window"])
@@ -131,6 +151,8 @@ def tiles_from_frame(path, variants):
         raise obscura.Error(passes["camera_error"])
     tiles = []
     for v in variants:
+        if v.kind != "ao":
+            raise ValueError(f"variant '{v.name}' is of kind '{v.kind}': show it from its batch directory")
         # Only operator settings apply in memory; file-level keys (preset, out_type...) are ignored.
         settings = {k: val for k, val in v.settings.items() if k in SETTING_KEYS}
         ao = obscura.ao_from_passes(passes, **settings)
@@ -142,7 +164,7 @@ SETTING_KEYS = {"quality", "method", "radius", "directions", "steps", "weighting
                 "threads"}
 
 
-def compose(tiles, columns, scale, gap, title):
+def compose(tiles, columns, scale, gap, title, exposure=0.0):
     shapes = [t.shape for _, t in tiles if t is not None]
     if not shapes:
         raise SystemExit("contact_sheet: no tile could be read")
@@ -154,6 +176,9 @@ def compose(tiles, columns, scale, gap, title):
     rows = (len(tiles) + columns - 1) // columns
     title_h = label_h
     sheet = np.full((title_h + rows * (th + label_h + gap), columns * (tw + gap) + gap), 0.15)
+    rgb = any(t is not None and t.ndim == 3 for _, t in tiles)
+    if rgb:  # grey tiles (AO) and labels go to all three channels
+        sheet = np.repeat(sheet[..., None], 3, axis=2)
     draw_text(sheet, title, gap, gap, text, 1.0)
     for i, (name, ao) in enumerate(tiles):
         r, c = divmod(i, columns)
@@ -164,7 +189,9 @@ def compose(tiles, columns, scale, gap, title):
         if ao is None:
             draw_text(sheet, "missing", x + gap, y + gap, text, 0.6)
             continue
-        tile = to_display(ao[::scale, ::scale])[:th, :tw]
+        tile = to_display(ao[::scale, ::scale], exposure if ao.ndim == 3 else 0.0)[:th, :tw]
+        if rgb and tile.ndim == 2:
+            tile = tile[..., None]
         sheet[y:y + tile.shape[0], x:x + tile.shape[1]] = tile
     return np.round(np.clip(sheet, 0, 1) * 255).astype(np.uint8)
 
@@ -182,6 +209,7 @@ def main(argv=None):
     ap.add_argument("--columns", type=int, default=0, help="tiles per row (default: up to 4)")
     ap.add_argument("--scale", type=int, default=1, help="integer downsampling of each tile (default 1)")
     ap.add_argument("--gap", type=int, default=6, help="pixels between tiles (default 6)")
+    ap.add_argument("--exposure", type=float, default=0.0, help="stops applied to relit (RGB) tiles (default 0)")
     args = ap.parse_args(argv)
     if args.scale < 1 or args.gap < 0 or args.columns < 0:
         ap.error("--scale must be >= 1, --gap and --columns >= 0")
@@ -197,7 +225,7 @@ def main(argv=None):
             radii = [float(r) for r in args.radii.split(",")] if args.radii else []
             variants = batch_ao.build_variants(args.variant, radii, common)
             tiles, title = tiles_from_frame(args.source, variants)
-        sheet = compose(tiles, args.columns, args.scale, args.gap, title)
+        sheet = compose(tiles, args.columns, args.scale, args.gap, title, args.exposure)
         write_png(args.output, sheet)
     except (obscura.Error, ValueError, OSError) as e:
         print(f"contact_sheet: {e}", file=sys.stderr)

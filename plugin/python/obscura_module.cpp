@@ -210,7 +210,7 @@ Settings settingsFrom(const SettingArgs& a) {
         const std::string q = strArg(a.quality, "quality");
         if (!applyQualityPreset(q, s)) valueError("quality must be 'low', 'medium', 'high' or 'ultra', got '" + q + "'");
     }
-    if (!a.method.is_none()) s.method = choiceArg(a.method, "method", {"hbao"});
+    if (!a.method.is_none()) s.method = choiceArg(a.method, "method", {"hbao", "ssdo"});
     if (!a.radius.is_none()) {
         s.radius = (float)floatArg(a.radius, "radius");
         if (!(s.radius > 0.0f)) valueError("radius must be a positive number of world units, got " + std::to_string(s.radius));
@@ -229,6 +229,69 @@ Settings settingsFrom(const SettingArgs& a) {
     return s;
 }
 
+// SSDO's operator settings (method 'ssdo'): --samples, --interleave, --sky, --env-rotate,
+// --env-intensity, --light. Checked here so a bad value is a ValueError, not obscura.Error.
+struct SsdoArgs {
+    py::object samples, interleave, sky, envRotate, envIntensity, lights;
+};
+
+std::array<float, 3> tripleArg(const py::handle& obj, const char* what, bool nonNegative) {
+    if (!py::isinstance<py::sequence>(obj) || py::isinstance<py::str>(obj) || py::len(obj) != 3)
+        valueError(std::string(what) + " must be 3 numbers, got " + typeName(obj));
+    py::sequence seq = py::reinterpret_borrow<py::sequence>(obj);
+    std::array<float, 3> v{};
+    for (int i = 0; i < 3; ++i) {
+        const double d = floatArg(seq[i], what);
+        if (nonNegative && d < 0) valueError(std::string(what) + " must not be negative, got " + std::to_string(d));
+        v[i] = (float)d;
+    }
+    return v;
+}
+
+void applySsdo(const SsdoArgs& a, Settings& s) {
+    if (!a.samples.is_none()) s.ssdoSamples = intInRange(a.samples, "samples", 1, 4096);
+    if (!a.interleave.is_none()) s.interleave = intInRange(a.interleave, "interleave", 1, 8);
+    if (s.interleave * s.interleave > s.ssdoSamples)
+        valueError("interleave " + std::to_string(s.interleave) + " splits " + std::to_string(s.ssdoSamples) +
+                   " samples over " + std::to_string(s.interleave * s.interleave) +
+                   " pixels: give at least interleave**2 samples");
+    if (!a.sky.is_none()) {
+        const std::array<float, 3> c = tripleArg(a.sky, "sky", true);
+        std::copy(c.begin(), c.end(), s.skyRadiance);
+    }
+    if (!a.envRotate.is_none()) s.envRotationDeg = (float)floatArg(a.envRotate, "env_rotate");
+    if (!a.envIntensity.is_none()) {
+        s.envIntensity = (float)floatArg(a.envIntensity, "env_intensity");
+        if (s.envIntensity < 0) valueError("env_intensity must not be negative");
+    }
+    if (!a.lights.is_none()) {
+        if (!py::isinstance<py::sequence>(a.lights) || py::isinstance<py::str>(a.lights))
+            valueError("lights must be a list of ((x, y, z), (r, g, b)), got " + typeName(a.lights));
+        py::sequence seq = py::reinterpret_borrow<py::sequence>(a.lights);
+        if (py::len(seq) > 4) valueError("lights: at most 4 directional lights, got " + std::to_string(py::len(seq)));
+        s.lights.clear();
+        for (py::handle item : seq) {
+            if (!py::isinstance<py::sequence>(item) || py::isinstance<py::str>(item) || py::len(item) != 2)
+                valueError("each light must be ((x, y, z), (r, g, b)): a world direction towards the light and "
+                           "its irradiance, got " + typeName(item));
+            py::sequence pair = py::reinterpret_borrow<py::sequence>(item);
+            const std::array<float, 3> d = tripleArg(pair[0], "light direction", false);
+            const std::array<float, 3> e = tripleArg(pair[1], "light irradiance", true);
+            if (d[0] == 0 && d[1] == 0 && d[2] == 0) valueError("light direction must not be (0, 0, 0)");
+            Settings::DirectionalLight l{};
+            std::copy(d.begin(), d.end(), l.direction);
+            std::copy(e.begin(), e.end(), l.irradiance);
+            s.lights.push_back(l);
+        }
+    }
+}
+
+bool upArg(const py::handle& obj) { return choiceArg(obj, "up", {"y", "z"}) == "z"; }
+
+#define OBSCURA_SSDO_ARGS                                                                                            \
+    py::arg("samples") = py::none(), py::arg("interleave") = py::none(), py::arg("sky") = py::none(),               \
+        py::arg("env_rotate") = py::none(), py::arg("env_intensity") = py::none(), py::arg("lights") = py::none()
+
 #define OBSCURA_SETTING_ARGS                                                                                         \
     py::arg("quality") = py::none(), py::arg("method") = py::none(), py::arg("radius") = py::none(),                \
         py::arg("directions") = py::none(), py::arg("steps") = py::none(), py::arg("weighting") = py::none(),       \
@@ -242,7 +305,9 @@ struct ViewArgs {
     py::object camera, normals, depthKind, skyDepth, dataWindow, displayWindow;
 };
 
-py::array computeAo(const py::object& depthObj, const py::object& normalObj, const ViewArgs& v, const SettingArgs& sa) {
+// The inputs and settings compute_ao and compute_ssdo share: planes viewed in place, checked.
+OperatorInputs viewInputs(const py::object& depthObj, const py::object& normalObj, const ViewArgs& v,
+                          Settings& settings) {
     OperatorInputs in;
     in.depth = planeArg(depthObj, "depth", 1);
     in.normal = planeArg(normalObj, "normal", 3);
@@ -259,7 +324,6 @@ py::array computeAo(const py::object& depthObj, const py::object& normalObj, con
     in.displayWindow = v.displayWindow.is_none() ? full : boxArg(v.displayWindow, "display_window");
     if (!v.normals.is_none()) in.normalSpace = enumArg<NormalSpace>(v.normals, "normals", "'world' or 'camera'");
     if (!v.depthKind.is_none()) in.depthKind = enumArg<DepthKind>(v.depthKind, "depth_kind", "'planar' or 'radial'");
-    Settings settings = settingsFrom(sa);
     if (!v.skyDepth.is_none()) {
         settings.skyDepth = (float)floatArg(v.skyDepth, "sky_depth");
         if (!(settings.skyDepth > 0.0f)) valueError("sky_depth must be positive");
@@ -269,7 +333,13 @@ py::array computeAo(const py::object& depthObj, const py::object& normalObj, con
     if (in.normalSpace == NormalSpace::World && !in.camera.hasPose)
         valueError("normals='world' needs the camera's pose: give the Camera a camera_to_world matrix, "
                    "or pass camera-space normals with normals='camera'");
+    return in;
+}
 
+py::array computeAo(const py::object& depthObj, const py::object& normalObj, const ViewArgs& v, const SettingArgs& sa) {
+    Settings settings = settingsFrom(sa);
+    if (settings.method != "hbao") valueError("compute_ao computes method 'hbao'; use compute_ssdo for SSDO");
+    OperatorInputs in = viewInputs(depthObj, normalObj, v, settings);
     OperatorOutputs out;
     {
         // depthObj / normalObj stay referenced by the caller's frame for the whole call.
@@ -277,6 +347,62 @@ py::array computeAo(const py::object& depthObj, const py::object& normalObj, con
         out = runOperator(in, settings);
     }
     return imageToArray(std::move(out.ao), true);
+}
+
+// compute_ssdo: DO (and GI) irradiance and AO of in-memory passes, lit by a lat-long array or
+// a constant sky, plus directional lights.
+struct SsdoArrayArgs {
+    py::object radiance, albedo, environment, bounce, up;
+};
+
+py::dict computeSsdo(const py::object& depthObj, const py::object& normalObj, const ViewArgs& v,
+                     const SettingArgs& sa, const SsdoArgs& ssdoArgs, const SsdoArrayArgs& x) {
+    Settings settings = settingsFrom(sa);
+    settings.method = "ssdo";
+    applySsdo(ssdoArgs, settings);
+    settings.bounce = !x.bounce.is_none() && py::bool_(x.bounce);
+    if (!x.up.is_none()) settings.zUp = upArg(x.up);
+    OperatorInputs in = viewInputs(depthObj, normalObj, v, settings);
+    auto sameSize = [&](const ConstPlane& p, const char* what) {
+        if (p.width != in.depth.width || p.height != in.depth.height)
+            valueError(std::string(what) + " covers " + std::to_string(p.height) + "x" + std::to_string(p.width) +
+                       " pixels (H x W) but depth covers " + std::to_string(in.depth.height) + "x" +
+                       std::to_string(in.depth.width) + "; they must be the same size");
+    };
+    if (!x.radiance.is_none()) {
+        in.radiance = planeArg(x.radiance, "radiance", 3);
+        sameSize(in.radiance, "radiance");
+    }
+    if (!x.albedo.is_none()) {
+        in.albedo = planeArg(x.albedo, "albedo", 3);
+        sameSize(in.albedo, "albedo");
+    }
+    if (settings.bounce && !in.radiance.valid())
+        valueError("bounce=True needs radiance: the light leaving the bouncing surfaces, float32 (H, W, 3) "
+                   "(e.g. the direct-diffuse pass, with albedo=the albedo pass)");
+    ConstPlane env;
+    if (!x.environment.is_none()) env = planeArg(x.environment, "environment", 3);
+
+    OperatorOutputs out;
+    {
+        py::gil_scoped_release release;
+        Image environment;
+        if (env.valid()) {  // the prefilter wants an owned image: one copy of the (small) map
+            environment = Image(env.width, env.height, 3);
+            for (int y = 0; y < env.height; ++y)
+                for (int xx = 0; xx < env.width; ++xx) {
+                    const float* src = env.data + y * env.yStride + xx * env.xStride;
+                    std::copy(src, src + 3, environment.at(xx, y));
+                }
+            in.environment = &environment;
+        }
+        out = runOperator(in, settings);
+    }
+    py::dict d;
+    d["do"] = imageToArray(std::move(out.directional), false);
+    d["gi"] = out.indirect.empty() ? py::object(py::none()) : py::object(imageToArray(std::move(out.indirect), false));
+    d["ao"] = imageToArray(std::move(out.ao), true);
+    return d;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -434,22 +560,65 @@ struct OutputArgs {
     py::object outLayer, outType, badPixels, reference, report, preview, inPlace;
 };
 
+// process()'s SSDO keywords beyond the operator's: what to write and where the light comes from.
+struct JobSsdoArgs {
+    py::object bounce, bounceSource, env, envColorspace, colorspace, up, timesAlbedo, relitDirect;
+};
+
 py::object processPy(const py::object& path, const py::object& out, const FileArgs& f, const SettingArgs& sa,
-                     const OutputArgs& o) {
+                     const OutputArgs& o, const SsdoArgs& ssdoArgs, const JobSsdoArgs& js) {
     FrameJob job = jobFrom(path, f);
     job.output = pathArg(out, "out");
     job.settings = settingsFrom(sa);
+    applySsdo(ssdoArgs, job.settings);
+    const bool ssdo = job.settings.method == "ssdo";
+    // Outputs only SSDO makes: asking for them with method 'hbao' would silently write nothing.
+    auto needSsdo = [&](const std::string& what) {
+        if (!ssdo) valueError(what + " needs method='ssdo' (method is '" + job.settings.method + "')");
+    };
     if (!o.outLayer.is_none()) {
         if (py::isinstance<py::dict>(o.outLayer)) {
             for (auto item : py::reinterpret_borrow<py::dict>(o.outLayer)) {
                 const std::string role = strArg(item.first, "out_layer role");
-                if (role != "ao") valueError("out_layer: unknown output '" + role + "' (available: ao)");
-                job.aoLayer = strArg(item.second, "out_layer name");
+                const std::string name = strArg(item.second, "out_layer name");
+                if (name.empty()) valueError("out_layer['" + role + "'] must not be empty");
+                if (role == "ao") {
+                    job.aoLayer = name;
+                    continue;
+                }
+                if (role != "do" && role != "gi" && role != "relit")
+                    valueError("out_layer: unknown output '" + role + "' (available: ao, do, gi, relit)");
+                needSsdo("out_layer '" + role + "'");
+                // Naming gi or relit also asks for it, as --out-layer does.
+                if (role == "do") job.doLayer = name;
+                else if (role == "gi") job.giLayer = name, job.writeIndirect = true;
+                else job.relitLayer = name, job.writeRelit = true;
             }
         } else {
             job.aoLayer = strArg(o.outLayer, "out_layer");
         }
         if (job.aoLayer.empty()) valueError("out_layer must not be empty");
+    }
+    if (!js.bounce.is_none() && py::bool_(js.bounce)) {
+        needSsdo("bounce=True");
+        job.writeIndirect = true;
+    }
+    if (!js.bounceSource.is_none()) {
+        job.bounceSource = strArg(js.bounceSource, "bounce_source");
+        if (job.bounceSource.empty())
+            valueError("bounce_source must be 'direct-diffuse', 'beauty' or an RGB layer name, got ''");
+    }
+    if (!js.env.is_none()) job.envPath = pathArg(js.env, "env");
+    if (!js.envColorspace.is_none()) job.envColourSpace = strArg(js.envColorspace, "env_colorspace");
+    if (!js.colorspace.is_none()) job.colourSpace = strArg(js.colorspace, "colorspace");
+    if (!js.up.is_none()) job.zUp = upArg(js.up);
+    if (!js.timesAlbedo.is_none() && py::bool_(js.timesAlbedo)) {
+        needSsdo("times_albedo=True");
+        job.timesAlbedo = true;
+    }
+    if (!js.relitDirect.is_none() && py::bool_(js.relitDirect)) {
+        needSsdo("relit_direct=True");
+        job.relitWithDirect = true;
     }
     if (!o.outType.is_none()) job.aoFloat = choiceArg(o.outType, "out_type", {"half", "float"}) == "float";
     if (!o.badPixels.is_none())
@@ -548,12 +717,15 @@ void checkDisplaySize(int width, int height) {
                    std::to_string(width) + "x" + std::to_string(height));
 }
 
-const char* kModuleDoc = R"doc(obscura: screen-space ambient occlusion (HBAO) for renders that already exist.
+const char* kModuleDoc = R"doc(obscura: screen-space ambient occlusion (HBAO) and directional occlusion with one
+bounce (SSDO) for renders that already exist.
 
 The same operator and file pipeline as the ``obscura`` command, for numpy:
 
 - ``compute_ao(depth, normal, camera=..., **settings)`` -> float32 (H, W) AO from arrays
   (viewed in place, never converted: float32, shape (H, W) and (H, W, 3)).
+- ``compute_ssdo(depth, normal, camera=..., radiance=, albedo=, environment=, bounce=, ...)``
+  -> dict of 'do' (H, W, 3), 'gi' (H, W, 3) or None, 'ao' (H, W), from arrays.
 - ``read_passes(path)`` -> dict of the depth/normal/position planes, camera and conventions
   of a multilayer EXR, found by renderer preset as the CLI does.
 - ``ao_from_passes(passes, **settings)`` -> compute_ao over a read_passes() dict.
@@ -563,7 +735,18 @@ The same operator and file pipeline as the ``obscura`` command, for numpy:
 
 Settings are the CLI's flags with underscores: radius, directions, steps, weighting
 ('uniform' | 'cosine'), falloff ('linear' | 'none'), blur, quality ('low' | 'medium' |
-'high' | 'ultra', applied before directions/steps/blur), method ('hbao'), device, threads.
+'high' | 'ultra', applied before directions/steps/blur), method ('hbao' | 'ssdo'), device,
+threads; for 'ssdo' also samples, interleave, sky, env_rotate, env_intensity, lights, up.
+
+Relighting from Python: ``process(path, out, method='ssdo', bounce=True, env='studio.exr',
+env_rotate=90, out_layer={'relit': 'Relit'})`` writes OUT with the directional occlusion
+(obscura.DO), the one bounce (obscura.GI) and Relit.R/G/B = albedo x (DO + GI) / pi, i.e. the
+frame's diffuse lighting redone under that environment (relit_direct=True adds the render's
+own direct diffuse light; times_albedo=True writes DO/GI as outgoing radiance). Without env
+the light is a constant sky=(r, g, b); lights=[((x, y, z), (r, g, b))] adds up to four
+directional lights. The report's 'plan' lists what ran and 'written' the channels added.
+examples/batch_relight.py does this over a frame sequence, one output sequence per lighting
+setup (environment maps and/or rotations of one), with progress and --resume.
 
 Errors: bad arguments (shape, dtype, memory layout, unknown names, out-of-range values) raise
 ValueError (TypeError for a wrong kind of object); a failure of the file pipeline or the
@@ -711,6 +894,39 @@ weighting='uniform'|'cosine', falloff='linear'|'none', blur=0 px, quality=None (
 device='cpu', threads=0 (all cores). The GIL is released while computing.)doc");
 
     m.def(
+        "compute_ssdo",
+        [](const py::object& depth, const py::object& normal, py::object camera, py::object radiance,
+           py::object albedo, py::object environment, py::object bounce, py::object up, py::object normals,
+           py::object depthKind, py::object skyDepth, py::object dataWindow, py::object displayWindow,
+           py::object radius, py::object blur, py::object device, py::object threads, py::object samples,
+           py::object interleave, py::object sky, py::object envRotate, py::object envIntensity, py::object lights) {
+            const py::object none = py::none();
+            return computeSsdo(depth, normal, ViewArgs{camera, normals, depthKind, skyDepth, dataWindow, displayWindow},
+                               SettingArgs{none, none, radius, none, none, none, none, blur, device, threads},
+                               SsdoArgs{samples, interleave, sky, envRotate, envIntensity, lights},
+                               SsdoArrayArgs{radiance, albedo, environment, bounce, up});
+        },
+        py::arg("depth"), py::arg("normal"), py::kw_only(), py::arg("camera"), py::arg("radiance") = py::none(),
+        py::arg("albedo") = py::none(), py::arg("environment") = py::none(), py::arg("bounce") = false,
+        py::arg("up") = "y", py::arg("normals") = "world", py::arg("depth_kind") = "planar",
+        py::arg("sky_depth") = 1e9, py::arg("data_window") = py::none(), py::arg("display_window") = py::none(),
+        py::arg("radius") = py::none(), py::arg("blur") = py::none(), py::arg("device") = py::none(),
+        py::arg("threads") = py::none(), OBSCURA_SSDO_ARGS,
+        R"doc(Screen-space directional occlusion (method 'ssdo') of in-memory passes, as a dict:
+'do' float32 (H, W, 3) irradiance from the open directions, 'gi' float32 (H, W, 3) one-bounce
+irradiance (None unless bounce=True), 'ao' float32 (H, W).
+
+depth, normal, camera, normals, depth_kind, sky_depth, data_window, display_window: as
+compute_ao, viewed in place. radiance: float32 (H, W, 3), the light leaving each pixel's surface
+(the bounce source; required with bounce=True); albedo: float32 (H, W, 3), optional, multiplies
+radiance (give both for the CLI's default bounce source, direct-diffuse x albedo). Both viewed
+in place, in the working colour space. environment: float32 (Hm, Wm, 3) lat-long radiance (one
+copy is made); None lights with the constant sky. Settings as the CLI's: radius (r_max, default
+1), samples (default 64), interleave (default 2), blur (0 = as wide as the interleave block),
+sky (r, g, b) (default white), env_rotate (degrees), env_intensity, up ('y' | 'z'), lights
+(up to 4 ((x, y, z), (r, g, b))), device, threads. The GIL is released while computing.)doc");
+
+    m.def(
         "ao_from_passes",
         [](const py::dict& passes, py::object quality, py::object method, py::object radius, py::object directions,
            py::object steps, py::object weighting, py::object falloff, py::object blur, py::object device,
@@ -766,25 +982,43 @@ Raises obscura.Error for a missing/unreadable file or missing passes.)doc");
            py::object device, py::object threads, py::object preset, py::object layer, py::object camera,
            py::object fovDeg, py::object orthoWidth, py::object c2w, py::object depth, py::object normals,
            py::object skyDepth, py::object outLayer, py::object outType, py::object badPixels, py::object reference,
-           py::object report, py::object preview, py::object inPlace) {
+           py::object report, py::object preview, py::object inPlace, py::object samples, py::object interleave,
+           py::object sky, py::object envRotate, py::object envIntensity, py::object lights, py::object bounce,
+           py::object bounceSource, py::object env, py::object envColorspace, py::object colorspace, py::object up,
+           py::object timesAlbedo, py::object relitDirect) {
             return processPy(path, out, FileArgs{preset, layer, camera, fovDeg, orthoWidth, c2w, depth, normals, skyDepth},
                              SettingArgs{quality, method, radius, directions, steps, weighting, falloff, blur, device,
                                          threads},
-                             OutputArgs{outLayer, outType, badPixels, reference, report, preview, inPlace});
+                             OutputArgs{outLayer, outType, badPixels, reference, report, preview, inPlace},
+                             SsdoArgs{samples, interleave, sky, envRotate, envIntensity, lights},
+                             JobSsdoArgs{bounce, bounceSource, env, envColorspace, colorspace, up, timesAlbedo,
+                                         relitDirect});
         },
         py::arg("path"), py::arg("out"), py::kw_only(), OBSCURA_SETTING_ARGS, OBSCURA_FILE_ARGS,
         py::arg("out_layer") = py::none(), py::arg("out_type") = py::none(), py::arg("bad_pixels") = py::none(),
         py::arg("reference") = py::none(), py::arg("report") = py::none(), py::arg("preview") = py::none(),
-        py::arg("in_place") = py::none(),
+        py::arg("in_place") = py::none(), OBSCURA_SSDO_ARGS, py::arg("bounce") = py::none(),
+        py::arg("bounce_source") = py::none(), py::arg("env") = py::none(), py::arg("env_colorspace") = py::none(),
+        py::arg("colorspace") = py::none(), py::arg("up") = py::none(), py::arg("times_albedo") = py::none(),
+        py::arg("relit_direct") = py::none(),
         R"doc(obscura PATH -o OUT [flags]: writes OUT, a copy of PATH with the AO layer added, and returns
-the --report JSON as a dict (settings, camera, conventions, timings_s, stats, reference, warnings).
+the --report JSON as a dict (settings, camera, conventions, timings_s, stats, reference, warnings,
+plan, written).
 
-Keywords are the CLI's flags with underscores: quality, method, radius, directions, steps,
-weighting, falloff, blur, device, threads; preset, layer={role: name}, camera (sidecar path),
-fov_deg, ortho_width, camera_to_world (4x4 or 16 numbers, row-major), depth ('planar' |
-'radial'), normals ('world' | 'camera'), sky_depth; out_layer (name, or {'ao': name}),
-out_type ('half' | 'float'), bad_pixels ('error' | 'skip'), reference (layer name), report
+Keywords are the CLI's flags with underscores: quality, method ('hbao' | 'ssdo'), radius,
+directions, steps, weighting, falloff, blur, device, threads; preset, layer={role: name}, camera
+(sidecar path), fov_deg, ortho_width, camera_to_world (4x4 or 16 numbers, row-major), depth
+('planar' | 'radial'), normals ('world' | 'camera'), sky_depth; out_layer (name, or
+{'ao': .., 'do': .., 'gi': .., 'relit': ..}; naming gi or relit asks for it, as --out-layer
+does), out_type ('half' | 'float'), bad_pixels ('error' | 'skip'), reference (layer name), report
 (also write the JSON there), preview (PNG path), in_place (bool).
+method='ssdo' (directional occlusion; the DO layer obscura.DO.R/G/B is always written):
+samples (1-4096), interleave (1-8), bounce (bool: GI), bounce_source ('direct-diffuse' |
+'beauty' | layer), env (lat-long map path), env_rotate (degrees), env_intensity, env_colorspace,
+colorspace (of the input's colour passes), sky ((r, g, b) without env), lights (up to 4
+((x, y, z), (r, g, b)): world direction towards the light, irradiance), up ('y' | 'z'; default z
+for Blender renders), times_albedo (bool), relit_direct (bool). bounce, times_albedo,
+relit_direct and out_layer do/gi/relit raise ValueError unless method='ssdo'.
 Outputs are written atomically; on obscura.Error nothing is left behind.)doc");
 
     m.def(
