@@ -492,8 +492,29 @@ std::string frameReportJson(const FrameJob& job, const FrameReport& r) {
                      {"weighting", toString(s.weighting)}, {"falloff", toString(s.falloff)},
                      {"blur", s.blur},              {"threads", s.threads},
                      {"device", s.device}};
+    if (s.method == "ssdo") {
+        json lights = json::array();
+        for (const auto& l : s.lights)
+            lights.push_back({{"direction", {l.direction[0], l.direction[1], l.direction[2]}},
+                              {"irradiance", {l.irradiance[0], l.irradiance[1], l.irradiance[2]}}});
+        j["settings"]["ssdo"] = {{"samples", s.ssdoSamples},
+                                 {"interleave", s.interleave},
+                                 {"bounce", job.writeIndirect || job.writeRelit},
+                                 {"bounce_source", job.bounceSource},
+                                 {"env", job.envPath},
+                                 {"env_rotate_deg", s.envRotationDeg},
+                                 {"env_intensity", s.envIntensity},
+                                 {"sky", {s.skyRadiance[0], s.skyRadiance[1], s.skyRadiance[2]}},
+                                 {"lights", lights},
+                                 {"times_albedo", job.timesAlbedo}};
+    }
     if (!r.aoChannel.empty()) {
         j["output_channels"] = {{"ao", r.aoChannel}};
+        if (s.method == "ssdo") {
+            if (job.writeDirectional) j["output_channels"]["do"] = job.doLayer;
+            if (job.writeIndirect) j["output_channels"]["gi"] = job.giLayer;
+            if (job.writeRelit) j["output_channels"]["relit"] = job.relitLayer;
+        }
         j["conventions"] = {{"depth", toString(r.depthKind)}, {"normals", toString(r.normalSpace)},
                             {"sky_depth", r.skyDepth}};
         json cam = {{"projection", r.camera.projection == Projection::Perspective ? "perspective" : "orthographic"},
