@@ -76,11 +76,16 @@ bool projectToDisplay(vec3 p, OUT(vec2) displayPos) {
 // blocked, and `texel`/`surface` say by what. The tangent-plane condition is geometry, not
 // a bias: nothing below that plane can block a direction of the hemisphere, and without it
 // the pixel grid makes a flat surface shadow itself at grazing sample directions.
-bool blockedBySurface(vec3 point, vec3 receiver, vec3 n, OUT(ivec2) texel, OUT(vec3) surface) {
+bool blockedBySurface(vec3 point, vec3 receiver, vec3 n, vec2 centre, OUT(ivec2) texel, OUT(vec3) surface) {
     vec2 displayPos;
     texel = ivec2(0);
     surface = vec3(0.0f);
     if (!projectToDisplay(point, displayPos)) {
+        return false;
+    }
+    // Reads stop at maxRadiusPixels, as HBAO's do: a host that pins it gets tiles equal to the frame.
+    vec2 reach = displayPos - centre;
+    if (dot(reach, reach) > P.maxRadiusPixels * P.maxRadiusPixels) {
         return false;
     }
     vec2 corner = floor(displayPos);
@@ -145,7 +150,7 @@ void ssdoPixel(ivec2 texel, OUT(vec3) directional, OUT(vec3) indirect, OUT(float
 
         ivec2 senderTexel;
         vec3 sender;
-        if (!blockedBySurface(point, receiver, n, senderTexel, sender)) {
+        if (!blockedBySurface(point, receiver, n, centre, senderTexel, sender)) {
             ++open;
             directional += environmentRadiance(dir);
             continue;
@@ -186,7 +191,7 @@ void ssdoPixel(ivec2 texel, OUT(vec3) directional, OUT(vec3) indirect, OUT(float
         for (int s = 1; s <= 4; ++s) {
             ivec2 t;
             vec3 q;
-            if (blockedBySurface(receiver + l * (P.radius * float(s) * 0.25f), receiver, n, t, q)) {
+            if (blockedBySurface(receiver + l * (P.radius * float(s) * 0.25f), receiver, n, centre, t, q)) {
                 lit = false;
             }
         }

@@ -9,12 +9,21 @@
 // an apron of the largest projected radius (+ texel snapping + blur), clipped to the
 // Depth clip's region of definition, with the radius cap pinned (Settings::
 // maxRadiusPixels) so every tile runs the kernel exactly as the whole frame does.
+//
+// SSDO outputs (DO, GI, relit) run the operator's "ssdo" method with the Source clip
+// (the beauty) as the bounce source, as the CLI's --bounce-source beauty: the beauty
+// already carries the senders' albedo, so the Albedo clip is not a sender albedo; it only
+// forms relit (albedo (DO + GI) / pi) and the "times albedo" radiance (albedo E / pi).
 #include "ofx_api.h"
 
 #include "core/camera.h"
 #include "core/error.h"
 #include "core/operator.h"
 #include "core/settings.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <cmath>
@@ -77,25 +86,40 @@ constexpr const char* kParamSkyDepth = "skyDepth";
 constexpr const char* kParamMaxScreenRadius = "maxScreenRadius";
 constexpr const char* kParamDevice = "device";
 constexpr const char* kParamThreads = "threads";
+constexpr const char* kParamSsdoSamples = "samples";
+constexpr const char* kParamInterleave = "interleave";
+constexpr const char* kParamSkyColour = "skyColour";
+constexpr const char* kParamEnvMap = "envMap";
+constexpr const char* kParamEnvRotation = "envRotation";
+constexpr const char* kParamEnvIntensity = "envIntensity";
+constexpr const char* kParamUpAxis = "upAxis";
+constexpr const char* kParamTimesAlbedo = "timesAlbedo";
+constexpr const char* kGroupSsdo = "ssdoGroup";
 constexpr const char* kGroupCamera = "cameraGroup";
 constexpr const char* kGroupAdvanced = "advancedGroup";
 constexpr const char* kPage = "controls";
 
 // What the Output clip carries. Hosts store a choice as its index, so new outputs (DO,
 // GI, relit...) are appended to this table, never inserted: saved projects keep meaning.
-enum class OutputKind { Ao, BeautyTimesAo };
+enum class OutputKind { Ao, BeautyTimesAo, Directional, Indirect, Relit };
 struct OutputOption {
     OutputKind kind;
     const char* label;
     bool needsSource;  // reads the Source (beauty) clip
+    bool ssdo;         // an SSDO quantity: the method is ssdo whatever the Method parameter says
+    bool bounce;       // runs the bounce, reading Source over the window + apron (the senders)
 };
 const OutputOption kOutputOptions[] = {
-    {OutputKind::Ao, "AO", false},
-    {OutputKind::BeautyTimesAo, "Beauty x AO", true},
+    {OutputKind::Ao, "AO", false, false, false},
+    {OutputKind::BeautyTimesAo, "Beauty x AO", true, false, false},
+    {OutputKind::Directional, "Directional occlusion (DO)", false, true, false},
+    {OutputKind::Indirect, "Indirect (GI)", true, true, true},
+    {OutputKind::Relit, "Relit", true, true, true},
 };
 constexpr int kOutputCount = int(sizeof(kOutputOptions) / sizeof(kOutputOptions[0]));
 
-const char* const kMethods[] = {"hbao"};
+const char* const kMethods[] = {"hbao", "ssdo"};
+const char* const kUpAxes[] = {"y", "z"};
 const char* const kWeightings[] = {"uniform", "cosine"};
 const char* const kFalloffs[] = {"linear", "none"};
 const char* const kProjections[] = {"perspective", "orthographic"};
@@ -164,8 +188,16 @@ void postMessage(OfxImageEffectHandle effect, const char* type, const std::strin
 }
 
 // ---------------------------------------------------------------------------
-// Per-instance data: clip and parameter handles, nothing mutable after creation.
+// Per-instance data: clip and parameter handles, and the instance's own environment map
+// cache (the only mutable state, behind its mutex; never shared between instances).
 // ---------------------------------------------------------------------------
+
+struct EnvironmentCache {
+    std::mutex mutex;
+    std::string path;
+    long long mtimeNs = 0, size = -1;
+    std::shared_ptr<const Image> image;
+};
 
 struct Instance {
     OfxImageEffectHandle effect = nullptr;
@@ -176,6 +208,9 @@ struct Instance {
                    fov = nullptr, orthoWidth = nullptr, cameraToWorld = nullptr, depthKind = nullptr,
                    normalSpace = nullptr, skyDepth = nullptr, maxScreenRadius = nullptr, device = nullptr,
                    threads = nullptr;
+    OfxParamHandle ssdoSamples = nullptr, interleave = nullptr, skyColour = nullptr, envMap = nullptr,
+                   envRotation = nullptr, envIntensity = nullptr, upAxis = nullptr, timesAlbedo = nullptr;
+    mutable EnvironmentCache environment;
 };
 
 Instance* instanceOf(OfxImageEffectHandle effect) {
@@ -196,6 +231,8 @@ struct Params {
     DepthKind depthKind = DepthKind::Planar;
     NormalSpace normalSpace = NormalSpace::World;
     double maxScreenRadius = 0;  // 0 = automatic (frame extent)
+    std::string envPath;         // lat-long environment map ("" = the sky colour)
+    bool timesAlbedo = false;    // DO / GI as albedo E / pi
 };
 
 int choiceAt(OfxParamHandle h, OfxTime t, int count) {
@@ -212,6 +249,11 @@ double doubleAt(OfxParamHandle h, OfxTime t) {
     double v = 0;
     check(gParam->paramGetValueAtTime(h, t, &v));
     return v;
+}
+void rgbAt(OfxParamHandle h, OfxTime t, float out[3]) {
+    double r = 0, g = 0, b = 0;
+    check(gParam->paramGetValueAtTime(h, t, &r, &g, &b));
+    out[0] = (float)r, out[1] = (float)g, out[2] = (float)b;
 }
 std::string stringAt(OfxParamHandle h, OfxTime t) {
     char* v = nullptr;
@@ -239,10 +281,20 @@ std::string resolveDevice(const std::string& requested) {
 
 Params readParams(const Instance& in, OfxTime t) {
     Params p;
-    p.output = kOutputOptions[choiceAt(in.output_, t, kOutputCount)].kind;
+    const OutputOption& o = kOutputOptions[choiceAt(in.output_, t, kOutputCount)];
+    p.output = o.kind;
     p.strength = std::clamp(doubleAt(in.strength, t), 0.0, 1.0);
     Settings& s = p.settings;
-    s.method = kMethods[choiceAt(in.method, t, countOf(kMethods))];
+    s.method = o.ssdo ? "ssdo" : kMethods[choiceAt(in.method, t, countOf(kMethods))];
+    s.bounce = o.bounce;
+    s.ssdoSamples = intAt(in.ssdoSamples, t);
+    s.interleave = intAt(in.interleave, t);
+    rgbAt(in.skyColour, t, s.skyRadiance);
+    s.envRotationDeg = (float)doubleAt(in.envRotation, t);
+    s.envIntensity = (float)doubleAt(in.envIntensity, t);
+    s.zUp = choiceAt(in.upAxis, t, countOf(kUpAxes)) == 1;
+    p.envPath = stringAt(in.envMap, t);
+    p.timesAlbedo = intAt(in.timesAlbedo, t) != 0;
     s.radius = (float)doubleAt(in.radius, t);
     s.directions = intAt(in.directions, t);
     s.steps = intAt(in.steps, t);
@@ -372,10 +424,22 @@ float radiusCap(const Params& p, const FrameMap& f) {
 // How far from a pixel its AO reads, in pixels: the projected radius (bounded by the cap;
 // for an orthographic camera R * pixels-per-unit), the texel snapping of the samples, then
 // the two blur passes. Known before any depth is fetched, so it can answer the RoI action.
+//
+// SSDO places its samples in world space within r_max and does not bound their projection
+// by the cap: orthographic, that reach is exactly R * pixels-per-unit; in perspective the cap
+// stands for it, which holds wherever r_max projects within the cap (surfaces farther from
+// the eye than about fx r_max / cap + r_max). Its blur gathers the interleaving block (the
+// interleave width, or Blur when set), and the bounce reads Source under the same apron.
+int ssdoBlur(const Settings& s) { return s.blur > 0 ? s.blur : (s.interleave > 1 ? s.interleave : 0); }
+
 int apronPixels(const Params& p, const Camera& cam, float cap) {
+    const bool ssdo = p.settings.method == "ssdo";
     double reach = cap;
-    if (cam.projection == Projection::Orthographic) reach = std::min<double>(p.settings.radius * cam.fx, cap);
-    return (int)std::ceil(reach) + 2 + std::max(p.settings.blur, 0);
+    if (cam.projection == Projection::Orthographic)
+        reach = ssdo ? std::min<double>((double)p.settings.radius * cam.fx, 1e7)
+                     : std::min<double>(p.settings.radius * cam.fx, cap);
+    const int blur = ssdo ? ssdoBlur(p.settings) : p.settings.blur;
+    return (int)std::ceil(reach) + 2 + std::max(blur, 0);
 }
 
 // The depth/normal pixels a render window reads.
@@ -450,6 +514,44 @@ Image toDisplayPlane(const ClipImage& img, const PixRect& r, const FrameMap& f, 
 }
 
 // ---------------------------------------------------------------------------
+// The environment map: read with OpenImageIO as RGB float (a grey map is spread to RGB,
+// extra channels are dropped), cached per instance by path, modification time and size.
+// ---------------------------------------------------------------------------
+
+Image readEnvironment(const std::string& path) {
+    auto file = OIIO::ImageInput::open(path);
+    if (!file) throw Error("cannot read the environment map '" + path + "': " + OIIO::geterror());
+    const OIIO::ImageSpec spec = file->spec();
+    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
+        throw Error("the environment map '" + path + "' has no pixels");
+    const int chans = std::min(spec.nchannels, 3);
+    std::vector<float> pixels((size_t)spec.width * spec.height * chans);
+    if (!file->read_image(0, 0, 0, chans, OIIO::TypeDesc::FLOAT, pixels.data()))
+        throw Error("cannot read the environment map '" + path + "': " + file->geterror());
+    file->close();
+    Image img(spec.width, spec.height, 3);
+    for (size_t i = 0, n = (size_t)spec.width * spec.height; i < n; ++i)
+        for (int c = 0; c < 3; ++c) img.pixels[i * 3 + c] = pixels[i * chans + std::min(c, chans - 1)];
+    return img;
+}
+
+std::shared_ptr<const Image> environmentFor(const Instance& in, const std::string& path) {
+    struct stat st {};
+    if (::stat(path.c_str(), &st) != 0) throw Error("the environment map '" + path + "' does not exist");
+    const long long mtime = (long long)st.st_mtim.tv_sec * 1000000000LL + st.st_mtim.tv_nsec;
+    EnvironmentCache& cache = in.environment;
+    std::lock_guard<std::mutex> lock(cache.mutex);
+    if (!cache.image || cache.path != path || cache.mtimeNs != mtime || cache.size != (long long)st.st_size) {
+        cache.image.reset();
+        cache.image = std::make_shared<const Image>(readEnvironment(path));
+        cache.path = path;
+        cache.mtimeNs = mtime;
+        cache.size = (long long)st.st_size;
+    }
+    return cache.image;
+}
+
+// ---------------------------------------------------------------------------
 // Actions
 // ---------------------------------------------------------------------------
 
@@ -476,9 +578,10 @@ OfxStatus onDescribe(OfxImageEffectHandle effect) {
     gProp->propSetString(p, kOfxPropLongLabel, 0, "obscura ambient occlusion");
     gProp->propSetString(p, kOfxImageEffectPluginPropGrouping, 0, "obscura");
     gProp->propSetString(p, kOfxPropPluginDescription, 0,
-                         "Screen-space ambient occlusion (HBAO) from the depth and normal passes of a render. "
-                         "Shuffle each pass into its clip: Depth (first channel), Normal (RGB), optional "
-                         "Position and Albedo; Source is the beauty.");
+                         "Screen-space ambient occlusion (HBAO), and directional occlusion with one bounce "
+                         "(SSDO), from the depth and normal passes of a render. Shuffle each pass into its "
+                         "clip: Depth (first channel), Normal (RGB), optional Albedo (RGB) and Position; "
+                         "Source is the beauty (also the bounce source).");
     gProp->propSetInt(p, kOfxPropVersion, 0, (int)kVersionMajor);
     gProp->propSetInt(p, kOfxPropVersion, 1, (int)kVersionMinor);
     gProp->propSetString(p, kOfxPropVersionLabel, 0, OBSCURA_OFX_VERSION_STRING);
@@ -575,12 +678,15 @@ OfxStatus onDescribeInContext(OfxImageEffectHandle effect, OfxPropertySetHandle 
     check(gEffect->getParamSet(effect, &d.set));
     std::vector<const char*> outputs;
     for (const OutputOption& o : kOutputOptions) outputs.push_back(o.label);
-    d.choice(kParamOutput, "Output", "What the Output clip carries: the AO (RGB = AO, A = 1), or the beauty (Source) "
-                                     "multiplied by the AO",
+    d.choice(kParamOutput, "Output",
+             "What the Output clip carries: the AO (RGB = AO, A = 1); the beauty (Source) multiplied by the AO; "
+             "SSDO's directional occlusion (DO) or one-bounce indirect light (GI, bounced from Source), as "
+             "irradiance (RGB, A = 1); or Relit = Albedo x (DO + GI) / pi (alpha of Source)",
              outputs, 0);
     d.real(kParamStrength, "Strength", "Blend of the AO towards 1 (0 = off: the effect passes the beauty through)",
            1.0, 0.0, 1.0, 0.0, 1.0);
-    d.choice(kParamMethod, "Method", "Occlusion method (--method)", {kMethods[0]}, 0);
+    d.choice(kParamMethod, "Method", "Occlusion method for the AO outputs (--method); DO, GI and Relit always use ssdo",
+             {kMethods[0], kMethods[1]}, 0);
     d.real(kParamRadius, "Radius", "Radius in world units (--radius)", 1.0, 1e-6, 1e9, 0.01, 10.0);
     d.integer(kParamDirections, "Directions", "Slices per pixel (--directions)", 8, 1, 256, 1, 32);
     d.integer(kParamSteps, "Steps", "Samples per slice (--steps)", 8, 1, 256, 1, 32);
@@ -624,6 +730,42 @@ OfxStatus onDescribeInContext(OfxImageEffectHandle effect, OfxPropertySetHandle 
              {kDevices[0], kDevices[1], kDevices[2], kDevices[3], kDevices[4]}, 1, kGroupAdvanced);
     d.integer(kParamThreads, "Threads", "CPU threads, 0 = all cores (--threads)", 0, 0, 1024, 0, 64, kGroupAdvanced);
 
+    d.group(kGroupSsdo, "SSDO");
+    d.integer(kParamSsdoSamples, "Samples", "Sample set N shared by an interleaving block (--samples)", 64, 1, 4096, 1,
+              256, kGroupSsdo);
+    d.integer(kParamInterleave, "Interleave",
+              "M: an M x M block of pixels splits the sample set, N / M^2 each, gathered back by a blur (--interleave)",
+              2, 1, 8, 1, 8, kGroupSsdo);
+    {
+        OfxPropertySetHandle p = d.define(kOfxParamTypeRGB, kParamSkyColour, "Sky Colour",
+                                          "Constant sky radiance when there is no environment map (--sky)", kGroupSsdo);
+        for (int c = 0; c < 3; ++c) gProp->propSetDouble(p, kOfxParamPropDefault, c, 1.0);
+    }
+    {
+        OfxPropertySetHandle p = d.define(kOfxParamTypeString, kParamEnvMap, "Environment Map",
+                                          "Lat-long radiance map, any format OpenImageIO reads, taken as linear RGB "
+                                          "(--env); empty = the sky colour",
+                                          kGroupSsdo);
+        gProp->propSetString(p, kOfxParamPropDefault, 0, "");
+        gProp->propSetString(p, kOfxParamPropStringMode, 0, kOfxParamStringIsFilePath);
+        gProp->propSetInt(p, kOfxParamPropStringFilePathExists, 0, 1);
+        gProp->propSetInt(p, kOfxParamPropAnimates, 0, 0);
+    }
+    d.real(kParamEnvRotation, "Env Rotation", "Turns the environment about the up axis, degrees (--env-rotate)", 0.0,
+           -36000.0, 36000.0, -180.0, 180.0, kGroupSsdo, kOfxParamDoubleTypeAngle);
+    d.real(kParamEnvIntensity, "Env Intensity", "Multiplies the environment map (--env-intensity)", 1.0, 0.0, 1e9, 0.0,
+           4.0, kGroupSsdo);
+    d.choice(kParamUpAxis, "Up Axis", "World up axis for the environment: y, or z for Blender renders (--up)",
+             {kUpAxes[0], kUpAxes[1]}, 0, kGroupSsdo);
+    {
+        OfxPropertySetHandle p = d.define(kOfxParamTypeBoolean, kParamTimesAlbedo, "Times Albedo",
+                                          "DO and GI as albedo x E / pi (needs the Albedo clip), the outgoing radiance "
+                                          "of the diffuse receiver, instead of irradiance E (--times-albedo)",
+                                          kGroupSsdo);
+        gProp->propSetInt(p, kOfxParamPropDefault, 0, 0);
+        gProp->propSetInt(p, kOfxParamPropAnimates, 0, 0);
+    }
+
     OfxPropertySetHandle page = d.define(kOfxParamTypePage, kPage, "Controls", nullptr);
     d.topLevel.pop_back();  // the page itself
     for (int i = 0; i < (int)d.topLevel.size(); ++i)
@@ -644,9 +786,11 @@ OfxImageClipHandle clip(OfxImageEffectHandle effect, const char* name) {
 }
 
 void updateEnabled(const Instance& in) {
-    int projection = 0, normals = 0;
+    int projection = 0, normals = 0, output = 0;
     gParam->paramGetValue(in.projection, &projection);
     gParam->paramGetValue(in.normalSpace, &normals);
+    gParam->paramGetValue(in.output_, &output);
+    const OutputKind kind = kOutputOptions[std::clamp(output, 0, kOutputCount - 1)].kind;
     auto enable = [](OfxParamHandle h, bool on) {
         OfxPropertySetHandle p = nullptr;
         if (gParam->paramGetPropertySet(h, &p) == kOfxStatOK) gProp->propSetInt(p, kOfxParamPropEnabled, 0, on ? 1 : 0);
@@ -654,6 +798,9 @@ void updateEnabled(const Instance& in) {
     enable(in.fov, projection == 0);
     enable(in.orthoWidth, projection == 1);
     enable(in.cameraToWorld, normals == 0);
+    // DO, GI and Relit are SSDO whatever the method; Times Albedo concerns DO and GI only.
+    enable(in.method, kind == OutputKind::Ao || kind == OutputKind::BeautyTimesAo);
+    enable(in.timesAlbedo, kind == OutputKind::Directional || kind == OutputKind::Indirect);
 }
 
 OfxStatus onCreateInstance(OfxImageEffectHandle effect) {
@@ -686,6 +833,14 @@ OfxStatus onCreateInstance(OfxImageEffectHandle effect) {
     in->maxScreenRadius = param(set, kParamMaxScreenRadius);
     in->device = param(set, kParamDevice);
     in->threads = param(set, kParamThreads);
+    in->ssdoSamples = param(set, kParamSsdoSamples);
+    in->interleave = param(set, kParamInterleave);
+    in->skyColour = param(set, kParamSkyColour);
+    in->envMap = param(set, kParamEnvMap);
+    in->envRotation = param(set, kParamEnvRotation);
+    in->envIntensity = param(set, kParamEnvIntensity);
+    in->upAxis = param(set, kParamUpAxis);
+    in->timesAlbedo = param(set, kParamTimesAlbedo);
     check(gProp->propSetPointer(effectProps(effect), kOfxPropInstanceData, 0, in.get()));
     updateEnabled(*in);
     in.release();
@@ -718,6 +873,17 @@ OfxStatus onGetRegionOfDefinition(OfxImageEffectHandle effect, OfxPropertySetHan
     return kOfxStatOK;
 }
 
+// What an output reads and computes (regions of interest and render agree through these).
+const OutputOption& optionOf(const Params& p) { return kOutputOptions[(int)p.output]; }
+// AO outputs with strength 0 compute nothing; the SSDO quantities ignore Strength.
+bool computes(const Params& p) { return optionOf(p).ssdo || p.strength > 0; }
+bool needsAlbedo(const Params& p) {
+    return p.output == OutputKind::Relit ||
+           (p.timesAlbedo && (p.output == OutputKind::Directional || p.output == OutputKind::Indirect));
+}
+// Beauty x AO and Relit keep the Source's alpha (and premultiplication); the rest are opaque.
+bool keepsSourceAlpha(OutputKind k) { return k == OutputKind::BeautyTimesAo || k == OutputKind::Relit; }
+
 OfxStatus onGetRegionsOfInterest(OfxImageEffectHandle effect, OfxPropertySetHandle inArgs,
                                  OfxPropertySetHandle outArgs) {
     const Instance& in = *instanceOf(effect);
@@ -725,27 +891,28 @@ OfxStatus onGetRegionsOfInterest(OfxImageEffectHandle effect, OfxPropertySetHand
     OfxRectD region{0, 0, 0, 0};
     check(gProp->propGetDoubleN(inArgs, kOfxImageEffectPropRegionOfInterest, 4, &region.x1));
     const Params p = readParams(in, t);
+    const OutputOption& o = optionOf(p);
     const OfxRectD none{0, 0, 0, 0};
     auto setRoi = [&](const char* clipName, const OfxRectD& r) {
         gProp->propSetDoubleN(outArgs, (std::string(kOfxImageClipPropRoI) + clipName).c_str(), 4, &r.x1);
     };
+    OfxRectD dataRoi = none;
     if (connected(in.depth)) {
         const FrameMap f = frameMap(in, t);
-        const bool computes = p.strength > 0;  // as onRender
         PixRect data;
-        if (computes) {
+        if (computes(p)) {
             const int apron = apronPixels(p, makeCamera(p, f), radiusCap(p, f));
             data = dataRegion(f.toPixels(region), apron, f);
         }
-        const OfxRectD dataRoi = f.toCanonical(data);
+        dataRoi = f.toCanonical(data);
         setRoi(kClipDepth, dataRoi);
         setRoi(kClipNormal, dataRoi);
     }
-    // Inputs the chosen output does not read are not requested at all.
-    const bool needsSource = kOutputOptions[(int)p.output].needsSource;
-    setRoi(kClipSource, needsSource ? region : none);
+    // Inputs the chosen output does not read are not requested at all. The bounce reads
+    // Source (its senders) wherever the depth is read; Albedo is read under the window.
+    setRoi(kClipSource, o.bounce ? dataRoi : o.needsSource ? region : none);
     setRoi(kClipPosition, none);
-    setRoi(kClipAlbedo, none);
+    setRoi(kClipAlbedo, needsAlbedo(p) ? region : none);
     return kOfxStatOK;
 }
 
@@ -756,7 +923,7 @@ OfxStatus onGetClipPreferences(OfxImageEffectHandle effect, OfxPropertySetHandle
     const OutputOption& o = kOutputOptions[std::clamp(outputIndex, 0, kOutputCount - 1)];
     for (const char* name : {kClipSource, kClipDepth, kClipNormal, kClipPosition, kClipAlbedo, kClipOutput})
         gProp->propSetString(outArgs, (std::string(kOfxImageClipPropDepthPrefix) + name).c_str(), 0, kOfxBitDepthFloat);
-    if (o.needsSource && connected(in.source)) {
+    if (keepsSourceAlpha(o.kind) && connected(in.source)) {
         const std::string premult = getString(clipProps(in.source), kOfxImageEffectPropPreMultiplication);
         gProp->propSetString(outArgs, kOfxImageEffectPropPreMultiplication, 0,
                              premult.empty() ? kOfxImagePreMultiplied : premult.c_str());
@@ -768,9 +935,13 @@ OfxStatus onGetClipPreferences(OfxImageEffectHandle effect, OfxPropertySetHandle
         for (const char* name : {kClipDepth, kClipNormal, kClipPosition})
             gProp->propSetString(outArgs, (std::string(kOfxImageClipPropPreferredColourspacesPrefix) + name).c_str(), 0,
                                  kOfxColourspaceRaw);
-        const std::string outSpace = o.needsSource ? std::string(kOfxColourspaceClipPrefix) + kClipSource
-                                                   : std::string(kOfxColourspaceRaw);
-        gProp->propSetString(clipProps(in.output), kOfxImageClipPropColourspace, 0, outSpace.c_str());
+        // The AO is data; the beauty product and the SSDO light are in the Source's space.
+        const bool colour = o.kind != OutputKind::Ao;
+        if (!colour || connected(in.source)) {
+            const std::string outSpace =
+                colour ? std::string(kOfxColourspaceClipPrefix) + kClipSource : std::string(kOfxColourspaceRaw);
+            gProp->propSetString(clipProps(in.output), kOfxImageClipPropColourspace, 0, outSpace.c_str());
+        }
     }
     return kOfxStatOK;
 }
@@ -780,7 +951,7 @@ OfxStatus onIsIdentity(OfxImageEffectHandle effect, OfxPropertySetHandle inArgs,
     const OfxTime t = getDouble(inArgs, kOfxPropTime, 0);
     const Params p = readParams(in, t);
     // Off (strength 0): the beauty passes through untouched.
-    if (p.strength <= 0 && kOutputOptions[(int)p.output].needsSource && connected(in.source)) {
+    if (p.strength <= 0 && p.output == OutputKind::BeautyTimesAo && connected(in.source)) {
         gProp->propSetString(outArgs, kOfxPropName, 0, kClipSource);
         gProp->propSetDouble(outArgs, kOfxPropTime, 0, t);
         return kOfxStatOK;
@@ -795,25 +966,46 @@ OfxStatus onRender(OfxImageEffectHandle effect, OfxPropertySetHandle inArgs) {
     check(gProp->propGetIntN(inArgs, kOfxImageEffectPropRenderWindow, 4, w));
     const PixRect window{w[0], w[1], w[2], w[3]};
     const Params p = readParams(in, t);
+    const OutputOption& option = optionOf(p);
     const FrameMap f = frameMap(in, t);
-    const bool needsSource = kOutputOptions[(int)p.output].needsSource;
+    const OutputKind kind = p.output;
 
     ClipImage out;
     if (!out.fetch(in.output, t, nullptr, "Output")) throw Error("the host gave no Output image");
 
-    // The AO over the render window, display-ordered (y down), or none when the effect is off.
-    const bool computes = p.strength > 0;
-    const PixRect data = computes ? dataRegion(window, apronPixels(p, makeCamera(p, f), radiusCap(p, f)), f) : PixRect{};
-    Image ao;
-    if (computes && !data.empty()) {
+    // Inputs first, so a missing clip is reported before any work.
+    if (option.needsSource && !connected(in.source))
+        throw Error(std::string("the ") + option.label + " output needs the Source clip" +
+                    (option.bounce ? " (the beauty: the bounce source)" : ""));
+    const bool withAlbedo = needsAlbedo(p);
+    if (withAlbedo && !connected(in.albedo))
+        throw Error(std::string("the ") + option.label + " output" + (kind == OutputKind::Relit ? "" : " times albedo") +
+                    " needs the Albedo clip");
+
+    // The operator over the render window's data region (display-ordered, y down), or
+    // nothing when the AO is off.
+    const PixRect data = computes(p) ? dataRegion(window, apronPixels(p, makeCamera(p, f), radiusCap(p, f)), f) : PixRect{};
+    OperatorOutputs result;
+    const bool computed = computes(p) && !data.empty();
+    if (computed) {
         const OfxRectD region = f.toCanonical(data);
-        ClipImage depth, normal;
+        ClipImage depth, normal, radiance;
         if (!depth.fetch(in.depth, t, &region, "Depth")) throw Error("the Depth clip gave no image");
         if (!normal.fetch(in.normal, t, &region, "Normal")) throw Error("the Normal clip gave no image");
         if (normal.components() < 3) throw Error("the Normal clip must be RGB(A): normals are three channels");
         // Holes outside what the host delivered read as sky (depth 0) and missing normals.
         const Image depthPlane = toDisplayPlane(depth, data, f, 1, 0.0f);
         const Image normalPlane = toDisplayPlane(normal, data, f, 3, 0.0f);
+        Image radiancePlane;
+        if (option.bounce) {
+            if (!radiance.fetch(in.source, t, &region, "Source")) throw Error("the Source clip gave no image");
+            if (radiance.components() < 3) throw Error("the bounce needs an RGB(A) Source clip");
+            radiancePlane = toDisplayPlane(radiance, data, f, 3, 0.0f);
+        }
+        std::shared_ptr<const Image> environment;
+        const bool ssdo = p.settings.method == "ssdo";
+        if (ssdo && p.envPath.find_first_not_of(" \t\r\n") != std::string::npos)
+            environment = environmentFor(in, p.envPath);
         if (gEffect->abort(effect)) return kOfxStatOK;
 
         OperatorInputs oi;
@@ -824,30 +1016,65 @@ OfxStatus onRender(OfxImageEffectHandle effect, OfxPropertySetHandle inArgs) {
         oi.depthKind = p.depthKind;
         oi.normalSpace = p.normalSpace;
         oi.camera = makeCamera(p, f);
+        if (!radiancePlane.empty()) oi.radiance = radiancePlane.view();
+        oi.environment = environment.get();
         Settings s = p.settings;
         s.maxRadiusPixels = radiusCap(p, f);  // the same for every tile
-        ao = runOperator(oi, s).ao;
+        result = runOperator(oi, s);
     }
 
-    ClipImage source;
-    if (needsSource) {
-        if (!connected(in.source)) throw Error("the Beauty x AO output needs the Source clip");
+    ClipImage source, albedo;
+    if (option.needsSource) {
         const OfxRectD region = f.toCanonical(window);
         if (!source.fetch(in.source, t, &region, "Source")) throw Error("the Source clip gave no image");
+    }
+    if (withAlbedo) {
+        const OfxRectD region = f.toCanonical(window);
+        if (!albedo.fetch(in.albedo, t, &region, "Albedo")) throw Error("the Albedo clip gave no image");
     }
 
     const float strength = (float)p.strength;
     const int oc = out.components();
+    const int sc = source.components(), ac = albedo.components();
+    const float invPi = (float)(1.0 / M_PI);
     const PixRect target = intersect(window, out.bounds());
     for (int y = target.y1; y < target.y2; ++y) {
         for (int x = target.x1; x < target.x2; ++x) {
             float* o = out.pixel(x, y);
             const bool inFrame = x >= f.rod.x1 && x < f.rod.x2 && y >= f.rod.y1 && y < f.rod.y2;
+            const bool inData = computed && x >= data.x1 && x < data.x2 && y >= data.y1 && y < data.y2;
+            const int dx = x - data.x1, dy = data.y2 - 1 - y;  // FrameMap::ofxRow, inverted
+            if (option.ssdo) {
+                // DO / GI irradiance (or albedo E / pi), or relit = albedo (DO + GI) / pi.
+                const float* s = option.needsSource ? source.pixel(x, y) : nullptr;
+                if (!inFrame || !inData || (option.needsSource && !s)) {
+                    std::fill(o, o + oc, 0.0f);
+                    continue;
+                }
+                const float* a = withAlbedo ? albedo.pixel(x, y) : nullptr;
+                const float* e = (kind == OutputKind::Indirect ? result.indirect : result.directional).at(dx, dy);
+                const float* gi = kind == OutputKind::Relit ? result.indirect.at(dx, dy) : nullptr;
+                float rgb[3];
+                for (int c = 0; c < 3; ++c) {
+                    const float alb = withAlbedo ? (a ? a[ac >= 3 ? c : 0] : 0.0f) : 1.0f;
+                    if (kind == OutputKind::Relit)
+                        rgb[c] = alb * (e[c] + gi[c]) * invPi;
+                    else
+                        rgb[c] = withAlbedo ? e[c] * (alb * invPi) : e[c];
+                }
+                const float alpha = kind == OutputKind::Relit ? (sc == 1 ? s[0] : sc == 4 ? s[3] : 1.0f) : 1.0f;
+                if (oc == 1) {
+                    o[0] = alpha;
+                } else {
+                    o[0] = rgb[0], o[1] = rgb[1], o[2] = rgb[2];
+                    if (oc == 4) o[3] = alpha;
+                }
+                continue;
+            }
             float a = 1.0f;
-            if (!ao.empty() && x >= data.x1 && x < data.x2 && y >= data.y1 && y < data.y2)
-                a = *ao.at(x - data.x1, data.y2 - 1 - y);  // FrameMap::ofxRow, inverted
+            if (inData) a = *result.ao.at(dx, dy);
             if (strength < 1.0f) a = 1.0f - strength * (1.0f - a);
-            if (!needsSource) {
+            if (!option.needsSource) {
                 if (!inFrame) {
                     std::fill(o, o + oc, 0.0f);
                 } else if (oc == 1) {
@@ -859,7 +1086,6 @@ OfxStatus onRender(OfxImageEffectHandle effect, OfxPropertySetHandle inArgs) {
                 continue;
             }
             const float* s = source.pixel(x, y);
-            const int sc = source.components();
             if (!s) {
                 std::fill(o, o + oc, 0.0f);
                 continue;

@@ -313,6 +313,7 @@ typedef struct OfxImageEffectSuiteV1 {
 #define kOfxParamTypeBoolean "OfxParamTypeBoolean"
 #define kOfxParamTypeChoice "OfxParamTypeChoice"
 #define kOfxParamTypeString "OfxParamTypeString"
+#define kOfxParamTypeRGB "OfxParamTypeRGB"
 #define kOfxParamTypeGroup "OfxParamTypeGroup"
 #define kOfxParamTypePage "OfxParamTypePage"
 
@@ -337,6 +338,8 @@ typedef struct OfxImageEffectSuiteV1 {
 #define kOfxParamPropChoiceOption "OfxParamPropChoiceOption"
 #define kOfxParamPropStringMode "OfxParamPropStringMode"
 #define kOfxParamStringIsSingleLine "OfxParamStringIsSingleLine"
+#define kOfxParamStringIsFilePath "OfxParamStringIsFilePath"
+#define kOfxParamPropStringFilePathExists "OfxParamPropStringFilePathExists"
 #define kOfxParamPropGroupOpen "OfxParamPropGroupOpen"
 #define kOfxParamPropPageChild "OfxParamPropPageChild"
 

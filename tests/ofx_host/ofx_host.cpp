@@ -380,8 +380,8 @@ OfxStatus paramDefine(OfxParamSetHandle h, const char* type, const char* name, O
     if (!ps) return kOfxStatErrBadHandle;
     if (ps->find(name)) return kOfxStatErrExists;
     const std::string t = type;
-    if (!(isIntLike(t) || t == kOfxParamTypeDouble || t == kOfxParamTypeString || t == kOfxParamTypeGroup ||
-          t == kOfxParamTypePage))
+    if (!(isIntLike(t) || t == kOfxParamTypeDouble || t == kOfxParamTypeRGB || t == kOfxParamTypeString ||
+          t == kOfxParamTypeGroup || t == kOfxParamTypePage))
         return kOfxStatErrUnknown;
     auto p = std::make_unique<Param>();
     p->type = t;
@@ -420,6 +420,8 @@ OfxStatus getValue(Param* p, va_list ap) {
         *va_arg(ap, int*) = p->i;
     } else if (p->type == kOfxParamTypeDouble) {
         *va_arg(ap, double*) = p->d;
+    } else if (p->type == kOfxParamTypeRGB) {
+        for (double v : p->rgb) *va_arg(ap, double*) = v;
     } else if (p->type == kOfxParamTypeString) {
         *va_arg(ap, char**) = const_cast<char*>(p->s.c_str());
     } else {
@@ -442,6 +444,8 @@ OfxStatus setValue(Param* p, va_list ap) {
         p->i = va_arg(ap, int);
     } else if (p->type == kOfxParamTypeDouble) {
         p->d = va_arg(ap, double);
+    } else if (p->type == kOfxParamTypeRGB) {
+        for (double& v : p->rgb) v = va_arg(ap, double);
     } else if (p->type == kOfxParamTypeString) {
         const char* s = va_arg(ap, const char*);
         p->s = s ? s : "";
@@ -742,6 +746,10 @@ std::unique_ptr<Instance> Host::createInstance(const ProjectSetup& project,
             const auto v = d->props.doubles(kOfxParamPropDefault);
             p->d = v.empty() ? 0.0 : v[0];
         }
+        if (p->type == kOfxParamTypeRGB) {
+            const auto v = d->props.doubles(kOfxParamPropDefault);
+            for (int k = 0; k < 3; ++k) p->rgb[k] = k < (int)v.size() ? v[k] : 0.0;
+        }
         if (p->type == kOfxParamTypeString) p->s = d->props.string(kOfxParamPropDefault);
         e.params.params.push_back(std::move(p));
     }
@@ -817,6 +825,14 @@ OfxStatus Instance::setString(const std::string& name, const std::string& v) {
     return setAndNotify(*host_, *effect_, name, [&](Param& p) {
         if (p.type != kOfxParamTypeString) return kOfxStatErrValue;
         p.s = v;
+        return kOfxStatOK;
+    });
+}
+
+OfxStatus Instance::setRGB(const std::string& name, double r, double g, double b) {
+    return setAndNotify(*host_, *effect_, name, [&](Param& p) {
+        if (p.type != kOfxParamTypeRGB) return kOfxStatErrValue;
+        p.rgb[0] = r, p.rgb[1] = g, p.rgb[2] = b;
         return kOfxStatOK;
     });
 }

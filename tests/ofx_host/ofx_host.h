@@ -95,6 +95,7 @@ struct Param {
     PropertySet props;
     int i = 0;
     double d = 0;
+    double rgb[3] = {0, 0, 0};  // kOfxParamTypeRGB
     std::string s;
 };
 
@@ -153,6 +154,7 @@ public:
     OfxStatus setInt(const std::string& param, int v);
     OfxStatus setDouble(const std::string& param, double v);
     OfxStatus setString(const std::string& param, const std::string& v);
+    OfxStatus setRGB(const std::string& param, double r, double g, double b);
 
     // kOfxImageEffectActionGetClipPreferences; the out args as the plugin left them.
     OfxStatus clipPreferences(PropertySet& out);
