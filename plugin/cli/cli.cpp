@@ -308,22 +308,6 @@ void printSummary(const Options& o, const FrameReport& r) {
     for (const std::string& w : r.warnings) std::fprintf(stderr, "obscura: warning: %s\n", w.c_str());
 }
 
-void writeTextFile(const std::string& path, const std::string& text) {
-    const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
-    {
-        std::ofstream f(tmp, std::ios::binary);
-        f << text << "\n";
-        if (!f.good()) {
-            std::remove(tmp.c_str());
-            throw Error("cannot write '" + path + "'");
-        }
-    }
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-        std::remove(tmp.c_str());
-        throw Error("cannot write '" + path + "'");
-    }
-}
-
 void runOneFrame(const Options& o, const FrameJob& job, const std::string& reportPath) {
     if (!reportPath.empty()) requireOutputDirectory(reportPath);
     const FrameReport report = runFrameJob(job);
@@ -332,7 +316,7 @@ void runOneFrame(const Options& o, const FrameJob& job, const std::string& repor
         std::printf("reference %s: MAE %.5f  RMSE %.5f  PSNR %.2f dB  p99 %.5f  (%lld pixels)\n",
                     job.referenceLayer.c_str(), m.mae, m.rmse, m.psnr, m.p99, m.pixels);
     }
-    if (!reportPath.empty()) writeTextFile(reportPath, frameReportJson(job, report));
+    if (!reportPath.empty()) writeTextFileAtomically(reportPath, frameReportJson(job, report));
     if (!o.quiet && !isFramePattern(o.job.input)) printSummary(o, report);
 }
 

@@ -10,8 +10,11 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 #include <utility>
+
+#include <unistd.h>
 
 namespace obscura {
 
@@ -28,16 +31,6 @@ struct StageTimer {
         if (stages) stages->push_back({name, std::chrono::duration<double>(Clock::now() - t0).count()});
     }
 };
-
-// Interleaves single-channel planes into one image.
-Image interleave(std::vector<Image>::iterator first, int channels) {
-    Image out(first->width, first->height, channels);
-    for (int c = 0; c < channels; ++c) {
-        const Image& src = *(first + c);
-        for (size_t i = 0, n = (size_t)src.width * src.height; i < n; ++i) out.pixels[i * channels + c] = src.pixels[i];
-    }
-    return out;
-}
 
 // The channel a --reference LAYER names: the exact channel, or the first of LAYER.{R,Y,V,Z,A,...}.
 std::string findReferenceChannel(const ExrPart& part, const std::string& layer, const ExrInfo& info) {
@@ -237,13 +230,39 @@ void requireOutputDirectory(const std::string& path) {
         throw Error("cannot write '" + path + "': directory '" + dir.string() + "' does not exist");
 }
 
+Image interleavePlanes(const std::vector<Image>& planes, size_t first, int channels) {
+    Image out(planes[first].width, planes[first].height, channels);
+    for (int c = 0; c < channels; ++c) {
+        const Image& src = planes[first + c];
+        for (size_t i = 0, n = (size_t)src.width * src.height; i < n; ++i) out.pixels[i * channels + c] = src.pixels[i];
+    }
+    return out;
+}
+
+void writeTextFileAtomically(const std::string& path, const std::string& text) {
+    const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
+    {
+        std::ofstream f(tmp, std::ios::binary);
+        f << text << "\n";
+        if (!f.good()) {
+            std::remove(tmp.c_str());
+            throw Error("cannot write '" + path + "'");
+        }
+    }
+    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+        std::remove(tmp.c_str());
+        throw Error("cannot write '" + path + "'");
+    }
+}
+
 std::string aoChannelName(const std::string& layer) {
     const size_t dot = layer.rfind('.');
     if (dot != std::string::npos && dot + 2 == layer.size() && std::isupper((unsigned char)layer.back())) return layer;
     return layer + ".Y";
 }
 
-FramePasses loadFramePasses(const FrameJob& job, bool keepAll, std::vector<StageTiming>* stages) {
+FramePasses loadFramePasses(const FrameJob& job, bool keepAll, std::vector<StageTiming>* stages,
+                             bool alwaysReadPosition) {
     StageTimer timer{stages, "read"};
     FramePasses p;
     p.info = readExrInfo(job.input);
@@ -267,7 +286,8 @@ FramePasses loadFramePasses(const FrameJob& job, bool keepAll, std::vector<Stage
     std::vector<ChannelRef> wanted = channelRefs(depth);
     for (const ChannelRef& c : channelRefs(normal)) wanted.push_back(c);
     const LayerBinding* position = p.plan.find(Role::Position);
-    const bool readPosition = position && !cameraFullyGiven(job);
+    const bool readPosition = position && (alwaysReadPosition ? p.info.parts[position->part].dataWindow == p.data
+                                                              : !cameraFullyGiven(job));
     if (readPosition) {
         samePixels(*position);
         for (const ChannelRef& c : channelRefs(*position)) wanted.push_back(c);
@@ -279,19 +299,19 @@ FramePasses loadFramePasses(const FrameJob& job, bool keepAll, std::vector<Stage
         for (const std::string& c : *rgb) wanted.push_back({p.part, c});
 
     std::vector<Image> planes = readExrChannels(job.input, p.info, wanted, keepAll, keepAll ? &p.raw : nullptr);
-    auto next = planes.begin();
-    p.depth = std::move(*next++);
-    p.normal = interleave(next, 3);
+    size_t next = 0;
+    p.depth = std::move(planes[next++]);
+    p.normal = interleavePlanes(planes, next, 3);
     next += 3;
     if (readPosition) {
-        p.position = interleave(next, 3);
+        p.position = interleavePlanes(planes, next, 3);
         next += 3;
     }
-    if (!job.referenceLayer.empty()) p.reference = std::move(*next++);
+    if (!job.referenceLayer.empty()) p.reference = std::move(planes[next++]);
     for (auto [names, image] : {std::pair{&ssdo.radiance, &p.radiance}, std::pair{&ssdo.albedo, &p.albedo},
                                 std::pair{&ssdo.directDiffuse, &p.directDiffuse}}) {
         if (names->empty()) continue;
-        *image = interleave(next, 3);
+        *image = interleavePlanes(planes, next, 3);
         next += 3;
     }
     return p;

@@ -87,7 +87,14 @@ struct SsdoReads {
 SsdoReads planSsdoReads(const FrameJob& job, const FramePasses& passes);
 
 // Reads headers, plans layers and reads the pixels `job` needs (plus everything raw if keepAll).
-FramePasses loadFramePasses(const FrameJob& job, bool keepAll, std::vector<StageTiming>* stages = nullptr);
+// alwaysReadPosition: read the position pass whenever it covers the depth's pixels, not only
+// when the camera must be fitted from it (Python's read_passes returns it).
+FramePasses loadFramePasses(const FrameJob& job, bool keepAll, std::vector<StageTiming>* stages = nullptr,
+                            bool alwaysReadPosition = false);
+// Single-channel planes [first, first + channels) interleaved into one image.
+Image interleavePlanes(const std::vector<Image>& planes, size_t first, int channels);
+// Writes text + newline to path through a temp file and a rename; throws obscura::Error.
+void writeTextFileAtomically(const std::string& path, const std::string& text);
 // The camera this job would use for these passes.
 Camera resolveFrameCamera(const FrameJob& job, const FramePasses& passes);
 // The full pipeline. Throws obscura::Error (one line) on any failure; nothing is left on disk then.

@@ -457,45 +457,6 @@ FrameJob jobFrom(const py::object& path, const FileArgs& f) {
         py::arg("camera_to_world") = py::none(), py::arg("depth") = py::none(), py::arg("normals") = py::none(),  \
         py::arg("sky_depth") = py::none()
 
-Image interleave(std::vector<Image>& planes, size_t first, int channels) {
-    Image out(planes[first].width, planes[first].height, channels);
-    for (int c = 0; c < channels; ++c) {
-        const Image& src = planes[first + c];
-        for (size_t i = 0, n = (size_t)src.width * src.height; i < n; ++i) out.pixels[i * channels + c] = src.pixels[i];
-    }
-    return out;
-}
-
-// Like loadFramePasses, but the position pass is always read when the file has one.
-FramePasses readPasses(const FrameJob& job) {
-    FramePasses p;
-    p.info = readExrInfo(job.input);
-    p.plan = planLayers(p.info, job.preset, job.layerOverrides);
-    requireRoles(p.plan, p.info, {Role::Depth, Role::Normal});
-    const LayerBinding& depth = *p.plan.find(Role::Depth);
-    const LayerBinding& normal = *p.plan.find(Role::Normal);
-    p.part = depth.part;
-    const ExrPart& part = p.info.parts[p.part];
-    p.display = part.displayWindow;
-    p.data = part.dataWindow;
-    p.pixelAspect = part.header.pixelAspectRatio();
-    if (p.data.empty()) throw Error("'" + job.input + "': the data window is empty (0 pixels)");
-    if (p.info.parts[normal.part].dataWindow != p.data)
-        throw Error("'" + job.input + "': the normal layer '" + normal.layer +
-                    "' covers a different data window than the depth");
-    std::vector<ChannelRef> wanted = channelRefs(depth);
-    for (const ChannelRef& c : channelRefs(normal)) wanted.push_back(c);
-    const LayerBinding* position = p.plan.find(Role::Position);
-    const bool readPosition = position && p.info.parts[position->part].dataWindow == p.data;
-    if (readPosition)
-        for (const ChannelRef& c : channelRefs(*position)) wanted.push_back(c);
-    std::vector<Image> planes = readExrChannels(job.input, p.info, wanted, false, nullptr);
-    p.depth = std::move(planes[0]);
-    p.normal = interleave(planes, 1, 3);
-    if (readPosition) p.position = interleave(planes, 4, 3);
-    return p;
-}
-
 py::dict readPassesPy(const py::object& path, const FileArgs& f) {
     const FrameJob job = jobFrom(path, f);
     FramePasses p;
@@ -506,7 +467,7 @@ py::dict readPassesPy(const py::object& path, const FileArgs& f) {
     float sky = 1e9f;
     {
         py::gil_scoped_release release;
-        p = readPasses(job);
+        p = loadFramePasses(job, false, nullptr, true);
         try {
             camera = resolveFrameCamera(job, p);
         } catch (const Error& e) {
@@ -538,22 +499,6 @@ py::dict readPassesPy(const py::object& path, const FileArgs& f) {
     d["part"] = p.part;
     d["path"] = job.input;
     return d;
-}
-
-void writeTextFile(const std::string& path, const std::string& text) {
-    const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
-    {
-        std::ofstream f(tmp, std::ios::binary);
-        f << text << "\n";
-        if (!f.good()) {
-            std::remove(tmp.c_str());
-            throw Error("cannot write '" + path + "'");
-        }
-    }
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-        std::remove(tmp.c_str());
-        throw Error("cannot write '" + path + "'");
-    }
 }
 
 struct OutputArgs {
@@ -635,7 +580,7 @@ py::object processPy(const py::object& path, const py::object& out, const FileAr
         if (!reportPath.empty()) requireOutputDirectory(reportPath);
         const FrameReport report = runFrameJob(job);
         json = frameReportJson(job, report);
-        if (!reportPath.empty()) writeTextFile(reportPath, json);
+        if (!reportPath.empty()) writeTextFileAtomically(reportPath, json);
     }
     return py::module_::import("json").attr("loads")(json);
 }
@@ -687,7 +632,7 @@ py::array readLayerPy(const py::object& path, const py::object& nameObj) {
             throw Error("no channel or layer '" + name + "' in '" + file + "'; layers found: " + all);
         }
         std::vector<Image> planes = readExrChannels(file, info, wanted, false, nullptr);
-        image = planes.size() == 1 ? std::move(planes[0]) : interleave(planes, 0, (int)planes.size());
+        image = planes.size() == 1 ? std::move(planes[0]) : interleavePlanes(planes, 0, (int)planes.size());
     }
     return imageToArray(std::move(image), true);
 }
