@@ -173,7 +173,9 @@ void GlBackend::runTiled(const glsl::KernelParams& p, ConstPlane depth, ConstPla
 void GlBackend::uploadBuffer(int binding, unsigned target, const void* data, size_t bytes) {
     const GlApi& gl = context_->gl();
     gl.BindBuffer(target, buffers_[binding]);
-    gl.BufferData(target, (GLsizeiptr)std::max<size_t>(bytes, 16), data, GL_DYNAMIC_DRAW);
+    // Never an empty buffer (binding one is an error), but never read past the caller's data either.
+    gl.BufferData(target, (GLsizeiptr)std::max<size_t>(bytes, 16), bytes >= 16 ? data : nullptr, GL_DYNAMIC_DRAW);
+    if (bytes < 16 && data && bytes > 0) gl.BufferSubData(target, 0, (GLsizeiptr)bytes, data);
     gl.BindBufferBase(target, binding, buffers_[binding]);
 }
 
