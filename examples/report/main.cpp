@@ -63,6 +63,15 @@ std::vector<std::string> usableDevices(const std::vector<std::string>& wanted, n
     return usable;
 }
 
+nlohmann::json ssdoPresetTable() {
+    nlohmann::json t = nlohmann::json::array();
+    for (const obscura::QualityPreset& p : obscura::qualityPresets())
+        t.push_back({{"name", p.name}, {"samples", ssdoSamplesForPreset(p.name)}, {"interleave", 2},
+                     {"blur", 2}, {"samples_per_pixel", ssdoSamplesForPreset(p.name) / 4},
+                     {"noint_samples_per_pixel", ssdoSamplesForPreset(p.name)}});
+    return t;
+}
+
 nlohmann::json presetTable() {
     nlohmann::json t = nlohmann::json::array();
     for (const obscura::QualityPreset& p : obscura::qualityPresets())
@@ -100,6 +109,16 @@ int main(int argc, char** argv) {
             else progress("%s   rendered in %.1f s -> %s\n", tag, conv.seconds, conv.path.c_str());
             const LoadedFrame frame = loadFrame(conv.path, o.definition.exrLayer());
             const obscura::Image& truth = frame.passes.reference;
+            // SSDO's inputs: the bounce source (DiffDir x DiffCol), DiffInd, and its AO definition's reference.
+            bool anySsdo = false;
+            for (const std::string& m : o.methods) anySsdo = anySsdo || isSsdoMethod(m);
+            AoDefinition ssdoDefinition;
+            parseDefinition("cosine_linear", ssdoDefinition);
+            const LoadedFrame ssdoFrame = anySsdo ? loadFrame(conv.path, ssdoDefinition.exrLayer(), true) : LoadedFrame();
+            // The AO definitions in play (the report's, and cosine_linear when SSDO runs), for the ray tracer's curve.
+            std::vector<std::pair<AoDefinition, const obscura::Image*>> definitions = {{o.definition, &truth}};
+            if (anySsdo && ssdoDefinition.name != o.definition.name)
+                definitions.emplace_back(ssdoDefinition, &ssdoFrame.passes.reference);
 
             ResultRow base;
             base.scene = name;
@@ -109,55 +128,81 @@ int main(int argc, char** argv) {
             base.radius = frame.radius;
 
             for (int rays : rs.curveRays) {
-                const TracedAo t = traceAo(rig, rs, rays, o.definition.referenceLayer);
-                ResultRow r = base;
-                r.method = "raytrace";
-                r.preset = "rays-" + std::to_string(rays);
-                r.device = "cpu-embree";
-                r.deviceDetail = "Embree 3, " + std::to_string(std::max(1u, std::thread::hardware_concurrency())) +
-                                 " threads; both weightings traced";
-                r.rays = rays;
-                r.runs = t.runs;
-                r.timeMs = 1e3 * t.medianSeconds;
-                r.stageMs = {{"render", r.timeMs}};
-                r.metrics = nonSkyError(t.ao, truth, frame);
-                progress("%s raytrace %4d rays: %9.2f ms, %s\n", tag, rays, r.timeMs, metricsText(r.metrics).c_str());
-                rows.push_back(r);
+                const TracedAo t = traceAo(rig, rs, rays);
+                for (const auto& [def, reference] : definitions) {
+                    ResultRow r = base;
+                    r.method = "raytrace";
+                    r.definition = def.name;
+                    r.preset = "rays-" + std::to_string(rays);
+                    r.device = "cpu-embree";
+                    r.deviceDetail = "Embree 3, " + std::to_string(std::max(1u, std::thread::hardware_concurrency())) +
+                                     " threads; both weightings traced";
+                    r.rays = rays;
+                    r.runs = t.runs;
+                    r.timeMs = 1e3 * t.medianSeconds;
+                    r.stageMs = {{"render", r.timeMs}};
+                    r.metrics = nonSkyError(t.ao[def.referenceLayer], *reference, frame);
+                    progress("%s raytrace %4d rays (%s): %9.2f ms, %s\n", tag, rays, def.name.c_str(), r.timeMs,
+                             metricsText(r.metrics).c_str());
+                    rows.push_back(r);
+                }
             }
 
             const obscura::OperatorInputs in = operatorInputs(frame);
             obscura::Image sheetAo;
+            const obscura::Image* sheetTruth = &truth;
             std::string sheetLabel;
             for (const std::string& method : o.methods)
                 for (const std::string& preset : o.presets)
                     for (const std::string& device : devices) {
+                        const bool ssdo = isSsdoMethod(method), bounce = hasBounce(method);
+                        const AoDefinition def = definitionFor(method, o.definition);
+                        const LoadedFrame& f = ssdo ? ssdoFrame : frame;
                         obscura::Settings s;
-                        s.method = method;
-                        applyQualityPreset(preset, s);
-                        s.radius = float(frame.radius);
-                        s.weighting = o.definition.weighting;
-                        s.falloff = o.definition.falloff;
-                        s.skyDepth = frame.skyDepth;
+                        configureMethod(method, preset, s);
+                        s.radius = float(f.radius);
+                        s.weighting = def.weighting;  // HBAO's; SSDO's AO is cosine_linear whatever these say
+                        s.falloff = def.falloff;
+                        s.skyDepth = f.skyDepth;
                         s.device = device;
-                        TimedOperator t = timeOperator(in, s, rs.runs, rs.runBudgetSeconds);
+                        TimedOperator t = timeOperator(ssdo ? operatorInputs(f, bounce) : in, s, rs.runs,
+                                                       rs.runBudgetSeconds);
                         ResultRow r = base;
                         r.method = method;
                         r.preset = preset;
                         r.device = device;
+                        r.definition = def.name;
                         r.deviceDetail = t.deviceDetail;
-                        r.directions = s.directions;
-                        r.steps = s.steps;
-                        r.blur = s.blur;
+                        if (ssdo) {
+                            r.samples = s.ssdoSamples;
+                            r.interleave = s.interleave;
+                            r.blur = s.blur > 0 ? s.blur : (s.interleave > 1 ? s.interleave : 0);  // the operator's rule
+                        } else {
+                            r.directions = s.directions;
+                            r.steps = s.steps;
+                            r.blur = s.blur;
+                        }
                         r.runs = t.runs;
                         r.timeMs = 1e3 * t.medianSeconds;
                         for (const auto& [stage, seconds] : t.stageMedians) r.stageMs.emplace_back(stage, 1e3 * seconds);
-                        r.metrics = nonSkyError(t.ao, truth, frame);
-                        progress("%s %s %-6s %-9s: %9.2f ms, %s\n", tag, method.c_str(), preset.c_str(),
-                                 device.c_str(), r.timeMs, metricsText(r.metrics).c_str());
+                        r.metrics = nonSkyError(t.ao, f.passes.reference, f);
+                        progress("%s %s %-6s %-9s: %9.2f ms, AO (%s) %s\n", tag, method.c_str(), preset.c_str(),
+                                 device.c_str(), r.timeMs, def.name.c_str(), metricsText(r.metrics).c_str());
                         rows.push_back(r);
+                        if (bounce) {
+                            ResultRow g = r;
+                            g.quantity = "gi";
+                            g.definition = "diffind_luminance";
+                            g.metrics = giError(t.indirect, f);
+                            progress("%s %s %-6s %-9s: GI / pi vs DiffInd (luminance) %s; means %.4f vs %.4f\n", tag,
+                                     method.c_str(), preset.c_str(), device.c_str(), metricsText(g.metrics).c_str(),
+                                     meanGiLuminance(t.indirect, f), meanDiffIndLuminance(f));
+                            rows.push_back(g);
+                        }
                         const bool wanted = method == o.methods.front() && preset == o.sheetPreset && device == o.sheetDevice;
                         if (sheetAo.empty() || wanted) {
                             sheetAo = std::move(t.ao);
+                            sheetTruth = &f.passes.reference;
                             sheetLabel = "obscura " + method + " " + preset + " " + device;
                         }
                     }
@@ -166,7 +211,7 @@ int main(int argc, char** argv) {
                 SheetPanels panels;
                 panels.exrPath = conv.path;
                 panels.ao = &sheetAo;
-                panels.reference = &truth;
+                panels.reference = sheetTruth;
                 panels.depth = &frame.passes.depth;
                 panels.skyDepth = frame.skyDepth;
                 panels.aoLabel = sheetLabel;
@@ -177,6 +222,7 @@ int main(int argc, char** argv) {
                 progress("%s contact sheet -> %s\n", tag, sheet.c_str());
             }
             scenes.push_back({{"scene", name}, {"radius", frame.radius}, {"reference", conv.path},
+                              {"diffind_mean_luminance", anySsdo ? meanDiffIndLuminance(ssdoFrame) : 0.0},
                               {"reference_cached", conv.cached}, {"reference_render_s", conv.seconds},
                               {"sheet_ao", sheetLabel}});
         }
@@ -194,6 +240,7 @@ int main(int argc, char** argv) {
             {"run_budget_s", rs.runBudgetSeconds},
             {"hardware_threads", std::max(1u, std::thread::hardware_concurrency())},
             {"presets", presetTable()},
+            {"ssdo_presets", ssdoPresetTable()},
             {"preset_order", o.presets},
             {"methods", o.methods},
             {"devices", devices},
@@ -212,7 +259,14 @@ int main(int argc, char** argv) {
              "rays, so it is an upper bound for one definition."},
             {"error",
              "MAE, RMSE, PSNR (20 log10(1/RMSE), dB) and the 99th-percentile absolute error over non-sky pixels, "
-             "against the converged reference layer; the raytrace rows use an independent seed."},
+             "against the converged reference layer; the raytrace rows use an independent seed. quantity 'ao': "
+             "the row's definition (HBAO: the report's --definition; SSDO: cosine_linear, which its AO is by "
+             "construction); the ray tracer's curve appears once per definition in play (same renders). quantity "
+             "'gi' (ssdo+bounce): Rec. 709 luminance of GI / pi (obscura's one-bounce irradiance from senders "
+             "radiating DiffDir x DiffCol within r_max, in DiffInd's units) against the luminance of "
+             "ViewLayer.DiffInd of the converged render (gi_rays paths per pixel), which also holds light from "
+             "beyond r_max, off-screen and hidden senders and further bounces: an upper bound on what screen "
+             "space can recover; scenes[].diffind_mean_luminance gives its scale."},
         };
         const std::string csv = (fs::path(o.outDir) / "results.csv").string();
         const std::string json = (fs::path(o.outDir) / "results.json").string();
@@ -227,6 +281,7 @@ int main(int argc, char** argv) {
             const std::string png = (fs::path(o.outDir) / "error_vs_time.png").string();
             const std::string command =
                 shellQuote(o.python) + " " + shellQuote(o.plotScript) + " " + shellQuote(json) + " " + shellQuote(png);
+            // (the script also writes error_vs_time_gi.png when there are GI rows)
             progress("plotting: %s\n", command.c_str());
             if (std::system(command.c_str()) != 0) {
                 std::fprintf(stderr, "obscura_report: the plot script failed (is python3-matplotlib installed?)\n");

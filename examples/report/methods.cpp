@@ -17,4 +17,36 @@ bool parseDefinition(const std::string& name, AoDefinition& out) {
     return false;
 }
 
+bool isSsdoMethod(const std::string& method) { return method == "ssdo" || method == "ssdo+bounce" || method == "ssdo-noint"; }
+
+bool hasBounce(const std::string& method) { return method == "ssdo+bounce"; }
+
+int ssdoSamplesForPreset(const std::string& preset) {
+    if (preset == "low") return 16;
+    if (preset == "medium") return 64;
+    if (preset == "high") return 256;
+    if (preset == "ultra") return 1024;
+    return 0;
+}
+
+void configureMethod(const std::string& method, const std::string& preset, obscura::Settings& s) {
+    if (!isSsdoMethod(method)) {
+        s.method = method;
+        obscura::applyQualityPreset(preset, s);
+        return;
+    }
+    s.method = "ssdo";
+    s.ssdoSamples = ssdoSamplesForPreset(preset);
+    s.interleave = method == "ssdo-noint" ? 1 : 2;
+    s.blur = 0;  // 0 = the operator's automatic blur, as wide as the interleaving block (none for interleave 1)
+    s.bounce = hasBounce(method);
+}
+
+AoDefinition definitionFor(const std::string& method, const AoDefinition& chosen) {
+    if (!isSsdoMethod(method)) return chosen;
+    AoDefinition d;
+    parseDefinition("cosine_linear", d);
+    return d;
+}
+
 } // namespace report

@@ -13,6 +13,9 @@ namespace report {
 inline const std::vector<std::string>& registeredMethods() {
     static const std::vector<std::string> methods = {
         "hbao",
+        "ssdo",         // SSDO: DO + AO, no bounce; interleave 2 with its automatic 2 px blur
+        "ssdo+bounce",  // the same with the one-bounce GI (sender radiance DiffDir x DiffCol)
+        "ssdo-noint",   // SSDO without interleaving: interleave 1, no blur
     };
     return methods;
 }
@@ -35,5 +38,19 @@ struct AoDefinition {
 
 // "uniform_linear", "uniform_none", "cosine_linear", "cosine_none"; false for anything else.
 bool parseDefinition(const std::string& name, AoDefinition& out);
+
+// True for the report's SSDO variants ("ssdo", "ssdo+bounce", "ssdo-noint").
+bool isSsdoMethod(const std::string& method);
+// True when the method computes the one-bounce GI (its rows also measure GI).
+bool hasBounce(const std::string& method);
+// SSDO sample count N per preset: low 16, medium 64, high 256, ultra 1024 (0 for an unknown name).
+int ssdoSamplesForPreset(const std::string& preset);
+// Settings for `method` at `preset`: HBAO takes the quality preset as it is; the SSDO variants take
+// ssdoSamplesForPreset, interleave 2 and blur 0 (the operator's automatic blur as wide as the block),
+// or interleave 1 and no blur for "ssdo-noint". Sets `s.method` to the operator's name.
+void configureMethod(const std::string& method, const std::string& preset, obscura::Settings& s);
+// The AO definition a method is compared under: the report's `chosen` one for HBAO, cosine_linear for
+// SSDO (cosine-distributed directions, points uniform along each: linear falloff by construction).
+AoDefinition definitionFor(const std::string& method, const AoDefinition& chosen);
 
 } // namespace report

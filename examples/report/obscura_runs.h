@@ -17,12 +17,17 @@ struct LoadedFrame {
     obscura::Camera camera;       // from the sidecar next to the EXR
     float skyDepth = 1e9f;
     double radius = 1;            // the reference's AO distance (sidecar "ao_distance")
+    // withBounce only: passes.radiance = ViewLayer.DiffDir, passes.albedo = ViewLayer.DiffCol (what the
+    // CLI's --bounce-source direct-diffuse reads) and the ray-traced one-bounce light ViewLayer.DiffInd.
+    obscura::Image diffInd;       // RGB, same units as DiffDir (diffuse = DiffCol x (DiffDir + DiffInd))
 };
 
-// Reads `exrPath` with the Blender preset and `referenceLayer` (e.g. Reference.AO_cosine_none).
-LoadedFrame loadFrame(const std::string& exrPath, const std::string& referenceLayer);
-// The operator's inputs: views into `frame`, valid while it lives.
-obscura::OperatorInputs operatorInputs(const LoadedFrame& frame);
+// Reads `exrPath` with the Blender preset and `referenceLayer` (e.g. Reference.AO_cosine_none);
+// with `withBounce`, also the bounce source, the albedo and DiffInd.
+LoadedFrame loadFrame(const std::string& exrPath, const std::string& referenceLayer, bool withBounce = false);
+// The operator's inputs: views into `frame`, valid while it lives; with `withBounce`, the bounce
+// source (radiance = DiffDir, albedo = DiffCol: senders radiate DiffDir x DiffCol).
+obscura::OperatorInputs operatorInputs(const LoadedFrame& frame, bool withBounce = false);
 
 struct TimedOperator {
     int runs = 0;              // timed runs (fewer than asked when over the budget)
@@ -30,6 +35,7 @@ struct TimedOperator {
     std::vector<std::pair<std::string, double>> stageMedians;  // seconds, in the operator's stage order
     std::string deviceDetail;  // OperatorStats::device
     obscura::Image ao;         // from the last run
+    obscura::Image indirect;   // SSDO with bounce: GI irradiance E, RGB, from the last run
 };
 
 // One warm-up run, then `runs` timed runs of runOperator, stopping early (after at least
@@ -39,5 +45,13 @@ TimedOperator timeOperator(const obscura::OperatorInputs& in, const obscura::Set
 
 // `ao` against `reference` over the frame's non-sky pixels (depth in (0, sky)).
 obscura::ErrorMetrics nonSkyError(const obscura::Image& ao, const obscura::Image& reference, const LoadedFrame& frame);
+
+// One-bounce GI against the ray tracer: luminance (Rec. 709 weights) of GI / pi against the luminance
+// of `frame.diffInd`, over non-sky pixels. `frame` must have been loaded withBounce.
+obscura::ErrorMetrics giError(const obscura::Image& indirect, const LoadedFrame& frame);
+// Mean luminance of DiffInd over non-sky pixels (the scale the GI errors are read against).
+double meanDiffIndLuminance(const LoadedFrame& frame);
+// Mean luminance of GI / pi over the same pixels (compare with meanDiffIndLuminance: the bias).
+double meanGiLuminance(const obscura::Image& indirect, const LoadedFrame& frame);
 
 } // namespace report

@@ -45,7 +45,7 @@ ConvergedReference ensureConvergedReference(const SceneRig& rig, const Reference
     return out;
 }
 
-TracedAo traceAo(const SceneRig& rig, const ReferenceSettings& s, int rays, int layer) {
+TracedAo traceAo(const SceneRig& rig, const ReferenceSettings& s, int rays) {
     reference::RenderSettings rs;
     rs.width = s.width;
     rs.height = s.height;
@@ -68,9 +68,11 @@ TracedAo traceAo(const SceneRig& rig, const ReferenceSettings& s, int rays, int 
     out.rays = rays;
     out.runs = int(seconds.size());
     out.medianSeconds = median(seconds);
-    out.ao = obscura::Image(frame.width, frame.height, 1);
-    for (int y = 0; y < frame.height; ++y)
-        for (int x = 0; x < frame.width; ++x) *out.ao.at(x, y) = float(frame.at(x, y).ao[layer]);
+    for (int layer = 0; layer < reference::kAoLayers; ++layer) {
+        out.ao[layer] = obscura::Image(frame.width, frame.height, 1);
+        for (int y = 0; y < frame.height; ++y)
+            for (int x = 0; x < frame.width; ++x) *out.ao[layer].at(x, y) = float(frame.at(x, y).ao[layer]);
+    }
     return out;
 }
 

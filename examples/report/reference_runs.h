@@ -48,11 +48,11 @@ struct TracedAo {
     int rays = 0;
     int runs = 0;              // timed renders (fewer than asked when over the run budget)
     double medianSeconds = 0;  // whole render: primary rays, light shadow rays, AO rays of both weightings
-    obscura::Image ao;         // the AO layer asked for, one channel
+    obscura::Image ao[reference::kAoLayers];  // every AO layer (reference::AoLayer order), one channel each
 };
 
 // Renders AO only (no GI) with `rays` AO rays per pixel, s.runs times (within the run budget),
-// and keeps the layer `layer`.
-TracedAo traceAo(const SceneRig& rig, const ReferenceSettings& s, int rays, int layer);
+// and keeps every AO layer (one render traces both weightings; the falloff is a weight).
+TracedAo traceAo(const SceneRig& rig, const ReferenceSettings& s, int rays);
 
 } // namespace report

@@ -30,8 +30,8 @@ nlohmann::json finiteOrNull(double v) { return std::isfinite(v) ? nlohmann::json
 
 const std::vector<std::string>& csvColumns() {
     static const std::vector<std::string> columns = {
-        "scene", "method", "preset", "device", "definition", "width", "height", "radius", "directions", "steps",
-        "blur", "rays", "runs", "time_ms", "stage_ms", "pixels", "mae", "rmse", "psnr_db", "p99", "max_abs"};
+        "scene", "method", "preset", "device", "quantity", "definition", "width", "height", "radius", "directions",
+        "steps", "samples", "interleave", "blur", "rays", "runs", "time_ms", "stage_ms", "pixels", "mae", "rmse", "psnr_db", "p99", "max_abs"};
     return columns;
 }
 
@@ -52,8 +52,9 @@ void writeCsv(const std::string& path, const std::vector<ResultRow>& rows) {
     for (const ResultRow& r : rows) {
         const obscura::ErrorMetrics& m = r.metrics;
         const std::vector<std::string> cells = {
-            r.scene, r.method, r.preset, r.device, r.definition, std::to_string(r.width), std::to_string(r.height),
-            number(r.radius), std::to_string(r.directions), std::to_string(r.steps), std::to_string(r.blur),
+            r.scene, r.method, r.preset, r.device, r.quantity, r.definition, std::to_string(r.width),
+            std::to_string(r.height), number(r.radius), std::to_string(r.directions), std::to_string(r.steps),
+            std::to_string(r.samples), std::to_string(r.interleave), std::to_string(r.blur),
             std::to_string(r.rays), std::to_string(r.runs), number(r.timeMs, "%.4f"), stageText(r),
             std::to_string(m.pixels), number(m.mae), number(m.rmse), number(m.psnr, "%.3f"), number(m.p99),
             number(m.maxAbs)};
@@ -71,9 +72,9 @@ void writeJson(const std::string& path, const std::vector<ResultRow>& rows, cons
         for (const auto& [name, ms] : r.stageMs) stages[name] = ms;
         const obscura::ErrorMetrics& m = r.metrics;
         list.push_back({{"scene", r.scene}, {"method", r.method}, {"preset", r.preset}, {"device", r.device},
-                        {"device_detail", r.deviceDetail}, {"definition", r.definition}, {"width", r.width},
+                        {"device_detail", r.deviceDetail}, {"quantity", r.quantity}, {"definition", r.definition}, {"width", r.width},
                         {"height", r.height}, {"radius", r.radius}, {"directions", r.directions},
-                        {"steps", r.steps}, {"blur", r.blur}, {"rays", r.rays}, {"runs", r.runs},
+                        {"steps", r.steps}, {"samples", r.samples}, {"interleave", r.interleave}, {"blur", r.blur}, {"rays", r.rays}, {"runs", r.runs},
                         {"time_ms", r.timeMs}, {"stage_ms", stages}, {"pixels", m.pixels}, {"mae", m.mae},
                         {"rmse", m.rmse}, {"psnr_db", finiteOrNull(m.psnr)}, {"p99", m.p99}, {"max_abs", m.maxAbs}});
     }

@@ -13,10 +13,12 @@ namespace report {
 
 struct ResultRow {
     std::string scene, method, preset, device, definition;
+    std::string quantity = "ao";   // "ao": AO vs Reference.AO_<definition>; "gi": GI / pi vs ViewLayer.DiffInd
     std::string deviceDetail;      // e.g. "gl-osmesa: llvmpipe (LLVM 15.0.6, 256 bits), OpenGL 4.5 ..." (JSON only)
     int width = 0, height = 0;
     double radius = 0;
-    int directions = 0, steps = 0, blur = 0;  // obscura's sample counts (0 for the ray tracer)
+    int directions = 0, steps = 0, blur = 0;  // HBAO's sample counts (0 for the ray tracer and SSDO)
+    int samples = 0, interleave = 0;           // SSDO: N and the M x M block (0 otherwise); blur = the applied one
     int rays = 0;                              // AO rays per pixel (ray tracer rows; 0 for obscura)
     int runs = 0;                              // timed runs after the warm-up
     double timeMs = 0;                         // median time per frame (obscura: runOperator; ray tracer: render)

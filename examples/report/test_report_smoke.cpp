@@ -42,8 +42,9 @@ TEST(ReportSmoke, QuickRunWritesTableSheetAndChart) {
     ASSERT_TRUE(csv) << "no results.csv";
     std::string line;
     ASSERT_TRUE(std::getline(csv, line));
-    const std::vector<std::string> expected = {"scene", "method", "preset", "device", "definition", "width", "height",
-                                               "radius", "directions", "steps", "blur", "rays", "runs", "time_ms",
+    const std::vector<std::string> expected = {"scene", "method", "preset", "device", "quantity", "definition", "width",
+                                               "height", "radius", "directions", "steps", "samples", "interleave",
+                                               "blur", "rays", "runs", "time_ms",
                                                "stage_ms", "pixels", "mae", "rmse", "psnr_db", "p99", "max_abs"};
     const std::vector<std::string> header = splitCsvLine(line);
     ASSERT_EQ(header, expected);
@@ -54,9 +55,15 @@ TEST(ReportSmoke, QuickRunWritesTableSheetAndChart) {
         ASSERT_EQ(cells.size(), header.size()) << line;
         std::map<std::string, std::string> row;
         for (size_t i = 0; i < cells.size(); ++i) row[header[i]] = cells[i];
-        ++perMethod[row["method"]];
+        ++perMethod[row["method"] + "/" + row["quantity"]];
         EXPECT_EQ(row["scene"], "corner");
-        EXPECT_EQ(row["definition"], "cosine_none");
+        if (row["quantity"] == "gi") {
+            EXPECT_EQ(row["definition"], "diffind_luminance");
+        } else if (row["method"].rfind("ssdo", 0) == 0) {
+            EXPECT_EQ(row["definition"], "cosine_linear");
+        } else if (row["method"] == "hbao") {
+            EXPECT_EQ(row["definition"], "cosine_none");
+        }
         EXPECT_EQ(row["width"], "64");
         EXPECT_EQ(row["height"], "48");
         EXPECT_GT(std::stol(row["pixels"]), 0) << line;
@@ -73,10 +80,15 @@ TEST(ReportSmoke, QuickRunWritesTableSheetAndChart) {
             EXPECT_NE(row["stage_ms"].find("hbao="), std::string::npos) << line;
         }
     }
-    EXPECT_EQ(perMethod["hbao"], 1);
-    EXPECT_EQ(perMethod["raytrace"], 2);  // 1 and 4 rays
+    EXPECT_EQ(perMethod["hbao/ao"], 1);
+    EXPECT_EQ(perMethod["ssdo/ao"], 1);
+    EXPECT_EQ(perMethod["ssdo-noint/ao"], 1);
+    EXPECT_EQ(perMethod["ssdo+bounce/ao"], 1);
+    EXPECT_EQ(perMethod["ssdo+bounce/gi"], 1);
+    EXPECT_EQ(perMethod["raytrace/ao"], 4);  // 1 and 4 rays, against cosine_none and cosine_linear
 
     EXPECT_TRUE(nonEmptyFile(dir / "results.json"));
     EXPECT_TRUE(nonEmptyFile(dir / "corner_sheet.png"));
     EXPECT_TRUE(nonEmptyFile(dir / "error_vs_time.png"));
+    EXPECT_TRUE(nonEmptyFile(dir / "error_vs_time_gi.png"));
 }
