@@ -10,7 +10,4 @@ using glsl::KernelParams;
 // AO for every texel of `ao` (same size as depth/normal buffers, p.width x p.height).
 void runHbao(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, int threads);
 
-// Geometry-aware blur of `ao` in place: a horizontal then a vertical pass.
-void runBlur(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, int radius, int threads);
-
 } // namespace obscura::cpu

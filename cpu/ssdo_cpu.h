@@ -16,8 +16,4 @@ struct SsdoPlanes {
 void runSsdo(const glsl::KernelParams& p, const SsdoPlanes& in, MutablePlane directional, MutablePlane indirect,
              MutablePlane ao, int threads);
 
-// Geometry-aware blur of an n-channel plane (n <= 4) in place, horizontal then vertical.
-void runBlur4(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane signal, int radius,
-              int threads);
-
 } // namespace obscura::cpu

@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "cpu/hbao_cpu.h"
 #include "cpu/parallel.h"
+#include "cpu/blur_cpu.h"
 #include "cpu/ssdo_cpu.h"
 #include "core/environment.h"
 #include "gpu/gl_backend.h"
@@ -152,9 +153,9 @@ void runSsdoMethod(const OperatorInputs& in, const Settings& s, KernelParams p, 
     st.timings.push_back({p.bounce ? "ssdo+bounce" : "ssdo", secondsSince(t0)});
     if (blur > 0) {
         t0 = Clock::now();
-        cpu::runBlur4(p, in.depth, in.normal, out.directional.view(), blur, threads);
-        if (p.bounce) cpu::runBlur4(p, in.depth, in.normal, out.indirect.view(), blur, threads);
-        cpu::runBlur4(p, in.depth, in.normal, out.ao.view(), blur, threads);
+        cpu::runBlur(p, in.depth, in.normal, out.directional.view(), blur, threads);
+        if (p.bounce) cpu::runBlur(p, in.depth, in.normal, out.indirect.view(), blur, threads);
+        cpu::runBlur(p, in.depth, in.normal, out.ao.view(), blur, threads);
         st.timings.push_back({"blur", secondsSince(t0)});
     }
 }

@@ -1,0 +1,12 @@
+// CPU backend of the geometry-aware blur (kernels/blur.glsl): AO, DO or GI alike.
+#pragma once
+#include "core/image.h"
+#include "cpu/kernel_params.h"
+
+namespace obscura::cpu {
+
+// Blurs the 1..4-channel `signal` in place: a horizontal then a vertical pass.
+void runBlur(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane signal, int radius,
+             int threads);
+
+} // namespace obscura::cpu
