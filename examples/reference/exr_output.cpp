@@ -44,7 +44,7 @@ struct Plane {
     std::vector<float> data;
 };
 
-std::vector<Plane> makePlanes(const Frame& f) {
+std::vector<Plane> makePlanes(const Frame& f, bool directionalOcclusion) {
     const size_t n = f.pixels.size();
     std::vector<Plane> planes;
     auto add = [&](const std::string& name, const std::function<float(const PixelResult&)>& get) {
@@ -66,11 +66,14 @@ std::vector<Plane> makePlanes(const Frame& f) {
     add("ViewLayer.Depth.Z", [](const PixelResult& p) { return float(p.depth); });
     for (int l = 0; l < kAoLayers; ++l)
         add(std::string("Reference.") + kAoLayerNames[l] + ".Y", [l](const PixelResult& p) { return float(p.ao[l]); });
+    if (directionalOcclusion)
+        for (int c = 0; c < 3; ++c)
+            add(std::string("Reference.DO.") + rgb[c], [c](const PixelResult& p) { return p.directionalOcclusion[c]; });
     return planes;
 }
 
 void writeExr(const std::string& path, const Frame& f, const PinholeCamera& camera, const OutputInfo& info) {
-    std::vector<Plane> planes = makePlanes(f);
+    std::vector<Plane> planes = makePlanes(f, info.settings.environment != nullptr);
     Imf::Header header(f.width, f.height);
     header.compression() = Imf::ZIP_COMPRESSION;
     header.insert("Software", Imf::StringAttribute("obscura reference_render"));
@@ -88,6 +91,13 @@ void writeExr(const std::string& path, const Frame& f, const PinholeCamera& came
          "AO = 1 - E[W(t)] over the hemisphere of the shading normal; t = first hit distance; W = 1 - t/R (linear) "
          "or 1 (none) for t <= R, else 0; uniform = solid angle, cosine = projected solid angle; sky AO = 1; "
          "Owen-scrambled Sobol samples per pixel");
+    if (s.environment) {
+        text("reference/environmentRotationDeg", number(s.environment->rotationDeg));
+        text("reference/doDefinition",
+             "DO = integral over the hemisphere of L_env(w) (1 - W(t(w))) cos(theta) dw, W linear as AO_cosine_linear, "
+             "from the same cosine-weighted rays; L_env = bilinear lookup of the level-0 lat-long map, world z up "
+             "-> env (x, z, -y), then rotated about up as obscura --up z --env-rotate; sky DO = 0");
+    }
     Imf::FrameBuffer fb;
     for (Plane& p : planes) {
         header.channels().insert(p.name, Imf::Channel(Imf::FLOAT));

@@ -54,6 +54,8 @@ void Integrator::ambientOcclusion(const glm::dvec3& origin, const glm::dvec3& n,
     for (int cosine = 0; cosine < 2; ++cosine) {
         const SobolSet samples(hashCombine(pixelSeed, cosine ? kAoCosineSet : kAoUniformSet));
         double linear = 0, linear2 = 0, none = 0;  // none == none^2 (binary)
+        const EnvironmentMap* env = cosine ? settings_.environment.get() : nullptr;
+        glm::dvec3 directional(0.0);  // sum of L_env(w) (1 - W), W linear
         for (int first = 0; first < count; first += 8) {
             const int batch = std::min(8, count - first);
             glm::dvec3 dirs[8];
@@ -64,8 +66,10 @@ void Integrator::ambientOcclusion(const glm::dvec3& origin, const glm::dvec3& n,
             }
             tracer_.hitDistances8(origin, dirs, batch, float(R), t);
             for (int k = 0; k < batch; ++k) {
-                if (!(t[k] <= R)) continue;  // a miss, or beyond R: W = 0
-                const double w = std::max(0.0, 1.0 - t[k] / R);
+                const bool hit = t[k] <= R;  // else a miss, or beyond R: W = 0
+                const double w = hit ? std::max(0.0, 1.0 - t[k] / R) : 0.0;
+                if (env && w < 1) directional += (1 - w) * env->radiance(dirs[k]);
+                if (!hit) continue;
                 linear += w, linear2 += w * w, none += 1;
             }
         }
@@ -74,6 +78,8 @@ void Integrator::ambientOcclusion(const glm::dvec3& origin, const glm::dvec3& n,
         out.ao[bin] = 1 - none / count;
         out.aoStdErr[lin] = standardError(linear, linear2, count);
         out.aoStdErr[bin] = standardError(none, none, count);
+        // Cosine-weighted: irradiance = pi / n * sum of L (1 - W).
+        if (env) out.directionalOcclusion = glm::vec3(directional * (M_PI / count));
     }
 }
 

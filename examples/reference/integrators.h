@@ -2,10 +2,12 @@
 // and the four ray-traced AO definitions of obscura's DESIGN.md.
 #pragma once
 #include "camera.h"
+#include "environment.h"
 #include "tracer.h"
 
 #include <array>
 #include <cstdint>
+#include <memory>
 
 namespace reference {
 
@@ -19,6 +21,9 @@ struct RenderSettings {
     int giRays = 64;   // cosine-weighted rays per pixel for the sky light and one bounce
     uint32_t seed = 1;
     int threads = 0;   // 0: all cores
+    // --env: a lat-long map; when set, each pixel also gets the ground-truth directional
+    // occlusion (Reference.DO), from the cosine-weighted AO rays.
+    std::shared_ptr<const EnvironmentMap> environment;
 };
 
 struct PixelResult {
@@ -29,6 +34,8 @@ struct PixelResult {
     glm::vec3 albedo{0.0f}, direct{0.0f}, indirect{0.0f};
     std::array<double, kAoLayers> ao{1, 1, 1, 1}, aoStdErr{0, 0, 0, 0};
     double indirectStdErr = 0;  // of the luminance of `indirect`
+    // With an environment: integral of L_env(w) (1 - W(t(w))) cos(theta) dw, W linear (obscura's SSDO DO).
+    glm::vec3 directionalOcclusion{0.0f};
 };
 
 class Integrator {

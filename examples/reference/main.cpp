@@ -9,9 +9,11 @@
 #include "tracer.h"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <memory>
 #include <string>
 
 namespace {
@@ -31,6 +33,9 @@ int usage(FILE* to) {
                  "  --gi-rays N        cosine rays per pixel for sky light and one bounce (64)\n"
                  "  --seed S           sampling seed (1)\n"
                  "  --threads N        threads, 0 = all cores (0)\n"
+                 "  --env FILE.exr     lat-long environment: also write Reference.DO.R/G/B, the ground-truth\n"
+                 "                     directional occlusion of obscura's SSDO (cosine AO rays, linear falloff)\n"
+                 "  --env-rotate DEG   rotation of the environment about up, as obscura --env-rotate (0)\n"
                  "  --check            compare with closed forms (corner crease; open ground plane); exit 1 on failure\n"
                  "  --quiet            print nothing but errors\n");
     return to == stderr ? 2 : 0;
@@ -62,7 +67,8 @@ void printConvergence(const RenderSettings& s, const Convergence& c, double seco
 int main(int argc, char** argv) {
     std::string sceneName = "studio", outPath;
     RenderSettings settings;
-    double radius = -1;
+    double radius = -1, envRotate = 0;
+    std::string envPath;
     bool check = false, quiet = false;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -93,7 +99,16 @@ int main(int argc, char** argv) {
         else if (a == "--threads") settings.threads = int(integer(0, 1024));
         else if (a == "--check") check = true;
         else if (a == "--quiet") quiet = true;
-        else if (a == "--radius") {
+        else if (a == "--env") envPath = value();
+        else if (a == "--env-rotate") {
+            char* end = nullptr;
+            const char* s = value();
+            envRotate = std::strtod(s, &end);
+            if (end == s || *end != '\0' || !std::isfinite(envRotate)) {
+                std::fprintf(stderr, "reference_render: --env-rotate needs a number, got %s\n", s);
+                return usage(stderr);
+            }
+        } else if (a == "--radius") {
             char* end = nullptr;
             const char* s = value();
             radius = std::strtod(s, &end);
@@ -116,6 +131,8 @@ int main(int argc, char** argv) {
         const auto start = std::chrono::steady_clock::now();
         const Scene scene = makeScene(sceneName);
         settings.radius = radius > 0 ? radius : scene.defaultRadius;
+        if (!envPath.empty())
+            settings.environment = std::make_shared<const EnvironmentMap>(EnvironmentMap::load(envPath, envRotate));
         const Tracer tracer(scene);
         const PinholeCamera camera = PinholeCamera::lookAt(scene.camera, settings.width, settings.height);
         const Integrator integrator(scene, tracer, camera, settings);

@@ -1,0 +1,26 @@
+// A lat-long environment map as obscura's SSDO reads it (kernels/ssdo.glsl, environmentRadiance;
+// plugin/core/operator.cpp, viewToEnvironment), for the ground-truth directional occlusion layer.
+#pragma once
+#include <glm/glm.hpp>
+
+#include <string>
+#include <vector>
+
+namespace reference {
+
+struct EnvironmentMap {
+    int width = 0, height = 0;
+    std::vector<float> rgb;   // row-major, row 0 = top (v = 0, env +Y)
+    double rotationDeg = 0;   // obscura's --env-rotate: about the up axis
+
+    // RGB of a lat-long map file (first three channels; OpenImageIO). Throws on failure.
+    static EnvironmentMap load(const std::string& path, double rotationDeg);
+
+    // World (z up, the reference scenes') -> environment (y up) exactly as obscura with
+    // --up z --env-rotate rotationDeg: env = spin(rotation) * (x, z, -y).
+    glm::dvec3 worldToEnvironment(const glm::dvec3& world) const;
+    // Bilinear lookup of the level-0 map in a world direction (wraps in longitude, clamps at the poles).
+    glm::dvec3 radiance(const glm::dvec3& worldDir) const;
+};
+
+} // namespace reference
