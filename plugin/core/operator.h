@@ -50,13 +50,9 @@ struct OperatorOutputs {
 };
 
 using glsl::KernelParams;
-using HbaoParams = KernelParams;  // transitional name, for hosts written before SSDO
 
 // The kernel parameter block for these inputs and settings (shared by every backend).
 KernelParams makeKernelParams(const OperatorInputs& in, const Settings& settings);
-inline KernelParams makeHbaoParams(const OperatorInputs& in, const Settings& settings) {
-    return makeKernelParams(in, settings);
-}
 
 // The device `settings.device` resolves to, with its renderer and GL version, for
 // --inspect. Throws obscura::Error when an explicit GL device cannot be made.
