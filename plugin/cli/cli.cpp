@@ -85,7 +85,7 @@ struct Flag {
 
 const std::vector<Flag>& flags() {
     static const std::vector<Flag> table = {
-        {"-o", "OUTPUT.exr", "output file: a copy of the input with the AO layer added",
+        {"-o", "OUTPUT.exr", "output file: a copy of the input with the new layers added",
          [](Options& o, const std::string& v) { o.job.output = v; }},
         {"--method", "hbao|ssdo", "hbao: ambient occlusion; ssdo: directional occlusion (DO), AO and, with --bounce, GI (default hbao)",
          [](Options& o, const std::string& v) { o.job.settings.method = v; }},
@@ -200,7 +200,7 @@ const std::vector<Flag>& flags() {
          [](Options& o, const std::string&) { o.job.timesAlbedo = true; }},
         {"--relit-direct", nullptr, "relit also adds the render's own direct diffuse light (albedo x direct)",
          [](Options& o, const std::string&) { o.job.relitWithDirect = true; }},
-        {"--out-type", "half|float", "pixel type of the AO channel (default half)",
+        {"--out-type", "half|float", "pixel type of the layers written (default half)",
          [](Options& o, const std::string& v) {
              if (v != "half" && v != "float") throw UsageError("--out-type expects half or float, got '" + v + "'");
              o.job.aoFloat = v == "float";
@@ -223,7 +223,7 @@ const std::vector<Flag>& flags() {
          [](Options& o, const std::string& v) { o.job.referenceLayer = v; }},
         {"--report", "FILE.json", "write timings per stage, settings, camera and statistics",
          [](Options& o, const std::string& v) { o.reportPath = v; }},
-        {"--preview", "FILE.png", "write an 8-bit PNG of the AO",
+        {"--preview", "FILE.png", "write an 8-bit PNG of the AO (ssdo: of the DO, through the colour config's display view)",
          [](Options& o, const std::string& v) { o.job.previewPath = v; }},
         {"--in-place", nullptr, "allow OUTPUT to be the input file (replaced atomically)",
          [](Options& o, const std::string&) { o.job.inPlace = true; }},
@@ -244,12 +244,12 @@ const std::vector<Flag>& flags() {
 std::string helpText() {
     std::ostringstream os;
     os << "obscura " << OBSCURA_VERSION_STRING
-       << " - screen-space ambient occlusion for multilayer OpenEXR renders\n\n"
+       << " - screen-space ambient and directional occlusion for multilayer OpenEXR renders\n\n"
           "usage: obscura INPUT.exr -o OUTPUT.exr [options]\n"
           "       obscura INPUT.exr --inspect\n\n"
           "The input's passes (depth, normals, position) are found by renderer preset; the camera comes\n"
           "from the flags, a JSON sidecar, the EXR header, or a fit to the position pass, in that order.\n"
-          "The output is the input with every channel and attribute kept, plus the AO layer.\n\n"
+          "The output is the input with every channel and attribute kept, plus the new layers.\n\n"
           "options:\n";
     for (const Flag& f : flags()) {
         std::string left = std::string("  ") + f.name + (f.value ? std::string(" ") + f.value : "");
