@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <unistd.h>
@@ -109,6 +110,14 @@ TEST_F(SsdoCli, BadSsdoFlagsAreUsageErrors) {
                                 fast));
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_NE(r.err.find("NoSuchLayer"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out));
+    // An unknown colour space for the colour passes: one line naming it, nothing written.
+    const CliResult c = run(cat({kRoom.string(), "-o", out.string(), "--method", "ssdo", "--bounce", "--colorspace",
+                                 "nosuch"},
+                                fast));
+    EXPECT_EQ(c.exitCode, 1);
+    EXPECT_NE(c.err.find("'nosuch'"), std::string::npos) << c.err;
+    EXPECT_EQ(std::count(c.err.begin(), c.err.end(), '\n'), 1) << c.err;
     EXPECT_FALSE(fs::exists(out));
 }
 
