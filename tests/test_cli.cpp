@@ -3,6 +3,7 @@
 #include "core/camera.h"
 #include "core/operator.h"
 #include "io/camera_sources.h"
+#include "support/scratch.h"
 #include "support/cli_runner.h"
 #include "support/exr_fixtures.h"
 #include "support/scenes.h"
@@ -48,27 +49,7 @@ namespace {
 // Scratch space and running the CLI
 // ---------------------------------------------------------------------------
 
-fs::path scratchRoot() { return fs::path(OBSCURA_TEST_TMP) / ("cli-" + std::to_string(::getpid())); }
-
-// Scratch files go when every test passed; kept for inspection otherwise.
-struct ScratchCleanup : ::testing::Environment {
-    void TearDown() override {
-        if (::testing::UnitTest::GetInstance()->Passed()) fs::remove_all(scratchRoot());
-    }
-};
-const auto* const kCleanup = ::testing::AddGlobalTestEnvironment(new ScratchCleanup);
-
-// A fresh, empty directory per test (named after the test).
-fs::path testDir() {
-    const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    std::string name = std::string(info->test_suite_name()) + "." + info->name();
-    for (char& c : name)
-        if (c == '/') c = '_';
-    const fs::path dir = scratchRoot() / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path testDir() { return obscura::test::testDir("cli"); }
 
 const std::string kSamples = OBSCURA_SAMPLES_DIR;
 const std::string kRoom = kSamples + "/room.exr";

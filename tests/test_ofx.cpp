@@ -3,6 +3,7 @@
 // createInstance / getRegionsOfInterest / isIdentity / render over tiles. Its output is
 // compared with the command line on the same planes: identical pixels, whole frame and tiled.
 #include "ofx_host/ofx_host.h"
+#include "support/scratch.h"
 #include "support/cli_runner.h"
 #include "support/exr_fixtures.h"
 #include "support/scenes.h"
@@ -34,24 +35,7 @@ namespace {
 
 const std::string kBundle = OBSCURA_OFX_BUNDLE;
 
-fs::path scratchRoot() { return fs::path(OBSCURA_TEST_TMP) / ("ofx-" + std::to_string(::getpid())); }
-struct ScratchCleanup : ::testing::Environment {
-    void TearDown() override {
-        if (::testing::UnitTest::GetInstance()->Passed()) fs::remove_all(scratchRoot());
-    }
-};
-const auto* const kCleanup = ::testing::AddGlobalTestEnvironment(new ScratchCleanup);
-
-fs::path testDir() {
-    const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    std::string name = std::string(info->test_suite_name()) + "." + info->name();
-    for (char& c : name)
-        if (c == '/') c = '_';
-    const fs::path dir = scratchRoot() / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path testDir() { return obscura::test::testDir("ofx"); }
 
 std::string readText(const fs::path& p) {
     std::ifstream f(p);
