@@ -7,6 +7,9 @@ namespace obscura::cpu {
 
 using glsl::KernelParams;
 
+// Name of the instruction set the kernel runs with here ("x86-64-v4", ...), for reports.
+const char* hbaoIsa();
+
 // AO for every texel of `ao` (same size as depth/normal buffers, p.width x p.height).
 void runHbao(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, int threads);
 

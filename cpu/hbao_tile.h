@@ -1,24 +1,26 @@
 // The HBAO kernel (kernels/hbao.glsl) instantiated for the CPU, one tile at a time.
-// Included by one translation unit per instruction set (hbao_cpu.cpp: baseline x86-64;
-// hbao_cpu_v3.cpp: x86-64-v3, AVX2 + FMA), each inside its own namespace, and
-// selected at run time by runHbao(). Everything here except hbaoTile has internal
-// linkage, so no out-of-line copy compiled for one ISA can be picked by the linker
-// for the other.
+// Included by one translation unit per instruction set, each inside its own namespace
+// (cpu/hbao_tile_impl.h), and selected at run time by runHbao(). Everything there except
+// hbaoTile has internal linkage, so no out-of-line copy compiled for one ISA can be
+// picked by the linker for another.
 #pragma once
 #include "core/image.h"
 #include "cpu/kernel_params.h"
 
 namespace obscura::cpu {
 
-// Runs hbaoPixel over every texel of the tile; the entry point each ISA provides.
+// Runs the kernel over every texel of the tile; the entry point each ISA provides.
 using HbaoTileFn = void (*)(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao,
                             const Box2i& tile);
 
-namespace baseline {
-void hbaoTile(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile);
-}
-namespace x86_64_v3 {
-void hbaoTile(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile);
-}
+#define OBSCURA_DECLARE_HBAO_TILE(isa)                                                                          \
+    namespace isa {                                                                                              \
+    void hbaoTile(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile); \
+    }
+OBSCURA_DECLARE_HBAO_TILE(scalar)   // one pixel at a time: the reference the lane builds are tested against
+OBSCURA_DECLARE_HBAO_TILE(baseline) // x86-64 (SSE2), 4 pixels per register
+OBSCURA_DECLARE_HBAO_TILE(x86_64_v3) // AVX2 + FMA, 8 pixels
+OBSCURA_DECLARE_HBAO_TILE(x86_64_v4) // AVX-512, 16 pixels
+#undef OBSCURA_DECLARE_HBAO_TILE
 
 } // namespace obscura::cpu

@@ -1,16 +1,27 @@
 // Body of hbaoTile for one instruction set: define OBSCURA_ISA (the namespace of the
-// entry point) and include this once, at file scope (see hbao_cpu.cpp, hbao_cpu_v3.cpp).
+// entry point) and OBSCURA_LANES (pixels per register: 16 AVX-512, 8 AVX2, 4 SSE2, or 1
+// for the pixel-at-a-time reference), then include this once, at file scope.
 //
-// The kernel text is the one the GPU compiles. The CPU side only chooses how the
-// parameter block is seen: the switches (weighting, falloff, projection, depth kind)
-// become compile-time constants in specialised instantiations, so the compiler drops
-// the untaken paths from the inner loop instead of testing them per sample.
+// The kernel text is the one the GPU compiles (kernels/hbao.glsl, written on lane types).
+// The CPU side chooses how the lane types and the parameter block are seen: lanes are
+// SIMD registers of a row of pixels, and the switches (weighting, falloff, projection,
+// depth kind) are compile-time constants in specialised instantiations, so the untaken
+// paths leave the inner loop instead of being tested per sample.
 
 #include "cpu/hbao_tile.h"
-#include "cpu/simd_vec4.h"
+#include "cpu/kernel_params.h"
+
+#if OBSCURA_LANES == 1
+#include "cpu/lanes_scalar.h"
+#else
+#include "cpu/lanes.h"
+#endif
 
 namespace obscura::glsl {
 namespace {
+#if OBSCURA_LANES > 1
+using namespace cpu::lanes;
+#endif
 
 // A parameter block whose switches are fixed at compile time: the static members
 // hide KernelParams' run-time ones, so `P.cosineWeighting` in the kernel is a constant.
@@ -27,22 +38,26 @@ struct ParamsAnyCamera : KernelParams {
     static constexpr int linearFalloff = Linear;
 };
 
+#if OBSCURA_LANES == 1
+// One pixel: plain loads.
+inline float gather(const float* base, int index, bool use) { return use ? base[index] : 0.0f; }
+inline int laneIndex() { return 0; }
+#endif
+
 template <class Params>
 struct HbaoCpuKernel {
-    // The kernel's vec4 arithmetic (four steps of a slice at once) on SIMD registers.
-    using vec4 = cpu::simd::vec4;
-    using ivec4 = cpu::simd::ivec4;
-    using bvec4 = cpu::simd::bvec4;
-
     Params P;
     const float* depthData;
     const float* normalData;
-    std::ptrdiff_t depthXStride, depthYStride, normalXStride, normalYStride;
+    int depthXStride, depthYStride, normalXStride, normalYStride;
 
-    float loadDepth(ivec2 t) const { return depthData[t.y * depthYStride + t.x * depthXStride]; }
-    vec3 loadNormal(ivec2 t) const {
-        const float* n = normalData + t.y * normalYStride + t.x * normalXStride;
-        return vec3(n[0], n[1], n[2]);
+    // Masked-off lanes read nothing and get 0: not a surface.
+    lfloat gatherDepth(lint x, lint y, lbool use) const {
+        return gather(depthData, y * depthYStride + x * depthXStride, use);
+    }
+    lvec3 gatherNormal(lint x, lint y, lbool use) const {
+        const lint i = y * normalYStride + x * normalXStride;
+        return lvec3(gather(normalData, i, use), gather(normalData + 1, i, use), gather(normalData + 2, i, use));
     }
 
 #include "kernels/common.glsl"
@@ -56,19 +71,32 @@ namespace obscura::cpu::OBSCURA_ISA {
 namespace {
 
 using glsl::KernelParams;
+constexpr int kLanesHere = OBSCURA_LANES;
 
 template <class Params>
 void runTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile) {
     glsl::HbaoCpuKernel<Params> k;
     static_cast<KernelParams&>(k.P) = p;
     k.depthData = depth.data;
-    k.depthXStride = depth.xStride;
-    k.depthYStride = depth.yStride;
+    k.depthXStride = (int)depth.xStride;
+    k.depthYStride = (int)depth.yStride;
     k.normalData = normal.data;
-    k.normalXStride = normal.xStride;
-    k.normalYStride = normal.yStride;
+    k.normalXStride = (int)normal.xStride;
+    k.normalYStride = (int)normal.yStride;
+    const auto lane = glsl::laneIndex();
     for (int y = tile.y0; y < tile.y1; ++y)
-        for (int x = tile.x0; x < tile.x1; ++x) *ao.at(x, y) = k.hbaoPixel(glsl::ivec2(x, y));
+        for (int x = tile.x0; x < tile.x1; x += kLanesHere) {
+            // Lanes past the tile compute a neighbour (or, past the buffer, nothing) and are not stored.
+            const auto v = k.hbaoLanes(lane + x, y);
+            const int count = tile.x1 - x < kLanesHere ? tile.x1 - x : kLanesHere;
+            for (int i = 0; i < count; ++i) {
+#if OBSCURA_LANES == 1
+                *ao.at(x + i, y) = v;
+#else
+                *ao.at(x + i, y) = v[i];
+#endif
+            }
+        }
 }
 
 template <int Cosine, int Linear>

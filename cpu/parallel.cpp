@@ -15,10 +15,11 @@ int resolveThreads(int requested) {
     return hw > 0 ? (int)hw : 1;
 }
 
-void parallelForTiles(const Box2i& region, int tileSize, int threads, const std::function<void(const Box2i&)>& fn) {
+void parallelForTiles(const Box2i& region, int tileWidth, int tileHeight, int threads,
+                      const std::function<void(const Box2i&)>& fn) {
     if (region.empty()) return;
-    const int tilesX = (region.width() + tileSize - 1) / tileSize;
-    const int tilesY = (region.height() + tileSize - 1) / tileSize;
+    const int tilesX = (region.width() + tileWidth - 1) / tileWidth;
+    const int tilesY = (region.height() + tileHeight - 1) / tileHeight;
     const int tileCount = tilesX * tilesY;
     std::atomic<int> next{0};
     std::exception_ptr failure;
@@ -26,9 +27,9 @@ void parallelForTiles(const Box2i& region, int tileSize, int threads, const std:
     auto worker = [&] {
         for (int i = next++; i < tileCount; i = next++) {
             const int tx = i % tilesX, ty = i / tilesX;
-            Box2i tile{region.x0 + tx * tileSize, region.y0 + ty * tileSize, 0, 0};
-            tile.x1 = std::min(tile.x0 + tileSize, region.x1);
-            tile.y1 = std::min(tile.y0 + tileSize, region.y1);
+            Box2i tile{region.x0 + tx * tileWidth, region.y0 + ty * tileHeight, 0, 0};
+            tile.x1 = std::min(tile.x0 + tileWidth, region.x1);
+            tile.y1 = std::min(tile.y0 + tileHeight, region.y1);
             try {
                 fn(tile);
             } catch (...) {

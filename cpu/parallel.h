@@ -9,8 +9,13 @@ namespace obscura::cpu {
 // 0 (or less) means every hardware thread.
 int resolveThreads(int requested);
 
-// Calls fn(tile) for tiles of `tileSize` covering `region`, on `threads` threads.
+// Calls fn(tile) for tiles of tileWidth x tileHeight covering `region`, on `threads` threads.
 // Tiles are handed out dynamically, so uneven work (sky, radius) balances itself.
-void parallelForTiles(const Box2i& region, int tileSize, int threads, const std::function<void(const Box2i&)>& fn);
+void parallelForTiles(const Box2i& region, int tileWidth, int tileHeight, int threads,
+                      const std::function<void(const Box2i&)>& fn);
+// Square tiles.
+inline void parallelForTiles(const Box2i& region, int tileSize, int threads, const std::function<void(const Box2i&)>& fn) {
+    parallelForTiles(region, tileSize, tileSize, threads, fn);
+}
 
 } // namespace obscura::cpu

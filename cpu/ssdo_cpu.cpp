@@ -1,5 +1,6 @@
 #include "cpu/ssdo_cpu.h"
 
+#include "cpu/lanes_scalar.h"
 #include "cpu/parallel.h"
 
 #include <vector>

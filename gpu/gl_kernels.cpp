@@ -50,12 +50,15 @@ vec3 loadEnv(ivec2 t) {
     int i = 3 * (t.y * P.envWidth + t.x);
     return vec3(envData[i], envData[i + 1], envData[i + 2]);
 }
+// The lane kernels' loads (kernels/hbao.glsl): one pixel per thread, 0 where not used.
+float gatherDepth(int x, int y, bool use) { return use ? depthData[y * P.width + x] : 0.0f; }
+vec3 gatherNormal(int x, int y, bool use) { return use ? loadNormal(ivec2(x, y)) : vec3(0.0f); }
 bool outsideDispatch(ivec2 t) { return t.x >= P.width || t.y >= P.height; }
 )glsl";
 
 const std::vector<GlKernel>& glKernels() {
     static const std::vector<GlKernel> kernels = {
-        {"hbao", "hbao.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; signalOut[texelIndex(t)] = hbaoPixel(t); }"},
+        {"hbao", "hbao.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; signalOut[texelIndex(t)] = hbaoLanes(t.x, t.y); }"},
         {"blur", "blur.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; storeSignal(t, blurPixel4(t, blurAxis, blurRadius)); }"},
         {"ssdo", "ssdo.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; vec3 d; vec3 g; float a; ssdoPixel(t, d, g, a); int i = texelIndex(t); signalOut[i] = a; for (int c = 0; c < 3; ++c) { directionalOut[3 * i + c] = d[c]; indirectOut[3 * i + c] = g[c]; } }"},
     };

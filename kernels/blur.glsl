@@ -27,7 +27,7 @@ vec4 blurPixel4(ivec2 texel, ivec2 axis, int radius) {
     float weightSum = 1.0f;
     for (int i = -radius; i <= radius; ++i) {
         ivec2 t = texel + axis * i;
-        if (i == 0 || !insideBuffer(t)) {
+        if (i == 0 || !insideBuffer(t.x, t.y)) {
             continue;
         }
         float d = loadDepth(t) * P.depthScale;

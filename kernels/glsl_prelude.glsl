@@ -2,3 +2,18 @@
 #define OUT(T) out T
 #define INOUT(T) inout T
 #define CONST_GLOBAL const
+
+// Lane types (cpu/lanes.h): per-pixel values. A GPU thread is one pixel, so each is its
+// scalar type here; the CPU build makes them registers of several pixels.
+#define lfloat float
+#define lint int
+#define luint uint
+#define lbool bool
+#define lvec2 vec2
+#define lvec3 vec3
+
+// Branch-free selection and uniform early-outs, as lane code spells them.
+bool anyLane(bool b) { return b; }
+float select(bool c, float a, float b) { return c ? a : b; }
+int select(bool c, int a, int b) { return c ? a : b; }
+vec3 select(bool c, vec3 a, vec3 b) { return c ? a : b; }

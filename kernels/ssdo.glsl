@@ -90,7 +90,7 @@ bool blockedBySurface(vec3 point, vec3 receiver, vec3 n, vec2 centre, OUT(ivec2)
     }
     vec2 corner = floor(displayPos);
     texel = ivec2(corner) - bufferOrigin();
-    if (!insideBuffer(texel)) {
+    if (!insideBuffer(texel.x, texel.y)) {
         return false; // nothing is known outside the image: light passes
     }
     float d = loadDepth(texel) * P.depthScale;
@@ -119,7 +119,7 @@ void ssdoPixel(ivec2 texel, OUT(vec3) directional, OUT(vec3) indirect, OUT(float
     vec2 centre = vec2(displayPixel) + 0.5f;
     vec3 ray = viewRay(centre);
     vec3 receiver = viewPosition(centre, depth);
-    vec3 n = viewNormal(texel, viewVector(ray));
+    vec3 n = viewNormal(loadNormal(texel), viewVector(ray));
     vec3 b1;
     vec3 b2;
     tangentFrame(n, b1, b2);
@@ -130,7 +130,7 @@ void ssdoPixel(ivec2 texel, OUT(vec3) directional, OUT(vec3) indirect, OUT(float
     ivec2 block = (displayPixel - cell) / m;
     int subset = cell.x + m * cell.y;
     int stride = m * m;
-    uint h = hashPixel(block);
+    uint h = hashPixel(block.x, block.y);
     vec2 rotation = vec2(hashToUnit(h), hashToUnit(hashU32(h)));
     float distanceJitter = hashToUnit(hashU32(h + 0x68e31da4u));
 
@@ -162,7 +162,7 @@ void ssdoPixel(ivec2 texel, OUT(vec3) directional, OUT(vec3) indirect, OUT(float
         vec3 toSender = sender - receiver;
         float d2 = max(dot(toSender, toSender), P.sampleArea * (1.0f / PI)); // never closer than the disc's own radius
         vec3 w = toSender * inversesqrt(d2);
-        vec3 senderNormal = viewNormal(senderTexel, -w);
+        vec3 senderNormal = viewNormal(loadNormal(senderTexel), -w);
         float cosReceiver = max(dot(n, w), 0.0f);
         float cosSender = max(dot(senderNormal, -w), 0.0f);
         vec3 radiance = loadRadiance(senderTexel);

@@ -1,0 +1,283 @@
+// Lane types: the kernels' per-pixel scalars, several pixels per SIMD register.
+//
+// The kernels in kernels/*.glsl declare per-pixel values as lfloat, lint, luint, lbool,
+// lvec2 and lvec3. GLSL sees float, int, ..., vec3 (kernels/glsl_prelude.glsl); the
+// scalar C++ build sees the same GLM types (cpu/lanes_scalar.h); this header makes each
+// of them a register of OBSCURA_LANES pixels over GCC vector extensions, so one kernel
+// text runs one pixel per GPU thread and 4, 8 or 16 pixels per CPU instruction.
+// Branches on lane values do not compile: kernels use select() and anyLane() instead.
+//
+// Include inside an anonymous namespace per instruction set (see cpu/hbao_tile_impl.h),
+// so code compiled for AVX-512 is never linked into a baseline caller.
+#pragma once
+#include <glm/glm.hpp>
+#include <immintrin.h>
+
+#include <cstdint>
+
+#ifndef OBSCURA_LANES
+#error "define OBSCURA_LANES (4, 8 or 16) before including cpu/lanes.h"
+#endif
+
+namespace obscura::cpu::lanes {
+namespace {
+
+// The kernels call these names on uniform floats and GLM vectors too; bringing GLM's
+// overloads here keeps them visible beside the lane ones.
+using glm::abs;
+using glm::atan;
+using glm::clamp;
+using glm::cos;
+using glm::cross;
+using glm::dot;
+using glm::floor;
+using glm::fract;
+using glm::inversesqrt;
+using glm::max;
+using glm::min;
+using glm::normalize;
+using glm::sin;
+using glm::sqrt;
+
+constexpr int kLanes = OBSCURA_LANES;
+typedef float vfloat __attribute__((vector_size(4 * kLanes)));
+typedef std::int32_t vint __attribute__((vector_size(4 * kLanes)));
+typedef std::uint32_t vuint __attribute__((vector_size(4 * kLanes)));
+
+struct lint;
+struct luint;
+
+// A lane mask: all bits set where true, as vector comparisons produce it.
+struct lbool {
+    vint m;
+};
+
+struct lfloat {
+    vfloat v;
+    lfloat() : v{} {}
+    lfloat(vfloat a) : v(a) {}
+    lfloat(float s) : v(s - vfloat{}) {}
+    explicit lfloat(lint i);
+    explicit lfloat(luint u);
+    float operator[](int i) const { return v[i]; }
+};
+
+struct lint {
+    vint v;
+    lint() : v{} {}
+    lint(vint a) : v(a) {}
+    lint(int s) : v(s - vint{}) {}
+    // Truncation towards zero, as GLSL's int(float).
+    explicit lint(lfloat f) : v(__builtin_convertvector(f.v, vint)) {}
+    int operator[](int i) const { return v[i]; }
+};
+
+struct luint {
+    vuint v;
+    luint(vuint a) : v(a) {}
+    luint(std::uint32_t s) : v(s - vuint{}) {}
+    explicit luint(lint i) : v((vuint)i.v) {}
+};
+
+inline lfloat::lfloat(lint i) : v(__builtin_convertvector(i.v, vfloat)) {}
+inline lfloat::lfloat(luint u) : v(__builtin_convertvector(u.v, vfloat)) {}
+
+// ---- lfloat arithmetic and comparisons ----
+inline lfloat operator+(lfloat a, lfloat b) { return a.v + b.v; }
+inline lfloat operator-(lfloat a, lfloat b) { return a.v - b.v; }
+inline lfloat operator*(lfloat a, lfloat b) { return a.v * b.v; }
+inline lfloat operator/(lfloat a, lfloat b) { return a.v / b.v; }
+inline lfloat operator-(lfloat a) { return -a.v; }
+inline lfloat& operator+=(lfloat& a, lfloat b) { return a = a + b; }
+inline lfloat& operator-=(lfloat& a, lfloat b) { return a = a - b; }
+inline lfloat& operator*=(lfloat& a, lfloat b) { return a = a * b; }
+inline lbool operator<(lfloat a, lfloat b) { return {a.v < b.v}; }
+inline lbool operator<=(lfloat a, lfloat b) { return {a.v <= b.v}; }
+inline lbool operator>(lfloat a, lfloat b) { return {a.v > b.v}; }
+inline lbool operator>=(lfloat a, lfloat b) { return {a.v >= b.v}; }
+
+// ---- lint / luint ----
+inline lint operator+(lint a, lint b) { return a.v + b.v; }
+inline lint operator-(lint a, lint b) { return a.v - b.v; }
+inline lint operator*(lint a, lint b) { return a.v * b.v; }
+inline lbool operator<(lint a, lint b) { return {a.v < b.v}; }
+inline lbool operator>=(lint a, lint b) { return {a.v >= b.v}; }
+inline luint operator+(luint a, luint b) { return a.v + b.v; }
+inline luint operator*(luint a, luint b) { return a.v * b.v; }
+inline luint operator^(luint a, luint b) { return a.v ^ b.v; }
+inline luint operator>>(luint a, std::uint32_t s) { return a.v >> s; }
+inline luint& operator^=(luint& a, luint b) { return a = a ^ b; }
+inline luint& operator*=(luint& a, luint b) { return a = a * b; }
+
+// ---- masks ----
+inline lbool operator&&(lbool a, lbool b) { return {a.m & b.m}; }
+inline lbool operator||(lbool a, lbool b) { return {a.m | b.m}; }
+inline lbool operator!(lbool a) { return {~a.m}; }
+
+// True if any lane is true: the kernels' uniform early-outs.
+inline bool anyLane(lbool a) {
+#if OBSCURA_LANES == 16
+    return _mm512_test_epi32_mask((__m512i)a.m, (__m512i)a.m) != 0;
+#elif OBSCURA_LANES == 8
+    return _mm256_movemask_ps((__m256)a.m) != 0;
+#else
+    return _mm_movemask_ps((__m128)a.m) != 0;
+#endif
+}
+
+// GLSL's `c ? a : b` per lane.
+inline lfloat select(lbool c, lfloat a, lfloat b) { return c.m ? a.v : b.v; }
+inline lint select(lbool c, lint a, lint b) { return c.m ? a.v : b.v; }
+
+// ---- built-ins, with GLSL's meaning ----
+// min/max as GLM's: (x < y) ? y : x, so a NaN x passes through max unchanged.
+inline lfloat max(lfloat x, lfloat y) { return x.v < y.v ? y.v : x.v; }
+inline lfloat min(lfloat x, lfloat y) { return y.v < x.v ? y.v : x.v; }
+inline lfloat clamp(lfloat x, lfloat lo, lfloat hi) { return min(max(x, lo), hi); }
+inline lfloat abs(lfloat x) { return (vfloat)((vint)x.v & 0x7fffffff); }
+
+inline lfloat sqrt(lfloat x) {
+#if OBSCURA_LANES == 16
+    return (vfloat)_mm512_sqrt_ps((__m512)x.v);
+#elif OBSCURA_LANES == 8
+    return (vfloat)_mm256_sqrt_ps((__m256)x.v);
+#else
+    return (vfloat)_mm_sqrt_ps((__m128)x.v);
+#endif
+}
+
+// 1/sqrt(x) for x > 0: the hardware estimate (14 bits with AVX-512, 12 without) and one
+// Newton step, within 2 ulp of the correctly rounded value, at a fraction of a division's cost.
+inline lfloat inversesqrt(lfloat x) {
+#if OBSCURA_LANES == 16
+    // The zero-masking forms: GCC 12's unmasked ones start from an 'undefined' register
+    // that -Wmaybe-uninitialized reports.
+    const vfloat y = (vfloat)_mm512_maskz_rsqrt14_ps(0xffff, (__m512)x.v);
+#elif OBSCURA_LANES == 8
+    const vfloat y = (vfloat)_mm256_rsqrt_ps((__m256)x.v);
+#else
+    const vfloat y = (vfloat)_mm_rsqrt_ps((__m128)x.v);
+#endif
+    return y * (1.5f - (0.5f * x.v) * y * y);
+}
+
+inline lfloat floor(lfloat x) {
+#if OBSCURA_LANES == 16
+    return (vfloat)_mm512_maskz_roundscale_ps(0xffff, (__m512)x.v, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+#elif OBSCURA_LANES == 8
+    return (vfloat)_mm256_floor_ps((__m256)x.v);
+#else
+    // SSE2 has no floor: truncate, step down where that rounded up. |x| >= 2^23 is already
+    // an integer (and would overflow the int); NaN fails the test; both are kept as they are.
+    const vfloat t = __builtin_convertvector(__builtin_convertvector(x.v, vint), vfloat);
+    const vfloat f = t - (vfloat)((vint)(t > x.v) & (vint)(1.0f - vfloat{}));
+    return abs(x).v < 8388608.0f ? f : x.v;
+#endif
+}
+inline lfloat fract(lfloat x) { return x - floor(x); }
+
+// sin and cos together: reduction to [-pi/4, pi/4] by multiples of pi/2 (pi/2 split in
+// three parts, exact to |x| ~ 1e4), then the minimax polynomials of Cephes' sinf/cosf
+// (about 1 ulp on the reduced range).
+inline void sinCos(lfloat x, lfloat& s, lfloat& c) {
+    const lfloat j = floor(x * 0.636619772367581f + 0.5f); // nearest multiple of pi/2
+    lfloat r = x - j * 1.5703125f;
+    r = r - j * 4.837512969970703125e-4f;
+    r = r - j * 7.549789948768648e-8f;
+    const lfloat z = r * r;
+    const lfloat sinR = r + r * z * (-1.6666654611e-1f + z * (8.3321608736e-3f + z * -1.9515295891e-4f));
+    const lfloat cosR =
+        1.0f - 0.5f * z + z * z * (4.166664568298827e-2f + z * (-1.388731625493765e-3f + z * 2.443315711809948e-5f));
+    const vint q = lint(j).v & 3;
+    const vfloat sn = q & 1 ? cosR.v : sinR.v; // quadrants 1 and 3 swap sin and cos
+    const vfloat cs = q & 1 ? sinR.v : cosR.v;
+    s = (q & 2) ? -sn : sn;                    // quadrants 2 and 3 negate sin
+    c = ((q + 1) & 2) ? -cs : cs;              // quadrants 1 and 2 negate cos
+}
+inline lfloat sin(lfloat x) {
+    lfloat s, c;
+    sinCos(x, s, c);
+    return s;
+}
+inline lfloat cos(lfloat x) {
+    lfloat s, c;
+    sinCos(x, s, c);
+    return c;
+}
+
+// atan(y, x) in (-pi, pi], as GLSL's two-argument atan: Cephes' atanf on |y|/|x| after
+// reduction to [0, tan(pi/8)] (about 2e-7 absolute), then the quadrant from the signs.
+inline lfloat atan(lfloat y, lfloat x) {
+    const lfloat ax = abs(x), ay = abs(y);
+    const lbool swap = ay > ax; // atan(t) = pi/2 - atan(1/t)
+    const lfloat num = select(swap, ax, ay), den = select(swap, ay, ax);
+    lfloat t = num / max(den, 1e-30f); // in [0, 1]
+    const lbool mid = t > 0.4142135623730950f; // atan(t) = pi/4 + atan((t-1)/(t+1))
+    t = select(mid, (t - 1.0f) / (t + 1.0f), t);
+    const lfloat z = t * t;
+    lfloat r = (((8.05374449538e-2f * z - 1.38776856032e-1f) * z + 1.99777106478e-1f) * z - 3.33329491539e-1f) * z * t + t;
+    r = select(mid, r + 0.785398163397448f, r);
+    r = select(swap, 1.57079632679490f - r, r);
+    r = select(x < 0.0f, 3.14159265358979f - r, r);
+    return (vfloat)((vint)r.v | ((vint)y.v & (vint)(0x80000000u - vuint{}))); // sign of y
+}
+
+// ---- lvec2 / lvec3: GLSL's vec2 / vec3 of lanes ----
+struct lvec2 {
+    lfloat x, y;
+    lvec2() = default;
+    lvec2(lfloat a, lfloat b) : x(a), y(b) {}
+};
+inline lvec2 operator*(lvec2 a, lfloat s) { return {a.x * s, a.y * s}; }
+inline lfloat dot(lvec2 a, lvec2 b) { return a.x * b.x + a.y * b.y; }
+
+struct lvec3 {
+    lfloat x, y, z;
+    lvec3() = default;
+    lvec3(lfloat a, lfloat b, lfloat c) : x(a), y(b), z(c) {}
+    lvec3(const glm::vec3& u) : x(u.x), y(u.y), z(u.z) {}
+};
+inline lvec3 operator+(lvec3 a, lvec3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+inline lvec3 operator-(lvec3 a, lvec3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+inline lvec3 operator-(lvec3 a) { return {-a.x, -a.y, -a.z}; }
+inline lvec3 operator*(lvec3 a, lfloat s) { return {a.x * s, a.y * s, a.z * s}; }
+inline lvec3 operator*(lfloat s, lvec3 a) { return a * s; }
+inline lvec3 operator*(float s, lvec3 a) { return a * lfloat(s); }
+inline lvec3 operator/(lvec3 a, lfloat s) { return a * (1.0f / s); }
+inline lvec3& operator*=(lvec3& a, lfloat s) { return a = a * s; }
+inline lvec3& operator+=(lvec3& a, lvec3 b) { return a = a + b; }
+inline lfloat dot(lvec3 a, lvec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline lvec3 cross(lvec3 a, lvec3 b) {
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+inline lvec3 normalize(lvec3 a) { return a * inversesqrt(dot(a, a)); }
+inline lvec3 select(lbool c, lvec3 a, lvec3 b) { return {select(c, a.x, b.x), select(c, a.y, b.y), select(c, a.z, b.z)}; }
+// A uniform matrix times a lane vector (GLM's mat3 is column-major, as GLSL's).
+inline lvec3 operator*(const glm::mat3& m, lvec3 a) {
+    return {m[0][0] * a.x + m[1][0] * a.y + m[2][0] * a.z, m[0][1] * a.x + m[1][1] * a.y + m[2][1] * a.z,
+            m[0][2] * a.x + m[1][2] * a.y + m[2][2] * a.z};
+}
+
+// Lane i holds i: the x offsets of a row of pixels.
+inline lint laneIndex() {
+    lint r;
+    for (int i = 0; i < kLanes; ++i) r.v[i] = i;
+    return r;
+}
+
+// base[index] per lane where `use`, 0 elsewhere (which no kernel mistakes for a surface).
+inline lfloat gather(const float* base, lint index, lbool use) {
+#if OBSCURA_LANES == 16
+    return (vfloat)_mm512_mask_i32gather_ps(_mm512_setzero_ps(), _mm512_test_epi32_mask((__m512i)use.m, (__m512i)use.m),
+                                            (__m512i)index.v, base, 4);
+#elif OBSCURA_LANES == 8
+    return (vfloat)_mm256_mask_i32gather_ps(_mm256_setzero_ps(), base, (__m256i)index.v, (__m256)use.m, 4);
+#else
+    lfloat r;
+    for (int i = 0; i < kLanes; ++i) r.v[i] = use.m[i] ? base[index.v[i]] : 0.0f;
+    return r;
+#endif
+}
+
+} // namespace
+} // namespace obscura::cpu::lanes
