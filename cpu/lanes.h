@@ -47,10 +47,18 @@ typedef std::uint32_t vuint __attribute__((vector_size(4 * kLanes)));
 struct lint;
 struct luint;
 
-// A lane mask: all bits set where true, as vector comparisons produce it.
+#if OBSCURA_LANES == 16
+// A lane mask. AVX-512: a mask register, one bit per lane, as its comparisons produce,
+// its blends and gathers consume it, and kortest tests it.
+struct lbool {
+    __mmask16 k;
+};
+#else
+// A lane mask. AVX2 / SSE2: all bits set where true, as vector comparisons produce it.
 struct lbool {
     vint m;
 };
+#endif
 
 struct lfloat {
     vfloat v;
@@ -91,17 +99,11 @@ inline lfloat operator-(lfloat a) { return -a.v; }
 inline lfloat& operator+=(lfloat& a, lfloat b) { return a = a + b; }
 inline lfloat& operator-=(lfloat& a, lfloat b) { return a = a - b; }
 inline lfloat& operator*=(lfloat& a, lfloat b) { return a = a * b; }
-inline lbool operator<(lfloat a, lfloat b) { return {a.v < b.v}; }
-inline lbool operator<=(lfloat a, lfloat b) { return {a.v <= b.v}; }
-inline lbool operator>(lfloat a, lfloat b) { return {a.v > b.v}; }
-inline lbool operator>=(lfloat a, lfloat b) { return {a.v >= b.v}; }
 
 // ---- lint / luint ----
 inline lint operator+(lint a, lint b) { return a.v + b.v; }
 inline lint operator-(lint a, lint b) { return a.v - b.v; }
 inline lint operator*(lint a, lint b) { return a.v * b.v; }
-inline lbool operator<(lint a, lint b) { return {a.v < b.v}; }
-inline lbool operator>=(lint a, lint b) { return {a.v >= b.v}; }
 inline luint operator+(luint a, luint b) { return a.v + b.v; }
 inline luint operator*(luint a, luint b) { return a.v * b.v; }
 inline luint operator^(luint a, luint b) { return a.v ^ b.v; }
@@ -109,36 +111,64 @@ inline luint operator>>(luint a, std::uint32_t s) { return a.v >> s; }
 inline luint& operator^=(luint& a, luint b) { return a = a ^ b; }
 inline luint& operator*=(luint& a, luint b) { return a = a * b; }
 
-// ---- masks ----
+// ---- comparisons and masks (ordered: NaN compares false, as in GLSL) ----
+#if OBSCURA_LANES == 16
+inline lbool operator<(lfloat a, lfloat b) { return {_mm512_cmp_ps_mask((__m512)a.v, (__m512)b.v, _CMP_LT_OQ)}; }
+inline lbool operator<=(lfloat a, lfloat b) { return {_mm512_cmp_ps_mask((__m512)a.v, (__m512)b.v, _CMP_LE_OQ)}; }
+inline lbool operator>(lfloat a, lfloat b) { return {_mm512_cmp_ps_mask((__m512)a.v, (__m512)b.v, _CMP_GT_OQ)}; }
+inline lbool operator>=(lfloat a, lfloat b) { return {_mm512_cmp_ps_mask((__m512)a.v, (__m512)b.v, _CMP_GE_OQ)}; }
+inline lbool operator<(lint a, lint b) { return {_mm512_cmplt_epi32_mask((__m512i)a.v, (__m512i)b.v)}; }
+inline lbool operator>=(lint a, lint b) { return {_mm512_cmpge_epi32_mask((__m512i)a.v, (__m512i)b.v)}; }
+inline lbool operator&&(lbool a, lbool b) { return {(__mmask16)(a.k & b.k)}; }
+inline lbool operator||(lbool a, lbool b) { return {(__mmask16)(a.k | b.k)}; }
+inline lbool operator!(lbool a) { return {(__mmask16)~a.k}; }
+// True if any lane is true: the kernels' uniform early-outs.
+inline bool anyLane(lbool a) { return a.k != 0; }
+// GLSL's `c ? a : b` per lane.
+inline lfloat select(lbool c, lfloat a, lfloat b) { return (vfloat)_mm512_mask_blend_ps(c.k, (__m512)b.v, (__m512)a.v); }
+inline lint select(lbool c, lint a, lint b) { return (vint)_mm512_mask_blend_epi32(c.k, (__m512i)b.v, (__m512i)a.v); }
+#else
+inline lbool operator<(lfloat a, lfloat b) { return {a.v < b.v}; }
+inline lbool operator<=(lfloat a, lfloat b) { return {a.v <= b.v}; }
+inline lbool operator>(lfloat a, lfloat b) { return {a.v > b.v}; }
+inline lbool operator>=(lfloat a, lfloat b) { return {a.v >= b.v}; }
+inline lbool operator<(lint a, lint b) { return {a.v < b.v}; }
+inline lbool operator>=(lint a, lint b) { return {a.v >= b.v}; }
 inline lbool operator&&(lbool a, lbool b) { return {a.m & b.m}; }
 inline lbool operator||(lbool a, lbool b) { return {a.m | b.m}; }
 inline lbool operator!(lbool a) { return {~a.m}; }
-
-// True if any lane is true: the kernels' uniform early-outs.
 inline bool anyLane(lbool a) {
-#if OBSCURA_LANES == 16
-    return _mm512_test_epi32_mask((__m512i)a.m, (__m512i)a.m) != 0;
-#elif OBSCURA_LANES == 8
+#if OBSCURA_LANES == 8
     return _mm256_movemask_ps((__m256)a.m) != 0;
 #else
     return _mm_movemask_ps((__m128)a.m) != 0;
 #endif
 }
-
-// GLSL's `c ? a : b` per lane.
 inline lfloat select(lbool c, lfloat a, lfloat b) { return c.m ? a.v : b.v; }
 inline lint select(lbool c, lint a, lint b) { return c.m ? a.v : b.v; }
+#endif
 
 // ---- built-ins, with GLSL's meaning ----
 // min/max as GLM's: (x < y) ? y : x, so a NaN x passes through max unchanged.
-inline lfloat max(lfloat x, lfloat y) { return x.v < y.v ? y.v : x.v; }
-inline lfloat min(lfloat x, lfloat y) { return y.v < x.v ? y.v : x.v; }
+// (MAXPS(a, b) is (a > b) ? a : b, so MAXPS(y, x) is GLM's max(x, y).)
+// AVX-512: the zero-masking forms, as GCC 12's unmasked ones start from an 'undefined'
+// register that -Wmaybe-uninitialized reports.
+#if OBSCURA_LANES == 16
+inline lfloat max(lfloat x, lfloat y) { return (vfloat)_mm512_maskz_max_ps(0xffff, (__m512)y.v, (__m512)x.v); }
+inline lfloat min(lfloat x, lfloat y) { return (vfloat)_mm512_maskz_min_ps(0xffff, (__m512)y.v, (__m512)x.v); }
+#elif OBSCURA_LANES == 8
+inline lfloat max(lfloat x, lfloat y) { return (vfloat)_mm256_max_ps((__m256)y.v, (__m256)x.v); }
+inline lfloat min(lfloat x, lfloat y) { return (vfloat)_mm256_min_ps((__m256)y.v, (__m256)x.v); }
+#else
+inline lfloat max(lfloat x, lfloat y) { return (vfloat)_mm_max_ps((__m128)y.v, (__m128)x.v); }
+inline lfloat min(lfloat x, lfloat y) { return (vfloat)_mm_min_ps((__m128)y.v, (__m128)x.v); }
+#endif
 inline lfloat clamp(lfloat x, lfloat lo, lfloat hi) { return min(max(x, lo), hi); }
 inline lfloat abs(lfloat x) { return (vfloat)((vint)x.v & 0x7fffffff); }
 
 inline lfloat sqrt(lfloat x) {
 #if OBSCURA_LANES == 16
-    return (vfloat)_mm512_sqrt_ps((__m512)x.v);
+    return (vfloat)_mm512_maskz_sqrt_ps(0xffff, (__m512)x.v);
 #elif OBSCURA_LANES == 8
     return (vfloat)_mm256_sqrt_ps((__m256)x.v);
 #else
@@ -150,8 +180,6 @@ inline lfloat sqrt(lfloat x) {
 // Newton step, within 2 ulp of the correctly rounded value, at a fraction of a division's cost.
 inline lfloat inversesqrt(lfloat x) {
 #if OBSCURA_LANES == 16
-    // The zero-masking forms: GCC 12's unmasked ones start from an 'undefined' register
-    // that -Wmaybe-uninitialized reports.
     const vfloat y = (vfloat)_mm512_maskz_rsqrt14_ps(0xffff, (__m512)x.v);
 #elif OBSCURA_LANES == 8
     const vfloat y = (vfloat)_mm256_rsqrt_ps((__m256)x.v);
@@ -268,8 +296,7 @@ inline lint laneIndex() {
 // base[index] per lane where `use`, 0 elsewhere (which no kernel mistakes for a surface).
 inline lfloat gather(const float* base, lint index, lbool use) {
 #if OBSCURA_LANES == 16
-    return (vfloat)_mm512_mask_i32gather_ps(_mm512_setzero_ps(), _mm512_test_epi32_mask((__m512i)use.m, (__m512i)use.m),
-                                            (__m512i)index.v, base, 4);
+    return (vfloat)_mm512_mask_i32gather_ps(_mm512_setzero_ps(), use.k, (__m512i)index.v, base, 4);
 #elif OBSCURA_LANES == 8
     return (vfloat)_mm256_mask_i32gather_ps(_mm256_setzero_ps(), base, (__m256i)index.v, (__m256)use.m, 4);
 #else

@@ -14,10 +14,11 @@
 //   cosine (projected solid angle; integral of cos to n): F = |n_p| / 2 (sin b sin^2 theta
 //                                                               + cos b (theta - sin theta cos theta))
 // Both grow with theta, so the horizon is the sample with the largest theta. Without
-// falloff the search only compares angles, by the sign of a cross product, and F is
-// evaluated once per slice; linear falloff weights each rise of F by W(r) = 1 - r/R of
-// the sample that made it, as in the paper, which needs F per sample (no arcsine: an
-// inverse square root, and for cosine one arctangent).
+// falloff the search keeps the largest sine of elevation (a running max: no chain of
+// compares and blends from step to step) and evaluates F once per slice; linear falloff
+// weights each rise of F by W(r) = 1 - r/R of the sample that made it, as in the paper,
+// which needs F per sample (no arcsine: an inverse square root, and for cosine one
+// arctangent).
 //
 // Samples snap to texel centres, which moves them slightly off the slice. Taking a and b
 // from the full 3D offset brings them back into the slice along the tangent plane (not
@@ -104,9 +105,9 @@ lfloat hbaoLanes(lint x, lint y) {
         lvec3 T = (nV * E - nE * V) * invNLen;
         lvec3 nP = n * invNLen;
 
-        // The horizon so far: the tangent itself, (a, b) = (1, 0), F = 0.
-        lfloat horizonA = lfloat(1.0f);
-        lfloat horizonB = lfloat(0.0f);
+        // The horizon so far: the tangent itself (elevation t, theta = 0, F = 0).
+        lfloat sinT = -cosB;
+        lfloat sinH = sinT;
         lfloat horizonF = lfloat(0.0f);
         lfloat sliceOcclusion = lfloat(0.0f);
         for (int s = 0; s < P.steps; ++s) {
@@ -139,15 +140,15 @@ lfloat hbaoLanes(lint x, lint y) {
                 sliceOcclusion += weight * max(f - horizonF, 0.0f);
                 horizonF = max(horizonF, f);
             } else {
-                // (a, b) is above the horizon when it lies counter-clockwise of it.
-                lbool higher = counts && horizonA * b - horizonB * a > 0.0f;
-                horizonA = select(higher, a, horizonA);
-                horizonB = select(higher, b, horizonB);
+                // Sine of the elevation t + theta: (a sin t + b cos t) / |(a, b)|.
+                lfloat sinA = (b * sinB - a * cosB) * inversesqrt(max(a * a + b * b, 1e-30f));
+                sinH = max(sinH, select(counts, sinA, sinT));
             }
         }
         if (P.linearFalloff == 0) {
-            lfloat invLen = inversesqrt(horizonA * horizonA + horizonB * horizonB);
-            sliceOcclusion = sliceOcclusionAt(horizonA * invLen, horizonB * invLen, cosB, sinB, nLen);
+            // Back to theta = h - t; cos h >= 0 on the E side. (1 - s)(1 + s) keeps 1 - s^2 exact.
+            lfloat cosH = sqrt(max((1.0f - sinH) * (1.0f + sinH), 0.0f));
+            sliceOcclusion = sliceOcclusionAt(cosH * sinB - sinH * cosB, sinH * sinB + cosH * cosB, cosB, sinB, nLen);
         }
         occlusion += sliceOcclusion;
     }
