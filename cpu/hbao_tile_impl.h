@@ -11,6 +11,8 @@
 #include "cpu/hbao_tile.h"
 #include "cpu/kernel_params.h"
 
+#include <cstdlib>
+
 #if OBSCURA_LANES == 1
 #include "cpu/lanes_scalar.h"
 #else
@@ -50,10 +52,18 @@ struct HbaoCpuKernel {
     const float* depthData;
     const float* normalData;
     int depthXStride, depthYStride, normalXStride, normalYStride;
+    bool depthOffsetsExactInFloat;
 
     // Masked-off lanes read nothing and get 0: not a surface.
     lfloat gatherDepth(lint x, lint y, lbool use) const {
         return gather(depthData, y * depthYStride + x * depthXStride, use);
+    }
+    // At a texel corner (whole numbers). Below 2^24 floats the offset is exact in float
+    // arithmetic: one multiply-add and one conversion instead of two integer multiplies.
+    lfloat gatherDepth(lvec2 corner, lbool use) const {
+        if (depthOffsetsExactInFloat)
+            return gather(depthData, lint(corner.y * float(depthYStride) + corner.x * float(depthXStride)), use);
+        return gatherDepth(lint(corner.x), lint(corner.y), use);
     }
     lvec3 gatherNormal(lint x, lint y, lbool use) const {
         const lint i = y * normalYStride + x * normalXStride;
@@ -80,6 +90,7 @@ void runTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, Mutable
     k.depthData = depth.data;
     k.depthXStride = (int)depth.xStride;
     k.depthYStride = (int)depth.yStride;
+    k.depthOffsetsExactInFloat = (long long)p.height * std::llabs(depth.yStride) + (long long)p.width * std::llabs(depth.xStride) <= (1ll << 24);
     k.normalData = normal.data;
     k.normalXStride = (int)normal.xStride;
     k.normalYStride = (int)normal.yStride;

@@ -256,6 +256,7 @@ struct lvec2 {
     lvec2() = default;
     lvec2(lfloat a, lfloat b) : x(a), y(b) {}
 };
+inline lvec2 operator+(lvec2 a, lvec2 b) { return {a.x + b.x, a.y + b.y}; }
 inline lvec2 operator*(lvec2 a, lfloat s) { return {a.x * s, a.y * s}; }
 inline lfloat dot(lvec2 a, lvec2 b) { return a.x * b.x + a.y * b.y; }
 

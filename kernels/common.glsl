@@ -40,6 +40,11 @@ lbool insideBuffer(lint x, lint y) {
     return x >= 0 && y >= 0 && x < P.width && y < P.height;
 }
 
+// The same for the texel whose corner (a whole number, as floor() gives) is `corner`.
+lbool insideBuffer(lvec2 corner) {
+    return corner.x >= 0.0f && corner.y >= 0.0f && corner.x < float(P.width) && corner.y < float(P.height);
+}
+
 // Direction through a display position, scaled so z = -1 (perspective); for an
 // orthographic camera, the position on the image plane with z = 0.
 lvec3 viewRay(lvec2 displayPos) {
@@ -61,22 +66,20 @@ lvec3 viewPosition(lvec2 displayPos, lfloat depth) {
     return positionOnRay(viewRay(displayPos), depth);
 }
 
-// S - P for a sample `pixelOffset` pixels away from P, without forming S and P: at
-// large depth both are big and nearly equal, and their difference would cancel
-// most significant digits. With rayS = rayP + w (w from the pixel offset alone):
-// S - P = (dS - dP) rayP + dS w, every term small where the answer is small.
-lvec3 viewOffset(lvec3 rayP, lfloat depthP, lvec2 pixelOffset, lfloat depthS) {
-    lfloat wx = pixelOffset.x * P.invFx;
-    lfloat wy = -pixelOffset.y * P.invFy;
+// S - P for a sample whose ray is rayS = rayP + (w, 0), without forming S and P: at large
+// depth both are big and nearly equal, and their difference would cancel most significant
+// digits. S - P = (dS - dP) rayP + dS w, every term small where the answer is small. w is
+// (pixel offset.x / fx, -pixel offset.y / fy), an image-plane offset for orthographic cameras.
+lvec3 viewOffset(lvec3 rayP, lfloat depthP, lvec2 w, lfloat depthS) {
     if (P.orthographic != 0) {
-        return lvec3(wx, wy, depthP - depthS);
+        return lvec3(w.x, w.y, depthP - depthS);
     }
     if (P.radialDepth != 0) {
-        lvec3 rayS = lvec3(rayP.x + wx, rayP.y + wy, rayP.z);
+        lvec3 rayS = lvec3(rayP.x + w.x, rayP.y + w.y, rayP.z);
         return rayS * (depthS * inversesqrt(dot(rayS, rayS))) - rayP * (depthP * inversesqrt(dot(rayP, rayP)));
     }
     lfloat dd = depthS - depthP;
-    return lvec3(dd * rayP.x + depthS * wx, dd * rayP.y + depthS * wy, dd * rayP.z);
+    return lvec3(dd * rayP.x + depthS * w.x, dd * rayP.y + depthS * w.y, dd * rayP.z);
 }
 
 // Unit vector towards the eye. Taken from the pixel's ray, not its position, so

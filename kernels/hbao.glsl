@@ -49,6 +49,9 @@ lfloat hbaoLanes(lint x, lint y) {
     lint displayY = y + P.originY;
     lvec2 centre = lvec2(lfloat(displayX) + 0.5f, lfloat(displayY) + 0.5f);
     lvec3 ray = viewRay(centre);
+    // Pixel offset of a sample texel = its corner + this; exact in float (whole and half numbers).
+    lvec2 cornerToOffset = lvec2(0.5f - centre.x, 0.5f - centre.y);
+    vec2 origin = vec2(bufferOrigin());
     lvec3 V = viewVector(ray);
     lvec3 n = viewNormal(gatherNormal(x, y, computing), V);
 
@@ -110,27 +113,32 @@ lfloat hbaoLanes(lint x, lint y) {
         lfloat sinH = sinT;
         lfloat horizonF = lfloat(0.0f);
         lfloat sliceOcclusion = lfloat(0.0f);
+        // March along the image line in display coordinates (so any tiling rounds alike): the
+        // first sample one pixel out, then evenly to the radius.
+        lvec2 step = dir * stepPixels;
+        lvec2 position = centre + dir * (1.0f + jitter * stepPixels);
         for (int s = 0; s < P.steps; ++s) {
-            lfloat offset = 1.0f + (float(s) + jitter) * stepPixels;
-            lvec2 corner = lvec2(floor(centre.x + dir.x * offset), floor(centre.y + dir.y * offset));
-            lint texelX = lint(corner.x) - P.originX;
-            lint texelY = lint(corner.y) - P.originY;
-            lbool counts = computing && insideBuffer(texelX, texelY);
+            lvec2 corner = lvec2(floor(position.x), floor(position.y));
+            position = position + step;
+            lvec2 texelCorner = lvec2(corner.x - origin.x, corner.y - origin.y);
+            lbool counts = computing && insideBuffer(texelCorner);
             // The image line is straight and the buffer convex: once every lane has left it,
             // every later step is outside too.
             if (!anyLane(counts)) {
                 break;
             }
-            lfloat sampleDepth = gatherDepth(texelX, texelY, counts) * P.depthScale;
+            lfloat sampleDepth = gatherDepth(texelCorner, counts) * P.depthScale;
             counts = counts && isSurfaceDepth(sampleDepth);
             sampleDepth = select(counts, sampleDepth, depth); // holes and sky: keep X finite
-            lvec3 X = viewOffset(ray, depth, lvec2(corner.x + 0.5f - centre.x, corner.y + 0.5f - centre.y), sampleDepth);
+            // Scaled after the exact subtraction: scaling first would cancel digits.
+            lvec2 w = lvec2((corner.x + cornerToOffset.x) * P.invFx, -(corner.y + cornerToOffset.y) * P.invFy);
+            lvec3 X = viewOffset(ray, depth, w, sampleDepth);
             lfloat r2 = dot(X, X);
             lfloat a = dot(T, X);
             lfloat b = dot(nP, X);
             // A sample counts if it is a surface within R, above the tangent plane (below it, it
             // cannot raise the horizon) and on the E side (snapping can push one across V). Then
-            // theta is in (0, pi), where comparing angles by a cross product is exact.
+            // theta is in (0, pi - b): F grows with theta, and the sine of the elevation with it.
             counts = counts && r2 <= radius2 && b > 0.0f && a * sinB + b * cosB > 0.0f;
             if (P.linearFalloff != 0) {
                 lfloat invLen = inversesqrt(max(a * a + b * b, 1e-30f));

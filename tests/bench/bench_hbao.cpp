@@ -64,8 +64,8 @@ Settings settingsFor(Weighting w, Falloff f, int threads, const std::string& dev
     Settings s;
     s.device = device;
     s.radius = 0.5f;
-    s.directions = 8;
-    s.steps = 8;
+    s.directions = envInt("OBSCURA_BENCH_DIRECTIONS", 8);
+    s.steps = envInt("OBSCURA_BENCH_STEPS", 8);
     s.weighting = w;
     s.falloff = f;
     s.threads = threads;
