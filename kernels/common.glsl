@@ -40,9 +40,11 @@ lbool insideBuffer(lint x, lint y) {
     return x >= 0 && y >= 0 && x < P.width && y < P.height;
 }
 
-// The same for the texel whose corner (a whole number, as floor() gives) is `corner`.
-lbool insideBuffer(lvec2 corner) {
-    return corner.x >= 0.0f && corner.y >= 0.0f && corner.x < float(P.width) && corner.y < float(P.height);
+// The same for the texel whose corner (whole numbers, as floor() gives) is `corner`, at
+// least `margin` texels from the buffer's edges.
+lbool insideBuffer(lvec2 corner, float margin) {
+    return corner.x >= margin && corner.y >= margin && corner.x < float(P.width) - margin &&
+           corner.y < float(P.height) - margin;
 }
 
 // Direction through a display position, scaled so z = -1 (perspective); for an

@@ -117,15 +117,24 @@ lfloat hbaoLanes(lint x, lint y) {
         // first sample one pixel out, then evenly to the radius.
         lvec2 step = dir * stepPixels;
         lvec2 position = centre + dir * (1.0f + jitter * stepPixels);
+        // Each coordinate moves monotonically, so when the first and the last sample of every
+        // lane are inside the buffer (the last with a texel to spare for rounding), all are,
+        // and the steps skip the bounds test: the common case away from the frame's edges.
+        lvec2 last = position + step * float(P.steps - 1);
+        bool interior = !anyLane(computing && !(insideBuffer(floor(position) - origin, 0.0f) &&
+                                                 insideBuffer(floor(last) - origin, 1.0f)));
         for (int s = 0; s < P.steps; ++s) {
-            lvec2 corner = lvec2(floor(position.x), floor(position.y));
+            lvec2 corner = floor(position);
             position = position + step;
-            lvec2 texelCorner = lvec2(corner.x - origin.x, corner.y - origin.y);
-            lbool counts = computing && insideBuffer(texelCorner);
-            // The image line is straight and the buffer convex: once every lane has left it,
-            // every later step is outside too.
-            if (!anyLane(counts)) {
-                break;
+            lvec2 texelCorner = corner - origin;
+            lbool counts = computing;
+            if (!interior) {
+                counts = counts && insideBuffer(texelCorner, 0.0f);
+                // The image line is straight and the buffer convex: once every lane has left
+                // it, every later step is outside too.
+                if (!anyLane(counts)) {
+                    break;
+                }
             }
             lfloat sampleDepth = gatherDepth(texelCorner, counts) * P.depthScale;
             counts = counts && isSurfaceDepth(sampleDepth);
