@@ -5,6 +5,7 @@
 
 #include <climits>
 #include <cstdlib>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -20,10 +21,9 @@ struct IsaChoice {
     HbaoTileFn fn;
 };
 
-// The widest instantiation this CPU runs (the AVX builds exist only where the compiler
-// targets them, see CMakeLists.txt). OBSCURA_CPU_ISA=scalar|baseline|x86-64-v3|x86-64-v4
-// forces one (to test or time it), if this CPU can run it.
-IsaChoice selectHbaoTile() {
+// Every instantiation this CPU runs, narrowest first (the AVX builds exist only where the
+// compiler targets them, see CMakeLists.txt).
+std::vector<IsaChoice> usableIsas() {
     std::vector<IsaChoice> usable = {{"scalar", &scalar::hbaoTile}, {"baseline", &baseline::hbaoTile}};
 #if defined(OBSCURA_HAVE_X86_64_V3)
     __builtin_cpu_init();
@@ -35,14 +35,19 @@ IsaChoice selectHbaoTile() {
         usable.push_back({"x86-64-v4", &x86_64_v4::hbaoTile});
 #endif
 #endif
-    if (const char* forced = std::getenv("OBSCURA_CPU_ISA"))
-        for (const IsaChoice& c : usable)
-            if (std::string(forced) == c.name) return c;
-    return usable.back();
+    return usable;
 }
 
+// The widest, unless OBSCURA_CPU_ISA=scalar|baseline|x86-64-v3|x86-64-v4 names another this
+// CPU runs (to test or time it).
 const IsaChoice& chosenIsa() {
-    static const IsaChoice choice = selectHbaoTile();
+    static const IsaChoice choice = [] {
+        const std::vector<IsaChoice> usable = usableIsas();
+        if (const char* forced = std::getenv("OBSCURA_CPU_ISA"))
+            for (const IsaChoice& c : usable)
+                if (std::string(forced) == c.name) return c;
+        return usable.back();
+    }();
     return choice;
 }
 
@@ -52,16 +57,33 @@ bool fitsInt32(const ConstPlane& p) {
                              (long long)(p.height - 1) * std::llabs(p.yStride) + p.channels;
     return extent < INT_MAX;
 }
-} // namespace
 
-const char* hbaoIsa() { return chosenIsa().name; }
-
-void runHbao(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, int threads) {
-    HbaoTileFn tileFn = chosenIsa().fn;
+void runWith(HbaoTileFn tileFn, const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao,
+             int threads) {
     if (!fitsInt32(depth) || !fitsInt32(normal)) tileFn = &scalar::hbaoTile; // beyond 2^31 floats
     const Box2i region{0, 0, p.width, p.height};
     parallelForTiles(region, kTileWidth, kTileHeight, threads,
                      [&](const Box2i& tile) { tileFn(p, depth, normal, ao, tile); });
+}
+} // namespace
+
+const char* hbaoIsa() { return chosenIsa().name; }
+
+std::vector<std::string> hbaoIsas() {
+    std::vector<std::string> names;
+    for (const IsaChoice& c : usableIsas()) names.push_back(c.name);
+    return names;
+}
+
+void runHbao(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, int threads) {
+    runWith(chosenIsa().fn, p, depth, normal, ao, threads);
+}
+
+void runHbao(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, int threads,
+             const std::string& isa) {
+    for (const IsaChoice& c : usableIsas())
+        if (isa == c.name) return runWith(c.fn, p, depth, normal, ao, threads);
+    throw std::invalid_argument("this CPU cannot run the HBAO kernel built for '" + isa + "'");
 }
 
 } // namespace obscura::cpu
