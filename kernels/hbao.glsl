@@ -14,8 +14,8 @@
 //   cosine (projected solid angle; integral of cos to n): F = |n_p| / 2 (sin b sin^2 theta
 //                                                               + cos b (theta - sin theta cos theta))
 // Both grow with theta, so the horizon is the sample with the largest theta. Without
-// falloff the search keeps the largest sine of elevation (a running max: no chain of
-// compares and blends from step to step) and evaluates F once per slice; linear falloff
+// falloff the search compares angles by the sign of a cross product and evaluates F once
+// per slice; linear falloff
 // weights each rise of F by W(r) = 1 - r/R of the sample that made it, as in the paper,
 // which needs F per sample (no arcsine: an inverse square root, and for cosine one
 // arctangent).
@@ -108,9 +108,9 @@ lfloat hbaoLanes(lint x, lint y) {
         lvec3 T = (nV * E - nE * V) * invNLen;
         lvec3 nP = n * invNLen;
 
-        // The horizon so far: the tangent itself (elevation t, theta = 0, F = 0).
-        lfloat sinT = -cosB;
-        lfloat sinH = sinT;
+        // The horizon so far: the tangent itself, (a, b) = (1, 0), theta = 0, F = 0.
+        lfloat horizonA = lfloat(1.0f);
+        lfloat horizonB = lfloat(0.0f);
         lfloat horizonF = lfloat(0.0f);
         lfloat sliceOcclusion = lfloat(0.0f);
         // March along the image line in display coordinates (so any tiling rounds alike): the
@@ -147,7 +147,8 @@ lfloat hbaoLanes(lint x, lint y) {
             lfloat b = dot(nP, X);
             // A sample counts if it is a surface within R, above the tangent plane (below it, it
             // cannot raise the horizon) and on the E side (snapping can push one across V). Then
-            // theta is in (0, pi - b): F grows with theta, and the sine of the elevation with it.
+            // theta is in (0, pi - b): F grows with theta, and two angles there compare exactly by
+            // the sign of their cross product.
             counts = counts && r2 <= radius2 && b > 0.0f && a * sinB + b * cosB > 0.0f;
             if (P.linearFalloff != 0) {
                 lfloat invLen = inversesqrt(max(a * a + b * b, 1e-30f));
@@ -157,15 +158,16 @@ lfloat hbaoLanes(lint x, lint y) {
                 sliceOcclusion += weight * max(f - horizonF, 0.0f);
                 horizonF = max(horizonF, f);
             } else {
-                // Sine of the elevation t + theta: (a sin t + b cos t) / |(a, b)|.
-                lfloat sinA = (b * sinB - a * cosB) * inversesqrt(max(a * a + b * b, 1e-30f));
-                sinH = max(sinH, select(counts, sinA, sinT));
+                // (a, b) lies above the horizon when it is counter-clockwise of it: no square
+                // root or division, one compare.
+                lbool higher = counts && horizonA * b - horizonB * a > 0.0f;
+                horizonA = select(higher, a, horizonA);
+                horizonB = select(higher, b, horizonB);
             }
         }
         if (P.linearFalloff == 0) {
-            // Back to theta = h - t; cos h >= 0 on the E side. (1 - s)(1 + s) keeps 1 - s^2 exact.
-            lfloat cosH = sqrt(max((1.0f - sinH) * (1.0f + sinH), 0.0f));
-            sliceOcclusion = sliceOcclusionAt(cosH * sinB - sinH * cosB, sinH * sinB + cosH * cosB, cosB, sinB, nLen);
+            lfloat invLen = inversesqrt(horizonA * horizonA + horizonB * horizonB);
+            sliceOcclusion = sliceOcclusionAt(horizonA * invLen, horizonB * invLen, cosB, sinB, nLen);
         }
         occlusion += sliceOcclusion;
     }
