@@ -1,17 +1,21 @@
-// Throughput of HBAO on a realistic 1920x1080 frame (floor, walls, boxes, some sky)
-// at 8 directions x 8 steps, in megapixels per second, on the CPU (1 thread and all
-// threads) and on every OpenGL device this machine can open (gl-osmesa, gl-egl), side
-// by side. GL runs also report their upload / compute / readback split in ms.
+// Throughput of HBAO on a realistic 1920x1080 frame (floor, walls, boxes, some sky), in
+// megapixels per second:
+//   isa:NAME    the CPU kernel alone, 1 thread, built for each instruction set this CPU runs
+//               (scalar = a pixel at a time, the reference; then 4, 8, 16 pixels per register);
+//   cpu         the operator's whole compute stage on the widest build, 1 thread and all;
+//   PRESET      the quality presets, to show that time follows the sample count (ns/sample);
+//   gl-*        every OpenGL device this machine can open, with the upload/compute/readback split.
 //
-// Every run also reports two ratios measured in this process, so numbers from
-// noisy machines stay comparable:
-//   "xCopy"  frame time / time to memcpy the depth + normal planes once
-//            ("AO costs as much as copying the inputs N times");
-//   "xBase"  frame time / frame time of the first run (1 thread, uniform, linear);
+// Every run also reports ratios measured in this process, so numbers from noisy machines
+// stay comparable:
+//   "xBase"  frame time / frame time of the first run (the scalar build, 1 thread, uniform, linear);
+//   "xCopy"  frame time / time to memcpy the depth + normal planes once;
 //   "xCpu"   (GL runs) frame time / the all-threads CPU frame time of the same case.
 //
-// Environment: OBSCURA_BENCH_WIDTH / OBSCURA_BENCH_HEIGHT override the frame size.
+// Environment: OBSCURA_BENCH_WIDTH / OBSCURA_BENCH_HEIGHT override the frame size,
+// OBSCURA_BENCH_DIRECTIONS / OBSCURA_BENCH_STEPS the sample counts (8 x 8).
 #include "core/operator.h"
+#include "cpu/hbao_cpu.h"
 #include "support/scenes.h"
 
 #include <benchmark/benchmark.h>
@@ -95,10 +99,37 @@ double copySeconds() {
 double gBaseSeconds = 0;                   // seconds per frame of the first (baseline) run
 std::map<std::string, double> gCpuSeconds; // all-threads CPU seconds per frame, by case
 
-void BM_Hbao(benchmark::State& state, Weighting w, Falloff f, int threads, std::string device, std::string caseName) {
+// Shared by every run: seconds per frame -> the counters described at the top.
+void report(benchmark::State& state, double perFrame, double samplesPerPixel) {
+    const SceneBuffers& sb = scene();
+    const double pixels = (double)sb.depth.width * sb.depth.height;
+    if (gBaseSeconds == 0) gBaseSeconds = perFrame;
+    state.SetItemsProcessed((int64_t)(state.iterations() * pixels));
+    state.counters["MP/s"] = pixels * 1e-6 / perFrame;
+    state.counters["xCopy"] = perFrame / copySeconds();
+    state.counters["xBase"] = perFrame / gBaseSeconds;
+    state.counters["ns/sample"] = perFrame * 1e9 / (pixels * samplesPerPixel);
+}
+
+// The kernel alone, on one named instruction set.
+void BM_HbaoIsa(benchmark::State& state, Weighting w, Falloff f, std::string isa) {
+    const SceneBuffers& sb = scene();
+    const Settings s = settingsFor(w, f, 1, "cpu");
+    const KernelParams p = makeKernelParams(sb.inputs(), s);
+    Image ao(sb.depth.width, sb.depth.height, 1);
+    double seconds = 0;
+    for (auto _ : state) {
+        const auto t0 = std::chrono::steady_clock::now();
+        cpu::runHbao(p, sb.depth.view(), sb.normal.view(), ao.view(), 1, isa);
+        seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        benchmark::DoNotOptimize(ao.pixels.data());
+    }
+    report(state, seconds / (double)state.iterations(), (double)s.directions * s.steps);
+}
+
+void BM_Hbao(benchmark::State& state, Settings s, std::string caseName) {
     const SceneBuffers& sb = scene();
     const OperatorInputs in = sb.inputs();
-    const Settings s = settingsFor(w, f, threads, device);
     double seconds = 0;
     std::map<std::string, double> stages;
     for (auto _ : state) {
@@ -109,15 +140,10 @@ void BM_Hbao(benchmark::State& state, Weighting w, Falloff f, int threads, std::
         for (const StageTiming& t : out.stats.timings) stages[t.name] += t.seconds;
     }
     const double n = (double)state.iterations();
-    const double pixels = (double)sb.depth.width * sb.depth.height;
     const double perFrame = seconds / n;
-    if (gBaseSeconds == 0) gBaseSeconds = perFrame;
-    if (device == "cpu" && threads != 1) gCpuSeconds[caseName] = perFrame;
-    state.SetItemsProcessed((int64_t)(state.iterations() * pixels));
-    state.counters["MP/s"] = pixels * 1e-6 / perFrame;
-    state.counters["xCopy"] = perFrame / copySeconds();
-    state.counters["xBase"] = perFrame / gBaseSeconds;
-    if (device != "cpu") {
+    report(state, perFrame, (double)s.directions * s.steps);
+    if (s.device == "cpu" && s.threads != 1) gCpuSeconds[caseName] = perFrame;
+    if (s.device != "cpu") {
         state.counters["upload_ms"] = stages["gl-upload"] / n * 1e3;
         state.counters["compute_ms"] = stages["gl-compute"] / n * 1e3;
         state.counters["readback_ms"] = stages["gl-readback"] / n * 1e3;
@@ -159,19 +185,34 @@ int main(int argc, char** argv) {
                  {Weighting::Uniform, Falloff::None, "uniform/none"},
                  {Weighting::Cosine, Falloff::Linear, "cosine/linear"},
                  {Weighting::Cosine, Falloff::None, "cosine/none"}};
-    // The first registered run is the xBase reference: 1 thread, uniform, linear. CPU runs come
-    // first, so each GL run can be divided by the all-threads CPU time of its case.
-    auto add = [](const std::string& device, int threads, const auto& c) {
+    auto options = [](benchmark::internal::Benchmark* b) {
+        b->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(0.5);
+    };
+    // The first registered run is the xBase reference: the scalar build, 1 thread, uniform, linear.
+    for (const std::string& isa : cpu::hbaoIsas())
+        for (const auto& c : cases) {
+            const std::string name = "hbao_8x8/" + std::string(c.name) + "/isa:" + isa;
+            options(benchmark::RegisterBenchmark(name.c_str(), BM_HbaoIsa, c.w, c.f, isa));
+        }
+    // CPU runs come before GL ones, so each GL run can be divided by the CPU time of its case.
+    auto add = [&](const std::string& device, int threads, const auto& c) {
         const std::string name = "hbao_8x8/" + std::string(c.name) + "/" + device +
                                  (device == "cpu" ? "/threads:" + std::to_string(threads) : "");
-        benchmark::RegisterBenchmark(name.c_str(), BM_Hbao, c.w, c.f, threads, device, std::string(c.name))
-            ->Unit(benchmark::kMillisecond)
-            ->UseRealTime()
-            ->MinTime(0.5);
+        options(benchmark::RegisterBenchmark(name.c_str(), BM_Hbao, settingsFor(c.w, c.f, threads, device),
+                                             std::string(c.name)));
     };
     for (int threads : {1, all}) {
         if (threads == all && all == 1) break;
         for (const auto& c : cases) add("cpu", threads, c);
+    }
+    // Presets: ns/sample stays put when time follows the sample count.
+    for (const QualityPreset& q : qualityPresets()) {
+        Settings s = settingsFor(Weighting::Cosine, Falloff::None, all, "cpu");
+        applyQualityPreset(q.name, s);
+        s.blur = 0; // the sample count alone
+        const std::string name = "hbao_" + std::string(q.name) + "_" + std::to_string(q.directions) + "x" +
+                                 std::to_string(q.steps) + "/cosine/none/cpu/threads:" + std::to_string(all);
+        options(benchmark::RegisterBenchmark(name.c_str(), BM_Hbao, s, std::string("preset")));
     }
     for (const std::string& device : glDevices())
         for (const auto& c : cases) add(device, all, c);
