@@ -12,10 +12,6 @@
 namespace obscura::cpu {
 
 namespace {
-// Tiles 64 wide (four AVX-512 registers of pixels) and 16 high: cache-friendly, and small
-// enough that sky and non-sky work balance across threads.
-constexpr int kTileWidth = 64, kTileHeight = 16;
-
 struct IsaChoice {
     const char* name;
     HbaoTileFn fn;
@@ -62,7 +58,7 @@ void runWith(HbaoTileFn tileFn, const KernelParams& p, ConstPlane depth, ConstPl
              int threads) {
     if (!fitsInt32(depth) || !fitsInt32(normal)) tileFn = &scalar::hbaoTile; // beyond 2^31 floats
     const Box2i region{0, 0, p.width, p.height};
-    parallelForTiles(region, kTileWidth, kTileHeight, threads,
+    parallelForTiles(region, kHbaoTileWidth, kHbaoTileHeight, threads,
                      [&](const Box2i& tile) { tileFn(p, depth, normal, ao, tile); });
 }
 } // namespace
@@ -79,11 +75,15 @@ void runHbao(const KernelParams& p, ConstPlane depth, ConstPlane normal, Mutable
     runWith(chosenIsa().fn, p, depth, normal, ao, threads);
 }
 
+HbaoTileFn hbaoTileFor(const std::string& isa) {
+    for (const IsaChoice& c : usableIsas())
+        if (isa == c.name) return c.fn;
+    throw std::invalid_argument("this CPU cannot run the HBAO kernel built for '" + isa + "'");
+}
+
 void runHbao(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, int threads,
              const std::string& isa) {
-    for (const IsaChoice& c : usableIsas())
-        if (isa == c.name) return runWith(c.fn, p, depth, normal, ao, threads);
-    throw std::invalid_argument("this CPU cannot run the HBAO kernel built for '" + isa + "'");
+    runWith(hbaoTileFor(isa), p, depth, normal, ao, threads);
 }
 
 } // namespace obscura::cpu

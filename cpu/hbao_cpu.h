@@ -1,6 +1,7 @@
 // CPU backend: kernels/ compiled as C++, run in tiles over all cores.
 #pragma once
 #include "core/image.h"
+#include "cpu/hbao_tile.h"
 #include "cpu/kernel_params.h"
 
 #include <string>
@@ -18,7 +19,9 @@ std::vector<std::string> hbaoIsas();
 
 // AO for every texel of `ao` (same size as depth/normal buffers, p.width x p.height).
 void runHbao(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, int threads);
-// The same with a named instruction set from hbaoIsas(), for tests and benchmarks.
+// The tile function of a named instruction set from hbaoIsas() (std::invalid_argument for
+// another), and runHbao with it: for tests and benchmarks.
+HbaoTileFn hbaoTileFor(const std::string& isa);
 void runHbao(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, int threads,
              const std::string& isa);
 

@@ -9,6 +9,10 @@
 
 namespace obscura::cpu {
 
+// Tiles 64 wide (four AVX-512 registers of pixels) and 16 high: cache-friendly, and small
+// enough that sky and non-sky work balance across threads.
+constexpr int kHbaoTileWidth = 64, kHbaoTileHeight = 16;
+
 // Runs the kernel over every texel of the tile; the entry point each ISA provides.
 using HbaoTileFn = void (*)(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao,
                             const Box2i& tile);

@@ -154,7 +154,7 @@ lfloat hbaoLanes(lint x, lint y) {
                 lfloat invLen = inversesqrt(max(a * a + b * b, 1e-30f));
                 lfloat f = sliceOcclusionAt(a * invLen, b * invLen, cosB, sinB, nLen);
                 f = select(counts, f, 0.0f);
-                lfloat weight = max(1.0f - r2 * inversesqrt(max(r2, 1e-30f)) * invRadius, 0.0f);
+                lfloat weight = max(1.0f - sqrt(r2) * invRadius, 0.0f);
                 sliceOcclusion += weight * max(f - horizonF, 0.0f);
                 horizonF = max(horizonF, f);
             } else {

@@ -12,7 +12,7 @@ PACKAGES=(
   libglm-dev nlohmann-json3-dev
   libosmesa6-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
   libembree-dev libtinyobjloader-dev
-  libgtest-dev libgmock-dev googletest libbenchmark-dev
+  libgtest-dev libgmock-dev googletest libbenchmark-dev libtbb-dev
   pybind11-dev python3-dev python3-numpy python3-pytest python3-openimageio
 )
 

@@ -3,6 +3,8 @@
 //   isa:NAME    the CPU kernel alone, 1 thread, built for each instruction set this CPU runs
 //               (scalar = a pixel at a time, the reference; then 4, 8, 16 pixels per register);
 //   cpu         the operator's whole compute stage on the widest build, 1 thread and all;
+//   sched:NAME  the widest kernel alone on all threads, scheduled by obscura's tile pool
+//               ("pool", what runHbao uses) or by oneTBB's parallel_for over the same tiles;
 //   PRESET      the quality presets, to show that time follows the sample count (ns/sample);
 //   gl-*        every OpenGL device this machine can open, with the upload/compute/readback split.
 //
@@ -19,6 +21,11 @@
 #include "support/scenes.h"
 
 #include <benchmark/benchmark.h>
+#if defined(OBSCURA_BENCH_HAVE_TBB)
+#include <tbb/blocked_range2d.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+#endif
 
 #include <algorithm>
 #include <chrono>
@@ -127,6 +134,38 @@ void BM_HbaoIsa(benchmark::State& state, Weighting w, Falloff f, std::string isa
     report(state, seconds / (double)state.iterations(), (double)s.directions * s.steps);
 }
 
+// The widest kernel alone on `threads` threads, tiles handed out by `scheduler`.
+void BM_Scheduler(benchmark::State& state, Weighting w, Falloff f, int threads, std::string scheduler) {
+    const SceneBuffers& sb = scene();
+    const Settings s = settingsFor(w, f, threads, "cpu");
+    const KernelParams p = makeKernelParams(sb.inputs(), s);
+    Image ao(sb.depth.width, sb.depth.height, 1);
+    const std::string isa = cpu::hbaoIsas().back();
+    const cpu::HbaoTileFn tile = cpu::hbaoTileFor(isa);
+    double seconds = 0;
+    for (auto _ : state) {
+        const auto t0 = std::chrono::steady_clock::now();
+        if (scheduler == "pool") {
+            cpu::runHbao(p, sb.depth.view(), sb.normal.view(), ao.view(), threads, isa);
+        } else {
+#if defined(OBSCURA_BENCH_HAVE_TBB)
+            tbb::task_arena arena(threads);
+            arena.execute([&] {
+                tbb::parallel_for(tbb::blocked_range2d<int>(0, p.height, cpu::kHbaoTileHeight, 0, p.width,
+                                                            cpu::kHbaoTileWidth),
+                                  [&](const tbb::blocked_range2d<int>& r) {
+                                      tile(p, sb.depth.view(), sb.normal.view(), ao.view(),
+                                           Box2i{r.cols().begin(), r.rows().begin(), r.cols().end(), r.rows().end()});
+                                  });
+            });
+#endif
+        }
+        seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        benchmark::DoNotOptimize(ao.pixels.data());
+    }
+    report(state, seconds / (double)state.iterations(), (double)s.directions * s.steps);
+}
+
 void BM_Hbao(benchmark::State& state, Settings s, std::string caseName) {
     const SceneBuffers& sb = scene();
     const OperatorInputs in = sb.inputs();
@@ -205,6 +244,16 @@ int main(int argc, char** argv) {
         if (threads == all && all == 1) break;
         for (const auto& c : cases) add("cpu", threads, c);
     }
+    std::vector<std::string> schedulers = {"pool"};
+#if defined(OBSCURA_BENCH_HAVE_TBB)
+    schedulers.push_back("tbb");
+#endif
+    for (const std::string& scheduler : schedulers)
+        for (const auto& c : cases) {
+            const std::string name = "hbao_8x8/" + std::string(c.name) + "/sched:" + scheduler + "/threads:" +
+                                     std::to_string(all);
+            options(benchmark::RegisterBenchmark(name.c_str(), BM_Scheduler, c.w, c.f, all, scheduler));
+        }
     // Presets: ns/sample stays put when time follows the sample count.
     for (const QualityPreset& q : qualityPresets()) {
         Settings s = settingsFor(Weighting::Cosine, Falloff::None, all, "cpu");
