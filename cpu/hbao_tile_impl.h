@@ -52,18 +52,20 @@ struct HbaoCpuKernel {
     const float* depthData;
     const float* normalData;
     int depthXStride, depthYStride, normalXStride, normalYStride;
-    bool depthOffsetsExactInFloat;
+    const float* depthAtDisplayOrigin; // depthData - the offset of display pixel (0, 0)
+    bool displayOffsetsExactInFloat;
 
     // Masked-off lanes read nothing and get 0: not a surface.
     lfloat gatherDepth(lint x, lint y, lbool use) const {
         return gather(depthData, y * depthYStride + x * depthXStride, use);
     }
-    // At a texel corner (whole numbers). Below 2^24 floats the offset is exact in float
-    // arithmetic: one multiply-add and one conversion instead of two integer multiplies.
-    lfloat gatherDepth(lvec2 corner, lbool use) const {
-        if (depthOffsetsExactInFloat)
-            return gather(depthData, lint(corner.y * float(depthYStride) + corner.x * float(depthXStride)), use);
-        return gatherDepth(lint(corner.x), lint(corner.y), use);
+    // At the texel whose corner, in display coordinates, is `corner` (whole numbers). Where
+    // every offset is below 2^24 it is exact in float arithmetic, and the buffer origin is
+    // folded into the base pointer: one multiply-add and one conversion per sample.
+    lfloat gatherDepthAtDisplay(lvec2 corner, lbool use) const {
+        if (displayOffsetsExactInFloat)
+            return gather(depthAtDisplayOrigin, lint(corner.y * float(depthYStride) + corner.x * float(depthXStride)), use);
+        return gatherDepth(lint(corner.x) - P.originX, lint(corner.y) - P.originY, use);
     }
     lvec3 gatherNormal(lint x, lint y, lbool use) const {
         const lint i = y * normalYStride + x * normalXStride;
@@ -90,7 +92,12 @@ void runTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, Mutable
     k.depthData = depth.data;
     k.depthXStride = (int)depth.xStride;
     k.depthYStride = (int)depth.yStride;
-    k.depthOffsetsExactInFloat = (long long)p.height * std::llabs(depth.yStride) + (long long)p.width * std::llabs(depth.xStride) <= (1ll << 24);
+    // Display coordinates of the buffer reach |origin| + size; the offsets stay below 2^24.
+    const long long reachX = std::llabs(p.originX) + p.width, reachY = std::llabs(p.originY) + p.height;
+    k.displayOffsetsExactInFloat = reachY * std::llabs(depth.yStride) + reachX * std::llabs(depth.xStride) < (1ll << 24);
+    // Only formed (and only dereferenced at in-buffer texels) when the offsets fit.
+    k.depthAtDisplayOrigin =
+        k.displayOffsetsExactInFloat ? depth.data - (p.originY * depth.yStride + p.originX * depth.xStride) : depth.data;
     k.normalData = normal.data;
     k.normalXStride = (int)normal.xStride;
     k.normalYStride = (int)normal.yStride;

@@ -52,7 +52,9 @@ vec3 loadEnv(ivec2 t) {
 }
 // The lane kernels' loads (kernels/hbao.glsl): one pixel per thread, 0 where not used.
 float gatherDepth(int x, int y, bool use) { return use ? depthData[y * P.width + x] : 0.0f; }
-float gatherDepth(vec2 corner, bool use) { return gatherDepth(int(corner.x), int(corner.y), use); }
+float gatherDepthAtDisplay(vec2 corner, bool use) {
+    return gatherDepth(int(corner.x) - P.originX, int(corner.y) - P.originY, use);
+}
 vec3 gatherNormal(int x, int y, bool use) { return use ? loadNormal(ivec2(x, y)) : vec3(0.0f); }
 bool outsideDispatch(ivec2 t) { return t.x >= P.width || t.y >= P.height; }
 )glsl";

@@ -126,21 +126,20 @@ lfloat hbaoLanes(lint x, lint y) {
         for (int s = 0; s < P.steps; ++s) {
             lvec2 corner = floor(position);
             position = position + step;
-            lvec2 texelCorner = corner - origin;
             lbool counts = computing;
             if (!interior) {
-                counts = counts && insideBuffer(texelCorner, 0.0f);
+                counts = counts && insideBuffer(corner - origin, 0.0f);
                 // The image line is straight and the buffer convex: once every lane has left
                 // it, every later step is outside too.
                 if (!anyLane(counts)) {
                     break;
                 }
             }
-            lfloat sampleDepth = gatherDepth(texelCorner, counts) * P.depthScale;
+            lfloat sampleDepth = gatherDepthAtDisplay(corner, counts) * P.depthScale;
             counts = counts && isSurfaceDepth(sampleDepth);
             sampleDepth = select(counts, sampleDepth, depth); // holes and sky: keep X finite
             // Scaled after the exact subtraction: scaling first would cancel digits.
-            lvec2 w = lvec2((corner.x + cornerToOffset.x) * P.invFx, -(corner.y + cornerToOffset.y) * P.invFy);
+            lvec2 w = lvec2((corner.x + cornerToOffset.x) * P.invFx, (corner.y + cornerToOffset.y) * -P.invFy);
             lvec3 X = viewOffset(ray, depth, w, sampleDepth);
             lfloat r2 = dot(X, X);
             lfloat a = dot(T, X);
