@@ -262,6 +262,7 @@ struct lvec2 {
 };
 inline lvec2 operator+(lvec2 a, lvec2 b) { return {a.x + b.x, a.y + b.y}; }
 inline lvec2 operator-(lvec2 a, lvec2 b) { return {a.x - b.x, a.y - b.y}; }
+inline lvec2 operator+(lvec2 a, const glm::vec2& b) { return {a.x + b.x, a.y + b.y}; }
 inline lvec2 operator-(lvec2 a, const glm::vec2& b) { return {a.x - b.x, a.y - b.y}; }
 inline lvec2 operator*(lvec2 a, lfloat s) { return {a.x * s, a.y * s}; }
 inline lvec2 floor(lvec2 a) { return {floor(a.x), floor(a.y)}; }

@@ -51,7 +51,6 @@ lfloat hbaoLanes(lint x, lint y) {
     lvec3 ray = viewRay(centre);
     // Pixel offset of a sample texel = its corner + this; exact in float (whole and half numbers).
     lvec2 cornerToOffset = lvec2(0.5f - centre.x, 0.5f - centre.y);
-    vec2 origin = vec2(bufferOrigin());
     lvec3 V = viewVector(ray);
     lvec3 n = viewNormal(gatherNormal(x, y, computing), V);
 
@@ -69,6 +68,12 @@ lfloat hbaoLanes(lint x, lint y) {
     }
     // The first sample sits one pixel out; the rest spread evenly to the radius.
     lfloat stepPixels = (radiusPixels - 1.0f) * (1.0f / float(P.steps));
+    // Every sample lies within radiusPixels of the centre: when that square (with a texel to
+    // spare for rounding) is inside the buffer for every lane, no step needs a bounds test.
+    vec2 origin = vec2(bufferOrigin());
+    lvec2 reach = lvec2(radiusPixels, radiusPixels);
+    bool discInside = !anyLane(computing && !(insideBuffer(floor(centre - reach) - origin, 1.0f) &&
+                                               insideBuffer(floor(centre + reach) - origin, 1.0f)));
     float radius2 = P.radius * P.radius;
     float invRadius = 1.0f / P.radius;
 
@@ -103,10 +108,10 @@ lfloat hbaoLanes(lint x, lint y) {
         lfloat cosB = nE * invNLen;
         lfloat sinB = nV * invNLen;
         // Tangent-plane axes of the slice: T along it (elevation t, sin t = -cos b, on the E
-        // side), nP across it. A sample is on the E side of the slice when its E coordinate,
-        // a cos t - b sin t = a sin b + b cos b, is positive.
-        lvec3 T = (nV * E - nE * V) * invNLen;
-        lvec3 nP = n * invNLen;
+        // side), n across it, both |n_p| times unit length: every use of (a, b) below is an
+        // angle or a sign, which a common positive scale leaves alone. A sample is on the E
+        // side when its E coordinate, a cos t - b sin t ~ a nV + b nE, is positive.
+        lvec3 T = nV * E - nE * V;
 
         // The horizon so far: the tangent itself, (a, b) = (1, 0), theta = 0, F = 0.
         lfloat horizonA = lfloat(1.0f);
@@ -120,9 +125,12 @@ lfloat hbaoLanes(lint x, lint y) {
         // Each coordinate moves monotonically, so when the first and the last sample of every
         // lane are inside the buffer (the last with a texel to spare for rounding), all are,
         // and the steps skip the bounds test: the common case away from the frame's edges.
-        lvec2 last = position + step * float(P.steps - 1);
-        bool interior = !anyLane(computing && !(insideBuffer(floor(position) - origin, 0.0f) &&
-                                                 insideBuffer(floor(last) - origin, 1.0f)));
+        bool interior = discInside;
+        if (!interior) {
+            lvec2 last = position + step * float(P.steps - 1);
+            interior = !anyLane(computing && !(insideBuffer(floor(position) - origin, 0.0f) &&
+                                                insideBuffer(floor(last) - origin, 1.0f)));
+        }
         for (int s = 0; s < P.steps; ++s) {
             lvec2 corner = floor(position);
             position = position + step;
@@ -143,12 +151,12 @@ lfloat hbaoLanes(lint x, lint y) {
             lvec3 X = viewOffset(ray, depth, w, sampleDepth);
             lfloat r2 = dot(X, X);
             lfloat a = dot(T, X);
-            lfloat b = dot(nP, X);
+            lfloat b = dot(n, X);
             // A sample counts if it is a surface within R, above the tangent plane (below it, it
             // cannot raise the horizon) and on the E side (snapping can push one across V). Then
             // theta is in (0, pi - b): F grows with theta, and two angles there compare exactly by
             // the sign of their cross product.
-            counts = counts && r2 <= radius2 && b > 0.0f && a * sinB + b * cosB > 0.0f;
+            counts = counts && r2 <= radius2 && b > 0.0f && a * nV + b * nE > 0.0f;
             if (P.linearFalloff != 0) {
                 lfloat invLen = inversesqrt(max(a * a + b * b, 1e-30f));
                 lfloat f = sliceOcclusionAt(a * invLen, b * invLen, cosB, sinB, nLen);
