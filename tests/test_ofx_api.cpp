@@ -274,6 +274,8 @@ TEST(OfxApi, TablesCoverEveryConstantOfTheHeader) {
 constexpr size_t P = sizeof(void*);
 template <class A, class B>
 constexpr bool same = std::is_same_v<A, B>;
+// Member m of suite S is its n-th function pointer.
+#define SLOT(S, m, n) EXPECT_EQ(offsetof(S, m), (n) * P) << #m
 
 TEST(OfxApi, PlainStructsHaveTheSpecificationsLayout) {
     EXPECT_EQ(sizeof(OfxRectI), 4 * sizeof(int));
@@ -310,19 +312,10 @@ TEST(OfxApi, ImageEffectSuiteIsThirteenEntriesOf104Bytes) {
     using C = OfxImageClipHandle;
     using M = OfxImageMemoryHandle;
     EXPECT_EQ(sizeof(S), 13 * P);
-    EXPECT_EQ(offsetof(S, getPropertySet), 0 * P);
-    EXPECT_EQ(offsetof(S, getParamSet), 1 * P);
-    EXPECT_EQ(offsetof(S, clipDefine), 2 * P);
-    EXPECT_EQ(offsetof(S, clipGetHandle), 3 * P);
-    EXPECT_EQ(offsetof(S, clipGetPropertySet), 4 * P);
-    EXPECT_EQ(offsetof(S, clipGetImage), 5 * P);
-    EXPECT_EQ(offsetof(S, clipReleaseImage), 6 * P);
-    EXPECT_EQ(offsetof(S, clipGetRegionOfDefinition), 7 * P);
-    EXPECT_EQ(offsetof(S, abort), 8 * P);
-    EXPECT_EQ(offsetof(S, imageMemoryAlloc), 9 * P);
-    EXPECT_EQ(offsetof(S, imageMemoryFree), 10 * P);
-    EXPECT_EQ(offsetof(S, imageMemoryLock), 11 * P);
-    EXPECT_EQ(offsetof(S, imageMemoryUnlock), 12 * P);
+    SLOT(S, getPropertySet, 0); SLOT(S, getParamSet, 1); SLOT(S, clipDefine, 2); SLOT(S, clipGetHandle, 3);
+    SLOT(S, clipGetPropertySet, 4); SLOT(S, clipGetImage, 5); SLOT(S, clipReleaseImage, 6);
+    SLOT(S, clipGetRegionOfDefinition, 7); SLOT(S, abort, 8); SLOT(S, imageMemoryAlloc, 9);
+    SLOT(S, imageMemoryFree, 10); SLOT(S, imageMemoryLock, 11); SLOT(S, imageMemoryUnlock, 12);
     EXPECT_TRUE((same<decltype(S::getPropertySet), OfxStatus (*)(E, PS*)>));
     EXPECT_TRUE((same<decltype(S::getParamSet), OfxStatus (*)(E, OfxParamSetHandle*)>));
     EXPECT_TRUE((same<decltype(S::clipDefine), OfxStatus (*)(E, const char*, PS*)>));
@@ -342,13 +335,11 @@ TEST(OfxApi, PropertySuiteIsEighteenEntries) {
     using S = OfxPropertySuiteV1;
     using PS = OfxPropertySetHandle;
     EXPECT_EQ(sizeof(S), 18 * P);
-    EXPECT_EQ(offsetof(S, propSetPointer), 0 * P);
-    EXPECT_EQ(offsetof(S, propSetIntN), 7 * P);
-    EXPECT_EQ(offsetof(S, propGetPointer), 8 * P);
-    EXPECT_EQ(offsetof(S, propGetString), 9 * P);
-    EXPECT_EQ(offsetof(S, propGetIntN), 15 * P);
-    EXPECT_EQ(offsetof(S, propReset), 16 * P);
-    EXPECT_EQ(offsetof(S, propGetDimension), 17 * P);
+    SLOT(S, propSetPointer, 0); SLOT(S, propSetString, 1); SLOT(S, propSetDouble, 2); SLOT(S, propSetInt, 3);
+    SLOT(S, propSetPointerN, 4); SLOT(S, propSetStringN, 5); SLOT(S, propSetDoubleN, 6); SLOT(S, propSetIntN, 7);
+    SLOT(S, propGetPointer, 8); SLOT(S, propGetString, 9); SLOT(S, propGetDouble, 10); SLOT(S, propGetInt, 11);
+    SLOT(S, propGetPointerN, 12); SLOT(S, propGetStringN, 13); SLOT(S, propGetDoubleN, 14);
+    SLOT(S, propGetIntN, 15); SLOT(S, propReset, 16); SLOT(S, propGetDimension, 17);
     EXPECT_TRUE((same<decltype(S::propSetPointer), OfxStatus (*)(PS, const char*, int, void*)>));
     EXPECT_TRUE((same<decltype(S::propSetString), OfxStatus (*)(PS, const char*, int, const char*)>));
     EXPECT_TRUE((same<decltype(S::propSetDouble), OfxStatus (*)(PS, const char*, int, double)>));
@@ -375,12 +366,12 @@ TEST(OfxApi, ParameterAndMessageSuites) {
     using PSet = OfxParamSetHandle;
     using PS = OfxPropertySetHandle;
     EXPECT_EQ(sizeof(S), 18 * P);
-    EXPECT_EQ(offsetof(S, paramGetValue), 4 * P);
-    EXPECT_EQ(offsetof(S, paramGetValueAtTime), 5 * P);
-    EXPECT_EQ(offsetof(S, paramSetValue), 8 * P);
-    EXPECT_EQ(offsetof(S, paramGetNumKeys), 10 * P);
-    EXPECT_EQ(offsetof(S, paramCopy), 15 * P);
-    EXPECT_EQ(offsetof(S, paramEditEnd), 17 * P);
+    SLOT(S, paramDefine, 0); SLOT(S, paramGetHandle, 1); SLOT(S, paramSetGetPropertySet, 2);
+    SLOT(S, paramGetPropertySet, 3); SLOT(S, paramGetValue, 4); SLOT(S, paramGetValueAtTime, 5);
+    SLOT(S, paramGetDerivative, 6); SLOT(S, paramGetIntegral, 7); SLOT(S, paramSetValue, 8);
+    SLOT(S, paramSetValueAtTime, 9); SLOT(S, paramGetNumKeys, 10); SLOT(S, paramGetKeyTime, 11);
+    SLOT(S, paramGetKeyIndex, 12); SLOT(S, paramDeleteKey, 13); SLOT(S, paramDeleteAllKeys, 14);
+    SLOT(S, paramCopy, 15); SLOT(S, paramEditBegin, 16); SLOT(S, paramEditEnd, 17);
     EXPECT_TRUE((same<decltype(S::paramDefine), OfxStatus (*)(PSet, const char*, const char*, PS*)>));
     EXPECT_TRUE((same<decltype(S::paramGetHandle), OfxStatus (*)(PSet, const char*, H*, PS*)>));
     EXPECT_TRUE((same<decltype(S::paramSetGetPropertySet), OfxStatus (*)(PSet, PS*)>));
@@ -403,5 +394,7 @@ TEST(OfxApi, ParameterAndMessageSuites) {
     EXPECT_EQ(sizeof(OfxMessageSuiteV1), 1 * P);
     EXPECT_TRUE((same<decltype(OfxMessageSuiteV1::message), OfxStatus (*)(void*, const char*, const char*, const char*, ...)>));
 }
+
+#undef SLOT
 
 } // namespace
