@@ -135,7 +135,7 @@ struct Sample {
 };
 
 Sample loadSample(const std::string& name) {
-    const std::string dir = OBSCURA_SAMPLES_DIR;
+    const std::string dir = OBSCURA_TEST_DATA_DIR;
     Imf::InputFile file((dir + "/" + name + ".exr").c_str());
     const Imath::Box2i dw = file.header().dataWindow(), disp = file.header().displayWindow();
     Sample s;
@@ -159,7 +159,7 @@ Sample loadSample(const std::string& name) {
 void checkRealSample(const std::string& name) {
     const Sample s = loadSample(name);
     const Camera fit = fitCameraFromPosition(s.position.view(), s.dataWindow, s.display, s.pixelAspect);
-    const Camera truth = cameraFromSidecar(std::string(OBSCURA_SAMPLES_DIR) + "/" + name + ".json", s.display, s.pixelAspect);
+    const Camera truth = cameraFromSidecar(std::string(OBSCURA_TEST_DATA_DIR) + "/" + name + ".json", s.display, s.pixelAspect);
     const double fovFit = fit.horizontalFovRad(s.display.width()), fovTruth = s.sidecar["horizontal_fov_rad"].get<double>();
     double worstRotation = 0, eyeError = glm::distance(glm::dvec3(fit.cameraToWorld[3]), glm::dvec3(truth.cameraToWorld[3]));
     for (int axis = 0; axis < 3; ++axis)
@@ -434,7 +434,7 @@ TEST(CameraFitReal, Columns) { checkRealSample("columns"); }
 // ---------------------------------------------------------------- sources
 
 TEST(CameraSources, SidecarAndFinding) {
-    const std::string dir = OBSCURA_SAMPLES_DIR;
+    const std::string dir = OBSCURA_TEST_DATA_DIR;
     EXPECT_EQ(findSidecar(dir + "/room.exr"), dir + "/room.json");
     EXPECT_EQ(findSidecar(dir + "/nonexistent.exr"), "");
     const Camera c = cameraFromSidecar(dir + "/columns.json", {0, 0, 320, 240}, 1.0);

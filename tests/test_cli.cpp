@@ -51,8 +51,8 @@ namespace {
 
 fs::path testDir() { return obscura::test::testDir("cli"); }
 
-const std::string kSamples = OBSCURA_SAMPLES_DIR;
-const std::string kRoom = kSamples + "/room.exr";
+const std::string kData = OBSCURA_TEST_DATA_DIR;
+const std::string kRoom = kData + "/room.exr";
 
 CliResult cli(const std::vector<std::string>& args) { return obscura::test::runProgram(OBSCURA_CLI_PATH, args); }
 
@@ -757,7 +757,7 @@ TEST(CliSamples, ReportJson) {
 TEST(CliSamples, InspectWritesNothing) {
     const fs::path dir = testDir();
     fs::copy_file(kRoom, dir / "room.exr");
-    fs::copy_file(kSamples + "/room.json", dir / "room.json");
+    fs::copy_file(kData + "/room.json", dir / "room.json");
     const CliResult r = cli({(dir / "room.exr").string(), "--inspect"});
     ASSERT_EQ(r.exitCode, 0) << describe(r);
     for (const char* layer : {"ViewLayer.Depth (Z)", "ViewLayer.Normal (X,Y,Z)", "ViewLayer.Position (X,Y,Z)",

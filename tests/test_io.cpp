@@ -40,7 +40,7 @@ struct ScratchCleanup : ::testing::Environment {
 };
 const auto* const kCleanup = ::testing::AddGlobalTestEnvironment(new ScratchCleanup);
 
-const std::string kRoom = std::string(OBSCURA_SAMPLES_DIR) + "/room.exr";
+const std::string kRoom = std::string(OBSCURA_TEST_DATA_DIR) + "/room.exr";
 
 // Expects `f` to throw obscura::Error whose one-line message contains every `parts`.
 template <class F>

@@ -15,12 +15,11 @@ using obscura::test::CliResult;
 
 namespace {
 
-const fs::path kRoom = fs::path(OBSCURA_SAMPLES_DIR) / "room.exr";
+const fs::path kRoom = fs::path(OBSCURA_TEST_DATA_DIR) / "room.exr";
 
 class SsdoCli : public ::testing::Test {
 protected:
     void SetUp() override {
-        if (!fs::exists(kRoom)) GTEST_SKIP() << "shared/samples not present";
         dir = fs::path(OBSCURA_TEST_TMP) / ("ssdo-cli-" + std::to_string(::getpid()) + "-" +
                                             ::testing::UnitTest::GetInstance()->current_test_info()->name());
         fs::remove_all(dir);
@@ -128,7 +127,7 @@ TEST_F(SsdoCli, SequencesResumeAndSelectFrames) {
         char name[32];
         std::snprintf(name, sizeof name, "shot.%04d", f);
         fs::copy_file(kRoom, dir / (std::string(name) + ".exr"));
-        fs::copy_file(fs::path(OBSCURA_SAMPLES_DIR) / "room.json", dir / (std::string(name) + ".json"));
+        fs::copy_file(fs::path(OBSCURA_TEST_DATA_DIR) / "room.json", dir / (std::string(name) + ".json"));
     }
     const std::string in = (dir / "shot.####.exr").string(), out = (dir / "ao.%04d.exr").string();
     CliResult r = run({in, "-o", out, "--radius", "1", "--directions", "2", "--steps", "2"});

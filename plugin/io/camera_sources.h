@@ -18,7 +18,7 @@ struct CameraRequest {
     std::string sidecarPath;                                  // --camera FILE.json (or findSidecar's answer)
 };
 
-// The JSON sidecar (see shared/samples/*.json): "camera_to_world" (4 rows of 4, or 16
+// The JSON sidecar (see tests/data/*.json): "camera_to_world" (4 rows of 4, or 16
 // numbers row-major, OpenGL convention), "projection" "persp"|"ortho", and
 // "horizontal_fov_rad" or "ortho_width". Throws obscura::Error on any problem.
 Camera cameraFromSidecar(const std::string& path, Box2i display, double pixelAspect);

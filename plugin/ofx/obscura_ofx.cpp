@@ -357,53 +357,74 @@ PixRect intersect(const PixRect& a, const PixRect& b) {
 }
 PixRect grow(const PixRect& a, int by) { return {a.x1 - by, a.y1 - by, a.x2 + by, a.y2 + by}; }
 
-// The frame of one render: pixel aspect, the display window (the project extent) and the
-// region of definition of the depth pass (the data window), all at render scale 1 (the
-// plugin declares no multi-resolution support, so hosts never render it at another scale).
+// The frame of one render: the project's pixel aspect ratio, the render scale, the display
+// window (the project extent) and the region of definition of the depth pass (the data
+// window), the last two in pixels at the render scale. Regions of interest, regions of
+// definition and fetch regions are canonical; render windows and image bounds are pixels.
 struct FrameMap {
     double par = 1;
+    double sx = 1, sy = 1;            // render scale (proxy renders: 0.5, ...)
     int displayW = 0, displayH = 0;  // display window: OFX pixels [0, W) x [0, H)
     PixRect rod;                      // Depth clip's region of definition, OFX pixels
 
-    // Canonical <-> pixel (x is divided by the pixel aspect ratio).
+    // Canonical -> pixel: x * scale / PAR, y * scale.
     PixRect toPixels(const OfxRectD& r) const {
-        return {(int)std::floor(r.x1 / par + 1e-6), (int)std::floor(r.y1 + 1e-6), (int)std::ceil(r.x2 / par - 1e-6),
-                (int)std::ceil(r.y2 - 1e-6)};
+        const double kx = sx / par;
+        return {(int)std::floor(r.x1 * kx + 1e-6), (int)std::floor(r.y1 * sy + 1e-6), (int)std::ceil(r.x2 * kx - 1e-6),
+                (int)std::ceil(r.y2 * sy - 1e-6)};
     }
     OfxRectD toCanonical(const PixRect& r) const {
         if (r.empty()) return {0, 0, 0, 0};
-        return {r.x1 * par, (double)r.y1, r.x2 * par, (double)r.y2};
+        const double kx = par / sx;
+        return {r.x1 * kx, r.y1 / sy, r.x2 * kx, r.y2 / sy};
     }
+    // The width / height of one pixel at this render scale, which is what the camera sees.
+    double pixelAspect() const { return par * sy / sx; }
     // The single flip: an OFX pixel rectangle as a display-window box (y down).
     Box2i toDisplay(const PixRect& r) const { return Box2i{r.x1, displayH - r.y2, r.x2, displayH - r.y1}; }
     // Row `row` (y down) of the display box of `r` is OFX row:
     int ofxRow(const PixRect& r, int row) const { return r.y2 - 1 - row; }
 };
 
-FrameMap frameMap(const Instance& in, OfxTime t) {
+// `actionArgs`: the RoI or render action's in-args, which carry the render scale.
+FrameMap frameMap(const Instance& in, OfxTime t, OfxPropertySetHandle actionArgs) {
     FrameMap f;
     OfxPropertySetHandle props = effectProps(in.effect);
     f.par = getDouble(props, kOfxImageEffectPropProjectPixelAspectRatio, 1.0);
     if (!(f.par > 0)) f.par = 1;
+    f.sx = getDouble(actionArgs, kOfxImageEffectPropRenderScale, 1.0, 0);
+    f.sy = getDouble(actionArgs, kOfxImageEffectPropRenderScale, 1.0, 1);
+    if (!(f.sx > 0 && f.sy > 0)) throw Error("the host gives an invalid render scale");
     double extent[2] = {0, 0};
     if (gProp->propGetDoubleN(props, kOfxImageEffectPropProjectExtent, 2, extent) != kOfxStatOK)
         throw Error("the host gives no project extent (the display window the camera's field of view spans)");
-    f.displayW = (int)std::lround(extent[0] / f.par);
-    f.displayH = (int)std::lround(extent[1]);
+    f.displayW = (int)std::lround(extent[0] * f.sx / f.par);
+    f.displayH = (int)std::lround(extent[1] * f.sy);
     OfxRectD rod{0, 0, 0, 0};
     check(gEffect->clipGetRegionOfDefinition(in.depth, t, &rod));
     f.rod = f.toPixels(rod);
     return f;
 }
 
+// The parameters for a render at the frame's scale. Blur and Max Screen Radius are in
+// full-resolution pixels, so a proxy render scales them; the radius is in world units and
+// scales through the camera (whose display window is at the render scale).
+Params paramsAt(const Instance& in, OfxTime t, const FrameMap& f) {
+    Params p = readParams(in, t);
+    if (p.settings.blur > 0) p.settings.blur = std::max(1, (int)std::lround(p.settings.blur * f.sx));
+    p.maxScreenRadius *= f.sx;
+    return p;
+}
+
 Camera makeCamera(const Params& p, const FrameMap& f) {
     Camera cam;
     if (p.projection == Projection::Perspective) {
         if (!(p.fovDeg > 0 && p.fovDeg < 180)) throw Error("the field of view must be between 0 and 180 degrees");
-        cam = Camera::perspectiveFromFov(p.fovDeg * 3.14159265358979323846 / 180, f.displayW, f.displayH, f.par);
+        cam = Camera::perspectiveFromFov(p.fovDeg * 3.14159265358979323846 / 180, f.displayW, f.displayH,
+                                         f.pixelAspect());
     } else {
         if (!(p.orthoWidth > 0)) throw Error("the orthographic width must be positive");
-        cam = Camera::orthographic(p.orthoWidth, f.displayW, f.displayH, f.par);
+        cam = Camera::orthographic(p.orthoWidth, f.displayW, f.displayH, f.pixelAspect());
     }
     const bool hasText = p.cameraToWorld.find_first_not_of(" \t\r\n") != std::string::npos;
     if (hasText) {
@@ -565,10 +586,13 @@ OfxStatus onLoad() {
     return kOfxStatOK;
 }
 
-bool hostHasColourManagement() {
-    if (!gHost) return false;
-    const std::string style = getString(gHost->host, kOfxImageEffectPropColourManagementStyle);
-    return !style.empty() && style != kOfxImageEffectPropColourManagementNone;
+// OFX 1.5 colour management: the host offers a style on its own properties, the plugin
+// declares the one it supports at describe (Basic: it only names basic spaces, ofx_raw and
+// clip cross-references), and the host puts the negotiated style on each instance. A
+// pre-1.5 host sets nothing, which means none.
+bool colourManaged(OfxPropertySetHandle p) {
+    const std::string style = getString(p, kOfxImageEffectPropColourManagementStyle);
+    return !style.empty() && style != kOfxImageEffectColourManagementNone;
 }
 
 OfxStatus onDescribe(OfxImageEffectHandle effect) {
@@ -592,14 +616,19 @@ OfxStatus onDescribe(OfxImageEffectHandle effect) {
     gProp->propSetString(p, kOfxImageEffectPluginRenderThreadSafety, 0, kOfxImageEffectRenderFullySafe);
     // The operator spreads a render over all cores itself.
     gProp->propSetInt(p, kOfxImageEffectPluginPropHostFrameThreading, 0, 0);
-    gProp->propSetInt(p, kOfxImageEffectPropSupportsMultiResolution, 0, 0);
+    // Proxy renders: the camera, Blur and Max Screen Radius follow the render scale.
+    gProp->propSetInt(p, kOfxImageEffectPropSupportsMultiResolution, 0, 1);
     gProp->propSetInt(p, kOfxImageEffectPropSupportsTiles, 0, 1);
     gProp->propSetInt(p, kOfxImageEffectPropTemporalClipAccess, 0, 0);
     gProp->propSetInt(p, kOfxImageEffectPropSupportsMultipleClipDepths, 0, 0);
     gProp->propSetInt(p, kOfxImageEffectPropSupportsMultipleClipPARs, 0, 0);
     gProp->propSetInt(p, kOfxImageEffectPluginPropFieldRenderTwiceAlways, 0, 0);
-    if (hostHasColourManagement())
-        gProp->propSetString(p, kOfxImageEffectPropColourManagementStyle, 0, kOfxImageEffectPropColourManagementBasic);
+    // GetClipPreferences reads Output (premultiplication, colourspace): re-run it when it changes.
+    gProp->propSetString(p, kOfxImageEffectPropClipPreferencesSlaveParam, 0, kParamOutput);
+    if (gHost && colourManaged(gHost->host)) {
+        gProp->propSetString(p, kOfxImageEffectPropColourManagementStyle, 0, kOfxImageEffectColourManagementBasic);
+        gProp->propSetString(p, kOfxImageEffectPropColourManagementAvailableConfigs, 0, kOfxConfigIdentifier);
+    }
     return kOfxStatOK;
 }
 
@@ -666,7 +695,9 @@ struct ParamDef {
 };
 
 OfxStatus onDescribeInContext(OfxImageEffectHandle effect, OfxPropertySetHandle inArgs) {
-    if (getString(inArgs, kOfxImageEffectPropContext) != kOfxImageEffectContextGeneral) return kOfxStatErrUnsupported;
+    // A context the plugin did not declare is a feature it lacks (the specification's status).
+    if (getString(inArgs, kOfxImageEffectPropContext) != kOfxImageEffectContextGeneral)
+        return kOfxStatErrMissingHostFeature;
     defineClip(effect, kClipSource, {kOfxImageComponentRGBA, kOfxImageComponentAlpha}, true, nullptr);
     defineClip(effect, kClipDepth, {kOfxImageComponentRGBA, kOfxImageComponentAlpha}, false, nullptr);
     defineClip(effect, kClipNormal, {kOfxImageComponentRGBA}, false, nullptr);
@@ -898,10 +929,11 @@ OfxStatus onGetRegionsOfInterest(OfxImageEffectHandle effect, OfxPropertySetHand
     };
     OfxRectD dataRoi = none;
     if (connected(in.depth)) {
-        const FrameMap f = frameMap(in, t);
+        const FrameMap f = frameMap(in, t, inArgs);
+        const Params ps = paramsAt(in, t, f);
         PixRect data;
-        if (computes(p)) {
-            const int apron = apronPixels(p, makeCamera(p, f), radiusCap(p, f));
+        if (computes(ps)) {
+            const int apron = apronPixels(ps, makeCamera(ps, f), radiusCap(ps, f));
             data = dataRegion(f.toPixels(region), apron, f);
         }
         dataRoi = f.toCanonical(data);
@@ -930,19 +962,25 @@ OfxStatus onGetClipPreferences(OfxImageEffectHandle effect, OfxPropertySetHandle
     } else {
         gProp->propSetString(outArgs, kOfxImageEffectPropPreMultiplication, 0, kOfxImageOpaque);
     }
-    if (hostHasColourManagement()) {
-        // Depth, normals and positions are data: never colour-convert them.
+    // Depth, normals and positions are data: never colour-convert them.
+    if (colourManaged(effectProps(effect)))
         for (const char* name : {kClipDepth, kClipNormal, kClipPosition})
             gProp->propSetString(outArgs, (std::string(kOfxImageClipPropPreferredColourspacesPrefix) + name).c_str(), 0,
-                                 kOfxColourspaceRaw);
-        // The AO is data; the beauty product and the SSDO light are in the Source's space.
-        const bool colour = o.kind != OutputKind::Ao;
-        if (!colour || connected(in.source)) {
-            const std::string outSpace =
-                colour ? std::string(kOfxColourspaceClipPrefix) + kClipSource : std::string(kOfxColourspaceRaw);
-            gProp->propSetString(clipProps(in.output), kOfxImageClipPropColourspace, 0, outSpace.c_str());
-        }
-    }
+                                 kOfxColourspaceOfxRaw);
+    return kOfxStatOK;
+}
+
+// OFX 1.5: the host asks which colourspace the Output clip is in. The AO is data; the beauty
+// product and the SSDO light are in the Source's space (a cross-reference to that clip).
+OfxStatus onGetOutputColourspace(OfxImageEffectHandle effect, OfxPropertySetHandle outArgs) {
+    const Instance& in = *instanceOf(effect);
+    if (!colourManaged(effectProps(effect))) return kOfxStatReplyDefault;
+    int outputIndex = 0;
+    check(gParam->paramGetValue(in.output_, &outputIndex));
+    const bool colour = kOutputOptions[std::clamp(outputIndex, 0, kOutputCount - 1)].kind != OutputKind::Ao;
+    if (colour && !connected(in.source)) return kOfxStatReplyDefault;
+    const std::string space = colour ? std::string(kOfxColourspaceClipPrefix) + kClipSource : kOfxColourspaceOfxRaw;
+    check(gProp->propSetString(outArgs, kOfxImageClipPropColourspace, 0, space.c_str()));
     return kOfxStatOK;
 }
 
@@ -965,9 +1003,12 @@ OfxStatus onRender(OfxImageEffectHandle effect, OfxPropertySetHandle inArgs) {
     int w[4] = {0, 0, 0, 0};
     check(gProp->propGetIntN(inArgs, kOfxImageEffectPropRenderWindow, 4, w));
     const PixRect window{w[0], w[1], w[2], w[3]};
-    const Params p = readParams(in, t);
+    // Required inputs first: without them a render would be black, not an answer.
+    for (const auto& [clipHandle, name] : {std::pair{in.depth, kClipDepth}, std::pair{in.normal, kClipNormal}})
+        if (!connected(clipHandle)) throw Error(std::string("the ") + name + " clip is not connected; it is required");
+    const FrameMap f = frameMap(in, t, inArgs);
+    const Params p = paramsAt(in, t, f);
     const OutputOption& option = optionOf(p);
-    const FrameMap f = frameMap(in, t);
     const OutputKind kind = p.output;
 
     ClipImage out;
@@ -1119,6 +1160,8 @@ OfxStatus mainEntry(const char* action, const void* handle, OfxPropertySetHandle
         if (!std::strcmp(action, kOfxImageEffectActionGetRegionsOfInterest))
             return onGetRegionsOfInterest(effect, inArgs, outArgs);
         if (!std::strcmp(action, kOfxImageEffectActionGetClipPreferences)) return onGetClipPreferences(effect, outArgs);
+        if (!std::strcmp(action, kOfxImageEffectActionGetOutputColourspace))
+            return onGetOutputColourspace(effect, outArgs);
         if (!std::strcmp(action, kOfxImageEffectActionIsIdentity)) return onIsIdentity(effect, inArgs, outArgs);
         if (!std::strcmp(action, kOfxImageEffectActionRender)) return onRender(effect, inArgs);
         if (!std::strcmp(action, kOfxImageEffectActionBeginSequenceRender) ||

@@ -1,10 +1,11 @@
 // The OpenFX C API, as much of it as obscura's plugin and its test host use.
 //
 // Written for this project from the published OpenFX specification (ofxCore.h,
-// ofxProperty.h, ofxImageEffect.h, ofxParam.h, ofxMemory.h, ofxMessage.h and the
-// OFX 1.5 colour additions of ofxColour.h); Debian ships no OpenFX headers. Names,
-// string values, structure layouts and suite member order follow the standard, so
-// the binary interface is that of any OFX 1.4+ host. Only what is used is declared.
+// ofxProperty.h, ofxImageEffect.h, ofxParam.h, ofxMessage.h, and OFX 1.5's ofxColour.h
+// with its native config header); Debian ships no OpenFX headers. Names, string values,
+// structure layouts and suite member order follow the standard, so the binary interface
+// is that of any OFX 1.4+ host: tests/test_ofx_api.cpp checks every value here against
+// the specification's, spelled out independently. Only what is used is declared.
 #ifndef OBSCURA_OFX_API_H
 #define OBSCURA_OFX_API_H
 
@@ -168,9 +169,7 @@ typedef struct OfxImageEffectSuiteV1 {
     OfxStatus (*imageMemoryAlloc)(OfxImageEffectHandle instanceHandle, size_t nBytes,
                                   OfxImageMemoryHandle* memoryHandle);
     OfxStatus (*imageMemoryFree)(OfxImageMemoryHandle memoryHandle);
-    OfxStatus (*imageMemoryGetPointer)(OfxImageMemoryHandle memoryHandle, void** returnedPtr);
-    OfxStatus (*imageMemoryRelease)(OfxImageMemoryHandle memoryHandle);
-    OfxStatus (*imageMemoryLock)(OfxImageMemoryHandle memoryHandle);
+    OfxStatus (*imageMemoryLock)(OfxImageMemoryHandle memoryHandle, void** returnedPtr);
     OfxStatus (*imageMemoryUnlock)(OfxImageMemoryHandle memoryHandle);
 } OfxImageEffectSuiteV1;
 
@@ -228,7 +227,7 @@ typedef struct OfxImageEffectSuiteV1 {
 #define kOfxImageEffectPropSupportedContexts "OfxImageEffectPropSupportedContexts"
 #define kOfxImageEffectPropSupportedPixelDepths "OfxImageEffectPropSupportedPixelDepths"
 #define kOfxImageEffectPropSupportedComponents "OfxImageEffectPropSupportedComponents"
-#define kOfxImageEffectPropSupportsMultipleClipDepths "OfxImageEffectPropSupportsMultipleClipDepths"
+#define kOfxImageEffectPropSupportsMultipleClipDepths "OfxImageEffectPropMultipleClipDepths"
 #define kOfxImageEffectPropSupportsMultipleClipPARs "OfxImageEffectPropSupportsMultipleClipPARs"
 #define kOfxImageEffectPropSetableFrameRate "OfxImageEffectPropSetableFrameRate"
 #define kOfxImageEffectPropSetableFielding "OfxImageEffectPropSetableFielding"
@@ -237,12 +236,14 @@ typedef struct OfxImageEffectSuiteV1 {
 #define kOfxImageEffectPluginRenderThreadSafety "OfxImageEffectPluginRenderThreadSafety"
 #define kOfxImageEffectPluginPropHostFrameThreading "OfxImageEffectPluginPropHostFrameThreading"
 #define kOfxImageEffectPluginPropFieldRenderTwiceAlways "OfxImageEffectPluginPropFieldRenderTwiceAlways"
+#define kOfxImageEffectPropClipPreferencesSlaveParam "OfxImageEffectPropClipPreferencesSlaveParam"
 #define kOfxImageEffectPropContext "OfxImageEffectPropContext"
 #define kOfxImageEffectPropPluginHandle "OfxImageEffectPropPluginHandle"
 #define kOfxImageEffectPropProjectSize "OfxImageEffectPropProjectSize"
 #define kOfxImageEffectPropProjectOffset "OfxImageEffectPropProjectOffset"
 #define kOfxImageEffectPropProjectExtent "OfxImageEffectPropProjectExtent"
-#define kOfxImageEffectPropProjectPixelAspectRatio "OfxImageEffectPropProjectPixelAspectRatio"
+// The project's pixel aspect ratio; note the string has no "Project" in it.
+#define kOfxImageEffectPropProjectPixelAspectRatio "OfxImageEffectPropPixelAspectRatio"
 #define kOfxImageEffectInstancePropEffectDuration "OfxImageEffectInstancePropEffectDuration"
 #define kOfxImageEffectInstancePropSequentialRender "OfxImageEffectInstancePropSequentialRender"
 #define kOfxImageEffectPropFrameRate "OfxImageEffectPropFrameRate"
@@ -293,12 +294,19 @@ typedef struct OfxImageEffectSuiteV1 {
 // ---------------------------------------------------------------------------
 
 #define kOfxImageEffectPropColourManagementStyle "OfxImageEffectPropColourManagementStyle"
-#define kOfxImageEffectPropColourManagementNone "OfxImageEffectPropColourManagementNone"
-#define kOfxImageEffectPropColourManagementBasic "OfxImageEffectPropColourManagementBasic"
+#define kOfxImageEffectColourManagementNone "OfxImageEffectColourManagementNone"
+#define kOfxImageEffectColourManagementBasic "OfxImageEffectColourManagementBasic"
+#define kOfxImageEffectColourManagementCore "OfxImageEffectColourManagementCore"
+#define kOfxImageEffectColourManagementFull "OfxImageEffectColourManagementFull"
+#define kOfxImageEffectColourManagementOCIO "OfxImageEffectColourManagementOCIO"
+#define kOfxImageEffectPropColourManagementAvailableConfigs "OfxImageEffectPropColourManagementAvailableConfigs"
+#define kOfxImageEffectActionGetOutputColourspace "OfxImageEffectActionGetOutputColourspace"
 #define kOfxImageClipPropColourspace "OfxImageClipPropColourspace"
 #define kOfxImageClipPropPreferredColourspaces "OfxImageClipPropPreferredColourspaces"
-// The "data, do not colour-manage" colourspace of the native configs.
-#define kOfxColourspaceRaw "Raw"
+// The one native config (ofx-native-v1.5_aces-v1.3_ocio-v2.3.h) and its basic "data, not
+// colour" space: basic spaces are valid in every style, where "Raw" is not in Basic.
+#define kOfxConfigIdentifier "ofx-native-v1.5_aces-v1.3_ocio-v2.3"
+#define kOfxColourspaceOfxRaw "ofx_raw"
 // Cross-reference: "the colourspace of clip <name>".
 #define kOfxColourspaceClipPrefix "OfxColourspace_"
 

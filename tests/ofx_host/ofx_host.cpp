@@ -22,6 +22,7 @@ struct RenderContext {
     bool topDown = false;
     int components = 4;
     std::vector<ImageFetch>* fetches = nullptr;
+    const std::map<std::string, OfxRectD>* rois = nullptr;  // exact-region delivery, when given
 };
 thread_local RenderContext* tRender = nullptr;
 
@@ -229,10 +230,25 @@ OfxStatus clipGetPropertySet(OfxImageClipHandle h, OfxPropertySetHandle* out) {
     return kOfxStatOK;
 }
 
+// Canonical coordinates are pixels at render scale 1 stretched by the pixel aspect ratio:
+// canonical x = pixel x * PAR / scale, canonical y = pixel y / scale.
+OfxRectD toCanonical(const Effect& e, const OfxRectI& r) {
+    const double kx = e.par / e.renderScale, ky = 1.0 / e.renderScale;
+    return {r.x1 * kx, r.y1 * ky, r.x2 * kx, r.y2 * ky};
+}
+OfxRectI toPixels(const Effect& e, const OfxRectD& r) {
+    const double kx = e.renderScale / e.par, ky = e.renderScale;
+    return {(int)std::floor(r.x1 * kx + 1e-6), (int)std::floor(r.y1 * ky + 1e-6), (int)std::ceil(r.x2 * kx - 1e-6),
+            (int)std::ceil(r.y2 * ky - 1e-6)};
+}
+OfxRectD intersect(const OfxRectD& a, const OfxRectD& b) {
+    const OfxRectD r{std::max(a.x1, b.x1), std::max(a.y1, b.y1), std::min(a.x2, b.x2), std::min(a.y2, b.y2)};
+    return r.x2 > r.x1 && r.y2 > r.y1 ? r : OfxRectD{0, 0, 0, 0};
+}
+
 OfxRectD clipRod(const Clip& c) {
     if (!c.input) return {0, 0, 0, 0};
-    return {(double)c.input->bounds.x1, (double)c.input->bounds.y1, (double)c.input->bounds.x2,
-            (double)c.input->bounds.y2};
+    return toCanonical(*c.effect, c.input->bounds);
 }
 
 OfxStatus clipGetRegionOfDefinition(OfxImageClipHandle h, OfxTime, OfxRectD* out) {
@@ -257,8 +273,8 @@ OfxStatus clipGetImage(OfxImageClipHandle h, OfxTime, const OfxRectD* region, Of
     auto img = std::make_unique<FetchedImage>();
     img->setString(kOfxPropType, {kOfxTypeImage});
     img->setString(kOfxImageEffectPropPixelDepth, {kOfxBitDepthFloat});
-    img->setDouble(kOfxImagePropPixelAspectRatio, {1.0});
-    img->setDouble(kOfxImageEffectPropRenderScale, {1.0, 1.0});
+    img->setDouble(kOfxImagePropPixelAspectRatio, {c->effect->par});
+    img->setDouble(kOfxImageEffectPropRenderScale, {c->effect->renderScale, c->effect->renderScale});
     img->setString(kOfxImagePropField, {kOfxImageFieldNone});
     img->setString(kOfxImagePropUniqueIdentifier, {c->name});
     OfxRectI b{0, 0, 0, 0};
@@ -280,13 +296,19 @@ OfxStatus clipGetImage(OfxImageClipHandle h, OfxTime, const OfxRectD* region, Of
         if (!c->input) return kOfxStatFailed;  // not connected
         const HostImage& src = *c->input;
         const OfxRectD rod = clipRod(*c);
-        const OfxRectD want = region ? *region : rod;
+        OfxRectD want = region ? *region : rod;
         if (rc && rc->fetches) {
             std::lock_guard<std::mutex> lock(host.logMutex_);
             rc->fetches->push_back({c->name, want, region != nullptr});
         }
-        b = {std::max(src.bounds.x1, (int)std::floor(want.x1)), std::max(src.bounds.y1, (int)std::floor(want.y1)),
-             std::min(src.bounds.x2, (int)std::ceil(want.x2)), std::min(src.bounds.y2, (int)std::ceil(want.y2))};
+        if (host.exactRegions && rc && rc->rois) {
+            // What a host that computes its inputs on demand has: the RoI, nothing around it.
+            auto it = rc->rois->find(c->name);
+            want = intersect(want, it == rc->rois->end() ? OfxRectD{0, 0, 0, 0} : it->second);
+        }
+        const OfxRectI px = toPixels(*c->effect, want);
+        b = {std::max(src.bounds.x1, px.x1), std::max(src.bounds.y1, px.y1), std::min(src.bounds.x2, px.x2),
+             std::min(src.bounds.y2, px.y2)};
         if (b.x2 <= b.x1 || b.y2 <= b.y1) b = {0, 0, 0, 0};
         comps = src.components;
         const int w = b.x2 - b.x1, hgt = b.y2 - b.y1, rowFloats = w * comps;
@@ -351,7 +373,7 @@ OfxStatus imageMemoryFree(OfxImageMemoryHandle h) {
     delete m;
     return kOfxStatOK;
 }
-OfxStatus imageMemoryGetPointer(OfxImageMemoryHandle h, void** out) {
+OfxStatus imageMemoryLock(OfxImageMemoryHandle h, void** out) {
     Memory* m = checked<Memory>(h, 0x0f5e7006u);
     if (!m) return kOfxStatErrBadHandle;
     *out = m->bytes.data();
@@ -362,10 +384,10 @@ OfxStatus imageMemoryNoop(OfxImageMemoryHandle h) {
 }
 
 const OfxImageEffectSuiteV1 kImageEffectSuite = {
-    getPropertySet,   getParamSet,     clipDefine,         clipGetHandle,
-    clipGetPropertySet, clipGetImage,  clipReleaseImage,   clipGetRegionOfDefinition,
-    abortRender,      imageMemoryAlloc, imageMemoryFree,   imageMemoryGetPointer,
-    imageMemoryNoop,  imageMemoryNoop, imageMemoryNoop};
+    getPropertySet,     getParamSet,  clipDefine,       clipGetHandle,
+    clipGetPropertySet, clipGetImage, clipReleaseImage, clipGetRegionOfDefinition,
+    abortRender,        imageMemoryAlloc, imageMemoryFree, imageMemoryLock,
+    imageMemoryNoop};
 
 // ---------------------------------------------------------------------------
 // Parameter suite
@@ -526,6 +548,15 @@ const void* fetchSuite(OfxPropertySetHandle, const char* name, int version) {
     return nullptr;
 }
 
+// OFX 1.5 colour-management styles in increasing order (none, or anything unknown, is 0).
+int styleRank(const std::string& style) {
+    const char* order[] = {kOfxImageEffectColourManagementBasic, kOfxImageEffectColourManagementCore,
+                           kOfxImageEffectColourManagementFull, kOfxImageEffectColourManagementOCIO};
+    for (int i = 0; i < 4; ++i)
+        if (style == order[i]) return i + 1;
+    return 0;
+}
+
 std::string ofxArch() {
 #if defined(__x86_64__)
     return "Linux-x86-64";
@@ -571,6 +602,10 @@ void PropertySet::setInt(const std::string& n, std::vector<int> v) {
     p = Property{};
     p.type = Property::Int;
     p.i = std::move(v);
+}
+void PropertySet::erase(const std::string& n) {
+    std::lock_guard<std::mutex> lock(mutex);
+    props.erase(n);
 }
 void PropertySet::setPointer(const std::string& n, void* v) {
     std::lock_guard<std::mutex> lock(mutex);
@@ -644,7 +679,6 @@ Host::Host(const std::string& bundlePath) {
     hostProps_.setInt(kOfxImageEffectPropSupportsMultipleClipPARs, {0});
     hostProps_.setInt(kOfxImageEffectPropSetableFrameRate, {0});
     hostProps_.setInt(kOfxImageEffectPropSetableFielding, {0});
-    hostProps_.setString(kOfxImageEffectPropColourManagementStyle, {kOfxImageEffectPropColourManagementBasic});
     ofxHost_.host = hostProps_.handle();
     ofxHost_.fetchSuite = fetchSuite;
 
@@ -699,9 +733,24 @@ OfxStatus Host::describe() {
     descriptor_->props.setString(kOfxPropType, {kOfxTypeImageEffect});
     OfxStatus st = action(kOfxActionDescribe, descriptor_.get(), nullptr, nullptr);
     if (st != kOfxStatOK && st != kOfxStatReplyDefault) return st;
+    return describeInContext(kOfxImageEffectContextGeneral);
+}
+
+OfxStatus Host::describeInContext(const std::string& context) {
+    if (!descriptor_) return kOfxStatErrBadHandle;
     PropertySet in;
-    in.setString(kOfxImageEffectPropContext, {kOfxImageEffectContextGeneral});
+    in.setString(kOfxImageEffectPropContext, {context});
     return action(kOfxImageEffectActionDescribeInContext, descriptor_.get(), &in, nullptr);
+}
+
+void Host::setColourManagementStyle(const std::string& style) {
+    if (style.empty()) {
+        hostProps_.erase(kOfxImageEffectPropColourManagementStyle);
+        hostProps_.erase(kOfxImageEffectPropColourManagementAvailableConfigs);
+    } else {
+        hostProps_.setString(kOfxImageEffectPropColourManagementStyle, {style});
+        hostProps_.setString(kOfxImageEffectPropColourManagementAvailableConfigs, {kOfxConfigIdentifier});
+    }
 }
 
 std::vector<std::string> Host::fetchedSuites() const {
@@ -722,7 +771,20 @@ std::unique_ptr<Instance> Host::createInstance(const ProjectSetup& project,
     inst->effect_ = std::make_unique<Effect>();
     Effect& e = *inst->effect_;
     e.descriptor = false;
+    e.par = project.pixelAspect;
+    e.renderScale = project.renderScale;
     e.props = descriptor_->props;
+    // The style both sides support (the lower of the two); none from a 1.4 host or plugin.
+    const std::string hostStyle = hostProps_.string(kOfxImageEffectPropColourManagementStyle);
+    const std::string pluginStyle = descriptor_->props.string(kOfxImageEffectPropColourManagementStyle);
+    if (hostStyle.empty()) {
+        e.props.erase(kOfxImageEffectPropColourManagementStyle);
+    } else {
+        const bool pluginLower = styleRank(pluginStyle) < styleRank(hostStyle);
+        const std::string style = !pluginLower ? hostStyle : styleRank(pluginStyle) > 0 ? pluginStyle
+                                                                                       : kOfxImageEffectColourManagementNone;
+        e.props.setString(kOfxImageEffectPropColourManagementStyle, {style});
+    }
     e.props.setString(kOfxPropType, {kOfxTypeImageEffectInstance});
     e.props.setString(kOfxImageEffectPropContext, {kOfxImageEffectContextGeneral});
     e.props.setPointer(kOfxPropInstanceData, nullptr);
@@ -791,7 +853,10 @@ Instance::~Instance() {
 }
 
 namespace {
-OfxStatus setAndNotify(Host& host, Effect& e, const std::string& name, const std::function<OfxStatus(Param&)>& set) {
+// Sets a parameter, tells the plugin, and re-runs clip preferences if the plugin made the
+// parameter a slave of them (kOfxImageEffectPropClipPreferencesSlaveParam).
+OfxStatus setAndNotify(Host& host, Instance& inst, const std::string& name, const std::function<OfxStatus(Param&)>& set) {
+    Effect& e = inst.effect();
     Param* p = e.params.find(name);
     if (!p) return kOfxStatErrUnknown;
     const OfxStatus st = set(*p);
@@ -801,28 +866,34 @@ OfxStatus setAndNotify(Host& host, Effect& e, const std::string& name, const std
     in.setString(kOfxPropName, {name});
     in.setString(kOfxPropChangeReason, {kOfxChangeUserEdited});
     in.setDouble(kOfxPropTime, {0.0});
-    in.setDouble(kOfxImageEffectPropRenderScale, {1.0, 1.0});
+    in.setDouble(kOfxImageEffectPropRenderScale, {e.renderScale, e.renderScale});
     const OfxStatus r = host.action(kOfxActionInstanceChanged, &e, &in, nullptr);
-    return r == kOfxStatReplyDefault ? kOfxStatOK : r;
+    if (r != kOfxStatOK && r != kOfxStatReplyDefault) return r;
+    const std::vector<std::string> slaves = e.props.strings(kOfxImageEffectPropClipPreferencesSlaveParam);
+    if (std::find(slaves.begin(), slaves.end(), name) != slaves.end()) {
+        PropertySet prefs;
+        return inst.clipPreferences(prefs);
+    }
+    return kOfxStatOK;
 }
 } // namespace
 
 OfxStatus Instance::setInt(const std::string& name, int v) {
-    return setAndNotify(*host_, *effect_, name, [&](Param& p) {
+    return setAndNotify(*host_, *this, name, [&](Param& p) {
         if (!isIntLike(p.type)) return kOfxStatErrValue;
         p.i = v;
         return kOfxStatOK;
     });
 }
 OfxStatus Instance::setDouble(const std::string& name, double v) {
-    return setAndNotify(*host_, *effect_, name, [&](Param& p) {
+    return setAndNotify(*host_, *this, name, [&](Param& p) {
         if (p.type != kOfxParamTypeDouble) return kOfxStatErrValue;
         p.d = v;
         return kOfxStatOK;
     });
 }
 OfxStatus Instance::setString(const std::string& name, const std::string& v) {
-    return setAndNotify(*host_, *effect_, name, [&](Param& p) {
+    return setAndNotify(*host_, *this, name, [&](Param& p) {
         if (p.type != kOfxParamTypeString) return kOfxStatErrValue;
         p.s = v;
         return kOfxStatOK;
@@ -830,7 +901,7 @@ OfxStatus Instance::setString(const std::string& name, const std::string& v) {
 }
 
 OfxStatus Instance::setRGB(const std::string& name, double r, double g, double b) {
-    return setAndNotify(*host_, *effect_, name, [&](Param& p) {
+    return setAndNotify(*host_, *this, name, [&](Param& p) {
         if (p.type != kOfxParamTypeRGB) return kOfxStatErrValue;
         p.rgb[0] = r, p.rgb[1] = g, p.rgb[2] = b;
         return kOfxStatOK;
@@ -841,19 +912,46 @@ OfxStatus Instance::clipPreferences(PropertySet& out) {
     for (const auto& c : effect_->clips) {
         out.setString(std::string(kOfxImageClipPropComponentsPrefix) + c->name, {c->props.string(kOfxImageEffectPropComponents)});
         out.setString(std::string(kOfxImageClipPropDepthPrefix) + c->name, {kOfxBitDepthFloat});
-        out.setDouble(std::string(kOfxImageClipPropPARPrefix) + c->name, {1.0});
+        out.setDouble(std::string(kOfxImageClipPropPARPrefix) + c->name, {effect_->par});
         out.setString(std::string(kOfxImageClipPropPreferredColourspacesPrefix) + c->name, {});
     }
     out.setString(kOfxImageEffectPropPreMultiplication, {kOfxImagePreMultiplied});
     out.setInt(kOfxImageClipPropContinuousSamples, {0});
     out.setInt(kOfxImageEffectFrameVarying, {0});
-    return host_->action(kOfxImageEffectActionGetClipPreferences, effect_.get(), nullptr, &out);
+    ++clipPreferencesRuns;
+    const OfxStatus st = host_->action(kOfxImageEffectActionGetClipPreferences, effect_.get(), nullptr, &out);
+    if (st != kOfxStatOK && st != kOfxStatReplyDefault) return st;
+    Clip* output = effect_->clip(kOfxImageEffectOutputClipName);
+    output->props.setString(kOfxImageEffectPropPreMultiplication, {out.string(kOfxImageEffectPropPreMultiplication)});
+    // A colour-managed host asks for the output colourspace after the clip preferences.
+    const std::string style = effect_->props.string(kOfxImageEffectPropColourManagementStyle);
+    if (!style.empty() && style != kOfxImageEffectColourManagementNone) {
+        std::string space;
+        const OfxStatus cs = outputColourspace({"ofx_scene_linear"}, space);
+        if (cs != kOfxStatOK && cs != kOfxStatReplyDefault) return cs;
+    }
+    return st;
+}
+
+OfxStatus Instance::outputColourspace(const std::vector<std::string>& preferred, std::string& space) {
+    PropertySet in, out;
+    in.setString(kOfxImageClipPropPreferredColourspaces, preferred);
+    const OfxStatus st = host_->action(kOfxImageEffectActionGetOutputColourspace, effect_.get(), &in, &out);
+    Clip* output = effect_->clip(kOfxImageEffectOutputClipName);
+    if (st == kOfxStatOK) {
+        space = out.string(kOfxImageClipPropColourspace);
+        output->props.setString(kOfxImageClipPropColourspace, {space});
+    } else {
+        space.clear();
+        output->props.erase(kOfxImageClipPropColourspace);
+    }
+    return st;
 }
 
 OfxStatus Instance::regionOfDefinition(OfxRectD& rod) {
     PropertySet in, out;
     in.setDouble(kOfxPropTime, {0.0});
-    in.setDouble(kOfxImageEffectPropRenderScale, {1.0, 1.0});
+    in.setDouble(kOfxImageEffectPropRenderScale, {effect_->renderScale, effect_->renderScale});
     // Default (what the host would use on ReplyDefault): the union of the connected inputs.
     OfxRectD def{0, 0, 0, 0};
     bool any = false;
@@ -874,7 +972,7 @@ OfxStatus Instance::regionOfDefinition(OfxRectD& rod) {
 OfxStatus Instance::regionsOfInterest(const OfxRectD& region, std::map<std::string, OfxRectD>& rois) {
     PropertySet in, out;
     in.setDouble(kOfxPropTime, {0.0});
-    in.setDouble(kOfxImageEffectPropRenderScale, {1.0, 1.0});
+    in.setDouble(kOfxImageEffectPropRenderScale, {effect_->renderScale, effect_->renderScale});
     in.setDouble(kOfxImageEffectPropRegionOfInterest, {region.x1, region.y1, region.x2, region.y2});
     for (const auto& c : effect_->clips)
         if (c->name != kOfxImageEffectOutputClipName)
@@ -894,7 +992,7 @@ OfxStatus Instance::isIdentity(const OfxRectI& w, std::string& clipName) {
     in.setDouble(kOfxPropTime, {0.0});
     in.setString(kOfxImageEffectPropFieldToRender, {kOfxImageFieldNone});
     in.setInt(kOfxImageEffectPropRenderWindow, {w.x1, w.y1, w.x2, w.y2});
-    in.setDouble(kOfxImageEffectPropRenderScale, {1.0, 1.0});
+    in.setDouble(kOfxImageEffectPropRenderScale, {effect_->renderScale, effect_->renderScale});
     out.setString(kOfxPropName, {""});
     out.setDouble(kOfxPropTime, {0.0});
     const OfxStatus st = host_->action(kOfxImageEffectActionIsIdentity, effect_.get(), &in, &out);
@@ -902,8 +1000,10 @@ OfxStatus Instance::isIdentity(const OfxRectI& w, std::string& clipName) {
     return st;
 }
 
-OfxStatus Instance::render(const OfxRectI& w, HostImage& frame, std::vector<ImageFetch>* fetches) {
+OfxStatus Instance::render(const OfxRectI& w, HostImage& frame, std::vector<ImageFetch>* fetches,
+                           const std::map<std::string, OfxRectD>* rois) {
     RenderContext rc;
+    rc.rois = rois;
     rc.window = w;
     rc.components = outputComponents;
     rc.topDown = host_->negativeRowBytes;
@@ -915,7 +1015,7 @@ OfxStatus Instance::render(const OfxRectI& w, HostImage& frame, std::vector<Imag
     in.setDouble(kOfxPropTime, {0.0});
     in.setString(kOfxImageEffectPropFieldToRender, {kOfxImageFieldNone});
     in.setInt(kOfxImageEffectPropRenderWindow, {w.x1, w.y1, w.x2, w.y2});
-    in.setDouble(kOfxImageEffectPropRenderScale, {1.0, 1.0});
+    in.setDouble(kOfxImageEffectPropRenderScale, {effect_->renderScale, effect_->renderScale});
     in.setInt(kOfxImageEffectPropSequentialRenderStatus, {0});
     in.setInt(kOfxImageEffectPropInteractiveRenderStatus, {0});
     tRender = &rc;
@@ -948,7 +1048,7 @@ std::string str(const OfxRectD& r) {
 HostImage Instance::renderFrame(int tileW, int tileH, int threads, std::vector<std::string>& problems) {
     OfxRectD rodD{0, 0, 0, 0};
     if (regionOfDefinition(rodD) != kOfxStatOK) problems.push_back("the RoD action failed");
-    const OfxRectI rod{(int)std::floor(rodD.x1), (int)std::floor(rodD.y1), (int)std::ceil(rodD.x2), (int)std::ceil(rodD.y2)};
+    const OfxRectI rod = toPixels(*effect_, rodD);
     HostImage frame(rod, outputComponents, std::numeric_limits<float>::quiet_NaN());
     if (tileW <= 0) tileW = rod.x2 - rod.x1;
     if (tileH <= 0) tileH = rod.y2 - rod.y1;
@@ -964,7 +1064,7 @@ HostImage Instance::renderFrame(int tileW, int tileH, int threads, std::vector<s
             const OfxRectI& t = tiles[i];
             std::vector<std::string> local;
             std::map<std::string, OfxRectD> rois;
-            const OfxRectD tD{(double)t.x1, (double)t.y1, (double)t.x2, (double)t.y2};
+            const OfxRectD tD = toCanonical(*effect_, t);
             if (regionsOfInterest(tD, rois) != kOfxStatOK) local.push_back("the RoI action failed");
             std::string identityClip;
             const OfxStatus id = isIdentity(t, identityClip);
@@ -981,7 +1081,7 @@ HostImage Instance::renderFrame(int tileW, int tileH, int threads, std::vector<s
                 }
             } else {
                 std::vector<ImageFetch> fetches;
-                const OfxStatus st = render(t, frame, &fetches);
+                const OfxStatus st = render(t, frame, &fetches, &rois);
                 if (st != kOfxStatOK) local.push_back("render of a tile failed: status " + std::to_string(st));
                 for (const ImageFetch& f : fetches) {
                     auto it = rois.find(f.clip);

@@ -5,7 +5,11 @@
 // Strict where it matters: typed properties (a get of the wrong type or a missing
 // property fails), handles checked by magic, every image fetch recorded with its
 // region so a test can hold the plugin to the regions of interest it declared, and
-// every image counted so leaks show up.
+// every image counted so leaks show up. Like a host built on the official HostSupport
+// library it keeps canonical coordinates (RoD, RoI, fetch regions) apart from pixels at
+// the render scale (render windows, image bounds) for any pixel aspect ratio, delivers
+// exactly the region of interest a tile asked for, re-runs clip preferences when a slave
+// parameter changes, and can act as an OFX 1.5 colour-managed host.
 #pragma once
 #include "ofx/ofx_api.h"
 
@@ -58,6 +62,7 @@ struct PropertySet {
     void setDouble(const std::string& name, std::vector<double> v);
     void setInt(const std::string& name, std::vector<int> v);
     void setPointer(const std::string& name, void* v);
+    void erase(const std::string& name);
     bool has(const std::string& name) const;
     std::vector<std::string> strings(const std::string& name) const;
     std::vector<double> doubles(const std::string& name) const;
@@ -128,6 +133,7 @@ struct Effect {
     ParamSet params;
     std::vector<std::unique_ptr<Clip>> clips;  // in definition order
     bool descriptor = true;
+    double par = 1, renderScale = 1;  // the project's pixel aspect ratio; the render scale
     std::atomic<long long> liveImages{0};  // images of this instance not yet released
     Clip* clip(const std::string& name) const;
     OfxImageEffectHandle handle() { return reinterpret_cast<OfxImageEffectHandle>(this); }
@@ -138,8 +144,9 @@ struct Effect {
 // ---------------------------------------------------------------------------
 
 struct ProjectSetup {
-    int width = 0, height = 0;  // project extent = size, offset 0 (pixels, PAR 1)
+    int width = 0, height = 0;  // project size in full-resolution pixels (extent = size * (PAR, 1))
     double pixelAspect = 1.0;
+    double renderScale = 1.0;   // input images are pixels at this scale; so are render windows
     int outputComponents = 4;   // the Output clip: 4 (RGBA) or 1 (Alpha)
 };
 
@@ -156,8 +163,13 @@ public:
     OfxStatus setString(const std::string& param, const std::string& v);
     OfxStatus setRGB(const std::string& param, double r, double g, double b);
 
-    // kOfxImageEffectActionGetClipPreferences; the out args as the plugin left them.
+    // kOfxImageEffectActionGetClipPreferences; the out args as the plugin left them. The
+    // Output clip takes the premultiplication, and a colour-managed host then runs
+    // GetOutputColourspace; both happen again whenever a slave parameter changes.
     OfxStatus clipPreferences(PropertySet& out);
+    int clipPreferencesRuns = 0;
+    // OFX 1.5 kOfxImageEffectActionGetOutputColourspace; on OK the Output clip's colourspace.
+    OfxStatus outputColourspace(const std::vector<std::string>& preferred, std::string& space);
     OfxStatus regionOfDefinition(OfxRectD& rod);
     // Regions of interest for an output region (canonical), per input clip name.
     OfxStatus regionsOfInterest(const OfxRectD& region, std::map<std::string, OfxRectD>& rois);
@@ -165,9 +177,11 @@ public:
     OfxStatus isIdentity(const OfxRectI& window, std::string& clipName);
     // Renders `window` (pixels) into `frame` (which must cover it). Rows of the Output image
     // are laid out top-down (negative rowBytes) when `negativeRowBytes`.
-    OfxStatus render(const OfxRectI& window, HostImage& frame, std::vector<ImageFetch>* fetches = nullptr);
+    // With `rois` and Host::exactRegions, an input image covers no more than the clip's RoI.
+    OfxStatus render(const OfxRectI& window, HostImage& frame, std::vector<ImageFetch>* fetches = nullptr,
+                     const std::map<std::string, OfxRectD>* rois = nullptr);
 
-    // The whole RoD rendered in tiles of tileW x tileH (0 = one tile), on `threads` threads
+    // The whole RoD rendered in tiles of tileW x tileH pixels (0 = one tile), on `threads` threads
     // at once. For each tile, checks that every image the plugin fetched lies inside the
     // region of interest it declared for that tile; violations are appended to `problems`.
     HostImage renderFrame(int tileW, int tileH, int threads, std::vector<std::string>& problems);
@@ -197,6 +211,10 @@ public:
 
     OfxStatus load();        // kOfxActionLoad
     OfxStatus describe();    // kOfxActionDescribe + DescribeInContext(General)
+    OfxStatus describeInContext(const std::string& context);  // again, in any context
+    // An OFX 1.5 host offering this colour-management style; "" (the default): a 1.4 host.
+    // Set before describe().
+    void setColourManagementStyle(const std::string& style);
     Effect& descriptor() { return *descriptor_; }
 
     // Clip name -> pixels for each connected input; the others stay disconnected.
@@ -209,6 +227,7 @@ public:
     std::vector<std::string> messages() const;
     long long liveImages() const { return liveImages_.load(); }
     bool negativeRowBytes = true;  // lay fetched input images out top-down
+    bool exactRegions = true;      // input images cover only what the tile's RoI asked for
 
     // Host internals used by the suite implementations.
     std::atomic<long long> liveImages_{0};

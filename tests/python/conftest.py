@@ -1,8 +1,8 @@
 """Shared fixtures for the obscura Python tests.
 
 Run by ctest (test `python.module`, see plugin/python/CMakeLists.txt), which puts the
-build tree's module on PYTHONPATH and names the CLI, the samples and a scratch directory:
-OBSCURA_CLI, OBSCURA_SAMPLES_DIR, OBSCURA_EXAMPLES_DIR, OBSCURA_TEST_TMP.
+build tree's module on PYTHONPATH and names the CLI, the test data (tests/data) and a scratch directory:
+OBSCURA_CLI, OBSCURA_TEST_DATA_DIR, OBSCURA_EXAMPLES_DIR, OBSCURA_TEST_TMP.
 """
 import json
 import os
@@ -22,7 +22,7 @@ def _env_path(name, default):
 
 
 CLI = os.environ.get("OBSCURA_CLI", str(ROOT / "build" / "plugin" / "obscura"))
-SAMPLES = _env_path("OBSCURA_SAMPLES_DIR", ROOT.parent / "shared" / "samples")
+SAMPLES = _env_path("OBSCURA_TEST_DATA_DIR", ROOT / "tests" / "data")
 EXAMPLES = _env_path("OBSCURA_EXAMPLES_DIR", ROOT / "examples")
 
 
