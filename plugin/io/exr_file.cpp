@@ -155,6 +155,44 @@ Box2i toDisplayBox(const Imath::Box2i& w, const Imath::Box2i& disp) {
                  w.max.y + 1 - disp.min.y};
 }
 
+bool isLossy(Imf::Compression c) {
+    switch (c) {
+    case Imf::PXR24_COMPRESSION:
+    case Imf::B44_COMPRESSION:
+    case Imf::B44A_COMPRESSION:
+    case Imf::DWAA_COMPRESSION:
+    case Imf::DWAB_COMPRESSION: return true;
+    default: return false;
+    }
+}
+
+Imf::Compression losslessFor(Imf::Compression c) { return isLossy(c) ? Imf::ZIP_COMPRESSION : c; }
+
+std::string compressionName(Imf::Compression c) {
+    static const char* const names[] = {"none", "rle", "zips", "zip", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab"};
+    return c >= 0 && c < Imf::NUM_COMPRESSION_METHODS ? names[c] : "unknown";
+}
+
+ExrPixels layersOnlyFile(const ExrInfo& info, int p) {
+    if (p < 0 || p >= (int)info.parts.size())
+        throw Error("internal: no part " + std::to_string(p) + " in " + quoted(info.path));
+    ExrPart part = info.parts[p];
+    Imf::Header& h = part.header;
+    std::vector<std::string> drop = {"name", "chunkCount", "dwaCompressionLevel"};
+    for (auto it = h.begin(); it != h.end(); ++it)
+        if (std::strncmp(it.name(), "cryptomatte/", 12) == 0) drop.push_back(it.name());
+    for (const std::string& name : drop) h.erase(name);
+    h.channels() = Imf::ChannelList();
+    h.compression() = losslessFor(h.compression());
+    part.name.clear();
+    part.channels.clear();
+    ExrPixels out;
+    out.info.path = info.path;
+    out.info.parts = {std::move(part)};
+    out.raw.resize(1);
+    return out;
+}
+
 void setExrThreads(int n) {
     if (n <= 0) n = (int)std::max(1u, std::thread::hardware_concurrency());
     Imf::setGlobalThreadCount(n);

@@ -3,6 +3,7 @@
 #pragma once
 #include "core/image.h"
 
+#include <OpenEXR/ImfCompression.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfPixelType.h>
 
@@ -82,6 +83,20 @@ struct StringAttribute {
 void writeExrWithNewChannels(const std::string& outPath, const ExrPixels& in,
                              const std::vector<NewChannel>& add, bool allowOverwriteInput,
                              const std::vector<StringAttribute>& attrs = {});
+
+// DWAA, DWAB, B44, B44A and PXR24 alter values: never used for AO/DO/GI, which are data.
+bool isLossy(Imf::Compression c);
+// The codec new layers are written with: `c` when it is lossless, else ZIP.
+Imf::Compression losslessFor(Imf::Compression c);
+// "zip", "dwaa", ... as OpenEXR names them, for --inspect and the report.
+std::string compressionName(Imf::Compression c);
+
+// A file with no channels yet, for writeExrWithNewChannels to add the computed layers to:
+// one part with `part`'s windows, tiling and attributes (camera, chromaticities, colour
+// tags, ...) but not its name, channels, chunk count or cryptomatte manifests (they describe
+// channels it will not hold), and compression losslessFor(part's). `info.path` stays the
+// input's, so writing it over the input is refused as for a copy.
+ExrPixels layersOnlyFile(const ExrInfo& info, int part);
 
 // OpenEXR's decode/encode thread pool; n <= 0 means all cores. Used lazily with all cores
 // if never called.
