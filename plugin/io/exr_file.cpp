@@ -195,7 +195,9 @@ ExrPixels layersOnlyFile(const ExrInfo& info, int p) {
 
 void setExrThreads(int n) {
     if (n <= 0) n = (int)std::max(1u, std::thread::hardware_concurrency());
-    Imf::setGlobalThreadCount(n);
+    // Files opened after this decode and encode chunks on n threads. Resizing the pool costs
+    // thread start-ups, and a Python host may run frames concurrently: only when it changes.
+    if (Imf::globalThreadCount() != n) Imf::setGlobalThreadCount(n);
     g_threadsSet = true;
 }
 

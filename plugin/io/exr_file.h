@@ -98,8 +98,9 @@ std::string compressionName(Imf::Compression c);
 // input's, so writing it over the input is refused as for a copy.
 ExrPixels layersOnlyFile(const ExrInfo& info, int part);
 
-// OpenEXR's decode/encode thread pool; n <= 0 means all cores. Used lazily with all cores
-// if never called.
+// OpenEXR's decode/encode thread pool, used by every file opened afterwards (scanline and
+// tiled, single and multipart); n <= 0 means all cores. Used lazily with all cores if never
+// called.
 void setExrThreads(int n);
 
 } // namespace obscura
