@@ -193,6 +193,36 @@ ExrPixels layersOnlyFile(const ExrInfo& info, int p) {
     return out;
 }
 
+std::string layersPartName(const ExrInfo& info) {
+    auto taken = [&](const std::string& name) {
+        for (const ExrPart& part : info.parts)
+            if (part.name == name) return true;
+        return false;
+    };
+    std::string name = "obscura";
+    for (int i = 2; taken(name); ++i) name = "obscura." + std::to_string(i);
+    return name;
+}
+
+int addLayersPart(ExrPixels& file, int from) {
+    ExrPixels own = layersOnlyFile(file.info, from);
+    ExrPart& part = own.info.parts[0];
+    part.name = layersPartName(file.info);
+    part.header.setName(part.name);
+    for (ExrPart& other : file.info.parts) {
+        if (other.name.empty()) {
+            other.name = "render";
+            other.header.setName(other.name);
+        }
+        if (!other.header.hasType()) other.header.setType(other.tiled ? Imf::TILEDIMAGE : Imf::SCANLINEIMAGE);
+    }
+    if (!part.header.hasType()) part.header.setType(part.tiled ? Imf::TILEDIMAGE : Imf::SCANLINEIMAGE);
+    file.info.parts.push_back(std::move(part));
+    file.info.multipart = true;
+    file.raw.emplace_back();
+    return (int)file.info.parts.size() - 1;
+}
+
 void setExrThreads(int n) {
     if (n <= 0) n = (int)std::max(1u, std::thread::hardware_concurrency());
     // Files opened after this decode and encode chunks on n threads. Resizing the pool costs

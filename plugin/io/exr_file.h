@@ -98,6 +98,13 @@ std::string compressionName(Imf::Compression c);
 // input's, so writing it over the input is refused as for a copy.
 ExrPixels layersOnlyFile(const ExrInfo& info, int part);
 
+// The name of the part addLayersPart would add to `info`: "obscura", made unique.
+std::string layersPartName(const ExrInfo& info);
+// Appends to `file` a part of its own for new layers (layersOnlyFile of its part `from`,
+// named layersPartName) and returns its index. The file becomes multipart, so its other
+// parts get the name and type OpenEXR requires of one ("render" when unnamed).
+int addLayersPart(ExrPixels& file, int from);
+
 // OpenEXR's decode/encode thread pool, used by every file opened afterwards (scanline and
 // tiled, single and multipart); n <= 0 means all cores. Used lazily with all cores if never
 // called.

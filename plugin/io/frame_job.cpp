@@ -207,6 +207,7 @@ std::string describeWrite(const FrameJob& job, const ExrInfo& info, int part) {
     std::string codec = compressionName(out);
     if (out != in) codec += " (the input's " + compressionName(in) + " is lossy)";
     if (job.write == WriteMode::New) return "new: only the new layers, " + codec;
+    if (out != in) return "copy: the input plus the new layers in a part of their own ('" + layersPartName(info) + "'), " + codec;
     return "copy: the input plus the new layers, " + codec;
 }
 
@@ -426,11 +427,13 @@ FrameReport runFrameJob(const FrameJob& job) {
     {
         StageTimer timer{&report.stages, "write"};
         const Imf::PixelType type = job.aoFloat ? Imf::FLOAT : Imf::HALF;
-        // Copy: into the depth's part of the input. New: into the one part of a fresh file.
+        // Copy: into the depth's part of the input, or a part of their own when that part's
+        // codec is lossy (AO, DO and GI are data). New: into the one part of a fresh file.
         ExrPixels fresh;
         if (!copy) fresh = layersOnlyFile(p.info, p.part);
         ExrPixels& target = copy ? p.raw : fresh;
-        const int outPart = copy ? p.part : 0;
+        const bool ownPart = !copy || isLossy(p.info.parts[p.part].header.compression());
+        const int outPart = !copy ? 0 : ownPart ? addLayersPart(target, p.part) : p.part;
         report.writeDescription = describeWrite(job, p.info, p.part);
         std::vector<NewChannel> add(1);
         add[0].part = outPart;
@@ -446,8 +449,8 @@ FrameReport runFrameJob(const FrameJob& job) {
         // AO is data (raw); DO, GI and relit are in the config's working space.
         std::string note;
         const ColourManager& cm = colourManager();
-        // A new file's only colour channels are ours, in the working space.
-        const std::string inputSpace = !copy ? cm.workingSpace()
+        // A part of our own holds no colour channels but ours, in the working space.
+        const std::string inputSpace = ownPart ? cm.workingSpace()
                                        : report.inputColourSpace.empty()
                                            ? cm.detectColourSpace(p.info.parts[p.part].header, job.colourSpace).name
                                            : report.inputColourSpace;

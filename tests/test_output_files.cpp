@@ -1,5 +1,6 @@
-// --write new: a file holding only the computed layers, with the input's windows, camera and
-// colour attributes and a lossless codec, and values equal to what --write copy adds.
+// How outputs are written. --write new: a file holding only the computed layers, with the
+// input's windows, camera and colour attributes and a lossless codec, and values equal to what
+// --write copy adds. Copy mode with a lossy input codec: the layers in a lossless part of their own.
 #include "support/cli_runner.h"
 #include "support/exr_fixtures.h"
 #include "support/scenes.h"
@@ -16,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -258,6 +260,60 @@ TEST(WriteNew, InspectSaysWhichModeWouldRun) {
     EXPECT_NE(fresh.out.find("write:   new: only the new layers, zip (the input's b44 is lossy)"), std::string::npos)
         << fresh.out;
 }
+
+// Every codec OpenEXR has, on input: the AO that --write copy adds is within half precision of
+// the computed one (a float AO of --write new, itself checked against copy mode above), and
+// a lossy part's codec never touches it.
+class InputCodec : public ::testing::TestWithParam<Imf::Compression> {};
+
+std::string codecName(const ::testing::TestParamInfo<Imf::Compression>& info) {
+    static const char* const names[] = {"none", "rle", "zips", "zip", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab"};
+    return names[info.param];
+}
+
+TEST_P(InputCodec, CopyWritesTheAoWithinHalfPrecision) {
+    const fs::path dir = obscura::test::testDir("write-new");
+    const Scene s = studio();
+    const Imf::Compression codec = GetParam();
+    const bool lossy = codec >= Imf::PXR24_COMPRESSION;  // PXR24, B44, B44A, DWAA, DWAB
+    const std::string in = writeSinglePart(dir, s, codec), copy = (dir / "copy.exr").string(),
+                      exact = (dir / "exact.exr").string();
+    const CliResult rc = cli(withCamera(s, {in, "-o", copy, "--report", (dir / "copy.json").string()}));
+    const CliResult re = cli(withCamera(s, {in, "-o", exact, "--write", "new", "--out-type", "float"}));
+    ASSERT_EQ(rc.exitCode, 0) << describe(rc);
+    ASSERT_EQ(re.exitCode, 0) << describe(re);
+
+    const std::vector<PartData> parts = partsOf(copy);
+    ASSERT_EQ(parts.size(), lossy ? 2u : 1u);
+    EXPECT_EQ(parts[0].channels.size(), lossy ? 8u : 9u);  // the input's, plus the AO unless lossy
+    const int aoPart = lossy ? 1 : 0;
+    EXPECT_EQ(parts[aoPart].header.compression(), lossy ? Imf::ZIP_COMPRESSION : codec);
+    if (lossy) {
+        EXPECT_EQ(parts[1].channels, std::vector<std::string>{"obscura.AO.Y"});
+        EXPECT_EQ(parts[1].header.name(), "obscura");
+        EXPECT_EQ(parts[1].header.dataWindow(), kData);
+        EXPECT_EQ(parts[0].header.compression(), codec);
+        EXPECT_TRUE(Imf::hasWorldToCamera(parts[1].header));
+    }
+    const std::string description = readJson(dir / "copy.json")["write"]["description"];
+    EXPECT_EQ(description.find("part of their own") != std::string::npos, lossy) << description;
+
+    const std::vector<float> ao = channelOf(copy, aoPart, "obscura.AO.Y"), ref = channelOf(exact, 0, "obscura.AO.Y");
+    ASSERT_EQ(ao.size(), ref.size());
+    float worst = 0;
+    for (size_t i = 0; i < ao.size(); ++i) {
+        ASSERT_LE(ao[i], 1.0f) << "at " << i;
+        worst = std::max(worst, std::fabs(ao[i] - ref[i]) / std::max(std::fabs(ref[i]), 1e-3f));
+    }
+    EXPECT_LE(worst, 1.0f / 2048) << "relative error above half precision";  // half: 10-bit mantissa
+}
+
+INSTANTIATE_TEST_SUITE_P(AllCodecs, InputCodec,
+                         ::testing::Values(Imf::NO_COMPRESSION, Imf::RLE_COMPRESSION, Imf::ZIPS_COMPRESSION,
+                                           Imf::ZIP_COMPRESSION, Imf::PIZ_COMPRESSION, Imf::PXR24_COMPRESSION,
+                                           Imf::B44_COMPRESSION, Imf::B44A_COMPRESSION, Imf::DWAA_COMPRESSION,
+                                           Imf::DWAB_COMPRESSION),
+                         codecName);
 
 // One line, exit 2, nothing written.
 TEST(WriteNew, BadCombinationsAreUsageErrors) {
