@@ -219,6 +219,14 @@ const std::vector<Flag>& flags() {
          }},
         {"--threads", "N", "CPU threads (default 0 = all cores)",
          [](Options& o, const std::string& v) { o.job.settings.threads = toInt("--threads", v); }},
+        {"--max-pixels", "N", "refuse an input or environment map with a window above N pixels, before allocating "
+                               "(default 268435456 = 16384 x 16384)",
+         [](Options& o, const std::string& v) {
+             char* end = nullptr;
+             const long long n = std::strtoll(v.c_str(), &end, 10);
+             if (v.empty() || *end != '\0' || n < 1) throw UsageError("--max-pixels expects a positive whole number, got '" + v + "'");
+             o.job.maxPixels = n;
+         }},
         {"--bad-pixels", "error|skip", "NaN/negative depth or missing normals: fail (default) or treat as holes",
          [](Options& o, const std::string& v) {
              if (v != "error" && v != "skip") throw UsageError("--bad-pixels expects error or skip, got '" + v + "'");

@@ -38,8 +38,18 @@ struct ExrInfo {
 // EXR's Box2i (inclusive) -> display-coordinate Box2i (half-open, display min = 0,0).
 Box2i toDisplayBox(const Imath::Box2i& window, const Imath::Box2i& displayWindow);
 
-// Headers only. Errors: missing file, not an EXR (magic number), deep data, unreadable header.
-ExrInfo readExrInfo(const std::string& path);
+// The default bound on the pixels of one window (16384 x 16384), checked before allocating.
+constexpr long long kDefaultMaxPixels = 16384LL * 16384;
+
+// "'path': <which> window [x0,y0 - x1,y1] is <why>" when a window of w x h pixels is empty or
+// inverted, holds more than maxPixels, or (fileBytes >= 0) claims more chunks than the
+// fileBytes could hold: a header must not make obscura allocate without a bound.
+void checkWindow(const std::string& path, const char* which, const Imath::Box2i& window, long long maxPixels,
+                 long long minFileBytes = -1, long long fileBytes = -1);
+
+// Headers only. Errors: missing file, not an EXR (magic number), deep data, unreadable header,
+// a data or display window above maxPixels or larger than the file's size can hold.
+ExrInfo readExrInfo(const std::string& path, long long maxPixels = kDefaultMaxPixels);
 
 struct ChannelRef {
     int part = 0;

@@ -130,11 +130,13 @@ std::vector<std::string> roleRgb(const LayerPlan& plan, Role role) {
 }
 
 // Lat-long environment map, any format OpenImageIO reads, as RGB floats in the working space.
-Image readEnvironmentMap(const std::string& path, const std::string& colourSpace, FrameReport& report) {
+Image readEnvironmentMap(const std::string& path, const std::string& colourSpace, long long maxPixels,
+                         FrameReport& report) {
     auto in = OIIO::ImageInput::open(path);
     if (!in) throw Error("cannot read environment map '" + path + "': " + OIIO::geterror());
     const OIIO::ImageSpec& spec = in->spec();
     if (spec.nchannels < 3) throw Error("environment map '" + path + "' has fewer than 3 channels");
+    checkWindow(path, "image", Imath::Box2i(Imath::V2i(0, 0), Imath::V2i(spec.width - 1, spec.height - 1)), maxPixels);
     Image rgb(spec.width, spec.height, 3);
     if (!in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, rgb.pixels.data()))
         throw Error("cannot read environment map '" + path + "': " + in->geterror());
@@ -284,7 +286,7 @@ FramePasses loadFramePasses(const FrameJob& job, bool keepAll, std::vector<Stage
                              bool alwaysReadPosition) {
     StageTimer timer{stages, "read"};
     FramePasses p;
-    p.info = readExrInfo(job.input);
+    p.info = readExrInfo(job.input, job.maxPixels);
     p.plan = planLayers(p.info, job.preset, job.layerOverrides);
     requireRoles(p.plan, p.info, {Role::Depth, Role::Normal});
     const LayerBinding& depth = *p.plan.find(Role::Depth);
@@ -399,7 +401,7 @@ FrameReport runFrameJob(const FrameJob& job) {
         if (reads.senderAlbedo && !p.albedo.empty()) in.albedo = p.albedo.view();
         if (!job.envPath.empty()) {  // loaded only when the method lights with it
             StageTimer timer{&report.stages, "environment"};
-            environment = readEnvironmentMap(job.envPath, job.envColourSpace, report);
+            environment = readEnvironmentMap(job.envPath, job.envColourSpace, job.maxPixels, report);
             in.environment = &environment;
             report.plan.push_back("environment " + job.envPath + " (" + std::to_string(environment.width) + "x" +
                                   std::to_string(environment.height) + ")");

@@ -41,6 +41,7 @@ struct FrameJob {
     std::string referenceLayer;           // compare against this layer, optional
     BadPixelPolicy badPixels = BadPixelPolicy::Error;
     WriteMode write = WriteMode::Copy;
+    long long maxPixels = kDefaultMaxPixels;  // per window of the input and of the environment map
 
     // ---- method ssdo: what to write and where its light comes from ----
     bool writeDirectional = true;         // DO (ssdo always computes it; this only decides the layer)
