@@ -460,7 +460,6 @@ FrameReport runFrameJob(const FrameJob& job) {
                                                    colourLayers, {report.aoChannel}, &note))
             attrs.push_back(std::move(a));
         if (!note.empty()) report.plan.push_back(note);
-        report.plan.push_back("write " + report.writeDescription);
         for (const NewChannel& c : add) report.written.push_back(c.name);
         writeExrWithNewChannels(job.output, target, add, job.inPlace, attrs);
     }

@@ -105,6 +105,21 @@ def test_process_write_new_holds_only_the_new_layers(tmp):
     assert not (tmp / "o.exr").exists()
 
 
+def test_huge_window_in_a_header_is_refused_before_allocating(tmp):
+    import struct
+    depth, normal = synthetic_scene()
+    src = tmp / "scene.exr"
+    write_exr(src, depth, normal, sidecar=True)
+    data = bytearray(src.read_bytes())
+    at = data.index(b"dataWindow\0box2i\0") + len(b"dataWindow\0box2i\0") + 4  # past the attribute size
+    data[at:at + 16] = struct.pack("<4i", 0, 0, 99999, 99999)
+    src.write_bytes(bytes(data))
+    for call in (lambda: obscura.read_passes(src), lambda: obscura.process(src, tmp / "o.exr")):
+        with pytest.raises(obscura.Error, match=r"data window \[0,0 - 99999,99999\] holds .*--max-pixels"):
+            call()
+    assert not (tmp / "o.exr").exists()
+
+
 def test_read_passes_room_sample():
     p = obscura.read_passes(ROOM)
     assert p["depth"].shape == (320, 320) and p["depth"].dtype == np.float32
