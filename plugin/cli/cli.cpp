@@ -85,8 +85,13 @@ struct Flag {
 
 const std::vector<Flag>& flags() {
     static const std::vector<Flag> table = {
-        {"-o", "OUTPUT.exr", "output file: a copy of the input with the new layers added",
+        {"-o", "OUTPUT.exr", "output file: a copy of the input with the new layers added (see --write)",
          [](Options& o, const std::string& v) { o.job.output = v; }},
+        {"--write", "copy|new",
+         "copy: every input channel plus the new layers (default); new: only the new layers, with the "
+         "input's windows, camera and colour attributes, and its codec unless lossy (then zip); the "
+         "input's other channels are not decoded, so it is faster",
+         [](Options& o, const std::string& v) { o.job.write = toEnum<WriteMode>("--write", v, "copy or new"); }},
         {"--method", "hbao|ssdo", "hbao: ambient occlusion; ssdo: directional occlusion (DO), AO and, with --bounce, GI (default hbao)",
          [](Options& o, const std::string& v) { o.job.settings.method = v; }},
         {"--radius", "R", "occlusion radius in world units (default 1)",
@@ -214,6 +219,14 @@ const std::vector<Flag>& flags() {
          }},
         {"--threads", "N", "CPU threads (default 0 = all cores)",
          [](Options& o, const std::string& v) { o.job.settings.threads = toInt("--threads", v); }},
+        {"--max-pixels", "N", "refuse an input or environment map with a window above N pixels, before allocating "
+                               "(default 268435456 = 16384 x 16384)",
+         [](Options& o, const std::string& v) {
+             char* end = nullptr;
+             const long long n = std::strtoll(v.c_str(), &end, 10);
+             if (v.empty() || *end != '\0' || n < 1) throw UsageError("--max-pixels expects a positive whole number, got '" + v + "'");
+             o.job.maxPixels = n;
+         }},
         {"--bad-pixels", "error|skip", "NaN/negative depth or missing normals: fail (default) or treat as holes",
          [](Options& o, const std::string& v) {
              if (v != "error" && v != "skip") throw UsageError("--bad-pixels expects error or skip, got '" + v + "'");
@@ -249,7 +262,8 @@ std::string helpText() {
           "       obscura INPUT.exr --inspect\n\n"
           "The input's passes (depth, normals, position) are found by renderer preset; the camera comes\n"
           "from the flags, a JSON sidecar, the EXR header, or a fit to the position pass, in that order.\n"
-          "The output is the input with every channel and attribute kept, plus the new layers.\n\n"
+          "The output is the input with every channel and attribute kept, plus the new layers\n"
+          "(--write new: only the new layers, in a file of their own).\n\n"
           "options:\n";
     for (const Flag& f : flags()) {
         std::string left = std::string("  ") + f.name + (f.value ? std::string(" ") + f.value : "");
@@ -386,6 +400,8 @@ int run(int argc, char** argv) {
             std::printf("obscura %s\n", OBSCURA_VERSION_STRING);
             return 0;
         }
+        if (o.job.write == WriteMode::New && o.job.inPlace)
+            throw UsageError("--write new and --in-place do not go together: the output holds only the new layers");
         if (o.job.input.empty()) throw UsageError("no input file (usage: obscura INPUT.exr -o OUTPUT.exr; see --help)");
         if (o.inspect) {
             std::fputs(inspectFrame(o.job).c_str(), stdout);

@@ -15,8 +15,11 @@
 #include <OpenEXR/ImfTiledInputPart.h>
 #include <OpenEXR/ImfTiledOutputPart.h>
 #include <Imath/half.h>
+#include <OpenEXR/openexr.h>
 
 #include <algorithm>
+#include <climits>
+#include <cstdint>
 #include <atomic>
 #include <cerrno>
 #include <cstdio>
@@ -155,14 +158,136 @@ Box2i toDisplayBox(const Imath::Box2i& w, const Imath::Box2i& disp) {
                  w.max.y + 1 - disp.min.y};
 }
 
+bool isLossy(Imf::Compression c) {
+    switch (c) {
+    case Imf::PXR24_COMPRESSION:
+    case Imf::B44_COMPRESSION:
+    case Imf::B44A_COMPRESSION:
+    case Imf::DWAA_COMPRESSION:
+    case Imf::DWAB_COMPRESSION: return true;
+    default: return false;
+    }
+}
+
+Imf::Compression losslessFor(Imf::Compression c) { return isLossy(c) ? Imf::ZIP_COMPRESSION : c; }
+
+std::string compressionName(Imf::Compression c) {
+    static const char* const names[] = {"none", "rle", "zips", "zip", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab"};
+    return c >= 0 && c < Imf::NUM_COMPRESSION_METHODS ? names[c] : "unknown";
+}
+
+ExrPixels layersOnlyFile(const ExrInfo& info, int p) {
+    if (p < 0 || p >= (int)info.parts.size())
+        throw Error("internal: no part " + std::to_string(p) + " in " + quoted(info.path));
+    ExrPart part = info.parts[p];
+    Imf::Header& h = part.header;
+    std::vector<std::string> drop = {"name", "chunkCount", "dwaCompressionLevel"};
+    for (auto it = h.begin(); it != h.end(); ++it)
+        if (std::strncmp(it.name(), "cryptomatte/", 12) == 0) drop.push_back(it.name());
+    for (const std::string& name : drop) h.erase(name);
+    h.channels() = Imf::ChannelList();
+    h.compression() = losslessFor(h.compression());
+    part.name.clear();
+    part.channels.clear();
+    ExrPixels out;
+    out.info.path = info.path;
+    out.info.parts = {std::move(part)};
+    out.raw.resize(1);
+    return out;
+}
+
+std::string layersPartName(const ExrInfo& info) {
+    auto taken = [&](const std::string& name) {
+        for (const ExrPart& part : info.parts)
+            if (part.name == name) return true;
+        return false;
+    };
+    std::string name = "obscura";
+    for (int i = 2; taken(name); ++i) name = "obscura." + std::to_string(i);
+    return name;
+}
+
+int addLayersPart(ExrPixels& file, int from) {
+    ExrPixels own = layersOnlyFile(file.info, from);
+    ExrPart& part = own.info.parts[0];
+    part.name = layersPartName(file.info);
+    part.header.setName(part.name);
+    for (ExrPart& other : file.info.parts) {
+        if (other.name.empty()) {
+            other.name = "render";
+            other.header.setName(other.name);
+        }
+        if (!other.header.hasType()) other.header.setType(other.tiled ? Imf::TILEDIMAGE : Imf::SCANLINEIMAGE);
+    }
+    if (!part.header.hasType()) part.header.setType(part.tiled ? Imf::TILEDIMAGE : Imf::SCANLINEIMAGE);
+    file.info.parts.push_back(std::move(part));
+    file.info.multipart = true;
+    file.raw.emplace_back();
+    return (int)file.info.parts.size() - 1;
+}
+
 void setExrThreads(int n) {
     if (n <= 0) n = (int)std::max(1u, std::thread::hardware_concurrency());
-    Imf::setGlobalThreadCount(n);
+    // Files opened after this decode and encode chunks on n threads. Resizing the pool costs
+    // thread start-ups, and a Python host may run frames concurrently: only when it changes.
+    if (Imf::globalThreadCount() != n) Imf::setGlobalThreadCount(n);
     g_threadsSet = true;
 }
 
-ExrInfo readExrInfo(const std::string& path) {
+void checkWindow(const std::string& path, const char* which, const Imath::Box2i& w, long long maxPixels,
+                 long long minFileBytes, long long fileBytes) {
+    const long long width = (long long)w.max.x - w.min.x + 1, height = (long long)w.max.y - w.min.y + 1;
+    auto fail = [&](const std::string& why) {
+        throw Error(quoted(path) + ": " + which + " window [" + std::to_string(w.min.x) + "," + std::to_string(w.min.y) +
+                    " - " + std::to_string(w.max.x) + "," + std::to_string(w.max.y) + "] " + why);
+    };
+    if (width <= 0 || height <= 0) fail("is empty or inverted");
+    if (width > INT32_MAX || height > INT32_MAX || width * height > maxPixels)
+        fail("holds " + std::to_string(width) + " x " + std::to_string(height) + " pixels, more than the limit of " +
+             std::to_string(maxPixels) + " (--max-pixels)");
+    if (fileBytes >= 0 && minFileBytes > fileBytes)
+        fail("needs at least " + std::to_string(minFileBytes) + " bytes of chunk table, but the file has " +
+             std::to_string(fileBytes));
+}
+
+namespace {
+
+// The windows, from the header alone: OpenEXR's core API reads no chunk table, where the C++
+// API sizes and reads one from the windows as it opens a file. A header the core API refuses
+// is left to the C++ API to report.
+void checkWindowsBeforeOpening(const std::string& path, long long maxPixels) {
+    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    init.error_handler_fn = [](exr_const_context_t, exr_result_t, const char*) {};
+    exr_context_t ctx = nullptr;
+    const bool opened = exr_start_read(&ctx, path.c_str(), &init) == EXR_ERR_SUCCESS;
+    struct Finish {
+        exr_context_t* ctx;
+        ~Finish() { exr_finish(ctx); }
+    } finish{&ctx};
+    if (!opened) return;
+    std::error_code ec;
+    const long long fileBytes = (long long)fs::file_size(path, ec);
+    int parts = 0;
+    if (exr_get_count(ctx, &parts) != EXR_ERR_SUCCESS) return;
+    auto box = [](const exr_attr_box2i_t& b) { return Imath::Box2i(Imath::V2i(b.min.x, b.min.y), Imath::V2i(b.max.x, b.max.y)); };
+    for (int p = 0; p < parts; ++p) {
+        exr_attr_box2i_t data, display;
+        int32_t chunks = 0;
+        if (exr_get_data_window(ctx, p, &data) != EXR_ERR_SUCCESS ||
+            exr_get_display_window(ctx, p, &display) != EXR_ERR_SUCCESS)
+            return;
+        if (exr_get_chunk_count(ctx, p, &chunks) != EXR_ERR_SUCCESS) chunks = 0;
+        // Every chunk has an 8-byte entry in the offset table: a lower bound on the file size.
+        checkWindow(path, "data", box(data), maxPixels, 8LL * chunks, ec ? -1 : fileBytes);
+        checkWindow(path, "display", box(display), maxPixels);
+    }
+}
+
+} // namespace
+
+ExrInfo readExrInfo(const std::string& path, long long maxPixels) {
     checkMagic(path);
+    checkWindowsBeforeOpening(path, maxPixels);
     ensureThreads();
     ExrInfo info;
     info.path = path;

@@ -3,6 +3,7 @@
 #pragma once
 #include "core/image.h"
 
+#include <OpenEXR/ImfCompression.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfPixelType.h>
 
@@ -37,8 +38,18 @@ struct ExrInfo {
 // EXR's Box2i (inclusive) -> display-coordinate Box2i (half-open, display min = 0,0).
 Box2i toDisplayBox(const Imath::Box2i& window, const Imath::Box2i& displayWindow);
 
-// Headers only. Errors: missing file, not an EXR (magic number), deep data, unreadable header.
-ExrInfo readExrInfo(const std::string& path);
+// The default bound on the pixels of one window (16384 x 16384), checked before allocating.
+constexpr long long kDefaultMaxPixels = 16384LL * 16384;
+
+// "'path': <which> window [x0,y0 - x1,y1] is <why>" when a window of w x h pixels is empty or
+// inverted, holds more than maxPixels, or (fileBytes >= 0) claims more chunks than the
+// fileBytes could hold: a header must not make obscura allocate without a bound.
+void checkWindow(const std::string& path, const char* which, const Imath::Box2i& window, long long maxPixels,
+                 long long minFileBytes = -1, long long fileBytes = -1);
+
+// Headers only. Errors: missing file, not an EXR (magic number), deep data, unreadable header,
+// a data or display window above maxPixels or larger than the file's size can hold.
+ExrInfo readExrInfo(const std::string& path, long long maxPixels = kDefaultMaxPixels);
 
 struct ChannelRef {
     int part = 0;
@@ -83,8 +94,30 @@ void writeExrWithNewChannels(const std::string& outPath, const ExrPixels& in,
                              const std::vector<NewChannel>& add, bool allowOverwriteInput,
                              const std::vector<StringAttribute>& attrs = {});
 
-// OpenEXR's decode/encode thread pool; n <= 0 means all cores. Used lazily with all cores
-// if never called.
+// DWAA, DWAB, B44, B44A and PXR24 alter values: never used for AO/DO/GI, which are data.
+bool isLossy(Imf::Compression c);
+// The codec new layers are written with: `c` when it is lossless, else ZIP.
+Imf::Compression losslessFor(Imf::Compression c);
+// "zip", "dwaa", ... as OpenEXR names them, for --inspect and the report.
+std::string compressionName(Imf::Compression c);
+
+// A file with no channels yet, for writeExrWithNewChannels to add the computed layers to:
+// one part with `part`'s windows, tiling and attributes (camera, chromaticities, colour
+// tags, ...) but not its name, channels, chunk count or cryptomatte manifests (they describe
+// channels it will not hold), and compression losslessFor(part's). `info.path` stays the
+// input's, so writing it over the input is refused as for a copy.
+ExrPixels layersOnlyFile(const ExrInfo& info, int part);
+
+// The name of the part addLayersPart would add to `info`: "obscura", made unique.
+std::string layersPartName(const ExrInfo& info);
+// Appends to `file` a part of its own for new layers (layersOnlyFile of its part `from`,
+// named layersPartName) and returns its index. The file becomes multipart, so its other
+// parts get the name and type OpenEXR requires of one ("render" when unnamed).
+int addLayersPart(ExrPixels& file, int from);
+
+// OpenEXR's decode/encode thread pool, used by every file opened afterwards (scanline and
+// tiled, single and multipart); n <= 0 means all cores. Used lazily with all cores if never
+// called.
 void setExrThreads(int n);
 
 } // namespace obscura

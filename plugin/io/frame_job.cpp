@@ -130,11 +130,13 @@ std::vector<std::string> roleRgb(const LayerPlan& plan, Role role) {
 }
 
 // Lat-long environment map, any format OpenImageIO reads, as RGB floats in the working space.
-Image readEnvironmentMap(const std::string& path, const std::string& colourSpace, FrameReport& report) {
+Image readEnvironmentMap(const std::string& path, const std::string& colourSpace, long long maxPixels,
+                         FrameReport& report) {
     auto in = OIIO::ImageInput::open(path);
     if (!in) throw Error("cannot read environment map '" + path + "': " + OIIO::geterror());
     const OIIO::ImageSpec& spec = in->spec();
     if (spec.nchannels < 3) throw Error("environment map '" + path + "' has fewer than 3 channels");
+    checkWindow(path, "image", Imath::Box2i(Imath::V2i(0, 0), Imath::V2i(spec.width - 1, spec.height - 1)), maxPixels);
     Image rgb(spec.width, spec.height, 3);
     if (!in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, rgb.pixels.data()))
         throw Error("cannot read environment map '" + path + "': " + in->geterror());
@@ -163,7 +165,7 @@ void addRgbLayer(std::vector<NewChannel>& add, int part, const std::string& laye
 // albedo x E / pi, the outgoing radiance of the diffuse receiver. relit = albedo (DO + GI) / pi
 // (+ albedo x direct diffuse), the units a renderer's beauty uses for diffuse light.
 std::vector<std::string> addSsdoLayers(const FrameJob& job, const FramePasses& p, const OperatorOutputs& out,
-                                       Imf::PixelType type, std::vector<NewChannel>& add,
+                                       int outPart, Imf::PixelType type, std::vector<NewChannel>& add,
                                        std::vector<StringAttribute>& attrs) {
     std::vector<std::string> layers;
     auto toRadiance = [&](const Image& e) {
@@ -172,9 +174,9 @@ std::vector<std::string> addSsdoLayers(const FrameJob& job, const FramePasses& p
         return r;
     };
     auto emit = [&](const std::string& layer, const Image& rgb) {
-        addRgbLayer(add, p.part, layer, rgb, type);
+        addRgbLayer(add, outPart, layer, rgb, type);
         layers.push_back(layer);
-        attrs.push_back({p.part, "obscura/" + layer + "/units", job.timesAlbedo ? "radiance (albedo E / pi)" : "irradiance E"});
+        attrs.push_back({outPart, "obscura/" + layer + "/units", job.timesAlbedo ? "radiance (albedo E / pi)" : "irradiance E"});
     };
     if (job.writeDirectional) emit(job.doLayer, job.timesAlbedo ? toRadiance(out.directional) : out.directional);
     if (job.writeIndirect) emit(job.giLayer, job.timesAlbedo ? toRadiance(out.indirect) : out.indirect);
@@ -184,13 +186,32 @@ std::vector<std::string> addSsdoLayers(const FrameJob& job, const FramePasses& p
             relit.pixels[i] = p.albedo.pixels[i] * (relit.pixels[i] + out.indirect.pixels[i]) * (float)(1.0 / M_PI);
             if (job.relitWithDirect) relit.pixels[i] += p.albedo.pixels[i] * p.directDiffuse.pixels[i];
         }
-        addRgbLayer(add, p.part, job.relitLayer, relit, type);
+        addRgbLayer(add, outPart, job.relitLayer, relit, type);
         layers.push_back(job.relitLayer);
     }
     return layers;
 }
 
 } // namespace
+
+bool parse(const std::string& s, WriteMode& out) {
+    if (s == "copy") out = WriteMode::Copy;
+    else if (s == "new") out = WriteMode::New;
+    else return false;
+    return true;
+}
+
+const char* toString(WriteMode m) { return m == WriteMode::New ? "new" : "copy"; }
+
+std::string describeWrite(const FrameJob& job, const ExrInfo& info, int part) {
+    const Imf::Compression in = info.parts.at(part).header.compression();
+    const Imf::Compression out = losslessFor(in);
+    std::string codec = compressionName(out);
+    if (out != in) codec += " (the input's " + compressionName(in) + " is lossy)";
+    if (job.write == WriteMode::New) return "new: only the new layers, " + codec;
+    if (out != in) return "copy: the input plus the new layers in a part of their own ('" + layersPartName(info) + "'), " + codec;
+    return "copy: the input plus the new layers, " + codec;
+}
 
 SsdoReads planSsdoReads(const FrameJob& job, const FramePasses& p) {
     SsdoReads r;
@@ -265,7 +286,7 @@ FramePasses loadFramePasses(const FrameJob& job, bool keepAll, std::vector<Stage
                              bool alwaysReadPosition) {
     StageTimer timer{stages, "read"};
     FramePasses p;
-    p.info = readExrInfo(job.input);
+    p.info = readExrInfo(job.input, job.maxPixels);
     p.plan = planLayers(p.info, job.preset, job.layerOverrides);
     requireRoles(p.plan, p.info, {Role::Depth, Role::Normal});
     const LayerBinding& depth = *p.plan.find(Role::Depth);
@@ -328,13 +349,16 @@ FrameReport runFrameJob(const FrameJob& job) {
     if (job.output.empty()) throw Error("no output file: give -o OUTPUT.exr");
     if (!job.inPlace && sameFile(job.input, job.output))
         throw Error("refusing to overwrite the input '" + job.input + "' (use --in-place)");
+    if (job.inPlace && job.write == WriteMode::New)
+        throw Error("--write new cannot replace the input in place: the output holds only the new layers");
     // Every destination is checked before any work, so a bad one leaves nothing behind.
     requireOutputDirectory(job.output);
     if (!job.previewPath.empty()) requireOutputDirectory(job.previewPath);
     setExrThreads(job.settings.threads);
 
     FrameReport report;
-    FramePasses p = loadFramePasses(job, true, &report.stages);
+    const bool copy = job.write == WriteMode::Copy;
+    FramePasses p = loadFramePasses(job, copy, &report.stages);
     {
         StageTimer timer{&report.stages, "camera"};
         report.camera = resolveFrameCamera(job, p);
@@ -377,7 +401,7 @@ FrameReport runFrameJob(const FrameJob& job) {
         if (reads.senderAlbedo && !p.albedo.empty()) in.albedo = p.albedo.view();
         if (!job.envPath.empty()) {  // loaded only when the method lights with it
             StageTimer timer{&report.stages, "environment"};
-            environment = readEnvironmentMap(job.envPath, job.envColourSpace, report);
+            environment = readEnvironmentMap(job.envPath, job.envColourSpace, job.maxPixels, report);
             in.environment = &environment;
             report.plan.push_back("environment " + job.envPath + " (" + std::to_string(environment.width) + "x" +
                                   std::to_string(environment.height) + ")");
@@ -405,29 +429,39 @@ FrameReport runFrameJob(const FrameJob& job) {
     {
         StageTimer timer{&report.stages, "write"};
         const Imf::PixelType type = job.aoFloat ? Imf::FLOAT : Imf::HALF;
+        // Copy: into the depth's part of the input, or a part of their own when that part's
+        // codec is lossy (AO, DO and GI are data). New: into the one part of a fresh file.
+        ExrPixels fresh;
+        if (!copy) fresh = layersOnlyFile(p.info, p.part);
+        ExrPixels& target = copy ? p.raw : fresh;
+        const bool ownPart = !copy || isLossy(p.info.parts[p.part].header.compression());
+        const int outPart = !copy ? 0 : ownPart ? addLayersPart(target, p.part) : p.part;
+        report.writeDescription = describeWrite(job, p.info, p.part);
         std::vector<NewChannel> add(1);
-        add[0].part = p.part;
+        add[0].part = outPart;
         add[0].name = report.aoChannel;
         add[0].plane = out.ao;
         add[0].type = type;
         std::vector<StringAttribute> attrs = {
-            {p.part, "obscura/version", OBSCURA_VERSION_STRING},
-            {p.part, "obscura/settings", frameReportJson(job, FrameReport{})},
+            {outPart, "obscura/version", OBSCURA_VERSION_STRING},
+            {outPart, "obscura/settings", frameReportJson(job, FrameReport{})},
         };
         std::vector<std::string> colourLayers;
-        if (ssdo) colourLayers = addSsdoLayers(job, p, out, type, add, attrs);
+        if (ssdo) colourLayers = addSsdoLayers(job, p, out, outPart, type, add, attrs);
         // AO is data (raw); DO, GI and relit are in the config's working space.
         std::string note;
         const ColourManager& cm = colourManager();
-        const std::string inputSpace = report.inputColourSpace.empty()
+        // A part of our own holds no colour channels but ours, in the working space.
+        const std::string inputSpace = ownPart ? cm.workingSpace()
+                                       : report.inputColourSpace.empty()
                                            ? cm.detectColourSpace(p.info.parts[p.part].header, job.colourSpace).name
                                            : report.inputColourSpace;
-        for (StringAttribute& a : cm.tagOutputPart(p.raw.info.parts[p.part].header, p.part, inputSpace, colourLayers,
-                                                   {report.aoChannel}, &note))
+        for (StringAttribute& a : cm.tagOutputPart(target.info.parts[outPart].header, outPart, inputSpace,
+                                                   colourLayers, {report.aoChannel}, &note))
             attrs.push_back(std::move(a));
         if (!note.empty()) report.plan.push_back(note);
         for (const NewChannel& c : add) report.written.push_back(c.name);
-        writeExrWithNewChannels(job.output, p.raw, add, job.inPlace, attrs);
+        writeExrWithNewChannels(job.output, target, add, job.inPlace, attrs);
     }
     if (!job.previewPath.empty()) {
         StageTimer timer{&report.stages, "preview"};
@@ -492,6 +526,7 @@ std::string inspectFrame(const FrameJob& job) {
     } catch (const Error& e) {
         os << "camera:  none (" << e.what() << ")\n";
     }
+    os << "write:   " << describeWrite(job, p.info, p.part) << "\n";
     try {
         os << "device:  " << describeDevice(job.settings) << "\n";
     } catch (const Error& e) {
@@ -560,6 +595,7 @@ std::string frameReportJson(const FrameJob& job, const FrameReport& r) {
                               {"psnr_db", std::isfinite(m.psnr) ? json(m.psnr) : json("inf")}, {"p99_abs", m.p99},
                               {"max_abs", m.maxAbs}};
         }
+        j["write"] = {{"mode", toString(job.write)}, {"description", r.writeDescription}};
         j["warnings"] = r.warnings;
         j["plan"] = r.plan;
         j["written"] = r.written;

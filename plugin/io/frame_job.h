@@ -19,6 +19,12 @@ namespace obscura {
 // non-finite normals on surface pixels.
 enum class BadPixelPolicy { Error, Skip };
 
+// Copy: the input with the new layers added (every channel decoded and re-encoded).
+// New: a file holding only the new layers; the input's other channels are never decoded.
+enum class WriteMode { Copy, New };
+bool parse(const std::string& s, WriteMode& out);
+const char* toString(WriteMode m);
+
 struct FrameJob {
     std::string input, output;
     bool inPlace = false;                 // allow output == input
@@ -34,6 +40,8 @@ struct FrameJob {
     std::string previewPath;              // PNG of the AO, optional
     std::string referenceLayer;           // compare against this layer, optional
     BadPixelPolicy badPixels = BadPixelPolicy::Error;
+    WriteMode write = WriteMode::Copy;
+    long long maxPixels = kDefaultMaxPixels;  // per window of the input and of the environment map
 
     // ---- method ssdo: what to write and where its light comes from ----
     bool writeDirectional = true;         // DO (ssdo always computes it; this only decides the layer)
@@ -64,6 +72,7 @@ struct FramePasses {
 struct FrameReport {
     std::string aoChannel;
     std::vector<std::string> written;     // every channel added to the output
+    std::string writeDescription;         // how the output was written (mode, codec)
     std::vector<std::string> plan;        // what ran, in order (passes read, kernels, maps loaded)
     std::string inputColourSpace;         // of the colour passes, when any was read
     Camera camera;
@@ -103,6 +112,8 @@ FrameReport runFrameJob(const FrameJob& job);
 std::string inspectFrame(const FrameJob& job);
 // --report: settings, camera, timings and statistics as JSON text.
 std::string frameReportJson(const FrameJob& job, const FrameReport& report);
+// How `job` writes its output for this input: the mode, and the codec of the new layers.
+std::string describeWrite(const FrameJob& job, const ExrInfo& info, int part);
 // Throws obscura::Error when the directory `path` would be written into does not exist.
 void requireOutputDirectory(const std::string& path);
 // "<layer>.Y", or the name itself when it already ends in a single-letter channel.

@@ -502,7 +502,7 @@ py::dict readPassesPy(const py::object& path, const FileArgs& f) {
 }
 
 struct OutputArgs {
-    py::object outLayer, outType, badPixels, reference, report, preview, inPlace;
+    py::object outLayer, outType, badPixels, reference, report, preview, inPlace, write;
 };
 
 // process()'s SSDO keywords beyond the operator's: what to write and where the light comes from.
@@ -572,6 +572,9 @@ py::object processPy(const py::object& path, const py::object& out, const FileAr
     if (!o.reference.is_none()) job.referenceLayer = strArg(o.reference, "reference");
     if (!o.preview.is_none()) job.previewPath = pathArg(o.preview, "preview");
     if (!o.inPlace.is_none()) job.inPlace = py::bool_(o.inPlace);
+    if (!o.write.is_none()) parse(choiceArg(o.write, "write", {"copy", "new"}), job.write);
+    if (job.write == WriteMode::New && job.inPlace)
+        valueError("write='new' and in_place=True do not go together: the output holds only the new layers");
     const std::string reportPath = o.report.is_none() ? std::string() : pathArg(o.report, "report");
 
     std::string json;
@@ -930,11 +933,11 @@ Raises obscura.Error for a missing/unreadable file or missing passes.)doc");
            py::object report, py::object preview, py::object inPlace, py::object samples, py::object interleave,
            py::object sky, py::object envRotate, py::object envIntensity, py::object lights, py::object bounce,
            py::object bounceSource, py::object env, py::object envColorspace, py::object colorspace, py::object up,
-           py::object timesAlbedo, py::object relitDirect) {
+           py::object timesAlbedo, py::object relitDirect, py::object write) {
             return processPy(path, out, FileArgs{preset, layer, camera, fovDeg, orthoWidth, c2w, depth, normals, skyDepth},
                              SettingArgs{quality, method, radius, directions, steps, weighting, falloff, blur, device,
                                          threads},
-                             OutputArgs{outLayer, outType, badPixels, reference, report, preview, inPlace},
+                             OutputArgs{outLayer, outType, badPixels, reference, report, preview, inPlace, write},
                              SsdoArgs{samples, interleave, sky, envRotate, envIntensity, lights},
                              JobSsdoArgs{bounce, bounceSource, env, envColorspace, colorspace, up, timesAlbedo,
                                          relitDirect});
@@ -945,7 +948,7 @@ Raises obscura.Error for a missing/unreadable file or missing passes.)doc");
         py::arg("in_place") = py::none(), OBSCURA_SSDO_ARGS, py::arg("bounce") = py::none(),
         py::arg("bounce_source") = py::none(), py::arg("env") = py::none(), py::arg("env_colorspace") = py::none(),
         py::arg("colorspace") = py::none(), py::arg("up") = py::none(), py::arg("times_albedo") = py::none(),
-        py::arg("relit_direct") = py::none(),
+        py::arg("relit_direct") = py::none(), py::arg("write") = py::none(),
         R"doc(obscura PATH -o OUT [flags]: writes OUT, a copy of PATH with the AO layer added, and returns
 the --report JSON as a dict (settings, camera, conventions, timings_s, stats, reference, warnings,
 plan, written).
@@ -956,7 +959,9 @@ directions, steps, weighting, falloff, blur, device, threads; preset, layer={rol
 ('planar' | 'radial'), normals ('world' | 'camera'), sky_depth; out_layer (name, or
 {'ao': .., 'do': .., 'gi': .., 'relit': ..}; naming gi or relit asks for it, as --out-layer
 does), out_type ('half' | 'float'), bad_pixels ('error' | 'skip'), reference (layer name), report
-(also write the JSON there), preview (PNG path), in_place (bool).
+(also write the JSON there), preview (PNG path), in_place (bool), write ('copy': PATH plus the
+new layers, the default; 'new': only the new layers, with PATH's windows, camera and colour
+attributes; PATH's other channels are not decoded).
 method='ssdo' (directional occlusion; the DO layer obscura.DO.R/G/B is always written):
 samples (1-4096), interleave (1-8), bounce (bool: GI), bounce_source ('direct-diffuse' |
 'beauty' | layer), env (lat-long map path), env_rotate (degrees), env_intensity, env_colorspace,

@@ -85,6 +85,41 @@ def test_process_options(tmp):
         obscura.process(src, src)
 
 
+def test_process_write_new_holds_only_the_new_layers(tmp):
+    depth, normal = synthetic_scene()
+    src = tmp / "scene.exr"
+    write_exr(src, depth, normal, sidecar=True)
+    copy, new = tmp / "copy.exr", tmp / "new.exr"
+    obscura.process(src, copy, radius=0.8)
+    report = obscura.process(src, new, radius=0.8, write="new")
+    assert report["write"]["mode"] == "new"
+    import OpenImageIO as oiio
+    spec = oiio.ImageInput.open(str(new)).spec()
+    assert list(spec.channelnames) == ["obscura.AO.Y"]
+    assert (spec.full_width, spec.full_height) == (depth.shape[1], depth.shape[0])
+    np.testing.assert_array_equal(read_channel(new, "obscura.AO.Y"), read_channel(copy, "obscura.AO.Y"))
+    with pytest.raises(ValueError, match="write must be one of"):
+        obscura.process(src, tmp / "o.exr", write="layers")
+    with pytest.raises(ValueError, match="in_place"):
+        obscura.process(src, src, write="new", in_place=True)
+    assert not (tmp / "o.exr").exists()
+
+
+def test_huge_window_in_a_header_is_refused_before_allocating(tmp):
+    import struct
+    depth, normal = synthetic_scene()
+    src = tmp / "scene.exr"
+    write_exr(src, depth, normal, sidecar=True)
+    data = bytearray(src.read_bytes())
+    at = data.index(b"dataWindow\0box2i\0") + len(b"dataWindow\0box2i\0") + 4  # past the attribute size
+    data[at:at + 16] = struct.pack("<4i", 0, 0, 99999, 99999)
+    src.write_bytes(bytes(data))
+    for call in (lambda: obscura.read_passes(src), lambda: obscura.process(src, tmp / "o.exr")):
+        with pytest.raises(obscura.Error, match=r"data window \[0,0 - 99999,99999\] holds .*--max-pixels"):
+            call()
+    assert not (tmp / "o.exr").exists()
+
+
 def test_read_passes_room_sample():
     p = obscura.read_passes(ROOM)
     assert p["depth"].shape == (320, 320) and p["depth"].dtype == np.float32

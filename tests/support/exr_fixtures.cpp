@@ -54,6 +54,7 @@ Imf::Header makeHeader(const FixturePart& part, bool multipart) {
     if (multipart || !part.name.empty()) h.setName(part.name.empty() ? "part" : part.name);
     for (const auto& [k, v] : part.stringAttributes) h.insert(k, Imf::StringAttribute(v));
     for (const auto& [k, v] : part.floatAttributes) h.insert(k, Imf::FloatAttribute(v));
+    if (part.editHeader) part.editHeader(h);
     return h;
 }
 

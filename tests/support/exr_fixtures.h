@@ -2,6 +2,7 @@
 // half/float/uint, data window != display window, plus truncated copies.
 #pragma once
 #include <OpenEXR/ImfCompression.h>
+#include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfLineOrder.h>
 #include <OpenEXR/ImfPixelType.h>
 #include <OpenEXR/ImfTileDescription.h>
@@ -35,6 +36,7 @@ struct FixturePart {
     Imf::LevelMode levelMode = Imf::ONE_LEVEL;  // MIPMAP_LEVELS writes every level
     std::map<std::string, std::string> stringAttributes;
     std::map<std::string, float> floatAttributes;
+    std::function<void(Imf::Header&)> editHeader;  // any other attribute (matrices, chromaticities, ...)
 };
 
 // Deterministic value, exact in half precision (multiples of 1/8 below 32), distinct per name.
