@@ -1,66 +1,16 @@
 #include "hbao_cpu.h"
 
-#include "cpu/hbao_tile.h"
+#include "cpu/isa.h"
 #include "cpu/parallel.h"
-
-#include <climits>
-#include <cstdlib>
-#include <string>
-#include <vector>
 
 namespace obscura::cpu {
 
-namespace {
-// Tiles 64 wide (four AVX-512 registers of pixels) and 16 high: cache-friendly, and small
-// enough that sky and non-sky work balance across threads.
-constexpr int kTileWidth = 64, kTileHeight = 16;
-
-struct IsaChoice {
-    const char* name;
-    HbaoTileFn fn;
-};
-
-// The widest instantiation this CPU runs (the AVX builds exist only where the compiler
-// targets them, see CMakeLists.txt). OBSCURA_CPU_ISA=scalar|baseline|x86-64-v3|x86-64-v4
-// forces one (to test or time it), if this CPU can run it.
-IsaChoice selectHbaoTile() {
-    std::vector<IsaChoice> usable = {{"scalar", &scalar::hbaoTile}, {"baseline", &baseline::hbaoTile}};
-#if defined(OBSCURA_HAVE_X86_64_V3)
-    __builtin_cpu_init();
-    const bool v3 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && __builtin_cpu_supports("bmi2");
-    if (v3) usable.push_back({"x86-64-v3", &x86_64_v3::hbaoTile});
-#if defined(OBSCURA_HAVE_X86_64_V4)
-    if (v3 && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
-        __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl"))
-        usable.push_back({"x86-64-v4", &x86_64_v4::hbaoTile});
-#endif
-#endif
-    if (const char* forced = std::getenv("OBSCURA_CPU_ISA"))
-        for (const IsaChoice& c : usable)
-            if (std::string(forced) == c.name) return c;
-    return usable.back();
-}
-
-const IsaChoice& chosenIsa() {
-    static const IsaChoice choice = selectHbaoTile();
-    return choice;
-}
-
-// The lane kernels address texels with 32-bit offsets (one gather instruction each).
-bool fitsInt32(const ConstPlane& p) {
-    const long long extent = (long long)(p.width - 1) * std::llabs(p.xStride) +
-                             (long long)(p.height - 1) * std::llabs(p.yStride) + p.channels;
-    return extent < INT_MAX;
-}
-} // namespace
-
-const char* hbaoIsa() { return chosenIsa().name; }
+const char* hbaoIsa() { return cpuIsa(); }
 
 void runHbao(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, int threads) {
-    HbaoTileFn tileFn = chosenIsa().fn;
-    if (!fitsInt32(depth) || !fitsInt32(normal)) tileFn = &scalar::hbaoTile; // beyond 2^31 floats
+    const auto tileFn = cpuKernelsFor({depth, normal}).hbaoTile;
     const Box2i region{0, 0, p.width, p.height};
-    parallelForTiles(region, kTileWidth, kTileHeight, threads,
+    parallelForTiles(region, kLaneTileWidth, kLaneTileHeight, threads,
                      [&](const Box2i& tile) { tileFn(p, depth, normal, ao, tile); });
 }
 
