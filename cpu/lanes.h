@@ -245,8 +245,8 @@ inline float uniformValue(lfloat x) { return x.v[0]; }
 inline lfloat acos(lfloat x) { return atan(sqrt(max((1.0f - x) * (1.0f + x), 0.0f)), x); }
 
 // exp(x): x = k ln2 + r with |r| <= ln2/2 (ln2 split in two parts), Cephes' expf polynomial
-// for e^r (about 1 ulp), times 2^k built in the exponent bits. Below -87.3 (a denormal
-// result) it returns 0, above 88.7 +inf; NaN stays NaN.
+// for e^r (about 1 ulp), times 2^k built in exponent bits. Below -87.3 (a result near the
+// denormals) it returns 0, above 88.7 +inf; NaN stays NaN.
 inline lfloat exp(lfloat x) {
     const lfloat xc = clamp(x, -87.3f, 88.7f);
     const lfloat k = floor(xc * 1.44269504088896341f + 0.5f);
@@ -255,8 +255,9 @@ inline lfloat exp(lfloat x) {
     const lfloat z = r * r;
     const lfloat p = ((((( 1.9875691500e-4f * r + 1.3981999507e-3f) * r + 8.3334519073e-3f) * r + 4.1665795894e-2f) * r +
                        1.6666665459e-1f) * r + 5.0000001201e-1f) * z + r + 1.0f;
-    const vint bits = (lint(k).v + 126) << 23; // 2^(k-1), a normal float for k in [-125, 128]
-    const vfloat e = p.v * (vfloat)bits * 2.0f;
+    // 2^k as 2^h 2^(k-h), h = k/2: each a normal float over the whole k in [-126, 128].
+    const vint ki = lint(k).v, half = ki >> 1;
+    const vfloat e = p.v * (vfloat)((half + 127) << 23) * (vfloat)((ki - half + 127) << 23);
     vfloat out = x.v < -87.3f ? vfloat{} : e;
     out = x.v > 88.7f ? (vfloat)(0x7f800000 - vint{}) : out;
     return x.v == x.v ? out : x.v;
