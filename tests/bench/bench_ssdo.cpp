@@ -1,17 +1,20 @@
 // Throughput of SSDO and of the geometry-aware blur on the CPU, on a 1920x1080 frame of
-// the studio scene (tests/support/scenes.h), in megapixels per second of the stage timed:
+// the studio scene (tests/support/scenes.h), in megapixels per second of the kernel
+// (wall clock, "MP/s", and per CPU-second, "MP/cpu-s", steadier on a shared machine):
 //   ssdo/default  the Settings defaults (64 samples, interleave 2: 16 per pixel), constant sky;
 //   ssdo/envmap   the same with a lat-long environment map (its lookup per open sample);
 //   ssdo/bounce   environment map, one bounce with albedo (--bounce);
 //   blur/rgb      the blur alone, radius 2 (what interleave 2 runs), on a 3-channel signal.
-// Each case runs with the scalar (pixel-at-a-time) build at 1 thread, then the widest lane
+// The environment is prefiltered as the operator does. Each case runs with the scalar (pixel-at-a-time) build at 1 thread, then the widest lane
 // build this CPU runs at 1 and at all threads. "xScalar" is the scalar run's time over
 // this run's, measured in this process, so it stays comparable on noisy machines.
 //
 // Environment: OBSCURA_BENCH_WIDTH / OBSCURA_BENCH_HEIGHT override the frame size.
 #include "core/operator.h"
+#include "core/environment.h"
 #include "cpu/blur_cpu.h"
 #include "cpu/isa.h"
+#include "cpu/ssdo_cpu.h"
 #include "support/scenes.h"
 
 #include <benchmark/benchmark.h>
@@ -20,6 +23,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <map>
 #include <string>
 #include <thread>
@@ -72,36 +76,45 @@ enum class Case { Default, EnvMap, Bounce, Blur };
 
 std::map<std::string, double> gScalarSeconds; // per case: the scalar build's seconds per frame
 
-// Seconds of one run of the case's timed stage.
-double runOnce(Case c, int threads) {
+struct Seconds {
+    double wall = 0, cpu = 0;
+};
+
+double processCpuSeconds() {
+    timespec t;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+// Wall and CPU seconds of one run of the case's kernel (cpu::runSsdo or cpu::runBlur, as
+// the operator calls them, without the operator's allocations around them).
+Seconds runOnce(Case c, int threads) {
     const Frame& f = frame();
     OperatorInputs in = f.sb.inputs();
     Settings s;
     s.method = "ssdo";
     s.radius = 0.5f;
-    s.threads = threads;
-    if (c != Case::Default) in.environment = &f.environment;
-    if (c == Case::Bounce) {
-        s.bounce = true;
-        in.radiance = f.radiance.view();
-        in.albedo = f.albedo.view();
+    s.bounce = c == Case::Bounce;
+    static const Image level = prefilterLatLong(f.environment, 16); // as the operator does for 16 samples a pixel
+    static Image directional(f.sb.depth.width, f.sb.depth.height, 3), indirect = directional, ao(f.sb.depth.width, f.sb.depth.height, 1);
+    static Image signal = [&] {
+        Image img(f.sb.depth.width, f.sb.depth.height, 3);
+        for (size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = (float)((i * 2654435761u) % 1000) * 1e-3f;
+        return img;
+    }();
+    glsl::KernelParams p = makeKernelParams(in, s);
+    p.bounce = c == Case::Bounce;
+    p.senderAlbedo = c == Case::Bounce;
+    if (c != Case::Default) {
+        p.envWidth = level.width;
+        p.envHeight = level.height;
     }
-    if (c == Case::Blur) {
-        static Image signal = [&] {
-            Image img(f.sb.depth.width, f.sb.depth.height, 3);
-            for (size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = (float)((i * 2654435761u) % 1000) * 1e-3f;
-            return img;
-        }();
-        const glsl::KernelParams p = makeKernelParams(in, s);
-        const auto t0 = std::chrono::steady_clock::now();
-        cpu::runBlur(p, in.depth, in.normal, signal.view(), 2, threads);
-        return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    }
-    const OperatorOutputs out = runOperator(in, s);
-    for (const StageTiming& t : out.stats.timings)
-        if (t.name == "ssdo" || t.name == "ssdo+bounce") return t.seconds;
-    std::fprintf(stderr, "no ssdo stage timing\n");
-    std::exit(1);
+    const cpu::SsdoPlanes planes{in.depth, in.normal, f.radiance.view(), f.albedo.view(), level.view()};
+    const auto t0 = std::chrono::steady_clock::now();
+    const double c0 = processCpuSeconds();
+    if (c == Case::Blur) cpu::runBlur(p, in.depth, in.normal, signal.view(), 2, threads);
+    else cpu::runSsdo(p, planes, directional.view(), indirect.view(), ao.view(), threads);
+    return {std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), processCpuSeconds() - c0};
 }
 
 void BM_Case(benchmark::State& state, Case c, std::string caseName, std::string isa, int threads) {
@@ -109,14 +122,20 @@ void BM_Case(benchmark::State& state, Case c, std::string caseName, std::string 
         state.SkipWithError(("this CPU cannot run " + isa).c_str());
         return;
     }
-    double seconds = 0;
-    for (auto _ : state) seconds += runOnce(c, threads);
+    double seconds = 0, cpuSeconds = 0;
+    for (auto _ : state) {
+        const Seconds t = runOnce(c, threads);
+        seconds += t.wall;
+        cpuSeconds += t.cpu;
+    }
     cpu::forceCpuIsa("");
     const double pixels = (double)frame().sb.depth.width * frame().sb.depth.height;
     const double perFrame = seconds / (double)state.iterations();
     if (isa == "scalar") gScalarSeconds[caseName] = perFrame;
     state.SetItemsProcessed((int64_t)(state.iterations() * pixels));
     state.counters["MP/s"] = pixels * 1e-6 / perFrame;
+    // Per CPU-second: what one core delivers, also when other processes share the machine.
+    state.counters["MP/cpu-s"] = pixels * 1e-6 * (double)state.iterations() / cpuSeconds;
     if (gScalarSeconds.count(caseName)) state.counters["xScalar"] = gScalarSeconds[caseName] / perFrame;
 }
 
