@@ -32,9 +32,10 @@ void blurTile(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, 
               glm::ivec2 axis, int radius, const Box2i& tile) {
     glsl::BlurCpuKernel k;
     k.P = p;
-    k.depth = glsl::LanePlane(depth);
-    k.normal = glsl::LanePlane(normal);
-    k.signal = glsl::LanePlane(src);
+    // The lanes are a row of pixels, and each neighbour a row too.
+    k.depth = glsl::LanePlane(depth, true);
+    k.normal = glsl::LanePlane(normal, true);
+    k.signal = glsl::LanePlane(src, true);
     k.channels = src.channels;
     const auto lane = glsl::laneIndex();
     for (int y = tile.y0; y < tile.y1; ++y)
