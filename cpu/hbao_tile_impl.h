@@ -8,22 +8,12 @@
 // depth kind) are compile-time constants in specialised instantiations, so the untaken
 // paths leave the inner loop instead of being tested per sample.
 
-#include "cpu/hbao_tile.h"
-#include "cpu/kernel_params.h"
+#include "cpu/lane_kernel.h"
 
 #include <cstdlib>
 
-#if OBSCURA_LANES == 1
-#include "cpu/lanes_scalar.h"
-#else
-#include "cpu/lanes.h"
-#endif
-
 namespace obscura::glsl {
 namespace {
-#if OBSCURA_LANES > 1
-using namespace cpu::lanes;
-#endif
 
 // A parameter block whose switches are fixed at compile time: the static members
 // hide KernelParams' run-time ones, so `P.cosineWeighting` in the kernel is a constant.
@@ -39,12 +29,6 @@ struct ParamsAnyCamera : KernelParams {
     static constexpr int cosineWeighting = Cosine;
     static constexpr int linearFalloff = Linear;
 };
-
-#if OBSCURA_LANES == 1
-// One pixel: plain loads.
-inline float gather(const float* base, int index, bool use) { return use ? base[index] : 0.0f; }
-inline int laneIndex() { return 0; }
-#endif
 
 template <class Params>
 struct HbaoCpuKernel {

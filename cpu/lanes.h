@@ -25,16 +25,19 @@ namespace {
 // The kernels call these names on uniform floats and GLM vectors too; bringing GLM's
 // overloads here keeps them visible beside the lane ones.
 using glm::abs;
+using glm::acos;
 using glm::atan;
 using glm::clamp;
 using glm::cos;
 using glm::cross;
 using glm::dot;
+using glm::exp;
 using glm::floor;
 using glm::fract;
 using glm::inversesqrt;
 using glm::max;
 using glm::min;
+using glm::mix;
 using glm::normalize;
 using glm::sin;
 using glm::sqrt;
@@ -119,6 +122,7 @@ inline lbool operator>(lfloat a, lfloat b) { return {_mm512_cmp_ps_mask((__m512)
 inline lbool operator>=(lfloat a, lfloat b) { return {_mm512_cmp_ps_mask((__m512)a.v, (__m512)b.v, _CMP_GE_OQ)}; }
 inline lbool operator<(lint a, lint b) { return {_mm512_cmplt_epi32_mask((__m512i)a.v, (__m512i)b.v)}; }
 inline lbool operator>=(lint a, lint b) { return {_mm512_cmpge_epi32_mask((__m512i)a.v, (__m512i)b.v)}; }
+inline lbool operator>(lint a, lint b) { return {_mm512_cmpgt_epi32_mask((__m512i)a.v, (__m512i)b.v)}; }
 inline lbool operator&&(lbool a, lbool b) { return {(__mmask16)(a.k & b.k)}; }
 inline lbool operator||(lbool a, lbool b) { return {(__mmask16)(a.k | b.k)}; }
 inline lbool operator!(lbool a) { return {(__mmask16)~a.k}; }
@@ -134,6 +138,7 @@ inline lbool operator>(lfloat a, lfloat b) { return {a.v > b.v}; }
 inline lbool operator>=(lfloat a, lfloat b) { return {a.v >= b.v}; }
 inline lbool operator<(lint a, lint b) { return {a.v < b.v}; }
 inline lbool operator>=(lint a, lint b) { return {a.v >= b.v}; }
+inline lbool operator>(lint a, lint b) { return {a.v > b.v}; }
 inline lbool operator&&(lbool a, lbool b) { return {a.m & b.m}; }
 inline lbool operator||(lbool a, lbool b) { return {a.m | b.m}; }
 inline lbool operator!(lbool a) { return {~a.m}; }
@@ -168,7 +173,7 @@ inline lfloat abs(lfloat x) { return (vfloat)((vint)x.v & 0x7fffffff); }
 
 inline lfloat sqrt(lfloat x) {
 #if OBSCURA_LANES == 16
-    return (vfloat)_mm512_maskz_sqrt_ps(0xffff, (__m512)x.v);
+    return (vfloat)_mm512_maskz_sqrt_ps(0xffff, (__m512)x.v); // maskz: see inversesqrt
 #elif OBSCURA_LANES == 8
     return (vfloat)_mm256_sqrt_ps((__m256)x.v);
 #else
@@ -254,6 +259,43 @@ inline lfloat atan(lfloat y, lfloat x) {
     return (vfloat)((vint)r.v | ((vint)y.v & (vint)(0x80000000u - vuint{}))); // sign of y
 }
 
+// ---- added for SSDO and the blur ----
+inline lint operator/(lint a, lint b) { return a.v / b.v; } // truncating, as GLSL's (and C's)
+inline lint operator%(lint a, lint b) { return a.v % b.v; }
+inline lint min(lint x, lint y) { return y.v < x.v ? y.v : x.v; }
+inline lint max(lint x, lint y) { return x.v < y.v ? y.v : x.v; }
+inline lint clamp(lint x, lint lo, lint hi) { return min(max(x, lo), hi); }
+inline luint operator&(luint a, luint b) { return a.v & b.v; }
+inline luint operator|(luint a, luint b) { return a.v | b.v; }
+inline luint operator<<(luint a, std::uint32_t s) { return a.v << s; }
+inline lfloat& operator/=(lfloat& a, lfloat b) { return a = a / b; }
+
+// A value the kernel knows to be equal in every lane, as a uniform scalar.
+inline float uniformValue(lfloat x) { return x.v[0]; }
+
+// acos(x) for x in [-1, 1] as atan(sqrt(1 - x^2), x), with 1 - x^2 formed as (1 - x)(1 + x):
+// exact near +-1, where 1 - x*x would cancel. Within about 3e-7 of the true value.
+inline lfloat acos(lfloat x) { return atan(sqrt(max((1.0f - x) * (1.0f + x), 0.0f)), x); }
+
+// exp(x): x = k ln2 + r with |r| <= ln2/2 (ln2 split in two parts), Cephes' expf polynomial
+// for e^r (about 1 ulp), times 2^k built in exponent bits. Below -87.3 (a result near the
+// denormals) it returns 0, above 88.7 +inf; NaN stays NaN.
+inline lfloat exp(lfloat x) {
+    const lfloat xc = clamp(x, -87.3f, 88.7f);
+    const lfloat k = floor(xc * 1.44269504088896341f + 0.5f);
+    lfloat r = xc - k * 0.693359375f;
+    r = r - k * -2.12194440e-4f;
+    const lfloat z = r * r;
+    const lfloat p = ((((( 1.9875691500e-4f * r + 1.3981999507e-3f) * r + 8.3334519073e-3f) * r + 4.1665795894e-2f) * r +
+                       1.6666665459e-1f) * r + 5.0000001201e-1f) * z + r + 1.0f;
+    // 2^k as 2^h 2^(k-h), h = k/2: each a normal float over the whole k in [-126, 128].
+    const vint ki = lint(k).v, half = ki >> 1;
+    const vfloat e = p.v * (vfloat)((half + 127) << 23) * (vfloat)((ki - half + 127) << 23);
+    vfloat out = x.v < -87.3f ? vfloat{} : e;
+    out = x.v > 88.7f ? (vfloat)(0x7f800000 - vint{}) : out;
+    return x.v == x.v ? out : x.v;
+}
+
 // ---- lvec2 / lvec3: GLSL's vec2 / vec3 of lanes ----
 struct lvec2 {
     lfloat x, y;
@@ -293,6 +335,25 @@ inline lvec3 select(lbool c, lvec3 a, lvec3 b) { return {select(c, a.x, b.x), se
 inline lvec3 operator*(const glm::mat3& m, lvec3 a) {
     return {m[0][0] * a.x + m[1][0] * a.y + m[2][0] * a.z, m[0][1] * a.x + m[1][1] * a.y + m[2][1] * a.z,
             m[0][2] * a.x + m[1][2] * a.y + m[2][2] * a.z};
+}
+
+// ---- added for SSDO and the blur ----
+inline lvec3 operator*(lvec3 a, lvec3 b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
+// GLSL's mix: a (1 - t) + b t, as GLM computes it.
+inline lvec3 mix(lvec3 a, lvec3 b, lfloat t) { return a * (1.0f - t) + b * t; }
+
+struct lvec4 {
+    lfloat x, y, z, w;
+    lvec4() = default;
+    lvec4(lfloat a, lfloat b, lfloat c, lfloat d) : x(a), y(b), z(c), w(d) {}
+    lfloat operator[](int i) const { return i == 0 ? x : i == 1 ? y : i == 2 ? z : w; }
+};
+inline lvec4 operator+(lvec4 a, lvec4 b) { return {a.x + b.x, a.y + b.y, a.z + b.z, a.w + b.w}; }
+inline lvec4 operator*(lfloat s, lvec4 a) { return {s * a.x, s * a.y, s * a.z, s * a.w}; }
+inline lvec4 operator/(lvec4 a, lfloat s) { return {a.x / s, a.y / s, a.z / s, a.w / s}; }
+inline lvec4& operator+=(lvec4& a, lvec4 b) { return a = a + b; }
+inline lvec4 select(lbool c, lvec4 a, lvec4 b) {
+    return {select(c, a.x, b.x), select(c, a.y, b.y), select(c, a.z, b.z), select(c, a.w, b.w)};
 }
 
 // Lane i holds i: the x offsets of a row of pixels.

@@ -17,5 +17,9 @@ inline bool anyLane(bool b) { return b; }
 inline float select(bool c, float a, float b) { return c ? a : b; }
 inline int select(bool c, int a, int b) { return c ? a : b; }
 inline vec3 select(bool c, vec3 a, vec3 b) { return c ? a : b; }
+// Added for SSDO and the blur.
+using lvec4 = vec4;
+inline vec4 select(bool c, vec4 a, vec4 b) { return c ? a : b; }
+inline float uniformValue(float x) { return x; }
 
 } // namespace obscura::glsl

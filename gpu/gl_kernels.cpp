@@ -50,20 +50,24 @@ vec3 loadEnv(ivec2 t) {
     int i = 3 * (t.y * P.envWidth + t.x);
     return vec3(envData[i], envData[i + 1], envData[i + 2]);
 }
-// The lane kernels' loads (kernels/hbao.glsl): one pixel per thread, 0 where not used.
+// The lane kernels' loads (kernels/*.glsl): one pixel per thread, 0 where not used (albedo 1).
 float gatherDepth(int x, int y, bool use) { return use ? depthData[y * P.width + x] : 0.0f; }
 float gatherDepthAtDisplay(vec2 corner, bool use) {
     return gatherDepth(int(corner.x) - P.originX, int(corner.y) - P.originY, use);
 }
 vec3 gatherNormal(int x, int y, bool use) { return use ? loadNormal(ivec2(x, y)) : vec3(0.0f); }
+vec3 gatherRadiance(int x, int y, bool use) { return use ? loadRadiance(ivec2(x, y)) : vec3(0.0f); }
+vec3 gatherAlbedo(int x, int y, bool use) { return use ? loadAlbedo(ivec2(x, y)) : vec3(1.0f); }
+vec3 gatherEnv(int x, int y, bool use) { return use ? loadEnv(ivec2(x, y)) : vec3(0.0f); }
+vec4 gatherSignal(int x, int y, bool use) { return use ? loadSignal(ivec2(x, y)) : vec4(0.0f); }
 bool outsideDispatch(ivec2 t) { return t.x >= P.width || t.y >= P.height; }
 )glsl";
 
 const std::vector<GlKernel>& glKernels() {
     static const std::vector<GlKernel> kernels = {
         {"hbao", "hbao.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; signalOut[texelIndex(t)] = hbaoLanes(t.x, t.y); }"},
-        {"blur", "blur.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; storeSignal(t, blurPixel4(t, blurAxis, blurRadius)); }"},
-        {"ssdo", "ssdo.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; vec3 d; vec3 g; float a; ssdoPixel(t, d, g, a); int i = texelIndex(t); signalOut[i] = a; for (int c = 0; c < 3; ++c) { directionalOut[3 * i + c] = d[c]; indirectOut[3 * i + c] = g[c]; } }"},
+        {"blur", "blur.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; storeSignal(t, blurLanes(t.x, t.y, blurAxis, blurRadius)); }"},
+        {"ssdo", "ssdo.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; vec3 d; vec3 g; float a; ssdoLanes(t.x, t.y, d, g, a); int i = texelIndex(t); signalOut[i] = a; for (int c = 0; c < 3; ++c) { directionalOut[3 * i + c] = d[c]; indirectOut[3 * i + c] = g[c]; } }"},
     };
     return kernels;
 }

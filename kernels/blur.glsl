@@ -1,48 +1,61 @@
-// Geometry-aware (cross-bilateral) blur of AO, DO or GI, one pass along `axis`.
+// Geometry-aware (cross-bilateral) blur of AO, DO or GI, one pass along `axis`, written on
+// lane types (one pixel per GPU thread, a row of pixels per CPU register; cpu/lanes.h).
 // Weights: Gaussian in pixels x depth similarity x normal similarity, so
 // occlusion never bleeds across silhouettes or creases. Sky keeps its value.
-// Requires: float loadDepth(ivec2), vec3 loadNormal(ivec2), vec4 loadSignal(ivec2), params P.
+// Requires: lfloat gatherDepth(lint x, lint y, lbool use), lvec3 gatherNormal(...) and
+// lvec4 gatherSignal(...) (0 where `use` is false), params P.
 
 CONST_GLOBAL float BLUR_DEPTH_TOLERANCE = 0.02f; // relative depth step treated as an edge (2% of depth)
-CONST_GLOBAL float BLUR_NORMAL_POWER = 16.0f;    // cos^16: ~0.5 weight at 17 degrees between normals
 
-vec3 blurNormal(ivec2 texel) {
-    vec3 n = loadNormal(texel);
-    float len2 = dot(n, n);
-    return (len2 > 1e-12f && len2 < 1e30f) ? n * inversesqrt(len2) : vec3(0.0f);
+// Normal similarity: cos^16 of the angle between unit normals (~0.5 weight at 17 degrees),
+// by four squarings rather than a pow.
+lfloat blurNormalWeight(lfloat cosAngle) {
+    lfloat c = max(cosAngle, 0.0f);
+    c = c * c;
+    c = c * c;
+    c = c * c;
+    return c * c;
 }
 
-// Up to four channels at once (AO in .x; DO or GI in .xyz).
-vec4 blurPixel4(ivec2 texel, ivec2 axis, int radius) {
-    vec4 centre = loadSignal(texel);
-    float d0 = loadDepth(texel) * P.depthScale;
-    if (!isSurfaceDepth(d0) || radius <= 0) {
+lvec3 blurNormal(lint x, lint y, lbool use) {
+    lvec3 n = gatherNormal(x, y, use);
+    lfloat len2 = dot(n, n);
+    lbool usable = len2 > 1e-12f && len2 < 1e30f;
+    return select(usable, n * inversesqrt(select(usable, len2, 1.0f)), lvec3(vec3(0.0f)));
+}
+
+// Up to four channels at once (AO in .x; DO or GI in .xyz) of the buffer texels (x, y).
+lvec4 blurLanes(lint x, lint y, ivec2 axis, int radius) {
+    lbool computing = insideBuffer(x, y);
+    lvec4 centre = gatherSignal(x, y, computing);
+    lfloat d0 = gatherDepth(x, y, computing) * P.depthScale;
+    computing = computing && isSurfaceDepth(d0);
+    if (!anyLane(computing) || radius <= 0) {
         return centre;
     }
-    vec3 n0 = blurNormal(texel);
+    d0 = select(computing, d0, 1.0f); // lanes that sit out compute on a harmless depth
+    lvec3 n0 = blurNormal(x, y, computing);
     float sigma = 0.5f * float(radius) + 0.5f;
     float invTwoSigma2 = 1.0f / (2.0f * sigma * sigma);
-    float invTolerance = 1.0f / (BLUR_DEPTH_TOLERANCE * d0);
-    vec4 sum = centre;
-    float weightSum = 1.0f;
+    lfloat invTolerance = 1.0f / (BLUR_DEPTH_TOLERANCE * d0);
+    lvec4 sum = centre;
+    lfloat weightSum = lfloat(1.0f);
     for (int i = -radius; i <= radius; ++i) {
-        ivec2 t = texel + axis * i;
-        if (i == 0 || !insideBuffer(t.x, t.y)) {
+        if (i == 0) {
             continue;
         }
-        float d = loadDepth(t) * P.depthScale;
-        if (!isSurfaceDepth(d)) {
-            continue;
-        }
-        float dz = (d - d0) * invTolerance;
-        float wn = pow(max(dot(blurNormal(t), n0), 0.0f), BLUR_NORMAL_POWER);
-        float w = exp(-float(i * i) * invTwoSigma2 - dz * dz) * wn;
-        sum += w * loadSignal(t);
+        lint tx = x + axis.x * i;
+        lint ty = y + axis.y * i;
+        lbool use = computing && insideBuffer(tx, ty);
+        lfloat d = gatherDepth(tx, ty, use) * P.depthScale;
+        use = use && isSurfaceDepth(d);
+        lfloat dz = (d - d0) * invTolerance;
+        // exp(-i^2 / 2 sigma^2 - dz^2): the spatial factor is the same for every pixel.
+        float spatial = exp(-float(i * i) * invTwoSigma2);
+        lfloat w = spatial * exp(-dz * dz) * blurNormalWeight(dot(blurNormal(tx, ty, use), n0));
+        w = select(use, w, 0.0f);
+        sum += w * gatherSignal(tx, ty, use);
         weightSum += w;
     }
-    return sum / weightSum;
-}
-
-float blurPixel(ivec2 texel, ivec2 axis, int radius) {
-    return blurPixel4(texel, axis, radius).x;
+    return select(computing, sum / weightSum, centre);
 }

@@ -11,9 +11,13 @@
 #define lbool bool
 #define lvec2 vec2
 #define lvec3 vec3
+#define lvec4 vec4
 
 // Branch-free selection and uniform early-outs, as lane code spells them.
 bool anyLane(bool b) { return b; }
 float select(bool c, float a, float b) { return c ? a : b; }
 int select(bool c, int a, int b) { return c ? a : b; }
 vec3 select(bool c, vec3 a, vec3 b) { return c ? a : b; }
+// Added for SSDO and the blur.
+vec4 select(bool c, vec4 a, vec4 b) { return c ? a : b; }
+float uniformValue(float x) { return x; } // a value equal in every lane, as a uniform

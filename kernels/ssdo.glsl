@@ -1,5 +1,6 @@
 // Screen-space directional occlusion and one indirect bounce (Ritschel, Grosch and
-// Seidel, I3D 2009), one pixel.
+// Seidel, I3D 2009), written on lane types: one pixel per GPU thread, several pixels per
+// CPU register (cpu/lanes.h). Per-pixel branches are masks; loops are uniform over the lanes.
 //
 // N points are placed in the normal-oriented hemisphere within r_max (cosine-
 // distributed directions, so each unoccluded direction adds pi/N times its radiance
@@ -13,190 +14,217 @@
 // Interleaved sampling: the pixels of an M x M block use disjoint subsets of one
 // rotated sample set, and a geometry-aware blur of size M gathers them back.
 //
-// Requires: loadDepth, loadNormal (common.glsl's contract), vec3 loadRadiance(ivec2),
-// vec3 loadAlbedo(ivec2), vec3 loadEnv(ivec2) on the prefiltered environment level.
+// Requires the lane loads (0 where `use` is false, albedo 1): lfloat gatherDepth(lint x,
+// lint y, lbool use), and lvec3 gatherNormal, gatherRadiance, gatherAlbedo, and gatherEnv
+// (texel (x, y) of the prefiltered environment level) with the same arguments.
 
 // Radical inverse in base 2 (van der Corput): the second coordinate of a Hammersley set.
-float radicalInverse2(uint i) {
+lfloat radicalInverse2(luint i) {
     i = (i << 16u) | (i >> 16u);
     i = ((i & 0x55555555u) << 1u) | ((i & 0xAAAAAAAAu) >> 1u);
     i = ((i & 0x33333333u) << 2u) | ((i & 0xCCCCCCCCu) >> 2u);
     i = ((i & 0x0F0F0F0Fu) << 4u) | ((i & 0xF0F0F0F0u) >> 4u);
     i = ((i & 0x00FF00FFu) << 8u) | ((i & 0xFF00FF00u) >> 8u);
-    return float(i >> 8u) * (1.0f / 16777216.0f);
+    return lfloat(i >> 8u) * (1.0f / 16777216.0f);
 }
 
 // Orthonormal basis around a unit normal without a branch on its direction
 // (Duff et al. 2017), so every normal gets a well-conditioned frame.
-void tangentFrame(vec3 n, OUT(vec3) b1, OUT(vec3) b2) {
-    float sgn = n.z >= 0.0f ? 1.0f : -1.0f;
-    float a = -1.0f / (sgn + n.z);
-    float b = n.x * n.y * a;
-    b1 = vec3(1.0f + sgn * n.x * n.x * a, sgn * b, -sgn * n.x);
-    b2 = vec3(b, sgn + n.y * n.y * a, -n.y);
+void tangentFrame(lvec3 n, OUT(lvec3) b1, OUT(lvec3) b2) {
+    lfloat sgn = select(n.z >= 0.0f, lfloat(1.0f), lfloat(-1.0f));
+    lfloat a = -1.0f / (sgn + n.z);
+    lfloat b = n.x * n.y * a;
+    b1 = lvec3(1.0f + sgn * n.x * n.x * a, sgn * b, -sgn * n.x);
+    b2 = lvec3(b, sgn + n.y * n.y * a, -n.y);
 }
 
-// Bilinear lookup of the lat-long environment level (wraps in longitude, clamps at the poles).
-vec3 environmentRadiance(vec3 dirView) {
+// Bilinear lookup of the lat-long environment level (wraps in longitude, clamps at the poles),
+// read where `use`.
+lvec3 environmentRadiance(lvec3 dirView, lbool use) {
     if (P.envWidth <= 0) {
-        return vec3(P.skyRadiance) * P.envIntensity;
+        return lvec3(vec3(P.skyRadiance) * P.envIntensity);
     }
-    vec3 d = mat3(P.viewToEnv) * dirView;
-    float u = 0.5f + atan(d.x, -d.z) * (1.0f / TWO_PI);
-    float v = acos(clamp(d.y, -1.0f, 1.0f)) * (1.0f / PI);
-    vec2 t = vec2(u * float(P.envWidth), v * float(P.envHeight)) - 0.5f;
-    vec2 f = t - floor(t);
-    ivec2 i0 = ivec2(floor(t));
-    int x0 = ((i0.x % P.envWidth) + P.envWidth) % P.envWidth;
-    int x1 = (x0 + 1) % P.envWidth;
-    int y0 = clamp(i0.y, 0, P.envHeight - 1);
-    int y1 = clamp(i0.y + 1, 0, P.envHeight - 1);
-    vec3 top = mix(loadEnv(ivec2(x0, y0)), loadEnv(ivec2(x1, y0)), f.x);
-    vec3 bottom = mix(loadEnv(ivec2(x0, y1)), loadEnv(ivec2(x1, y1)), f.x);
-    return mix(top, bottom, f.y) * P.envIntensity;
+    lvec3 d = mat3(P.viewToEnv) * dirView;
+    lfloat u = 0.5f + atan(d.x, -d.z) * (1.0f / TWO_PI);
+    lfloat v = acos(clamp(d.y, -1.0f, 1.0f)) * (1.0f / PI);
+    lfloat tx = u * float(P.envWidth) - 0.5f;
+    lfloat ty = v * float(P.envHeight) - 0.5f;
+    lfloat fx = tx - floor(tx);
+    lfloat fy = ty - floor(ty);
+    // u is in [0, 1], so floor(tx) is in [-1, width - 1]: one wrap each way is the modulo.
+    lint x0 = lint(floor(tx));
+    x0 = select(x0 < 0, x0 + P.envWidth, select(x0 >= P.envWidth, x0 - P.envWidth, x0));
+    lint x1 = select(x0 + 1 >= P.envWidth, 0, x0 + 1);
+    lint y0 = clamp(lint(floor(ty)), 0, P.envHeight - 1);
+    lint y1 = clamp(lint(floor(ty)) + 1, 0, P.envHeight - 1);
+    lvec3 top = mix(gatherEnv(x0, y0, use), gatherEnv(x1, y0, use), fx);
+    lvec3 bottom = mix(gatherEnv(x0, y1, use), gatherEnv(x1, y1, use), fx);
+    return mix(top, bottom, fy) * P.envIntensity;
 }
 
-// Display position of a view-space point; false when it cannot be seen (behind the eye).
-bool projectToDisplay(vec3 p, OUT(vec2) displayPos) {
+// Display position of a view-space point; clears `visible` where it cannot be seen (behind the eye).
+void projectToDisplay(lvec3 p, INOUT(lbool) visible, OUT(lvec2) displayPos) {
     if (P.orthographic != 0) {
-        displayPos = vec2(P.cx + P.fx * p.x, P.cy - P.fy * p.y);
-        return true;
+        displayPos = lvec2(P.cx + P.fx * p.x, P.cy - P.fy * p.y);
+        return;
     }
-    if (!(p.z < 0.0f)) {
-        displayPos = vec2(0.0f);
-        return false;
-    }
-    float invDepth = 1.0f / -p.z;
-    displayPos = vec2(P.cx + P.fx * p.x * invDepth, P.cy - P.fy * p.y * invDepth);
-    return true;
+    visible = visible && p.z < 0.0f;
+    lfloat invDepth = 1.0f / select(visible, -p.z, 1.0f);
+    displayPos = lvec2(P.cx + P.fx * p.x * invDepth, P.cy - P.fy * p.y * invDepth);
 }
 
-// The surface seen where a view-space point projects, if it lies in front of the point,
-// within r_max of the receiver and above the receiver's tangent plane: then the point is
-// blocked, and `texel`/`surface` say by what. The tangent-plane condition is geometry, not
-// a bias: nothing below that plane can block a direction of the hemisphere, and without it
-// the pixel grid makes a flat surface shadow itself at grazing sample directions.
-bool blockedBySurface(vec3 point, vec3 receiver, vec3 n, vec2 centre, OUT(ivec2) texel, OUT(vec3) surface) {
-    vec2 displayPos;
-    texel = ivec2(0);
-    surface = vec3(0.0f);
-    if (!projectToDisplay(point, displayPos)) {
-        return false;
-    }
+// Where `asking`: whether the surface seen where a view-space point projects lies in front
+// of the point, within r_max of the receiver and above the receiver's tangent plane: then
+// the point is blocked, and texel (texelX, texelY) and `surface` say by what. The
+// tangent-plane condition is geometry, not a bias: nothing below that plane can block a
+// direction of the hemisphere, and without it the pixel grid makes a flat surface shadow
+// itself at grazing sample directions.
+lbool blockedBySurface(lvec3 point, lvec3 receiver, lvec3 n, lvec2 centre, lbool asking, OUT(lint) texelX,
+                       OUT(lint) texelY, OUT(lvec3) surface) {
+    lbool ok = asking;
+    lvec2 displayPos;
+    projectToDisplay(point, ok, displayPos);
     // Reads stop at maxRadiusPixels, as HBAO's do: a host that pins it gets tiles equal to the frame.
-    vec2 reach = displayPos - centre;
-    if (dot(reach, reach) > P.maxRadiusPixels * P.maxRadiusPixels) {
-        return false;
-    }
-    vec2 corner = floor(displayPos);
-    texel = ivec2(corner) - bufferOrigin();
-    if (!insideBuffer(texel.x, texel.y)) {
-        return false; // nothing is known outside the image: light passes
-    }
-    float d = loadDepth(texel) * P.depthScale;
-    if (!isSurfaceDepth(d)) {
-        return false;
-    }
-    surface = viewPosition(corner + 0.5f, d);
-    vec3 toSurface = surface - receiver;
-    float distance2 = dot(toSurface, toSurface);
+    lfloat reachX = displayPos.x - centre.x;
+    lfloat reachY = displayPos.y - centre.y;
+    ok = ok && !(reachX * reachX + reachY * reachY > P.maxRadiusPixels * P.maxRadiusPixels);
+    // Lanes out of reach look at their own pixel, so the conversion to int stays in range.
+    lfloat cornerX = floor(select(ok, displayPos.x, centre.x));
+    lfloat cornerY = floor(select(ok, displayPos.y, centre.y));
+    texelX = lint(cornerX) - P.originX;
+    texelY = lint(cornerY) - P.originY;
+    ok = ok && insideBuffer(texelX, texelY); // nothing is known outside the image: light passes
+    lfloat d = gatherDepth(texelX, texelY, ok) * P.depthScale;
+    ok = ok && isSurfaceDepth(d);
+    surface = viewPosition(lvec2(cornerX + 0.5f, cornerY + 0.5f), select(ok, d, 1.0f));
+    lvec3 toSurface = surface - receiver;
+    lfloat distance2 = dot(toSurface, toSurface);
     // 1e-4 of the distance: float noise in a reconstructed plane stays below it.
-    bool above = dot(n, toSurface) > 1e-4f * sqrt(distance2);
-    return -surface.z < -point.z && distance2 < P.radius * P.radius && above;
+    lbool above = dot(n, toSurface) > 1e-4f * sqrt(distance2);
+    return ok && -surface.z < -point.z && distance2 < P.radius * P.radius && above;
 }
 
 // Directional occlusion (irradiance from unblocked directions), one-bounce indirect
-// irradiance, and the AO of the same samples (cosine-weighted, binary within r_max).
-void ssdoPixel(ivec2 texel, OUT(vec3) directional, OUT(vec3) indirect, OUT(float) ao) {
-    directional = vec3(0.0f);
-    indirect = vec3(0.0f);
-    ao = 1.0f;
-    float depth = loadDepth(texel) * P.depthScale;
-    if (!isSurfaceDepth(depth)) {
+// irradiance, and the AO of the same samples (cosine-weighted, binary within r_max) of the
+// buffer texels (x, y); texels outside the buffer, sky and holes get 0, 0 and 1.
+void ssdoLanes(lint x, lint y, OUT(lvec3) directional, OUT(lvec3) indirect, OUT(lfloat) ao) {
+    lvec3 zero = lvec3(vec3(0.0f));
+    directional = zero;
+    indirect = zero;
+    ao = lfloat(1.0f);
+    lbool computing = insideBuffer(x, y);
+    lfloat depth = gatherDepth(x, y, computing) * P.depthScale;
+    computing = computing && isSurfaceDepth(depth);
+    if (!anyLane(computing)) {
         return;
     }
-    ivec2 displayPixel = texel + bufferOrigin();
-    vec2 centre = vec2(displayPixel) + 0.5f;
-    vec3 ray = viewRay(centre);
-    vec3 receiver = viewPosition(centre, depth);
-    vec3 n = viewNormal(loadNormal(texel), viewVector(ray));
-    vec3 b1;
-    vec3 b2;
+    depth = select(computing, depth, 1.0f); // lanes that sit out compute on a harmless depth
+    lint displayX = x + P.originX;
+    lint displayY = y + P.originY;
+    lvec2 centre = lvec2(lfloat(displayX) + 0.5f, lfloat(displayY) + 0.5f);
+    lvec3 ray = viewRay(centre);
+    lvec3 receiver = positionOnRay(ray, depth);
+    lvec3 n = viewNormal(gatherNormal(x, y, computing), viewVector(ray));
+    lvec3 b1;
+    lvec3 b2;
     tangentFrame(n, b1, b2);
 
     // Interleaving: this pixel's subset of the sample set, and a rotation shared by its block.
     int m = max(P.interleave, 1);
-    ivec2 cell = ivec2(((displayPixel.x % m) + m) % m, ((displayPixel.y % m) + m) % m);
-    ivec2 block = (displayPixel - cell) / m;
-    int subset = cell.x + m * cell.y;
+    lint cellX = ((displayX % m) + m) % m;
+    lint cellY = ((displayY % m) + m) % m;
+    lint subset = cellX + m * cellY;
     int stride = m * m;
-    uint h = hashPixel(block.x, block.y);
-    vec2 rotation = vec2(hashToUnit(h), hashToUnit(hashU32(h)));
-    float distanceJitter = hashToUnit(hashU32(h + 0x68e31da4u));
+    luint h = hashPixel((displayX - cellX) / m, (displayY - cellY) / m);
+    lfloat rotationX = hashToUnit(h);
+    lfloat rotationY = hashToUnit(hashU32(h));
+    lfloat distanceJitter = hashToUnit(hashU32(h + 0x68e31da4u));
 
-    int used = 0;
-    int open = 0;
-    for (int i = subset; i < P.ssdoSamples; i += stride) {
-        ++used;
+    // Sample i's azimuth is 2 pi (RI(i) + rotationY), RI the radical inverse. With a
+    // power-of-two stride, RI(subset + k stride) = RI(subset) + RI(k) / stride: the pixel's
+    // angle turned by one shared by every pixel for sample k, so a complex multiplication
+    // per sample replaces a cosine and a sine.
+    bool splits = (stride & (stride - 1)) == 0;
+    lfloat pixelAngle = TWO_PI * fract(radicalInverse2(luint(subset)) + rotationY);
+    lfloat cosPixel = cos(pixelAngle);
+    lfloat sinPixel = sin(pixelAngle);
+
+    lfloat used = lfloat(0.0f);
+    lfloat open = lfloat(0.0f);
+    int perPixel = (P.ssdoSamples + stride - 1) / stride;
+    for (int k = 0; k < perPixel; ++k) {
+        lint i = subset + k * stride;
+        lbool valid = computing && i < P.ssdoSamples;
+        used += select(valid, lfloat(1.0f), lfloat(0.0f));
         // Hammersley point, rotated per block (Cranley-Patterson), mapped to a cosine-weighted direction.
-        float u1 = fract((float(i) + 0.5f) / float(P.ssdoSamples) + rotation.x);
-        float u2 = fract(radicalInverse2(uint(i)) + rotation.y);
-        float r = sqrt(u1);
-        float phi = TWO_PI * u2;
-        vec3 dir = (r * cos(phi)) * b1 + (r * sin(phi)) * b2 + sqrt(max(1.0f - u1, 0.0f)) * n;
-        // Distance in (0, r_max]: a golden-ratio sequence, decorrelated from the direction.
-        float along = fract(float(i) * 0.618033988749895f + distanceJitter);
-        vec3 point = receiver + dir * (P.radius * max(along, 1e-3f));
-
-        ivec2 senderTexel;
-        vec3 sender;
-        if (!blockedBySurface(point, receiver, n, centre, senderTexel, sender)) {
-            ++open;
-            directional += environmentRadiance(dir);
-            continue;
+        lfloat u1 = fract((lfloat(i) + 0.5f) / float(P.ssdoSamples) + rotationX);
+        lfloat cosPhi;
+        lfloat sinPhi;
+        if (splits) {
+            float turn = TWO_PI * uniformValue(radicalInverse2(luint(uint(k)))) / float(stride);
+            float cosTurn = cos(turn);
+            float sinTurn = sin(turn);
+            cosPhi = cosPixel * cosTurn - sinPixel * sinTurn;
+            sinPhi = sinPixel * cosTurn + cosPixel * sinTurn;
+        } else {
+            lfloat phi = TWO_PI * fract(radicalInverse2(luint(i)) + rotationY);
+            cosPhi = cos(phi);
+            sinPhi = sin(phi);
         }
-        if (P.bounce == 0) {
+        lfloat r = sqrt(u1);
+        lvec3 dir = (r * cosPhi) * b1 + (r * sinPhi) * b2 + sqrt(max(1.0f - u1, 0.0f)) * n;
+        // Distance in (0, r_max]: a golden-ratio sequence, decorrelated from the direction.
+        lfloat along = fract(lfloat(i) * 0.618033988749895f + distanceJitter);
+        lvec3 point = receiver + dir * (P.radius * max(along, 1e-3f));
+
+        lint senderX;
+        lint senderY;
+        lvec3 sender;
+        lbool blocked = blockedBySurface(point, receiver, n, centre, valid, senderX, senderY, sender);
+        lbool opening = valid && !blocked;
+        open += select(opening, lfloat(1.0f), lfloat(0.0f));
+        if (anyLane(opening)) {
+            directional += select(opening, environmentRadiance(dir, opening), zero);
+        }
+        if (P.bounce == 0 || !anyLane(blocked)) {
             continue;
         }
         // The blocking surface as a small area light (both cosines, area A_s, 1/d^2).
-        vec3 toSender = sender - receiver;
-        float d2 = max(dot(toSender, toSender), P.sampleArea * (1.0f / PI)); // never closer than the disc's own radius
-        vec3 w = toSender * inversesqrt(d2);
-        vec3 senderNormal = viewNormal(loadNormal(senderTexel), -w);
-        float cosReceiver = max(dot(n, w), 0.0f);
-        float cosSender = max(dot(senderNormal, -w), 0.0f);
-        vec3 radiance = loadRadiance(senderTexel);
+        lvec3 toSender = sender - receiver;
+        lfloat d2 = max(dot(toSender, toSender), P.sampleArea * (1.0f / PI)); // never closer than the disc's own radius
+        lvec3 w = toSender * inversesqrt(d2);
+        lvec3 senderNormal = viewNormal(gatherNormal(senderX, senderY, blocked), -w);
+        lfloat cosReceiver = max(dot(n, w), 0.0f);
+        lfloat cosSender = max(dot(senderNormal, -w), 0.0f);
+        lvec3 radiance = gatherRadiance(senderX, senderY, blocked);
         if (P.senderAlbedo != 0) {
-            radiance *= loadAlbedo(senderTexel);
+            radiance = radiance * gatherAlbedo(senderX, senderY, blocked);
         }
-        indirect += radiance * (P.sampleArea * cosReceiver * cosSender / d2);
+        indirect += select(blocked, radiance * (P.sampleArea * cosReceiver * cosSender / d2), zero);
     }
-    if (used == 0) {
-        return;
-    }
+    lbool any = computing && used > 0.0f;
+    lfloat count = max(used, 1.0f);
     // Cosine-weighted sampling: irradiance = pi / n * sum of radiance over open directions.
-    directional *= PI / float(used);
+    directional = select(any, directional * (PI / count), zero);
     // Each pixel's subset stands for the whole set: its bounce sum is scaled to N samples.
-    indirect *= float(P.ssdoSamples) / float(used);
-    ao = float(open) / float(used);
+    indirect = select(any, indirect * (float(P.ssdoSamples) / count), zero);
+    ao = select(any, open / count, 1.0f);
 
     // Directional lights: irradiance n.l, unless a few points towards the light within r_max are blocked.
     for (int k = 0; k < P.lightCount; ++k) {
         vec3 l = vec3(P.lightDirection[k]);
-        float cosL = dot(n, l);
-        if (cosL <= 0.0f) {
+        lfloat cosL = dot(n, lvec3(l));
+        lbool lit = any && cosL > 0.0f;
+        if (!anyLane(lit)) {
             continue;
         }
-        bool lit = true;
         for (int s = 1; s <= 4; ++s) {
-            ivec2 t;
-            vec3 q;
-            if (blockedBySurface(receiver + l * (P.radius * float(s) * 0.25f), receiver, n, centre, t, q)) {
-                lit = false;
-            }
+            lint tx;
+            lint ty;
+            lvec3 q;
+            lit = lit && !blockedBySurface(receiver + lvec3(l * (P.radius * float(s) * 0.25f)), receiver, n, centre, lit,
+                                           tx, ty, q);
         }
-        if (lit) {
-            directional += vec3(P.lightIrradiance[k]) * cosL;
-        }
+        directional += select(lit, lvec3(vec3(P.lightIrradiance[k])) * cosL, zero);
     }
 }

@@ -1,0 +1,63 @@
+// The CPU kernels (HBAO, SSDO, the blur) instantiated once per instruction set, and the
+// one place that picks among them. cpu/isa_kernels.cpp is compiled once per ISA, each in
+// its own namespace (scalar, baseline, x86_64_v3, x86_64_v4); everything there except the
+// `kernels` table has internal linkage, so no out-of-line copy compiled for one ISA can be
+// picked by the linker for another.
+#pragma once
+#include "core/image.h"
+#include "cpu/kernel_params.h"
+
+#include <glm/glm.hpp>
+#include <initializer_list>
+#include <string>
+#include <vector>
+
+namespace obscura::cpu {
+
+struct SsdoPlanes;
+
+// Entry points each ISA provides; each runs its kernel over every texel of `tile`.
+struct IsaKernels {
+    void (*hbaoTile)(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao,
+                     const Box2i& tile);
+    void (*ssdoTile)(const glsl::KernelParams& p, const SsdoPlanes& in, MutablePlane directional,
+                     MutablePlane indirect, MutablePlane ao, const Box2i& tile);
+    // One pass of the blur along `axis`, from `src` to `dst` (same channel count).
+    void (*blurTile)(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane src,
+                     MutablePlane dst, glm::ivec2 axis, int radius, const Box2i& tile);
+};
+
+#define OBSCURA_DECLARE_ISA(isa) \
+    namespace isa {              \
+    extern const IsaKernels kernels; \
+    }
+OBSCURA_DECLARE_ISA(scalar)    // one pixel at a time: the reference the lane builds are tested against
+OBSCURA_DECLARE_ISA(baseline)  // x86-64 (SSE2), 4 pixels per register
+OBSCURA_DECLARE_ISA(x86_64_v3) // AVX2 + FMA, 8 pixels
+OBSCURA_DECLARE_ISA(x86_64_v4) // AVX-512, 16 pixels
+#undef OBSCURA_DECLARE_ISA
+
+// Tiles 64 wide (four AVX-512 registers of pixels) and 16 high: cache-friendly, and small
+// enough that sky and non-sky work balance across threads.
+constexpr int kLaneTileWidth = 64, kLaneTileHeight = 16;
+
+// The widest instantiation this CPU runs, or the one OBSCURA_CPU_ISA=scalar|baseline|
+// x86-64-v3|x86-64-v4 names (if this CPU can run it).
+const IsaKernels& cpuKernels();
+const char* cpuIsa(); // its name, for reports
+
+// The kernels for these planes: the scalar build where an offset would not fit the lane
+// builds' 32-bit gather indices.
+const IsaKernels& cpuKernelsFor(std::initializer_list<ConstPlane> planes);
+
+// Every instantiation this CPU runs, from "scalar" (a pixel at a time, the reference) to
+// the widest, and one of them by name (std::invalid_argument for another), with the same
+// fallback for planes as cpuKernelsFor: for tests and benchmarks.
+std::vector<std::string> cpuIsas();
+const IsaKernels& cpuKernelsNamed(const std::string& name, std::initializer_list<ConstPlane> planes = {});
+
+// Tests and benchmarks: use the named instantiation from now on (not thread-safe; call
+// between runs). "" returns to the automatic choice. False if this CPU cannot run it.
+bool forceCpuIsa(const std::string& name);
+
+} // namespace obscura::cpu

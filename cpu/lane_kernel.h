@@ -1,0 +1,82 @@
+// What every per-ISA kernel instantiation (cpu/*_tile_impl.h) shares: the lane types for
+// OBSCURA_LANES (1: GLM scalars, one pixel at a time; 4, 8, 16: SIMD registers of a row of
+// pixels), loads with the lane kernels' signature, and the store of one lane.
+// Included by cpu/isa_kernels.cpp once per ISA, so everything here has internal linkage.
+#pragma once
+#include "cpu/isa.h"
+#include "cpu/kernel_params.h"
+
+#if OBSCURA_LANES == 1
+#include "cpu/lanes_scalar.h"
+#else
+#include "cpu/lanes.h"
+#endif
+
+namespace obscura::glsl {
+namespace {
+#if OBSCURA_LANES > 1
+using namespace cpu::lanes;
+#endif
+
+#if OBSCURA_LANES == 1
+// One pixel: plain loads.
+inline float gather(const float* base, int index, bool use) { return use ? base[index] : 0.0f; }
+inline int laneIndex() { return 0; }
+inline float laneValue(float v, int) { return v; }
+#else
+inline float laneValue(lfloat v, int i) { return v[i]; }
+#endif
+
+#if OBSCURA_LANES == 16
+// True where every lane is used and lane i reads index[0] + i * stride: a row of whole
+// texels, as the blur's lanes read. Then plain loads (and permutes) replace a gather.
+inline bool wholeRow(lint index, lbool use, int stride) {
+    const vint expect = index.v[0] + laneIndex().v * stride;
+    return _mm512_cmpeq_epi32_mask((__m512i)index.v, (__m512i)expect) == 0xffff &&
+           use.k == 0xffff;
+}
+// Channel c (< 3) of 16 texels of 3 floats from p: 48 floats in three loads, picked out by
+// two two-register permutes.
+inline lfloat deinterleave3(const float* p, int c) {
+    const __m512 a0 = _mm512_loadu_ps(p), a1 = _mm512_loadu_ps(p + 16), a2 = _mm512_loadu_ps(p + 32);
+    vint first, second;
+    for (int j = 0; j < 16; ++j) {
+        const int e = 3 * j + c; // element of the 48
+        first[j] = e < 32 ? e : 0;
+        second[j] = e < 32 ? j : 16 + e - 32;
+    }
+    const __m512 t = _mm512_permutex2var_ps(a0, (__m512i)first, a1);
+    return (vfloat)_mm512_permutex2var_ps(t, (__m512i)second, a2);
+}
+#endif
+
+// A plane as the lane kernels read it: element c of texel (x, y) at data[y*yStride + x*xStride + c].
+// `rows`: the kernel's lanes usually read whole rows of texels (the blur), worth a test for it.
+struct LanePlane {
+    const float* data = nullptr;
+    int xStride = 0, yStride = 0;
+    bool rows = false;
+    LanePlane() = default;
+    explicit LanePlane(const ConstPlane& p, bool rowsOfTexels = false)
+        : data(p.data), xStride((int)p.xStride), yStride((int)p.yStride), rows(rowsOfTexels) {}
+    // Masked-off lanes read nothing and get 0.
+    lfloat gather1(lint x, lint y, lbool use, int c = 0) const {
+        const lint i = y * yStride + x * xStride;
+#if OBSCURA_LANES == 16
+        if (rows && xStride == 1 && wholeRow(i, use, 1)) return (vfloat)_mm512_loadu_ps(data + c + i[0]);
+        if (rows && xStride == 3 && c < 3 && wholeRow(i, use, 3)) return deinterleave3(data + i[0], c);
+#endif
+        return gather(data + c, i, use);
+    }
+    lvec3 gather3(lint x, lint y, lbool use) const {
+        const lint i = y * yStride + x * xStride;
+#if OBSCURA_LANES == 16
+        if (rows && xStride == 3 && wholeRow(i, use, 3))
+            return lvec3(deinterleave3(data + i[0], 0), deinterleave3(data + i[0], 1), deinterleave3(data + i[0], 2));
+#endif
+        return lvec3(gather(data, i, use), gather(data + 1, i, use), gather(data + 2, i, use));
+    }
+};
+
+} // namespace
+} // namespace obscura::glsl
