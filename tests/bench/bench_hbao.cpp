@@ -14,10 +14,14 @@
 //   "xCopy"  frame time / time to memcpy the depth + normal planes once;
 //   "xCpu"   (GL runs) frame time / the all-threads CPU frame time of the same case.
 //
-// Environment: OBSCURA_BENCH_WIDTH / OBSCURA_BENCH_HEIGHT override the frame size,
-// OBSCURA_BENCH_DIRECTIONS / OBSCURA_BENCH_STEPS the sample counts (8 x 8).
+// Environment: OBSCURA_BENCH_EXR=FILE.exr runs on a render instead (its passes and camera
+// found as the CLI finds them); OBSCURA_BENCH_WIDTH / OBSCURA_BENCH_HEIGHT set the size of
+// the built-in frame; OBSCURA_BENCH_DIRECTIONS / OBSCURA_BENCH_STEPS the sample counts (8 x 8),
+// OBSCURA_BENCH_RADIUS the radius (0.5).
 #include "core/operator.h"
+#include "io/frame_job.h"
 #include "cpu/hbao_cpu.h"
+#include "cpu/isa.h"
 #include "support/scenes.h"
 
 #include <benchmark/benchmark.h>
@@ -48,10 +52,34 @@ int envInt(const char* name, int fallback) {
     return v && std::atoi(v) > 0 ? std::atoi(v) : fallback;
 }
 
+float envFloat(const char* name, float fallback) {
+    const char* v = std::getenv(name);
+    return v && std::atof(v) > 0 ? (float)std::atof(v) : fallback;
+}
+
 // A room corner open to the sky on the right and above: floor, back and left walls,
 // boxes of several sizes (some stacked, some touching walls), a tilted slab.
+// A render's depth, normals and camera, as the CLI would read them.
+SceneBuffers loadRender(const std::string& path) {
+    FrameJob job;
+    job.input = path;
+    FramePasses p = loadFramePasses(job, false);
+    SceneBuffers sb;
+    sb.display = p.display;
+    sb.data = p.data;
+    sb.camera = resolveFrameCamera(job, p);
+    sb.depthKind = p.plan.depthKind;
+    sb.normalSpace = p.plan.normalSpace;
+    sb.depth = std::move(p.depth);
+    sb.normal = std::move(p.normal);
+    if (p.plan.normalsLeftHanded && sb.normalSpace == NormalSpace::Camera) // as the frame job does
+        for (size_t i = 2; i < sb.normal.pixels.size(); i += 3) sb.normal.pixels[i] = -sb.normal.pixels[i];
+    return sb;
+}
+
 SceneBuffers& scene() {
     static SceneBuffers sb = [] {
+        if (const char* exr = std::getenv("OBSCURA_BENCH_EXR")) return loadRender(exr);
         const int w = envInt("OBSCURA_BENCH_WIDTH", 1920), h = envInt("OBSCURA_BENCH_HEIGHT", 1080);
         std::vector<Rect> rects;
         rects.push_back({dvec3(-6, 0, -8), dvec3(14, 0, 0), dvec3(0, 0, 16)});  // floor, ends at x = 8
@@ -74,7 +102,7 @@ SceneBuffers& scene() {
 Settings settingsFor(Weighting w, Falloff f, int threads, const std::string& device) {
     Settings s;
     s.device = device;
-    s.radius = 0.5f;
+    s.radius = envFloat("OBSCURA_BENCH_RADIUS", 0.5f);
     s.directions = envInt("OBSCURA_BENCH_DIRECTIONS", 8);
     s.steps = envInt("OBSCURA_BENCH_STEPS", 8);
     s.weighting = w;
@@ -140,8 +168,8 @@ void BM_Scheduler(benchmark::State& state, Weighting w, Falloff f, int threads, 
     const Settings s = settingsFor(w, f, threads, "cpu");
     const KernelParams p = makeKernelParams(sb.inputs(), s);
     Image ao(sb.depth.width, sb.depth.height, 1);
-    const std::string isa = cpu::hbaoIsas().back();
-    const cpu::HbaoTileFn tile = cpu::hbaoTileFor(isa);
+    const std::string isa = cpu::cpuIsas().back();
+    const auto tile = cpu::cpuKernelsNamed(isa).hbaoTile;
     double seconds = 0;
     for (auto _ : state) {
         const auto t0 = std::chrono::steady_clock::now();
@@ -151,8 +179,8 @@ void BM_Scheduler(benchmark::State& state, Weighting w, Falloff f, int threads, 
 #if defined(OBSCURA_BENCH_HAVE_TBB)
             tbb::task_arena arena(threads);
             arena.execute([&] {
-                tbb::parallel_for(tbb::blocked_range2d<int>(0, p.height, cpu::kHbaoTileHeight, 0, p.width,
-                                                            cpu::kHbaoTileWidth),
+                tbb::parallel_for(tbb::blocked_range2d<int>(0, p.height, cpu::kLaneTileHeight, 0, p.width,
+                                                            cpu::kLaneTileWidth),
                                   [&](const tbb::blocked_range2d<int>& r) {
                                       tile(p, sb.depth.view(), sb.normal.view(), ao.view(),
                                            Box2i{r.cols().begin(), r.rows().begin(), r.cols().end(), r.rows().end()});
@@ -213,7 +241,8 @@ int main(int argc, char** argv) {
     const SceneBuffers& sb = scene();
     long long sky = 0;
     for (float d : sb.depth.pixels) sky += d >= 1e9f;
-    std::printf("frame %dx%d, %.1f%% sky, depth+normal copy %.3f ms\n", sb.depth.width, sb.depth.height,
+    std::printf("frame %s: ", std::getenv("OBSCURA_BENCH_EXR") ? std::getenv("OBSCURA_BENCH_EXR") : "built-in scene");
+    std::printf("%dx%d, %.1f%% sky, depth+normal copy %.3f ms\n", sb.depth.width, sb.depth.height,
                 100.0 * sky / sb.depth.pixels.size(), copySeconds() * 1e3);
 
     const struct {
@@ -228,7 +257,7 @@ int main(int argc, char** argv) {
         b->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(0.5);
     };
     // The first registered run is the xBase reference: the scalar build, 1 thread, uniform, linear.
-    for (const std::string& isa : cpu::hbaoIsas())
+    for (const std::string& isa : cpu::cpuIsas())
         for (const auto& c : cases) {
             const std::string name = "hbao_8x8/" + std::string(c.name) + "/isa:" + isa;
             options(benchmark::RegisterBenchmark(name.c_str(), BM_HbaoIsa, c.w, c.f, isa));

@@ -75,7 +75,7 @@ OperatorInputs SceneBuffers::inputs() const {
     in.normal = normal.view();
     in.position = position.view();
     in.depthKind = depthKind;
-    in.normalSpace = NormalSpace::World;
+    in.normalSpace = normalSpace;
     in.camera = camera;
     return in;
 }

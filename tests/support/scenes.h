@@ -20,6 +20,7 @@ struct SceneBuffers {
     Image depth, normal, position;  // depth planar (or radial); normal/position world space
     Camera camera;
     DepthKind depthKind = DepthKind::Planar;
+    NormalSpace normalSpace = NormalSpace::World;
 
     OperatorInputs inputs() const;   // views of these buffers, world normals
     // Pixel (data-window coordinates) where a world point projects; returns false if outside.
