@@ -5,7 +5,7 @@
 #include "cpu/lanes.h"
 
 #include "core/operator.h"
-#include "cpu/hbao_cpu.h"
+#include "cpu/lane_cpu.h"
 #include "support/scenes.h"
 
 #include <gtest/gtest.h>
@@ -82,7 +82,7 @@ TEST(LaneMath, InverseSqrtAndFloor) {
 // (FMA contraction and the 12/14-bit estimates refined by Newton differ in the last bits),
 // for every weighting, falloff and projection.
 TEST(LaneKernels, EveryInstructionSetMatchesThePixelAtATimeBuild) {
-    const std::vector<std::string> isas = cpu::hbaoIsas();
+    const std::vector<std::string> isas = cpu::laneIsas();
     ASSERT_EQ(isas.front(), "scalar");
     ASSERT_GE(isas.size(), 2u);
     const int W = 157, H = 101; // not a multiple of any lane count: partial vectors at row ends

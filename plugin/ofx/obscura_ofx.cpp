@@ -18,6 +18,7 @@
 
 #include "core/camera.h"
 #include "core/error.h"
+#include "core/methods.h"
 #include "core/operator.h"
 #include "core/settings.h"
 
@@ -118,7 +119,6 @@ const OutputOption kOutputOptions[] = {
 };
 constexpr int kOutputCount = int(sizeof(kOutputOptions) / sizeof(kOutputOptions[0]));
 
-const char* const kMethods[] = {"hbao", "ssdo"};
 const char* const kUpAxes[] = {"y", "z"};
 const char* const kWeightings[] = {"uniform", "cosine"};
 const char* const kFalloffs[] = {"linear", "none"};
@@ -285,7 +285,7 @@ Params readParams(const Instance& in, OfxTime t) {
     p.output = o.kind;
     p.strength = std::clamp(doubleAt(in.strength, t), 0.0, 1.0);
     Settings& s = p.settings;
-    s.method = o.ssdo ? "ssdo" : kMethods[choiceAt(in.method, t, countOf(kMethods))];
+    s.method = o.ssdo ? "ssdo" : methods()[choiceAt(in.method, t, (int)methods().size())].name;
     s.bounce = o.bounce;
     s.ssdoSamples = intAt(in.ssdoSamples, t);
     s.interleave = intAt(in.interleave, t);
@@ -716,8 +716,11 @@ OfxStatus onDescribeInContext(OfxImageEffectHandle effect, OfxPropertySetHandle 
              outputs, 0);
     d.real(kParamStrength, "Strength", "Blend of the AO towards 1 (0 = off: the effect passes the beauty through)",
            1.0, 0.0, 1.0, 0.0, 1.0);
+    // From the method table, in its order: hosts store the index, and methods are only appended.
+    std::vector<const char*> methodChoices;
+    for (const MethodInfo& m : methods()) methodChoices.push_back(m.name);
     d.choice(kParamMethod, "Method", "Occlusion method for the AO outputs (--method); DO, GI and Relit always use ssdo",
-             {kMethods[0], kMethods[1]}, 0);
+             methodChoices, 0);
     d.real(kParamRadius, "Radius", "Radius in world units (--radius)", 1.0, 1e-6, 1e9, 0.01, 10.0);
     d.integer(kParamDirections, "Directions", "Slices per pixel (--directions)", 8, 1, 256, 1, 32);
     d.integer(kParamSteps, "Steps", "Samples per slice (--steps)", 8, 1, 256, 1, 32);

@@ -3,6 +3,7 @@
 // converted; the GIL is released while pixels are read, computed or written.
 #include "core/error.h"
 #include "core/operator.h"
+#include "core/methods.h"
 #include "gpu/gl_backend.h"
 #include "io/camera_sources.h"
 #include "io/frame_job.h"
@@ -210,7 +211,11 @@ Settings settingsFrom(const SettingArgs& a) {
         const std::string q = strArg(a.quality, "quality");
         if (!applyQualityPreset(q, s)) valueError("quality must be 'low', 'medium', 'high' or 'ultra', got '" + q + "'");
     }
-    if (!a.method.is_none()) s.method = choiceArg(a.method, "method", {"hbao", "ssdo"});
+    if (!a.method.is_none()) {
+        std::vector<std::string> names;
+        for (const MethodInfo& m : methods()) names.push_back(m.name);
+        s.method = choiceArg(a.method, "method", names);
+    }
     if (!a.radius.is_none()) {
         s.radius = (float)floatArg(a.radius, "radius");
         if (!(s.radius > 0.0f)) valueError("radius must be a positive number of world units, got " + std::to_string(s.radius));
@@ -338,7 +343,7 @@ OperatorInputs viewInputs(const py::object& depthObj, const py::object& normalOb
 
 py::array computeAo(const py::object& depthObj, const py::object& normalObj, const ViewArgs& v, const SettingArgs& sa) {
     Settings settings = settingsFrom(sa);
-    if (settings.method != "hbao") valueError("compute_ao computes method 'hbao'; use compute_ssdo for SSDO");
+    if (methodOutputs(settings.method, "do")) valueError("compute_ao computes AO methods; use compute_ssdo for SSDO");
     OperatorInputs in = viewInputs(depthObj, normalObj, v, settings);
     OperatorOutputs out;
     {

@@ -17,7 +17,7 @@
 // Environment: OBSCURA_BENCH_WIDTH / OBSCURA_BENCH_HEIGHT override the frame size,
 // OBSCURA_BENCH_DIRECTIONS / OBSCURA_BENCH_STEPS the sample counts (8 x 8).
 #include "core/operator.h"
-#include "cpu/hbao_cpu.h"
+#include "cpu/lane_cpu.h"
 #include "support/scenes.h"
 
 #include <benchmark/benchmark.h>
@@ -140,8 +140,8 @@ void BM_Scheduler(benchmark::State& state, Weighting w, Falloff f, int threads, 
     const Settings s = settingsFor(w, f, threads, "cpu");
     const KernelParams p = makeKernelParams(sb.inputs(), s);
     Image ao(sb.depth.width, sb.depth.height, 1);
-    const std::string isa = cpu::hbaoIsas().back();
-    const cpu::HbaoTileFn tile = cpu::hbaoTileFor(isa);
+    const std::string isa = cpu::laneIsas().back();
+    const cpu::LaneTileFn tile = cpu::laneTileFor(cpu::LaneKernel::Hbao, isa);
     double seconds = 0;
     for (auto _ : state) {
         const auto t0 = std::chrono::steady_clock::now();
@@ -151,8 +151,8 @@ void BM_Scheduler(benchmark::State& state, Weighting w, Falloff f, int threads, 
 #if defined(OBSCURA_BENCH_HAVE_TBB)
             tbb::task_arena arena(threads);
             arena.execute([&] {
-                tbb::parallel_for(tbb::blocked_range2d<int>(0, p.height, cpu::kHbaoTileHeight, 0, p.width,
-                                                            cpu::kHbaoTileWidth),
+                tbb::parallel_for(tbb::blocked_range2d<int>(0, p.height, cpu::kLaneTileHeight, 0, p.width,
+                                                            cpu::kLaneTileWidth),
                                   [&](const tbb::blocked_range2d<int>& r) {
                                       tile(p, sb.depth.view(), sb.normal.view(), ao.view(),
                                            Box2i{r.cols().begin(), r.rows().begin(), r.cols().end(), r.rows().end()});
@@ -228,7 +228,7 @@ int main(int argc, char** argv) {
         b->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(0.5);
     };
     // The first registered run is the xBase reference: the scalar build, 1 thread, uniform, linear.
-    for (const std::string& isa : cpu::hbaoIsas())
+    for (const std::string& isa : cpu::laneIsas())
         for (const auto& c : cases) {
             const std::string name = "hbao_8x8/" + std::string(c.name) + "/isa:" + isa;
             options(benchmark::RegisterBenchmark(name.c_str(), BM_HbaoIsa, c.w, c.f, isa));

@@ -182,7 +182,7 @@ def test_messages_say_what_is_expected(scene):
     (dict(weighting="cos"), "weighting must be 'uniform' or 'cosine'"),
     (dict(falloff="exp"), "falloff must be 'linear' or 'none'"),
     (dict(quality="max"), "quality must be"),
-    (dict(method="ssao"), "method must be one of 'hbao'"),
+    (dict(method="nope"), "method must be one of .hbao."),
     (dict(device="cuda"), "device must be"),
     (dict(normals="object"), "normals must be 'world' or 'camera'"),
     (dict(depth_kind="z"), "depth_kind must be 'planar' or 'radial'"),

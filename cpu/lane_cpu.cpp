@@ -1,6 +1,5 @@
-#include "hbao_cpu.h"
+#include "lane_cpu.h"
 
-#include "cpu/hbao_tile.h"
 #include "cpu/parallel.h"
 
 #include <climits>
@@ -14,21 +13,23 @@ namespace obscura::cpu {
 namespace {
 struct IsaChoice {
     const char* name;
-    HbaoTileFn fn;
+    LaneTileFn hbao, ssao;
 };
+
+#define OBSCURA_ISA_CHOICE(label, isa) IsaChoice{label, &isa::hbaoTile, &isa::ssaoTile}
 
 // Every instantiation this CPU runs, narrowest first (the AVX builds exist only where the
 // compiler targets them, see CMakeLists.txt).
 std::vector<IsaChoice> usableIsas() {
-    std::vector<IsaChoice> usable = {{"scalar", &scalar::hbaoTile}, {"baseline", &baseline::hbaoTile}};
+    std::vector<IsaChoice> usable = {OBSCURA_ISA_CHOICE("scalar", scalar), OBSCURA_ISA_CHOICE("baseline", baseline)};
 #if defined(OBSCURA_HAVE_X86_64_V3)
     __builtin_cpu_init();
     const bool v3 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && __builtin_cpu_supports("bmi2");
-    if (v3) usable.push_back({"x86-64-v3", &x86_64_v3::hbaoTile});
+    if (v3) usable.push_back(OBSCURA_ISA_CHOICE("x86-64-v3", x86_64_v3));
 #if defined(OBSCURA_HAVE_X86_64_V4)
     if (v3 && __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
         __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl"))
-        usable.push_back({"x86-64-v4", &x86_64_v4::hbaoTile});
+        usable.push_back(OBSCURA_ISA_CHOICE("x86-64-v4", x86_64_v4));
 #endif
 #endif
     return usable;
@@ -54,36 +55,30 @@ bool fitsInt32(const ConstPlane& p) {
     return extent < INT_MAX;
 }
 
-void runWith(HbaoTileFn tileFn, const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao,
-             int threads) {
-    if (!fitsInt32(depth) || !fitsInt32(normal)) tileFn = &scalar::hbaoTile; // beyond 2^31 floats
-    const Box2i region{0, 0, p.width, p.height};
-    parallelForTiles(region, kHbaoTileWidth, kHbaoTileHeight, threads,
-                     [&](const Box2i& tile) { tileFn(p, depth, normal, ao, tile); });
-}
+LaneTileFn entryOf(const IsaChoice& c, LaneKernel kernel) { return kernel == LaneKernel::Hbao ? c.hbao : c.ssao; }
 } // namespace
 
-const char* hbaoIsa() { return chosenIsa().name; }
+const char* laneIsa() { return chosenIsa().name; }
 
-std::vector<std::string> hbaoIsas() {
+std::vector<std::string> laneIsas() {
     std::vector<std::string> names;
     for (const IsaChoice& c : usableIsas()) names.push_back(c.name);
     return names;
 }
 
-void runHbao(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, int threads) {
-    runWith(chosenIsa().fn, p, depth, normal, ao, threads);
-}
-
-HbaoTileFn hbaoTileFor(const std::string& isa) {
+LaneTileFn laneTileFor(LaneKernel kernel, const std::string& isa) {
     for (const IsaChoice& c : usableIsas())
-        if (isa == c.name) return c.fn;
-    throw std::invalid_argument("this CPU cannot run the HBAO kernel built for '" + isa + "'");
+        if (isa == c.name) return entryOf(c, kernel);
+    throw std::invalid_argument("this CPU cannot run the lane kernels built for '" + isa + "'");
 }
 
-void runHbao(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, int threads,
-             const std::string& isa) {
-    runWith(hbaoTileFor(isa), p, depth, normal, ao, threads);
+void runLaneKernel(LaneKernel kernel, const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao,
+                   int threads, const std::string& isa) {
+    LaneTileFn tileFn = isa.empty() ? entryOf(chosenIsa(), kernel) : laneTileFor(kernel, isa);
+    if (!fitsInt32(depth) || !fitsInt32(normal)) tileFn = entryOf(usableIsas().front(), kernel); // beyond 2^31 floats
+    const Box2i region{0, 0, p.width, p.height};
+    parallelForTiles(region, kLaneTileWidth, kLaneTileHeight, threads,
+                     [&](const Box2i& tile) { tileFn(p, depth, normal, ao, tile); });
 }
 
 } // namespace obscura::cpu

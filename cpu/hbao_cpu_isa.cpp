@@ -1,4 +1,0 @@
-// The HBAO kernel instantiated once per instruction set; cpu/CMakeLists.txt compiles this
-// file several times with OBSCURA_ISA, OBSCURA_LANES and the matching -march.
-// Nothing here may have external linkage but the entry point (see hbao_tile_impl.h).
-#include "cpu/hbao_tile_impl.h"
