@@ -52,6 +52,7 @@ lfloat ssaoLanes(lint x, lint y) {
     float maxReach2 = P.maxRadiusPixels * P.maxRadiusPixels;
 
     lfloat occlusion = lfloat(0.0f);
+    lfloat weights = lfloat(0.0f);
     for (int i = 0; i < P.ssaoSamples; ++i) {
         // Stratified elevation: t in [0, 1), so the hemisphere's z = 1 - t (or sqrt) is > 0.
         lfloat t = (float(i) + jitter) * invN;
@@ -66,6 +67,12 @@ lfloat ssaoLanes(lint x, lint y) {
         lfloat u = fract(float(i) * 0.754877666f + jitter2);
         lfloat dist = P.radius * (0.1f + 0.9f * u * u);
         lvec3 D = ((cosA * s) * b1 + (sinA * s) * b2 + z * n) * dist;
+        // Linear falloff weights each point by W(r) = 1 - r/R of its own distance, in the sum
+        // and in the normalisation, so a flat wall still hides exactly its share of the sphere.
+        lfloat weight = lfloat(1.0f);
+        if (P.linearFalloff != 0) {
+            weight = 1.0f - dist * invRadius;
+        }
         lfloat nextCos = cosA * cosStep - sinA * sinStep;
         sinA = sinA * cosStep + cosA * sinStep;
         cosA = nextCos;
@@ -96,13 +103,10 @@ lfloat ssaoLanes(lint x, lint y) {
             inFront = X.z > D.z;
         }
         lbool occluded = counts && inFront && r2 <= radius2;
-        lfloat weight = lfloat(1.0f);
-        if (P.linearFalloff != 0) {
-            weight = max(1.0f - sqrt(r2) * invRadius, 0.0f);
-        }
         occlusion += select(occluded, weight, 0.0f);
+        weights += weight;
     }
-    lfloat open = 1.0f - occlusion * invN;
+    lfloat open = 1.0f - occlusion / weights;
     if (P.ssaoHemisphere == 0) {
         open = 2.0f * open;
     }

@@ -195,3 +195,37 @@ TEST_P(Stiff, SkyConventionsAreEquivalent) {
 
 INSTANTIATE_TEST_SUITE_P(Devices, Stiff, ::testing::Values("cpu", "gl-osmesa"),
                          [](const auto& info) { return std::string(info.param) == "cpu" ? "cpu" : "gl_osmesa"; });
+
+// SSAO through the same frames: the hemisphere form keeps planes (endless, grazing) exactly
+// unoccluded; both forms stay in [0, 1] at extreme radii and see the corner.
+TEST_P(Stiff, SsaoPlanesAndCorner) {
+    const int W = 96, H = 64;
+    Settings s;
+    s.device = GetParam();
+    s.method = "ssao";
+    s.ssaoHemisphere = true;
+    s.weighting = Weighting::Cosine;
+    s.falloff = Falloff::None;
+    for (double grazeDeg : {0.5, 2.0, 30.0}) {
+        const double t = (90.0 - grazeDeg) * M_PI / 180;
+        const dvec3 n(std::sin(t), 0.0, std::cos(t));
+        const dvec3 side = glm::normalize(glm::cross(n, dvec3(0, 1, 0)));
+        Camera cam = lookAtPerspective(dvec3(0, 0, 5), dvec3(0), 20.0 * M_PI / 180, W, H);
+        SceneBuffers sb = renderScene({planeRect(dvec3(0), side, glm::cross(n, side), 1e7)}, cam, W, H);
+        for (float R : {1e-3f, 0.5f, 1e4f}) {
+            s.radius = R;
+            EXPECT_GE(checkedMin(runOperator(sb.inputs(), s).ao), 1.0f) << grazeDeg << " deg, R " << R;
+        }
+    }
+    Camera cam = lookAtPerspective(dvec3(-7, 6, 4), dvec3(-0.6, 0, 0), 40.0 * M_PI / 180, W, H);
+    SceneBuffers sb = renderScene(corner(), cam, W, H);
+    for (bool hemisphere : {false, true})
+        for (float R : {1e-4f, 1.0f, 1e6f}) {
+            s.ssaoHemisphere = hemisphere;
+            s.radius = R;
+            const float lo = checkedMin(runOperator(sb.inputs(), s).ao);
+            if (R == 1.0f) {
+                EXPECT_LT(lo, 0.9f) << "the corner occludes";
+            }
+        }
+}

@@ -42,6 +42,8 @@ struct MethodInfo {
     std::vector<const char*> outputs;   // "ao", "do", "gi"
     std::vector<MethodPreset> presets;
     std::vector<MethodParam> params;
+    // Samples (or rays) per pixel at these settings: the cost reports divide by.
+    int (*samplesPerPixel)(const Settings&);
     // Fills `out` (out.ao is preallocated to 1); throws obscura::Error.
     void (*run)(const MethodRun&);
 };

@@ -6,6 +6,7 @@
 //   sched:NAME  the widest kernel alone on all threads, scheduled by obscura's tile pool
 //               ("pool", what runHbao uses) or by oneTBB's parallel_for over the same tiles;
 //   PRESET      the quality presets, to show that time follows the sample count (ns/sample);
+//   METHOD_PRESET  the other AO methods of the method table at their quality levels;
 //   gl-*        every OpenGL device this machine can open, with the upload/compute/readback split.
 //
 // Every run also reports ratios measured in this process, so numbers from noisy machines
@@ -16,6 +17,7 @@
 //
 // Environment: OBSCURA_BENCH_WIDTH / OBSCURA_BENCH_HEIGHT override the frame size,
 // OBSCURA_BENCH_DIRECTIONS / OBSCURA_BENCH_STEPS the sample counts (8 x 8).
+#include "core/methods.h"
 #include "core/operator.h"
 #include "cpu/lane_cpu.h"
 #include "support/scenes.h"
@@ -180,7 +182,7 @@ void BM_Hbao(benchmark::State& state, Settings s, std::string caseName) {
     }
     const double n = (double)state.iterations();
     const double perFrame = seconds / n;
-    report(state, perFrame, (double)s.directions * s.steps);
+    report(state, perFrame, (double)findMethod(s.method)->samplesPerPixel(s));
     if (s.device == "cpu" && s.threads != 1) gCpuSeconds[caseName] = perFrame;
     if (s.device != "cpu") {
         state.counters["upload_ms"] = stages["gl-upload"] / n * 1e3;
@@ -262,6 +264,20 @@ int main(int argc, char** argv) {
         const std::string name = "hbao_" + std::string(q.name) + "_" + std::to_string(q.directions) + "x" +
                                  std::to_string(q.steps) + "/cosine/none/cpu/threads:" + std::to_string(all);
         options(benchmark::RegisterBenchmark(name.c_str(), BM_Hbao, s, std::string("preset")));
+    }
+    // The other AO methods' levels on the same frame (ssao: Crytek's sphere form), to set
+    // against HBAO's: the error-against-time report pairs these times with accuracy.
+    for (const MethodInfo& m : methods()) {
+        if (std::string(m.name) == "hbao" || !methodOutputs(m.name, "ao") || m.presets.empty()) continue;
+        for (const MethodPreset& q : m.presets) {
+            Settings s = settingsFor(Weighting::Cosine, Falloff::None, all, "cpu");
+            s.method = m.name;
+            q.apply(s);
+            s.blur = 0;
+            const std::string name = std::string(m.name) + "_" + q.quality +
+                                     "/cosine/none/cpu/threads:" + std::to_string(all);
+            options(benchmark::RegisterBenchmark(name.c_str(), BM_Hbao, s, std::string("preset")));
+        }
     }
     for (const std::string& device : glDevices())
         for (const auto& c : cases) add(device, all, c);
