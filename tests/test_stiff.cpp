@@ -1,6 +1,7 @@
 // Stiff and extreme inputs, through the operator on every device this machine has
 // (the CPU and llvmpipe through OSMesa). Each case asserts finite output in [0, 1]
 // and a property that a numerical weakness would break.
+#include "core/methods.h"
 #include "core/operator.h"
 #include "support/scenes.h"
 
@@ -228,4 +229,36 @@ TEST_P(Stiff, SsaoPlanesAndCorner) {
                 EXPECT_LT(lo, 0.9f) << "the corner occludes";
             }
         }
+}
+
+// Every method of the method table, on every device it runs on: the nine-decade plane stays
+// unoccluded (ssao in its hemisphere form; ssdo's AO counts samples the pixel grid can hide,
+// so it is held to the range only), and the corner at extreme radii stays finite in [0, 1].
+TEST_P(Stiff, EveryMethodStaysInRange) {
+    const int W = 96, H = 64;
+    const double fovRad = 100.0 * M_PI / 180, f = 0.5 * W / std::tan(0.5 * fovRad);
+    const double pitch = std::atan((0.5 * H - 2.5) / f) + 1e-9;
+    const dvec3 eye(0, 1e-3, 0);
+    SceneBuffers plane = renderScene(ground(), lookAtPerspective(eye, eye + dvec3(0, -std::sin(pitch), -std::cos(pitch)),
+                                                                 fovRad, W, H), W, H);
+    SceneBuffers edge = renderScene(corner(), lookAtPerspective(dvec3(-7, 6, 4), dvec3(-0.6, 0, 0), 40.0 * M_PI / 180, W, H),
+                                    W, H);
+    for (const MethodInfo& m : methods()) {
+        if (std::string(GetParam()) != "cpu" && !m.gl) continue;
+        Settings s;
+        s.device = GetParam();
+        s.method = m.name;
+        s.weighting = Weighting::Cosine;
+        s.ssaoHemisphere = true;
+        s.thickness = 0.1f;
+        s.rtaoRays = 8;
+        for (float R : {1e-4f, 1e-2f, 10.0f, 1e4f}) {
+            s.radius = R;
+            const float lo = checkedMin(runOperator(plane.inputs(), s).ao);
+            if (std::string(m.name) != "ssdo") {
+                EXPECT_GE(lo, 1.0f - 1e-3f) << m.name << " R=" << R;
+            }
+            checkedMin(runOperator(edge.inputs(), s).ao);
+        }
+    }
 }

@@ -4,6 +4,7 @@
 #include "core/error.h"
 #include "cpu/blur_cpu.h"
 #include "cpu/lane_cpu.h"
+#include "cpu/rtao_cpu.h"
 #include "cpu/ssdo_cpu.h"
 #include "gpu/gl_backend.h"
 
@@ -44,6 +45,21 @@ void runLaneAo(const MethodRun& r, cpu::LaneKernel kernel, const char* name) {
 void runHbaoMethod(const MethodRun& r) { runLaneAo(r, cpu::LaneKernel::Hbao, "hbao"); }
 
 void runSsaoMethod(const MethodRun& r) { runLaneAo(r, cpu::LaneKernel::Ssao, "ssao"); }
+
+void runRtaoMethod(const MethodRun& r) {
+    const Settings& s = r.settings;
+    OperatorStats& st = r.out.stats;
+    cpu::RtaoStats rs;
+    cpu::runRtao(r.params, r.in.depth, r.in.normal, r.out.ao.view(), {s.rtaoRays, s.thickness, s.rtaoGrid}, r.threads, &rs);
+    st.timings.push_back({"rtao-mesh", rs.meshSeconds});
+    st.timings.push_back({"rtao-bvh", rs.bvhSeconds});
+    st.timings.push_back({"rtao-trace", rs.traceSeconds});
+    if (s.blur > 0) {
+        const auto t0 = Clock::now();
+        cpu::runBlur(r.params, r.in.depth, r.in.normal, r.out.ao.view(), s.blur, r.threads);
+        st.timings.push_back({"blur", secondsSince(t0)});
+    }
+}
 
 // SSDO: plan what is needed (no bounce without a source, no map when none is given),
 // prefilter the environment to the per-pixel sample count, run, and blur over the
