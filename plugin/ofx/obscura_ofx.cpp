@@ -210,6 +210,7 @@ struct Instance {
                    threads = nullptr;
     OfxParamHandle ssdoSamples = nullptr, interleave = nullptr, skyColour = nullptr, envMap = nullptr,
                    envRotation = nullptr, envIntensity = nullptr, upAxis = nullptr, timesAlbedo = nullptr;
+    std::vector<OfxParamHandle> methodParams;  // one per allMethodParams(), in its order
     mutable EnvironmentCache environment;
 };
 
@@ -303,6 +304,12 @@ Params readParams(const Instance& in, OfxTime t) {
     s.blur = intAt(in.blur, t);
     s.skyDepth = (float)doubleAt(in.skyDepth, t);
     s.threads = intAt(in.threads, t);
+    const std::vector<const MethodParam*> own = allMethodParams();
+    for (size_t i = 0; i < own.size(); ++i) {
+        if (own[i]->boolField) s.*(own[i]->boolField) = intAt(in.methodParams[i], t) != 0;
+        else if (own[i]->intField) s.*(own[i]->intField) = intAt(in.methodParams[i], t);
+        else s.*(own[i]->floatField) = (float)doubleAt(in.methodParams[i], t);
+    }
     s.device = resolveDevice(kDevices[choiceAt(in.device, t, countOf(kDevices))]);
     p.projection = choiceAt(in.projection, t, 2) == 0 ? Projection::Perspective : Projection::Orthographic;
     p.fovDeg = doubleAt(in.fov, t);
@@ -647,11 +654,13 @@ void defineClip(OfxImageEffectHandle effect, const char* name, std::initializer_
 struct ParamDef {
     OfxParamSetHandle set;
     std::vector<std::string> topLevel;
+    std::vector<std::string> defined;  // every name, to add the method table's remaining parameters
 
     OfxPropertySetHandle define(const char* type, const char* name, const char* label, const char* hint,
                                 const char* parent = nullptr) {
         OfxPropertySetHandle p = nullptr;
         check(gParam->paramDefine(set, type, name, &p));
+        defined.push_back(name);
         gProp->propSetString(p, kOfxPropLabel, 0, label);
         gProp->propSetString(p, kOfxParamPropScriptName, 0, name);
         if (hint) gProp->propSetString(p, kOfxParamPropHint, 0, hint);
@@ -800,6 +809,29 @@ OfxStatus onDescribeInContext(OfxImageEffectHandle effect, OfxPropertySetHandle 
         gProp->propSetInt(p, kOfxParamPropAnimates, 0, 0);
     }
 
+    // The methods' own parameters that have no control above (ssao's, rtao's), from the method
+    // table, with its ranges and the Settings defaults, in a group per method.
+    const Settings defaults;
+    for (const MethodInfo& m : methods()) {
+        bool grouped = false;
+        for (const MethodParam& mp : m.params) {
+            if (std::find(d.defined.begin(), d.defined.end(), mp.key) != d.defined.end()) continue;
+            if (!grouped) d.group(m.name, m.name);
+            grouped = true;
+            if (mp.boolField) {
+                OfxPropertySetHandle p = d.define(kOfxParamTypeBoolean, mp.key, mp.key, mp.help, m.name);
+                gProp->propSetInt(p, kOfxParamPropDefault, 0, defaults.*(mp.boolField) ? 1 : 0);
+                gProp->propSetInt(p, kOfxParamPropAnimates, 0, 0);
+            } else if (mp.intField) {
+                d.integer(mp.key, mp.key, mp.help, defaults.*(mp.intField), (int)mp.min, (int)mp.max, (int)mp.min,
+                          (int)std::min(mp.max, 256.0), m.name);
+            } else {
+                d.real(mp.key, mp.key, mp.help, defaults.*(mp.floatField), mp.min, std::min(mp.max, 1e9), mp.min,
+                       std::min(mp.max, 10.0), m.name);
+            }
+        }
+    }
+
     OfxPropertySetHandle page = d.define(kOfxParamTypePage, kPage, "Controls", nullptr);
     d.topLevel.pop_back();  // the page itself
     for (int i = 0; i < (int)d.topLevel.size(); ++i)
@@ -875,6 +907,7 @@ OfxStatus onCreateInstance(OfxImageEffectHandle effect) {
     in->envIntensity = param(set, kParamEnvIntensity);
     in->upAxis = param(set, kParamUpAxis);
     in->timesAlbedo = param(set, kParamTimesAlbedo);
+    for (const MethodParam* mp : allMethodParams()) in->methodParams.push_back(param(set, mp->key));
     check(gProp->propSetPointer(effectProps(effect), kOfxPropInstanceData, 0, in.get()));
     updateEnabled(*in);
     in.release();
