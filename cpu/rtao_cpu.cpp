@@ -19,17 +19,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-// The kernels' integer hash (kernels/common.glsl), so rtao's noise is keyed like theirs.
-std::uint32_t hashU32(std::uint32_t x) {
-    x ^= x >> 16u;
-    x *= 0x7feb352du;
-    x ^= x >> 15u;
-    x *= 0x846ca68bu;
-    x ^= x >> 16u;
-    return x;
-}
-float hashToUnit(std::uint32_t h) { return float(h >> 8u) * (1.0f / 16777216.0f); }
-
 // The Embree scene of a mesh; released with it.
 class MeshScene {
 public:
@@ -106,8 +95,8 @@ float traceTexel(const MeshScene& scene, const SurfacePoints& s, size_t i, int d
     const glm::vec3 b1(1.0f + sgn * n.x * n.x * a, sgn * b, -sgn * n.x), b2(b, sgn + n.y * n.y * a, -n.y);
     // Lifted off the mesh by more than float rounding of its vertices (~1e-7 of their distance).
     const glm::vec3 origin = s.position[i] + n * (1e-5f * glm::length(s.position[i]));
-    const std::uint32_t h = hashU32((std::uint32_t)displayX ^ hashU32((std::uint32_t)displayY + 0x9e3779b9u));
-    const float j1 = hashToUnit(h), j2 = hashToUnit(hashU32(h));
+    const glm::vec2 jitter = pixelJitter(displayX, displayY);
+    const float j1 = jitter.x, j2 = jitter.y;
     double occlusion = 0.0;
     for (int k = 0; k < rays; ++k) {
         const float u = (float(k) + j1) / float(rays);        // [0, 1)

@@ -60,6 +60,12 @@ bool connected(const SurfacePoints& s, int x, int y, int dx, int dy) {
 
 } // namespace
 
+glm::vec2 pixelJitter(int displayX, int displayY) {
+    glsl::SurfaceKernel k{};
+    const std::uint32_t h = k.hashPixel(displayX, displayY);
+    return glm::vec2(k.hashToUnit(h), k.hashToUnit(k.hashU32(h)));
+}
+
 SurfacePoints reconstructSurface(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, int threads) {
     SurfacePoints s;
     s.width = p.width;

@@ -21,6 +21,9 @@ struct SurfacePoints {
     bool surface(int i) const { return w[i] > 0.0f; }
 };
 
+// Two numbers in [0, 1) hashed from a display pixel, as the kernels hash it (kernels/common.glsl).
+glm::vec2 pixelJitter(int displayX, int displayY);
+
 SurfacePoints reconstructSurface(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, int threads);
 
 struct SurfaceMesh {

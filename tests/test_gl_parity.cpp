@@ -33,6 +33,15 @@ double maxAbsDiff(const Image& a, const Image& b) {
     return m;
 }
 
+// The studio scene through a perspective and an orthographic camera.
+std::vector<SceneBuffers> studioViews(int W, int H) {
+    std::vector<SceneBuffers> views;
+    views.push_back(renderScene(studioScene(), studioCamera(W, H), W, H));
+    views.push_back(renderScene(
+        studioScene(), lookAtOrthographic(glm::dvec3(3.5, 3.0, 6.5), glm::dvec3(-1.0, 0.6, -1.0), 9.0, W, H), W, H));
+    return views;
+}
+
 Settings makeSettings(const char* device, Weighting w, Falloff f, int blur) {
     Settings s;
     s.device = device;
@@ -46,12 +55,8 @@ Settings makeSettings(const char* device, Weighting w, Falloff f, int blur) {
 } // namespace
 
 TEST(GlParity, AnalyticScenesMatchCpu) {
-    const int W = 160, H = 120;
-    const SceneBuffers studio = renderScene(studioScene(), studioCamera(W, H), W, H);
-    const SceneBuffers ortho = renderScene(studioScene(), lookAtOrthographic(glm::dvec3(3.5, 3.0, 6.5),
-                                                                             glm::dvec3(-1.0, 0.6, -1.0), 9.0, W, H),
-                                           W, H);
-    for (const SceneBuffers* scene : {&studio, &ortho}) {
+    const std::vector<SceneBuffers> views = studioViews(160, 120);
+    for (const SceneBuffers* scene : {&views[0], &views[1]}) {
         for (Weighting w : {Weighting::Uniform, Weighting::Cosine}) {
             for (Falloff f : {Falloff::Linear, Falloff::None}) {
                 for (int blur : {0, 3}) {
@@ -215,12 +220,8 @@ TEST(GlParity, SsdoMatchesCpu) {
 // SSAO (kernels/ssao.glsl) on both GL paths equals the CPU's lane build, in the sphere and
 // the hemisphere, for both weightings and falloffs, perspective and orthographic.
 TEST(GlParity, SsaoMatchesCpu) {
-    const int W = 128, H = 96;
-    const SceneBuffers studio = renderScene(studioScene(), studioCamera(W, H), W, H);
-    const SceneBuffers ortho = renderScene(studioScene(), lookAtOrthographic(glm::dvec3(3.5, 3.0, 6.5),
-                                                                             glm::dvec3(-1.0, 0.6, -1.0), 9.0, W, H),
-                                           W, H);
-    for (const SceneBuffers* scene : {&studio, &ortho})
+    const std::vector<SceneBuffers> views = studioViews(128, 96);
+    for (const SceneBuffers* scene : {&views[0], &views[1]})
         for (bool hemisphere : {false, true})
             for (Weighting w : {Weighting::Uniform, Weighting::Cosine})
                 for (Falloff f : {Falloff::Linear, Falloff::None}) {
