@@ -19,6 +19,32 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
+// A ray's context: its pixel's display position and the parameter block, so that hits whose
+// image lies beyond p.maxRadiusPixels of the pixel are ignored, as HBAO ignores samples there:
+// a host rendering tiles with an apron of that cap then gets the whole frame's values.
+struct CappedContext {
+    RTCIntersectContext base;  // first: Embree hands the filter a pointer to it
+    const glsl::KernelParams* p;
+    glm::vec2 centre;
+};
+
+void capFilter(const RTCFilterFunctionNArguments* args) {
+    const auto* c = reinterpret_cast<const CappedContext*>(args->context);
+    const glsl::KernelParams& p = *c->p;
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        const float t = RTCRayN_tfar(args->ray, args->N, i);  // the candidate hit's distance
+        const glm::vec3 h(RTCRayN_org_x(args->ray, args->N, i) + t * RTCRayN_dir_x(args->ray, args->N, i),
+                          RTCRayN_org_y(args->ray, args->N, i) + t * RTCRayN_dir_y(args->ray, args->N, i),
+                          RTCRayN_org_z(args->ray, args->N, i) + t * RTCRayN_dir_z(args->ray, args->N, i));
+        const float scale = p.orthographic != 0 ? 1.0f : 1.0f / std::max(-h.z, 1e-30f);
+        const glm::vec2 image(p.cx + p.fx * h.x * scale, p.cy - p.fy * h.y * scale);
+        const glm::vec2 reach = image - c->centre;
+        if ((p.orthographic == 0 && !(h.z < 0.0f)) || glm::dot(reach, reach) > p.maxRadiusPixels * p.maxRadiusPixels)
+            args->valid[i] = 0;
+    }
+}
+
 // The Embree scene of a mesh; released with it.
 class MeshScene {
 public:
@@ -38,6 +64,8 @@ public:
             if (!v || !t) throw Error("Embree: out of memory for " + std::to_string(m.triangles.size() / 3) + " triangles");
             std::memcpy(v, m.vertices.data(), m.vertices.size() * sizeof(glm::vec3));
             std::memcpy(t, m.triangles.data(), m.triangles.size() * sizeof(std::uint32_t));
+            rtcSetGeometryIntersectFilterFunction(g, &capFilter);
+            rtcSetGeometryOccludedFilterFunction(g, &capFilter);
             rtcCommitGeometry(g);
             rtcAttachGeometry(scene_, g);
             rtcReleaseGeometry(g);
@@ -52,10 +80,9 @@ public:
     MeshScene(const MeshScene&) = delete;
     MeshScene& operator=(const MeshScene&) = delete;
 
-    // Distance to the first hit within tfar, or +inf.
-    float hitDistance(const glm::vec3& o, const glm::vec3& d, float tfar) const {
-        RTCIntersectContext context;
-        rtcInitIntersectContext(&context);
+    // Distance to the first hit within tfar (and the cap of `context`), or +inf.
+    float hitDistance(CappedContext& context, const glm::vec3& o, const glm::vec3& d, float tfar) const {
+        rtcInitIntersectContext(&context.base);
         RTCRayHit rh{};
         rh.ray.org_x = o.x, rh.ray.org_y = o.y, rh.ray.org_z = o.z;
         rh.ray.dir_x = d.x, rh.ray.dir_y = d.y, rh.ray.dir_z = d.z;
@@ -63,19 +90,18 @@ public:
         rh.ray.tfar = tfar;
         rh.ray.mask = 0xffffffffu;
         rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-        rtcIntersect1(scene_, &context, &rh);
+        rtcIntersect1(scene_, &context.base, &rh);
         return rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? std::numeric_limits<float>::infinity() : rh.ray.tfar;
     }
-    bool occluded(const glm::vec3& o, const glm::vec3& d, float tfar) const {
-        RTCIntersectContext context;
-        rtcInitIntersectContext(&context);
+    bool occluded(CappedContext& context, const glm::vec3& o, const glm::vec3& d, float tfar) const {
+        rtcInitIntersectContext(&context.base);
         RTCRay r{};
         r.org_x = o.x, r.org_y = o.y, r.org_z = o.z;
         r.dir_x = d.x, r.dir_y = d.y, r.dir_z = d.z;
         r.tnear = 0.0f;
         r.tfar = tfar;
         r.mask = 0xffffffffu;
-        rtcOccluded1(scene_, &context, &r);
+        rtcOccluded1(scene_, &context.base, &r);
         return r.tfar < 0.0f;  // Embree sets -inf on a hit
     }
 
@@ -96,6 +122,7 @@ float traceTexel(const MeshScene& scene, const SurfacePoints& s, size_t i, int d
     // Lifted off the mesh by more than float rounding of its vertices (~1e-7 of their distance).
     const glm::vec3 origin = s.position[i] + n * (1e-5f * glm::length(s.position[i]));
     const glm::vec2 jitter = pixelJitter(displayX, displayY);
+    CappedContext context{{}, &p, glm::vec2(float(displayX) + 0.5f, float(displayY) + 0.5f)};
     const float j1 = jitter.x, j2 = jitter.y;
     double occlusion = 0.0;
     for (int k = 0; k < rays; ++k) {
@@ -105,9 +132,9 @@ float traceTexel(const MeshScene& scene, const SurfacePoints& s, size_t i, int d
         const float r = std::sqrt(std::max(1.0f - z * z, 0.0f));
         const glm::vec3 d = b1 * (r * std::cos(phi)) + b2 * (r * std::sin(phi)) + n * z;
         if (p.linearFalloff != 0) {
-            const float t = scene.hitDistance(origin, d, p.radius);
+            const float t = scene.hitDistance(context, origin, d, p.radius);
             if (t <= p.radius) occlusion += 1.0 - t / p.radius;
-        } else if (scene.occluded(origin, d, p.radius)) {
+        } else if (scene.occluded(context, origin, d, p.radius)) {
             occlusion += 1.0;
         }
     }

@@ -18,7 +18,9 @@ struct RtaoStats {
 
 // AO for every texel of `ao` (p.width x p.height). The weighting and falloff are p's. Each
 // texel's rays depend on its display coordinates only, so the result is the same for any
-// thread count.
+// thread count; hits imaged beyond p.maxRadiusPixels of the texel are ignored, so a buffer
+// cropped with an apron of that cap (plus 3 texels for the mesh, plus the grid) agrees with
+// the whole frame inside the apron.
 void runRtao(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const RtaoOptions& o,
              int threads, RtaoStats* stats = nullptr);
 

@@ -117,6 +117,34 @@ TEST(Rtao, DeterministicAndGridFollowsFullTracing) {
     EXPECT_GT(occluded / full.pixels.size(), 0.01) << "the scene must have occlusion to compare";
 }
 
+// A host rendering tiles pins the screen cap (Settings::maxRadiusPixels): a buffer cropped
+// with an apron of the cap, 3 texels for the mesh's connectivity and the grid's spacing gives
+// the whole frame's values inside it, bit for bit.
+TEST(Rtao, CroppedBufferWithApronEqualsWholeFrame) {
+    const int W = 160, H = 120;
+    Camera cam = lookAtPerspective(dvec3(-7, 6, 4), dvec3(-0.6, 0, 0), 40.0 * M_PI / 180, W, H);
+    const SceneBuffers full = renderScene(cornerScene(), cam, W, H);
+    const Box2i crop{40, 30, 130, 110};
+    const SceneBuffers part = renderScene(cornerScene(), cam, Box2i{0, 0, W, H}, crop);
+    for (int grid : {1, 3}) {
+        Settings s = rtaoSettings(Weighting::Cosine, Falloff::Linear, 1.0f, 16);
+        s.thickness = 0.3f;
+        s.rtaoGrid = grid;
+        s.maxRadiusPixels = 12.0f;
+        const Image whole = runOperator(full.inputs(), s).ao, cropped = runOperator(part.inputs(), s).ao;
+        const int apron = 12 + 3 + grid;
+        int compared = 0, occluded = 0;
+        for (int y = crop.y0 + apron; y < crop.y1 - apron; ++y)
+            for (int x = crop.x0 + apron; x < crop.x1 - apron; ++x) {
+                ASSERT_EQ(*whole.at(x, y), *cropped.at(x - crop.x0, y - crop.y0)) << x << "," << y << " grid " << grid;
+                ++compared;
+                occluded += *whole.at(x, y) < 0.9f;
+            }
+        EXPECT_GT(compared, 1500);
+        EXPECT_GT(occluded, 100) << "the corner must be inside the compared region";
+    }
+}
+
 // The thin-pole scene of the report: HBAO's infinitely thick depth buffer darkens the ground
 // behind every pole; the mesh, extruded by about a pole's diameter, does not. Both against
 // the Embree reference of the same definition (cosine, binary within R).
