@@ -72,8 +72,10 @@ struct Config {
     bool cosine = false, noFalloff = false;
     int blur = 0;
     double maxScreenRadius = 256;   // the plugin's cap (0 = automatic, the CLI's rule)
-    int method = 0;                 // index into the Method choice: 0 hbao, 2 ssao (with ssaoSamples)
+    int method = 0;                 // index into the Method choice: 0 hbao, 2 ssao, 3 rtao
     int ssaoSamples = 16;
+    double thickness = 0;           // rtao's
+    int rtaoGrid = 1;
 };
 
 // gtest names a parameter by its config's name.
@@ -155,6 +157,8 @@ std::vector<float> runCli(const Config& c, const Scene& s, const fs::path& dir) 
                                      "--depth", toString(c.depth), "--normals", toString(c.normals),
                                      "--camera-to-world", rowsOf(s.cam.cameraToWorld), "--device", "cpu"};
     if (c.method == 2) args.insert(args.end(), {"--method", "ssao", "--ssao-samples", std::to_string(c.ssaoSamples)});
+    if (c.method == 3)
+        args.insert(args.end(), {"--method", "rtao", "--thickness", num(c.thickness), "--rtao-grid", std::to_string(c.rtaoGrid)});
     if (c.orthographic) {
         args.insert(args.end(), {"--ortho-width", num(s.orthoWidth)});
     } else {
@@ -233,6 +237,8 @@ void applyConfig(Instance& inst, const Config& c, const Scene& s) {
     EXPECT_EQ(inst.setInt("steps", c.steps), kOfxStatOK);
     EXPECT_EQ(inst.setInt("method", c.method), kOfxStatOK);
     EXPECT_EQ(inst.setInt("ssao_samples", c.ssaoSamples), kOfxStatOK);
+    EXPECT_EQ(inst.setDouble("thickness", c.thickness), kOfxStatOK);
+    EXPECT_EQ(inst.setInt("rtao_grid", c.rtaoGrid), kOfxStatOK);
     EXPECT_EQ(inst.setInt("weighting", c.cosine ? 1 : 0), kOfxStatOK);
     EXPECT_EQ(inst.setInt("falloff", c.noFalloff ? 1 : 0), kOfxStatOK);
     EXPECT_EQ(inst.setInt("blur", c.blur), kOfxStatOK);
@@ -445,6 +451,11 @@ INSTANTIATE_TEST_SUITE_P(Configs, OfxMatchesCli,
                                            [] {
                                                Config c = cfg("ssao_from_the_method_table");
                                                c.method = 2, c.ssaoSamples = 12, c.overscan = 4;
+                                               return c;
+                                           }(),
+                                           [] {
+                                               Config c = cfg("rtao_thickness_grid");
+                                               c.method = 3, c.thickness = 0.1, c.rtaoGrid = 2, c.cosine = true;
                                                return c;
                                            }()),
                          [](const ::testing::TestParamInfo<Config>& i) { return i.param.name; });

@@ -45,7 +45,7 @@ std::vector<MethodInfo> makeTable() {
                  {intParam("directions", "--directions", "hbao: directions (slices) per pixel (default 8)", 1, 256,
                            &Settings::directions),
                   intParam("steps", "--steps", "hbao: samples per direction (default 8)", 1, 256, &Settings::steps)},
-                 [](const Settings& s) { return s.directions * s.steps; }, &runHbaoMethod});
+                 [](const Settings& s) { return s.directions * s.steps; }, nullptr, &runHbaoMethod});
     t.push_back({"ssdo", "directional occlusion and one bounce (Ritschel et al. 2009): DO, AO and, with --bounce, GI",
                  "kernels/ssdo.glsl", true, true, {"depth", "normal", "beauty|direct-diffuse", "albedo"},
                  {"ao", "do", "gi"}, {},
@@ -55,7 +55,7 @@ std::vector<MethodInfo> makeTable() {
                            "ssdo: interleaved sampling over M x M pixels, then a blur of M (default 2; 1 = off)", 1, 8,
                            &Settings::interleave)},
                  [](const Settings& s) { return std::max(1, s.ssdoSamples / (s.interleave * s.interleave)); },
-                 &runSsdoMethod});
+                 nullptr, &runSsdoMethod});
     t.push_back({"ssao", "Crytek's screen-space AO (Mittring 2007): points around the pixel tested against the depth",
                  "kernels/ssao.glsl", true, true, {"depth", "normal"}, {"ao"},
                  {{"low", "8 points", [](Settings& s) { s.ssaoSamples = 8; }},
@@ -66,7 +66,7 @@ std::vector<MethodInfo> makeTable() {
                            &Settings::ssaoSamples),
                   switchParam("ssao_hemisphere", "--ssao-hemisphere",
                               "ssao: points in the normal-oriented hemisphere, not the sphere", &Settings::ssaoHemisphere)},
-                 [](const Settings& s) { return s.ssaoSamples; }, &runSsaoMethod});
+                 [](const Settings& s) { return s.ssaoSamples; }, nullptr, &runSsaoMethod});
     t.push_back({"rtao", "rays (Embree) against the mesh the depth pass describes, optionally extruded by --thickness",
                  "cpu/rtao_*", true, false, {"depth", "normal"}, {"ao"},
                  {{"low", "4 rays", [](Settings& s) { s.rtaoRays = 4; }},
@@ -80,7 +80,9 @@ std::vector<MethodInfo> makeTable() {
                              &Settings::thickness),
                   intParam("rtao_grid", "--rtao-grid", "rtao: trace every N-th pixel, interpolate between (default 1)",
                            1, 64, &Settings::rtaoGrid)},
-                 [](const Settings& s) { return s.rtaoRays; }, &runRtaoMethod});
+                 [](const Settings& s) { return s.rtaoRays; },
+                 // The mesh joins texels by looking 2 beyond an edge; the grid interpolates across a cell.
+                 [](const Settings& s) { return 1 + s.rtaoGrid; }, &runRtaoMethod});
     return t;
 }
 

@@ -44,6 +44,9 @@ struct MethodInfo {
     std::vector<MethodParam> params;
     // Samples (or rays) per pixel at these settings: the cost reports divide by.
     int (*samplesPerPixel)(const Settings&);
+    // Texels a method reads beyond the screen cap (maxRadiusPixels) of a pixel, past the 2 every
+    // method's texel snapping takes: what a host rendering tiles adds to its apron (nullptr: 0).
+    int (*extraApron)(const Settings&);
     // Fills `out` (out.ao is preallocated to 1); throws obscura::Error.
     void (*run)(const MethodRun&);
 };

@@ -467,7 +467,9 @@ int apronPixels(const Params& p, const Camera& cam, float cap) {
         reach = ssdo ? std::min<double>((double)p.settings.radius * cam.fx, 1e7)
                      : std::min<double>(p.settings.radius * cam.fx, cap);
     const int blur = ssdo ? ssdoBlur(p.settings) : p.settings.blur;
-    return (int)std::ceil(reach) + 2 + std::max(blur, 0);
+    const MethodInfo* m = findMethod(p.settings.method);
+    const int extra = m && m->extraApron ? m->extraApron(p.settings) : 0;
+    return (int)std::ceil(reach) + 2 + std::max(blur, 0) + extra;
 }
 
 // The depth/normal pixels a render window reads.
