@@ -1,4 +1,4 @@
-// The CPU kernels (HBAO, SSDO, the blur) instantiated once per instruction set, and the
+// The CPU kernels (HBAO, SSAO, SSDO, the blur) instantiated once per instruction set, and the
 // one place that picks among them. cpu/isa_kernels.cpp is compiled once per ISA, each in
 // its own namespace (scalar, baseline, x86_64_v3, x86_64_v4); everything there except the
 // `kernels` table has internal linkage, so no out-of-line copy compiled for one ISA can be
@@ -19,6 +19,8 @@ struct SsdoPlanes;
 // Entry points each ISA provides; each runs its kernel over every texel of `tile`.
 struct IsaKernels {
     void (*hbaoTile)(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao,
+                     const Box2i& tile);
+    void (*ssaoTile)(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao,
                      const Box2i& tile);
     void (*ssdoTile)(const glsl::KernelParams& p, const SsdoPlanes& in, MutablePlane directional,
                      MutablePlane indirect, MutablePlane ao, const Box2i& tile);

@@ -2,9 +2,9 @@
 // file several times with OBSCURA_ISA, OBSCURA_LANES and the matching -march.
 // Nothing here may have external linkage but the `kernels` table (see cpu/isa.h).
 #include "cpu/blur_tile_impl.h"
-#include "cpu/hbao_tile_impl.h"
+#include "cpu/lane_tile_impl.h"
 #include "cpu/ssdo_tile_impl.h"
 
 namespace obscura::cpu::OBSCURA_ISA {
-const IsaKernels kernels{&hbaoTile, &ssdoTile, &blurTile};
+const IsaKernels kernels{&hbaoTile, &ssaoTile, &ssdoTile, &blurTile};
 } // namespace obscura::cpu::OBSCURA_ISA

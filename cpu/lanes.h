@@ -7,7 +7,7 @@
 // text runs one pixel per GPU thread and 4, 8 or 16 pixels per CPU instruction.
 // Branches on lane values do not compile: kernels use select() and anyLane() instead.
 //
-// Include inside an anonymous namespace per instruction set (see cpu/hbao_tile_impl.h),
+// Include inside an anonymous namespace per instruction set (see cpu/lane_tile_impl.h),
 // so code compiled for AVX-512 is never linked into a baseline caller.
 #pragma once
 #include <glm/glm.hpp>

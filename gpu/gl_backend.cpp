@@ -222,8 +222,8 @@ void GlBackend::readInner(int binding, int channels, const Box2i& inner, const B
         }
 }
 
-void GlBackend::runHbao(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, int blur,
-                        GlTimings* timings, long long maxTexels) {
+void GlBackend::runAo(const char* program, const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal,
+                      MutablePlane ao, int blur, GlTimings* timings, long long maxTexels) {
     GlTimings t;
     runTiled(
         p, depth, normal, blur, maxTexels, t,
@@ -231,7 +231,7 @@ void GlBackend::runHbao(const glsl::KernelParams& p, ConstPlane depth, ConstPlan
             uploadBuffer(kSignalOut, GL_SHADER_STORAGE_BUFFER, nullptr, (size_t)buf.width() * buf.height() * sizeof(float));
         },
         [&](const glsl::KernelParams& q) {
-            dispatch("hbao", q);
+            dispatch(program, q);
             blurBuffer(kSignalOut, 1, blur, q);
         },
         [&](const Box2i& inner, const Box2i& buf) { readInner(kSignalOut, 1, inner, buf, ao); });

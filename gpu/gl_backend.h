@@ -32,7 +32,12 @@ public:
     // p.maxRadiusPixels bounds how far a pixel reads, which sizes the tile apron.
     // maxTexels (0 = from the context's limits) caps a tile, for tests of tiling.
     void runHbao(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, int blur,
-                 GlTimings* timings = nullptr, long long maxTexels = 0);
+                 GlTimings* timings = nullptr, long long maxTexels = 0) {
+        runAo("hbao", p, depth, normal, ao, blur, timings, maxTexels);
+    }
+    // The same for any AO kernel reading depth and normals only ("hbao", "ssao").
+    void runAo(const char* program, const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao,
+               int blur, GlTimings* timings = nullptr, long long maxTexels = 0);
 
     struct SsdoInputs {
         ConstPlane depth, normal, radiance, albedo;  // radiance used when p.bounce; albedo optional

@@ -66,6 +66,7 @@ bool outsideDispatch(ivec2 t) { return t.x >= P.width || t.y >= P.height; }
 const std::vector<GlKernel>& glKernels() {
     static const std::vector<GlKernel> kernels = {
         {"hbao", "hbao.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; signalOut[texelIndex(t)] = hbaoLanes(t.x, t.y); }"},
+        {"ssao", "ssao.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; signalOut[texelIndex(t)] = ssaoLanes(t.x, t.y); }"},
         {"blur", "blur.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; storeSignal(t, blurLanes(t.x, t.y, blurAxis, blurRadius)); }"},
         {"ssdo", "ssdo.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; vec3 d; vec3 g; float a; ssdoLanes(t.x, t.y, d, g, a); int i = texelIndex(t); signalOut[i] = a; for (int c = 0; c < 3; ++c) { directionalOut[3 * i + c] = d[c]; indirectOut[3 * i + c] = g[c]; } }"},
     };

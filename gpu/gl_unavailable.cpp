@@ -17,7 +17,8 @@ const ContextInfo& GlBackend::info() const {
 }
 GlBackend::GlBackend(ContextKind, bool) { throw Error("this build of obscura has no OpenGL backend"); }
 GlBackend::~GlBackend() = default;
-void GlBackend::runHbao(const glsl::KernelParams&, ConstPlane, ConstPlane, MutablePlane, int, GlTimings*, long long) {}
+void GlBackend::runAo(const char*, const glsl::KernelParams&, ConstPlane, ConstPlane, MutablePlane, int, GlTimings*,
+                      long long) {}
 void GlBackend::runSsdo(const glsl::KernelParams&, const SsdoInputs&, MutablePlane, MutablePlane, MutablePlane, int,
                         GlTimings*) {}
 bool isDeviceName(const std::string& n) {

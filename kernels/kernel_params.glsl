@@ -25,7 +25,8 @@ struct KernelParams {
 
     int orthographic;      // 0: pinhole, 1: orthographic
     int radialDepth;       // 0: depth is -z (planar), 1: depth is distance to the eye
-    int pad2, pad3;
+    int ssaoSamples;       // ssao (kernels/ssao.glsl): points per pixel
+    int ssaoHemisphere;    // ssao: 1: normal-oriented hemisphere, 0: the whole sphere (Crytek)
 
     // ---- SSDO (kernels/ssdo.glsl); `radius` above is its r_max ----
     mat4 viewToEnv;              // view-space direction -> environment space (y up), rotation included

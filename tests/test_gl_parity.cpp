@@ -13,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <unistd.h>
@@ -32,6 +33,15 @@ double maxAbsDiff(const Image& a, const Image& b) {
     return m;
 }
 
+// The studio scene through a perspective and an orthographic camera.
+std::vector<SceneBuffers> studioViews(int W, int H) {
+    std::vector<SceneBuffers> views;
+    views.push_back(renderScene(studioScene(), studioCamera(W, H), W, H));
+    views.push_back(renderScene(
+        studioScene(), lookAtOrthographic(glm::dvec3(3.5, 3.0, 6.5), glm::dvec3(-1.0, 0.6, -1.0), 9.0, W, H), W, H));
+    return views;
+}
+
 Settings makeSettings(const char* device, Weighting w, Falloff f, int blur) {
     Settings s;
     s.device = device;
@@ -45,12 +55,8 @@ Settings makeSettings(const char* device, Weighting w, Falloff f, int blur) {
 } // namespace
 
 TEST(GlParity, AnalyticScenesMatchCpu) {
-    const int W = 160, H = 120;
-    const SceneBuffers studio = renderScene(studioScene(), studioCamera(W, H), W, H);
-    const SceneBuffers ortho = renderScene(studioScene(), lookAtOrthographic(glm::dvec3(3.5, 3.0, 6.5),
-                                                                             glm::dvec3(-1.0, 0.6, -1.0), 9.0, W, H),
-                                           W, H);
-    for (const SceneBuffers* scene : {&studio, &ortho}) {
+    const std::vector<SceneBuffers> views = studioViews(160, 120);
+    for (const SceneBuffers* scene : {&views[0], &views[1]}) {
         for (Weighting w : {Weighting::Uniform, Weighting::Cosine}) {
             for (Falloff f : {Falloff::Linear, Falloff::None}) {
                 for (int blur : {0, 3}) {
@@ -209,4 +215,28 @@ TEST(GlParity, SsdoMatchesCpu) {
         EXPECT_LE(maxAbsDiff(cpu.directional, gl.directional), 1e-3) << device;
         EXPECT_LE(maxAbsDiff(cpu.indirect, gl.indirect), 1e-3) << device;
     }
+}
+
+// SSAO (kernels/ssao.glsl) on both GL paths equals the CPU's lane build, in the sphere and
+// the hemisphere, for both weightings and falloffs, perspective and orthographic.
+TEST(GlParity, SsaoMatchesCpu) {
+    const std::vector<SceneBuffers> views = studioViews(128, 96);
+    for (const SceneBuffers* scene : {&views[0], &views[1]})
+        for (bool hemisphere : {false, true})
+            for (Weighting w : {Weighting::Uniform, Weighting::Cosine})
+                for (Falloff f : {Falloff::Linear, Falloff::None}) {
+                    Settings s = makeSettings("cpu", w, f, 0);
+                    s.method = "ssao";
+                    s.ssaoHemisphere = hemisphere;
+                    const OperatorOutputs cpu = runOperator(scene->inputs(), s);
+                    ASSERT_LT(*std::min_element(cpu.ao.pixels.begin(), cpu.ao.pixels.end()), 0.9f)
+                        << "the scene must have occlusion to compare";
+                    for (const char* device : kGlDevices) {
+                        s.device = device;
+                        const OperatorOutputs gl = runOperator(scene->inputs(), s);
+                        ASSERT_EQ(gl.stats.device.rfind(device, 0), 0u) << gl.stats.device;
+                        EXPECT_LE(maxAbsDiff(cpu.ao, gl.ao), 1e-3)
+                            << device << (hemisphere ? " hemisphere " : " sphere ") << toString(w) << " " << toString(f);
+                    }
+                }
 }

@@ -34,13 +34,6 @@ const Case kCases[] = {{Weighting::Uniform, Falloff::Linear},
                        {Weighting::Cosine, Falloff::Linear},
                        {Weighting::Cosine, Falloff::None}};
 
-std::vector<Rect> cornerScene() {
-    const double L = 1e3;
-    // Floor y = 0 for x <= 0; wall x = 0 for y >= 0.
-    return {Rect{dvec3(-L, 0, -L), dvec3(L, 0, 0), dvec3(0, 0, 2 * L)},
-            Rect{dvec3(0, 0, -L), dvec3(0, L, 0), dvec3(0, 0, 2 * L)}};
-}
-
 bool allFiniteInUnitRange(const Image& ao) {
     for (float v : ao.pixels)
         if (!(v >= 0.0f && v <= 1.0f)) return false;

@@ -72,6 +72,10 @@ struct Config {
     bool cosine = false, noFalloff = false;
     int blur = 0;
     double maxScreenRadius = 256;   // the plugin's cap (0 = automatic, the CLI's rule)
+    int method = 0;                 // index into the Method choice: 0 hbao, 2 ssao, 3 rtao
+    int ssaoSamples = 16;
+    double thickness = 0;           // rtao's
+    int rtaoGrid = 1;
 };
 
 // gtest names a parameter by its config's name.
@@ -152,6 +156,9 @@ std::vector<float> runCli(const Config& c, const Scene& s, const fs::path& dir) 
                                      "--falloff", c.noFalloff ? "none" : "linear", "--blur", std::to_string(c.blur),
                                      "--depth", toString(c.depth), "--normals", toString(c.normals),
                                      "--camera-to-world", rowsOf(s.cam.cameraToWorld), "--device", "cpu"};
+    if (c.method == 2) args.insert(args.end(), {"--method", "ssao", "--ssao-samples", std::to_string(c.ssaoSamples)});
+    if (c.method == 3)
+        args.insert(args.end(), {"--method", "rtao", "--thickness", num(c.thickness), "--rtao-grid", std::to_string(c.rtaoGrid)});
     if (c.orthographic) {
         args.insert(args.end(), {"--ortho-width", num(s.orthoWidth)});
     } else {
@@ -228,6 +235,10 @@ void applyConfig(Instance& inst, const Config& c, const Scene& s) {
     EXPECT_EQ(inst.setDouble("radius", c.radius), kOfxStatOK);
     EXPECT_EQ(inst.setInt("directions", c.directions), kOfxStatOK);
     EXPECT_EQ(inst.setInt("steps", c.steps), kOfxStatOK);
+    EXPECT_EQ(inst.setInt("method", c.method), kOfxStatOK);
+    EXPECT_EQ(inst.setInt("ssao_samples", c.ssaoSamples), kOfxStatOK);
+    EXPECT_EQ(inst.setDouble("thickness", c.thickness), kOfxStatOK);
+    EXPECT_EQ(inst.setInt("rtao_grid", c.rtaoGrid), kOfxStatOK);
     EXPECT_EQ(inst.setInt("weighting", c.cosine ? 1 : 0), kOfxStatOK);
     EXPECT_EQ(inst.setInt("falloff", c.noFalloff ? 1 : 0), kOfxStatOK);
     EXPECT_EQ(inst.setInt("blur", c.blur), kOfxStatOK);
@@ -351,7 +362,13 @@ TEST(OfxDescribe, DeclaresContextsDepthsClipsAndParameters) {
     EXPECT_EQ(params.find("output")->props.strings(kOfxParamPropChoiceOption),
               (std::vector<std::string>{"AO", "Beauty x AO", "Directional occlusion (DO)", "Indirect (GI)", "Relit"}));
     EXPECT_EQ(params.find("method")->props.strings(kOfxParamPropChoiceOption),
-              (std::vector<std::string>{"hbao", "ssdo"}));
+              (std::vector<std::string>{"hbao", "ssdo", "ssao", "rtao"}));
+    // The methods' own parameters come from the method table, with its ranges, one group per method.
+    EXPECT_EQ(params.find("ssao_samples")->props.ints(kOfxParamPropMax), (std::vector<int>{1024}));
+    EXPECT_EQ(params.find("ssao_hemisphere")->type, kOfxParamTypeBoolean);
+    EXPECT_EQ(params.find("rtao_grid")->props.ints(kOfxParamPropMin), (std::vector<int>{1}));
+    EXPECT_EQ(params.find("thickness")->props.doubles(kOfxParamPropMin), (std::vector<double>{0.0}));
+    EXPECT_EQ(params.find("thickness")->props.string(kOfxParamPropParent), "rtao");
     EXPECT_EQ(params.find("samples")->props.ints(kOfxParamPropDefault), (std::vector<int>{64}));
     EXPECT_EQ(params.find("interleave")->props.ints(kOfxParamPropDefault), (std::vector<int>{2}));
     EXPECT_EQ(params.find("interleave")->props.ints(kOfxParamPropMax), (std::vector<int>{8}));
@@ -429,6 +446,16 @@ INSTANTIATE_TEST_SUITE_P(Configs, OfxMatchesCli,
                                                Config c = cfg("radial_camera_normals");
                                                c.depth = DepthKind::Radial, c.normals = NormalSpace::Camera;
                                                c.blur = 1, c.overscan = 3;
+                                               return c;
+                                           }(),
+                                           [] {
+                                               Config c = cfg("ssao_from_the_method_table");
+                                               c.method = 2, c.ssaoSamples = 12, c.overscan = 4;
+                                               return c;
+                                           }(),
+                                           [] {
+                                               Config c = cfg("rtao_thickness_grid");
+                                               c.method = 3, c.thickness = 0.1, c.rtaoGrid = 2, c.cosine = true;
                                                return c;
                                            }()),
                          [](const ::testing::TestParamInfo<Config>& i) { return i.param.name; });

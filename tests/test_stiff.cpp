@@ -1,6 +1,7 @@
 // Stiff and extreme inputs, through the operator on every device this machine has
 // (the CPU and llvmpipe through OSMesa). Each case asserts finite output in [0, 1]
 // and a property that a numerical weakness would break.
+#include "core/methods.h"
 #include "core/operator.h"
 #include "support/scenes.h"
 
@@ -195,3 +196,69 @@ TEST_P(Stiff, SkyConventionsAreEquivalent) {
 
 INSTANTIATE_TEST_SUITE_P(Devices, Stiff, ::testing::Values("cpu", "gl-osmesa"),
                          [](const auto& info) { return std::string(info.param) == "cpu" ? "cpu" : "gl_osmesa"; });
+
+// SSAO through the same frames: the hemisphere form keeps planes (endless, grazing) exactly
+// unoccluded; both forms stay in [0, 1] at extreme radii and see the corner.
+TEST_P(Stiff, SsaoPlanesAndCorner) {
+    const int W = 96, H = 64;
+    Settings s;
+    s.device = GetParam();
+    s.method = "ssao";
+    s.ssaoHemisphere = true;
+    s.weighting = Weighting::Cosine;
+    s.falloff = Falloff::None;
+    for (double grazeDeg : {0.5, 2.0, 30.0}) {
+        const double t = (90.0 - grazeDeg) * M_PI / 180;
+        const dvec3 n(std::sin(t), 0.0, std::cos(t));
+        const dvec3 side = glm::normalize(glm::cross(n, dvec3(0, 1, 0)));
+        Camera cam = lookAtPerspective(dvec3(0, 0, 5), dvec3(0), 20.0 * M_PI / 180, W, H);
+        SceneBuffers sb = renderScene({planeRect(dvec3(0), side, glm::cross(n, side), 1e7)}, cam, W, H);
+        for (float R : {1e-3f, 0.5f, 1e4f}) {
+            s.radius = R;
+            EXPECT_GE(checkedMin(runOperator(sb.inputs(), s).ao), 1.0f) << grazeDeg << " deg, R " << R;
+        }
+    }
+    Camera cam = lookAtPerspective(dvec3(-7, 6, 4), dvec3(-0.6, 0, 0), 40.0 * M_PI / 180, W, H);
+    SceneBuffers sb = renderScene(corner(), cam, W, H);
+    for (bool hemisphere : {false, true})
+        for (float R : {1e-4f, 1.0f, 1e6f}) {
+            s.ssaoHemisphere = hemisphere;
+            s.radius = R;
+            const float lo = checkedMin(runOperator(sb.inputs(), s).ao);
+            if (R == 1.0f) {
+                EXPECT_LT(lo, 0.9f) << "the corner occludes";
+            }
+        }
+}
+
+// Every method of the method table, on every device it runs on: the nine-decade plane stays
+// unoccluded (ssao in its hemisphere form; ssdo's AO counts samples the pixel grid can hide,
+// so it is held to the range only), and the corner at extreme radii stays finite in [0, 1].
+TEST_P(Stiff, EveryMethodStaysInRange) {
+    const int W = 96, H = 64;
+    const double fovRad = 100.0 * M_PI / 180, f = 0.5 * W / std::tan(0.5 * fovRad);
+    const double pitch = std::atan((0.5 * H - 2.5) / f) + 1e-9;
+    const dvec3 eye(0, 1e-3, 0);
+    SceneBuffers plane = renderScene(ground(), lookAtPerspective(eye, eye + dvec3(0, -std::sin(pitch), -std::cos(pitch)),
+                                                                 fovRad, W, H), W, H);
+    SceneBuffers edge = renderScene(corner(), lookAtPerspective(dvec3(-7, 6, 4), dvec3(-0.6, 0, 0), 40.0 * M_PI / 180, W, H),
+                                    W, H);
+    for (const MethodInfo& m : methods()) {
+        if (std::string(GetParam()) != "cpu" && !m.gl) continue;
+        Settings s;
+        s.device = GetParam();
+        s.method = m.name;
+        s.weighting = Weighting::Cosine;
+        s.ssaoHemisphere = true;
+        s.thickness = 0.1f;
+        s.rtaoRays = 8;
+        for (float R : {1e-4f, 1e-2f, 10.0f, 1e4f}) {
+            s.radius = R;
+            const float lo = checkedMin(runOperator(plane.inputs(), s).ao);
+            if (std::string(m.name) != "ssdo") {
+                EXPECT_GE(lo, 1.0f - 1e-3f) << m.name << " R=" << R;
+            }
+            checkedMin(runOperator(edge.inputs(), s).ao);
+        }
+    }
+}

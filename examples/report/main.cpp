@@ -11,6 +11,7 @@
 #include "timing.h"
 
 #include "core/error.h"
+#include "core/methods.h"
 #include "core/settings.h"
 
 #include <cstdarg>
@@ -159,8 +160,9 @@ int main(int argc, char** argv) {
                         const AoDefinition def = definitionFor(method, o.definition);
                         const LoadedFrame& f = ssdo ? ssdoFrame : frame;
                         obscura::Settings s;
-                        configureMethod(method, preset, s);
                         s.radius = float(f.radius);
+                        configureMethod(method, preset, s);
+                        if (device != "cpu" && !obscura::findMethod(s.method)->gl) continue;  // e.g. rtao: CPU only
                         s.weighting = def.weighting;  // HBAO's; SSDO's AO is cosine_linear whatever these say
                         s.falloff = def.falloff;
                         s.skyDepth = f.skyDepth;
@@ -177,9 +179,12 @@ int main(int argc, char** argv) {
                             r.samples = s.ssdoSamples;
                             r.interleave = s.interleave;
                             r.blur = s.blur > 0 ? s.blur : (s.interleave > 1 ? s.interleave : 0);  // the operator's rule
-                        } else {
+                        } else if (s.method == "hbao") {
                             r.directions = s.directions;
                             r.steps = s.steps;
+                            r.blur = s.blur;
+                        } else {
+                            r.samples = obscura::findMethod(s.method)->samplesPerPixel(s);  // points or rays
                             r.blur = s.blur;
                         }
                         r.runs = t.runs;

@@ -1,8 +1,28 @@
 #include "methods.h"
 
+#include "core/methods.h"
 #include "reference/integrators.h"
 
 namespace report {
+
+const std::vector<std::string>& registeredMethods() {
+    static const std::vector<std::string> variants = [] {
+        std::vector<std::string> v;
+        for (const obscura::MethodInfo& m : obscura::methods()) {
+            if (obscura::methodOutputs(m.name, "do")) continue;  // SSDO's variants below
+            v.push_back(m.name);
+            if (std::string(m.name) == "rtao") v.push_back("rtao+thick");
+        }
+        v.insert(v.end(), {"ssdo", "ssdo+bounce", "ssdo-noint"});
+        return v;
+    }();
+    return variants;
+}
+
+std::string operatorMethod(const std::string& method) {
+    if (isSsdoMethod(method)) return "ssdo";
+    return method == "rtao+thick" ? "rtao" : method;
+}
 
 bool parseDefinition(const std::string& name, AoDefinition& out) {
     for (int layer = 0; layer < reference::kAoLayers; ++layer) {
@@ -31,8 +51,9 @@ int ssdoSamplesForPreset(const std::string& preset) {
 
 void configureMethod(const std::string& method, const std::string& preset, obscura::Settings& s) {
     if (!isSsdoMethod(method)) {
-        s.method = method;
+        s.method = operatorMethod(method);
         obscura::applyQualityPreset(preset, s);
+        if (method == "rtao+thick") s.thickness = 0.2f * s.radius;
         return;
     }
     s.method = "ssdo";

@@ -8,17 +8,13 @@
 
 namespace report {
 
-// Occlusion methods, by Settings::method name. A new method joins every table,
-// chart and contact sheet by adding its name here (e.g. "ssdo").
-inline const std::vector<std::string>& registeredMethods() {
-    static const std::vector<std::string> methods = {
-        "hbao",
-        "ssdo",         // SSDO: DO + AO, no bounce; interleave 2 with its automatic 2 px blur
-        "ssdo+bounce",  // the same with the one-bounce GI (sender radiance DiffDir x DiffCol)
-        "ssdo-noint",   // SSDO without interleaving: interleave 1, no blur
-    };
-    return methods;
-}
+// The report's method variants: every AO method of obscura's method table (core/methods.h) by
+// its name, so a new method joins every table, chart and contact sheet on registration; plus
+//   "rtao+thick"   rtao with every surface extruded by R / 5 (--thickness)
+//   "ssdo"         SSDO: DO + AO, no bounce; interleave 2 with its automatic 2 px blur
+//   "ssdo+bounce"  the same with the one-bounce GI (sender radiance DiffDir x DiffCol)
+//   "ssdo-noint"   SSDO without interleaving: interleave 1, no blur
+const std::vector<std::string>& registeredMethods();
 
 // Every device runOperator accepts that the report times (llvmpipe here for both GL ones).
 inline const std::vector<std::string>& registeredDevices() {
@@ -45,7 +41,9 @@ bool isSsdoMethod(const std::string& method);
 bool hasBounce(const std::string& method);
 // SSDO sample count N per preset: low 16, medium 64, high 256, ultra 1024 (0 for an unknown name).
 int ssdoSamplesForPreset(const std::string& preset);
-// Settings for `method` at `preset`: HBAO takes the quality preset as it is; the SSDO variants take
+// The operator's method a report variant runs ("rtao+thick" -> "rtao").
+std::string operatorMethod(const std::string& method);
+// Settings for `method` at `preset`, after s.radius is set: AO methods take the quality preset as it is; the SSDO variants take
 // ssdoSamplesForPreset, interleave 2 and blur 0 (the operator's automatic blur as wide as the block),
 // or interleave 1 and no blur for "ssdo-noint". Sets `s.method` to the operator's name.
 void configureMethod(const std::string& method, const std::string& preset, obscura::Settings& s);

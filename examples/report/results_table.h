@@ -18,7 +18,7 @@ struct ResultRow {
     int width = 0, height = 0;
     double radius = 0;
     int directions = 0, steps = 0, blur = 0;  // HBAO's sample counts (0 for the ray tracer and SSDO)
-    int samples = 0, interleave = 0;           // SSDO: N and the M x M block (0 otherwise); blur = the applied one
+    int samples = 0, interleave = 0;           // SSDO: N and the M x M block; ssao: points; rtao: rays; blur = the applied one
     int rays = 0;                              // AO rays per pixel (ray tracer rows; 0 for obscura)
     int runs = 0;                              // timed runs after the warm-up
     double timeMs = 0;                         // median time per frame (obscura: runOperator; ray tracer: render)

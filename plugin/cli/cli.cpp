@@ -1,6 +1,7 @@
 #include "cli.h"
 
 #include "core/error.h"
+#include "core/methods.h"
 #include "gpu/gl_backend.h"
 #include "io/frame_job.h"
 #include "io/sequence.h"
@@ -79,12 +80,53 @@ std::pair<std::string, std::string> splitAssignment(const std::string& flag, con
 struct Flag {
     const char* name;
     const char* value;  // nullptr: takes no value
-    const char* help;
+    std::string help;
     std::function<void(Options&, const std::string&)> apply;
 };
 
+// A method's own parameter (core/methods.h) as a flag: parsed, then checked against its range.
+Flag methodFlag(const MethodParam& p) {
+    return {p.flag, p.value, p.help, [&p](Options& o, const std::string& v) {
+                Settings& s = o.job.settings;
+                if (p.boolField) {
+                    s.*(p.boolField) = true;
+                    return;
+                }
+                const double x = p.intField ? (double)toInt(p.flag, v) : toNumber(p.flag, v);
+                const std::string problem = checkParam(p, x);
+                if (!problem.empty()) throw UsageError(problem + ", got '" + v + "'");
+                if (p.intField) s.*(p.intField) = (int)x;
+                else s.*(p.floatField) = (float)x;
+            }};
+}
+
+// --method and --quality list what the method table holds.
+std::string methodHelp() {
+    std::string h = "the occlusion method (default hbao):";
+    for (const MethodInfo& m : methods())
+        h += std::string("\n" + std::string(34, ' ')) + m.name + ": " + m.description + (m.gl ? "" : " [cpu only]");
+    return h;
+}
+std::string qualityHelp() {
+    std::string h = "sample-count preset per method; later flags override:";
+    for (const MethodInfo& m : methods()) {
+        if (m.presets.empty()) continue;
+        h += std::string("\n" + std::string(34, ' ')) + m.name + ":";
+        for (const MethodPreset& p : m.presets) h += std::string(" ") + p.quality + " " + p.summary + ";";
+        h.pop_back();
+    }
+    return h;
+}
+
+std::vector<Flag> makeFlags();
+
 const std::vector<Flag>& flags() {
-    static const std::vector<Flag> table = {
+    static const std::vector<Flag> table = makeFlags();
+    return table;
+}
+
+std::vector<Flag> makeFlags() {
+    std::vector<Flag> table = {
         {"-o", "OUTPUT.exr", "output file: a copy of the input with the new layers added (see --write)",
          [](Options& o, const std::string& v) { o.job.output = v; }},
         {"--write", "copy|new",
@@ -92,25 +134,22 @@ const std::vector<Flag>& flags() {
          "input's windows, camera and colour attributes, and its codec unless lossy (then zip); the "
          "input's other channels are not decoded, so it is faster",
          [](Options& o, const std::string& v) { o.job.write = toEnum<WriteMode>("--write", v, "copy or new"); }},
-        {"--method", "hbao|ssdo", "hbao: ambient occlusion; ssdo: directional occlusion (DO), AO and, with --bounce, GI (default hbao)",
-         [](Options& o, const std::string& v) { o.job.settings.method = v; }},
+        {"--method", "NAME", methodHelp(), [](Options& o, const std::string& v) {
+             if (!findMethod(v)) throw UsageError("--method expects " + methodNames(", ") + ", got '" + v + "'");
+             o.job.settings.method = v;
+         }},
         {"--radius", "R", "occlusion radius in world units (default 1)",
          [](Options& o, const std::string& v) {
              o.job.settings.radius = (float)toNumber("--radius", v);
              if (!(o.job.settings.radius > 0.0f)) throw UsageError("--radius must be positive, got '" + v + "'");
          }},
-        {"--directions", "N", "directions (slices) per pixel (default 8)",
-         [](Options& o, const std::string& v) { o.job.settings.directions = toInt("--directions", v); }},
-        {"--steps", "N", "samples per direction (default 8)",
-         [](Options& o, const std::string& v) { o.job.settings.steps = toInt("--steps", v); }},
         {"--weighting", "uniform|cosine", "solid angle (HBAO paper, default) or projected solid angle (ray-traced AO)",
          [](Options& o, const std::string& v) {
              o.job.settings.weighting = toEnum<Weighting>("--weighting", v, "uniform or cosine");
          }},
         {"--falloff", "linear|none", "W(r) = 1 - r/R (default) or binary visibility within R",
          [](Options& o, const std::string& v) { o.job.settings.falloff = toEnum<Falloff>("--falloff", v, "linear or none"); }},
-        {"--quality", "low|medium|high|ultra",
-         "sample-count preset: 4x4+blur 2, 8x8+blur 1, 16x12, 32x24 (directions x steps); later flags override",
+        {"--quality", "low|medium|high|ultra", qualityHelp(),
          [](Options& o, const std::string& v) {
              if (!applyQualityPreset(v, o.job.settings))
                  throw UsageError("--quality expects low, medium, high or ultra, got '" + v + "'");
@@ -165,10 +204,6 @@ const std::vector<Flag>& flags() {
              else if (role == "relit") o.job.relitLayer = name, o.job.writeRelit = true;
              else throw UsageError("--out-layer: unknown output '" + role + "' (ao, do, gi, relit)");
          }},
-        {"--samples", "N", "ssdo: sample set per M x M block (default 64)",
-         [](Options& o, const std::string& v) { o.job.settings.ssdoSamples = toInt("--samples", v); }},
-        {"--interleave", "M", "ssdo: interleaved sampling over M x M pixels, then a blur of M (default 2; 1 = off)",
-         [](Options& o, const std::string& v) { o.job.settings.interleave = toInt("--interleave", v); }},
         {"--bounce", nullptr, "ssdo: also compute one indirect bounce (GI layer)",
          [](Options& o, const std::string&) { o.job.writeIndirect = true; }},
         {"--bounce-source", "direct-diffuse|beauty|LAYER",
@@ -251,6 +286,11 @@ const std::vector<Flag>& flags() {
         {"--version", nullptr, "print the version", [](Options& o, const std::string&) { o.version = true; }},
         {"--help", nullptr, "this text", [](Options& o, const std::string&) { o.help = true; }},
     };
+    // Each method's own parameters, from the method table, after the shared sampling flags.
+    auto at = std::find_if(table.begin(), table.end(), [](const Flag& f) { return std::string(f.name) == "--blur"; });
+    std::vector<Flag> own;
+    for (const MethodParam* p : allMethodParams()) own.push_back(methodFlag(*p));
+    table.insert(at, own.begin(), own.end());
     return table;
 }
 
@@ -307,6 +347,10 @@ Options parseArgs(int argc, char** argv) {
         if (!o.job.input.empty()) throw UsageError("more than one input file given ('" + o.job.input + "', '" + arg + "')");
         o.job.input = arg;
     }
+    const MethodInfo& m = *findMethod(o.job.settings.method);
+    const std::string& d = o.job.settings.device;
+    if (!m.gl && d != "cpu" && d != "auto")
+        throw UsageError("--method " + o.job.settings.method + " runs on the CPU only (--device cpu), not --device " + d);
     return o;
 }
 

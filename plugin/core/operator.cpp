@@ -1,11 +1,9 @@
 #include "operator.h"
 
 #include "core/error.h"
-#include "cpu/hbao_cpu.h"
+#include "core/method_runs.h"
+#include "core/methods.h"
 #include "cpu/parallel.h"
-#include "cpu/blur_cpu.h"
-#include "cpu/ssdo_cpu.h"
-#include "core/environment.h"
 #include "gpu/gl_backend.h"
 
 #include <algorithm>
@@ -14,14 +12,6 @@
 #include <string>
 
 namespace obscura {
-
-namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point t0) {
-    return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 void checkPlane(const ConstPlane& plane, int channels, const Box2i& window, const char* what) {
     if (!plane.valid())
@@ -35,21 +25,22 @@ void checkPlane(const ConstPlane& plane, int channels, const Box2i& window, cons
                     std::to_string(window.height()));
 }
 
+namespace {
+
 void checkSettings(const Settings& s) {
-    if (s.method != "hbao" && s.method != "ssdo")
-        throw Error("unknown method '" + s.method + "' (available: hbao, ssdo)");
-    if (s.ssdoSamples < 1 || s.ssdoSamples > 4096)
-        throw Error("--samples must be between 1 and 4096");
+    if (!findMethod(s.method))
+        throw Error("unknown method '" + s.method + "' (available: " + methodNames() + ")");
     if (s.interleave < 1 || s.interleave > 8 || s.interleave * s.interleave > s.ssdoSamples)
         throw Error("--interleave must be between 1 and 8, with at least one sample per pixel");
+    for (const MethodParam* p : allMethodParams()) {
+        const double v = p->intField ? (double)(s.*(p->intField)) : p->floatField ? (double)(s.*(p->floatField)) : 0.0;
+        const std::string problem = checkParam(*p, v);
+        if (!problem.empty()) throw Error(problem);
+    }
     if (s.lights.size() > 4)
         throw Error("at most 4 directional lights");
     if (!(std::isfinite(s.radius) && s.radius > 0.0f))
         throw Error("--radius must be a positive finite number of world units");
-    if (s.directions < 1 || s.directions > 256)
-        throw Error("--directions must be between 1 and 256");
-    if (s.steps < 1 || s.steps > 256)
-        throw Error("--steps must be between 1 and 256");
     if (s.blur < 0 || s.blur > 64)
         throw Error("--blur must be between 0 and 64 pixels");
     if (!(s.skyDepth > 0.0f))
@@ -111,55 +102,6 @@ void fillSsdoParams(const OperatorInputs& in, const Settings& s, KernelParams& p
     p.envWidth = p.envHeight = 0; // set by the caller once the map is prefiltered
 }
 
-// SSDO: plan what is needed (no bounce without a source, no map when none is given),
-// prefilter the environment to the per-pixel sample count, run, and blur over the
-// interleaving block.
-void runSsdoMethod(const OperatorInputs& in, const Settings& s, KernelParams p, gpu::GlBackend* gl, int threads,
-                   OperatorOutputs& out) {
-    if (s.bounce && !in.radiance.valid())
-        throw Error("the bounce (GI) needs a radiance source: a direct-diffuse or beauty pass");
-    if (in.radiance.valid()) checkPlane(in.radiance, 3, in.dataWindow, "bounce source");
-    if (in.albedo.valid()) checkPlane(in.albedo, 3, in.dataWindow, "albedo");
-    OperatorStats& st = out.stats;
-    auto t0 = Clock::now();
-    Image level;
-    if (in.environment && !in.environment->empty()) {
-        if (in.environment->channels < 3) throw Error("the environment map needs 3 channels");
-        level = prefilterLatLong(*in.environment, std::max(1, s.ssdoSamples / (s.interleave * s.interleave)));
-        p.envWidth = level.width;
-        p.envHeight = level.height;
-        st.timings.push_back({"environment", secondsSince(t0)});
-    }
-    const int w = in.dataWindow.width(), h = in.dataWindow.height();
-    out.directional = Image(w, h, 3, 0.0f);
-    if (p.bounce) out.indirect = Image(w, h, 3, 0.0f);
-    Image unusedIndirect = p.bounce ? Image() : Image(w, h, 3, 0.0f);
-    Image& indirect = p.bounce ? out.indirect : unusedIndirect;
-    const ConstPlane environment = level.empty() ? ConstPlane{} : ConstPlane(level.view());
-    // The interleaved subsets are gathered back by a blur as wide as the block (or --blur).
-    const int blur = s.blur > 0 ? s.blur : (s.interleave > 1 ? s.interleave : 0);
-    if (gl) {
-        gpu::GlTimings t;
-        gl->runSsdo(p, {in.depth, in.normal, in.radiance, in.albedo, environment}, out.directional.view(),
-                    indirect.view(), out.ao.view(), blur, &t);
-        st.timings.push_back({"gl-upload", t.upload});
-        st.timings.push_back({"gl-compute", t.compute});
-        st.timings.push_back({"gl-readback", t.readback});
-        return;
-    }
-    cpu::SsdoPlanes planes{in.depth, in.normal, in.radiance, in.albedo, environment};
-    t0 = Clock::now();
-    cpu::runSsdo(p, planes, out.directional.view(), indirect.view(), out.ao.view(), threads);
-    st.timings.push_back({p.bounce ? "ssdo+bounce" : "ssdo", secondsSince(t0)});
-    if (blur > 0) {
-        t0 = Clock::now();
-        cpu::runBlur(p, in.depth, in.normal, out.directional.view(), blur, threads);
-        if (p.bounce) cpu::runBlur(p, in.depth, in.normal, out.indirect.view(), blur, threads);
-        cpu::runBlur(p, in.depth, in.normal, out.ao.view(), blur, threads);
-        st.timings.push_back({"blur", secondsSince(t0)});
-    }
-}
-
 } // namespace
 
 std::string describeDevice(const Settings& s) {
@@ -205,6 +147,8 @@ KernelParams makeKernelParams(const OperatorInputs& in, const Settings& s) {
     p.linearFalloff = s.falloff == Falloff::Linear ? 1 : 0;
     p.orthographic = cam.projection == Projection::Orthographic ? 1 : 0;
     p.radialDepth = in.depthKind == DepthKind::Radial ? 1 : 0;
+    p.ssaoSamples = s.ssaoSamples;
+    p.ssaoHemisphere = s.ssaoHemisphere ? 1 : 0;
     fillSsdoParams(in, s, p);
     return p;
 }
@@ -220,7 +164,14 @@ OperatorOutputs runOperator(const OperatorInputs& in, const Settings& s) {
     OperatorOutputs out;
     OperatorStats& st = out.stats;
     const int threads = cpu::resolveThreads(s.threads);
+    const MethodInfo& method = *findMethod(s.method);
     gpu::GlBackend* gl = selectGlBackend(s.device, st.notes);
+    if (gl && !method.gl) {
+        if (s.device != "auto")
+            throw Error("--method " + s.method + " runs on the CPU only; use --device cpu");
+        st.notes.push_back("--device auto: --method " + s.method + " runs on the CPU only");
+        gl = nullptr;
+    }
     st.device = deviceDescription(gl, threads);
     st.pixels = in.dataWindow.area();
 
@@ -242,26 +193,7 @@ OperatorOutputs runOperator(const OperatorInputs& in, const Settings& s) {
     st.timings.push_back({"scan", secondsSince(t0)});
 
     out.ao = Image(in.dataWindow.width(), in.dataWindow.height(), 1, 1.0f);
-    if (s.method == "ssdo") {
-        runSsdoMethod(in, s, params, gl, threads, out);
-        return out;
-    }
-    if (gl) {
-        gpu::GlTimings t;
-        gl->runHbao(params, in.depth, in.normal, out.ao.view(), s.blur, &t);
-        st.timings.push_back({"gl-upload", t.upload});
-        st.timings.push_back({"gl-compute", t.compute});
-        st.timings.push_back({"gl-readback", t.readback});
-        return out;
-    }
-    t0 = Clock::now();
-    cpu::runHbao(params, in.depth, in.normal, out.ao.view(), threads);
-    st.timings.push_back({"hbao", secondsSince(t0)});
-    if (s.blur > 0) {
-        t0 = Clock::now();
-        cpu::runBlur(params, in.depth, in.normal, out.ao.view(), s.blur, threads);
-        st.timings.push_back({"blur", secondsSince(t0)});
-    }
+    method.run(MethodRun{in, s, params, gl, threads, out});
     return out;
 }
 

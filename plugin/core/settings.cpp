@@ -1,5 +1,7 @@
 #include "settings.h"
 
+#include "methods.h"
+
 namespace obscura {
 
 const std::vector<QualityPreset>& qualityPresets() {
@@ -13,16 +15,7 @@ const std::vector<QualityPreset>& qualityPresets() {
     return presets;
 }
 
-bool applyQualityPreset(const std::string& name, Settings& s) {
-    for (const QualityPreset& p : qualityPresets()) {
-        if (name != p.name) continue;
-        s.directions = p.directions;
-        s.steps = p.steps;
-        s.blur = p.blur;
-        return true;
-    }
-    return false;
-}
+bool applyQualityPreset(const std::string& name, Settings& s) { return applyMethodPresets(name, s); }
 
 const char* toString(Weighting w) { return w == Weighting::Uniform ? "uniform" : "cosine"; }
 const char* toString(Falloff f) { return f == Falloff::Linear ? "linear" : "none"; }

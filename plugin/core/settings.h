@@ -39,6 +39,15 @@ struct Settings {
     // Cap on the projected sampling radius in pixels; 0 = automatic (the data window's
     // extent). Hosts that render in tiles pin it so every tile uses the same cap.
     float maxRadiusPixels = 0.0f;
+
+    // ---- method "ssao" (Crytek's screen-space AO) ----
+    int ssaoSamples = 16;           // points per pixel
+    bool ssaoHemisphere = false;    // normal-oriented hemisphere instead of the whole sphere
+
+    // ---- method "rtao" (rays against the mesh of the depth pass) ----
+    int rtaoRays = 16;              // cosine-distributed rays per traced point
+    float thickness = 0.0f;         // extrusion behind each surface, world units; 0: a sheet
+    int rtaoGrid = 1;               // trace every N-th pixel and interpolate; 1: every pixel
 };
 
 // Named quality levels: directions x steps (and blur), from a preview to near-converged.
@@ -47,7 +56,7 @@ struct QualityPreset {
     int directions, steps, blur;
 };
 const std::vector<QualityPreset>& qualityPresets();  // low, medium, high, ultra
-// Applies the preset's sample counts to `s`; false for an unknown name.
+// Applies every method's level `name` (core/methods.h) to `s`; false for an unknown name.
 bool applyQualityPreset(const std::string& name, Settings& s);
 
 const char* toString(Weighting);

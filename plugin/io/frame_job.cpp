@@ -1,6 +1,7 @@
 #include "io/frame_job.h"
 
 #include "core/error.h"
+#include "core/methods.h"
 #include "io/colour.h"
 #include "io/preview.h"
 
@@ -215,7 +216,7 @@ std::string describeWrite(const FrameJob& job, const ExrInfo& info, int part) {
 
 SsdoReads planSsdoReads(const FrameJob& job, const FramePasses& p) {
     SsdoReads r;
-    if (job.settings.method != "ssdo") return r;  // AO alone reads no colour pass
+    if (!methodOutputs(job.settings.method, "do")) return r;  // AO alone reads no colour pass
     const ExrPart& part = p.info.parts[p.part];
     const bool bounce = job.writeIndirect || job.writeRelit;
     if (bounce) {
@@ -381,7 +382,7 @@ FrameReport runFrameJob(const FrameJob& job) {
     in.camera = report.camera;
     Settings settings = job.settings;
     settings.skyDepth = report.skyDepth;
-    const bool ssdo = settings.method == "ssdo";
+    const bool ssdo = methodOutputs(settings.method, "do");
     Image environment;
     if (ssdo) {
         const SsdoReads reads = planSsdoReads(job, p);
@@ -408,7 +409,7 @@ FrameReport runFrameJob(const FrameJob& job) {
         }
         report.plan.push_back(std::string("ssdo") + (settings.bounce ? " + bounce from " + job.bounceSource : " (no bounce)"));
     } else {
-        report.plan.push_back("hbao");
+        report.plan.push_back(settings.method);
     }
     OperatorOutputs out;
     {
@@ -547,7 +548,10 @@ std::string frameReportJson(const FrameJob& job, const FrameReport& r) {
                      {"weighting", toString(s.weighting)}, {"falloff", toString(s.falloff)},
                      {"blur", s.blur},              {"threads", s.threads},
                      {"device", s.device}};
-    if (s.method == "ssdo") {
+    if (const MethodInfo* m = findMethod(s.method))
+        for (const MethodParam& p : m->params)
+            j["settings"][p.key] = p.intField ? json(s.*(p.intField)) : p.floatField ? json(s.*(p.floatField)) : json(s.*(p.boolField));
+    if (methodOutputs(s.method, "do")) {
         json lights = json::array();
         for (const auto& l : s.lights)
             lights.push_back({{"direction", {l.direction[0], l.direction[1], l.direction[2]}},
@@ -565,7 +569,7 @@ std::string frameReportJson(const FrameJob& job, const FrameReport& r) {
     }
     if (!r.aoChannel.empty()) {
         j["output_channels"] = {{"ao", r.aoChannel}};
-        if (s.method == "ssdo") {
+        if (methodOutputs(s.method, "do")) {
             if (job.writeDirectional) j["output_channels"]["do"] = job.doLayer;
             if (job.writeIndirect) j["output_channels"]["gi"] = job.giLayer;
             if (job.writeRelit) j["output_channels"]["relit"] = job.relitLayer;

@@ -18,6 +18,7 @@
 
 #include "core/camera.h"
 #include "core/error.h"
+#include "core/methods.h"
 #include "core/operator.h"
 #include "core/settings.h"
 
@@ -118,7 +119,6 @@ const OutputOption kOutputOptions[] = {
 };
 constexpr int kOutputCount = int(sizeof(kOutputOptions) / sizeof(kOutputOptions[0]));
 
-const char* const kMethods[] = {"hbao", "ssdo"};
 const char* const kUpAxes[] = {"y", "z"};
 const char* const kWeightings[] = {"uniform", "cosine"};
 const char* const kFalloffs[] = {"linear", "none"};
@@ -210,6 +210,7 @@ struct Instance {
                    threads = nullptr;
     OfxParamHandle ssdoSamples = nullptr, interleave = nullptr, skyColour = nullptr, envMap = nullptr,
                    envRotation = nullptr, envIntensity = nullptr, upAxis = nullptr, timesAlbedo = nullptr;
+    std::vector<OfxParamHandle> methodParams;  // one per allMethodParams(), in its order
     mutable EnvironmentCache environment;
 };
 
@@ -285,7 +286,7 @@ Params readParams(const Instance& in, OfxTime t) {
     p.output = o.kind;
     p.strength = std::clamp(doubleAt(in.strength, t), 0.0, 1.0);
     Settings& s = p.settings;
-    s.method = o.ssdo ? "ssdo" : kMethods[choiceAt(in.method, t, countOf(kMethods))];
+    s.method = o.ssdo ? "ssdo" : methods()[choiceAt(in.method, t, (int)methods().size())].name;
     s.bounce = o.bounce;
     s.ssdoSamples = intAt(in.ssdoSamples, t);
     s.interleave = intAt(in.interleave, t);
@@ -303,6 +304,12 @@ Params readParams(const Instance& in, OfxTime t) {
     s.blur = intAt(in.blur, t);
     s.skyDepth = (float)doubleAt(in.skyDepth, t);
     s.threads = intAt(in.threads, t);
+    const std::vector<const MethodParam*> own = allMethodParams();
+    for (size_t i = 0; i < own.size(); ++i) {
+        if (own[i]->boolField) s.*(own[i]->boolField) = intAt(in.methodParams[i], t) != 0;
+        else if (own[i]->intField) s.*(own[i]->intField) = intAt(in.methodParams[i], t);
+        else s.*(own[i]->floatField) = (float)doubleAt(in.methodParams[i], t);
+    }
     s.device = resolveDevice(kDevices[choiceAt(in.device, t, countOf(kDevices))]);
     p.projection = choiceAt(in.projection, t, 2) == 0 ? Projection::Perspective : Projection::Orthographic;
     p.fovDeg = doubleAt(in.fov, t);
@@ -460,7 +467,9 @@ int apronPixels(const Params& p, const Camera& cam, float cap) {
         reach = ssdo ? std::min<double>((double)p.settings.radius * cam.fx, 1e7)
                      : std::min<double>(p.settings.radius * cam.fx, cap);
     const int blur = ssdo ? ssdoBlur(p.settings) : p.settings.blur;
-    return (int)std::ceil(reach) + 2 + std::max(blur, 0);
+    const MethodInfo* m = findMethod(p.settings.method);
+    const int extra = m && m->extraApron ? m->extraApron(p.settings) : 0;
+    return (int)std::ceil(reach) + 2 + std::max(blur, 0) + extra;
 }
 
 // The depth/normal pixels a render window reads.
@@ -647,11 +656,13 @@ void defineClip(OfxImageEffectHandle effect, const char* name, std::initializer_
 struct ParamDef {
     OfxParamSetHandle set;
     std::vector<std::string> topLevel;
+    std::vector<std::string> defined;  // every name, to add the method table's remaining parameters
 
     OfxPropertySetHandle define(const char* type, const char* name, const char* label, const char* hint,
                                 const char* parent = nullptr) {
         OfxPropertySetHandle p = nullptr;
         check(gParam->paramDefine(set, type, name, &p));
+        defined.push_back(name);
         gProp->propSetString(p, kOfxPropLabel, 0, label);
         gProp->propSetString(p, kOfxParamPropScriptName, 0, name);
         if (hint) gProp->propSetString(p, kOfxParamPropHint, 0, hint);
@@ -716,8 +727,11 @@ OfxStatus onDescribeInContext(OfxImageEffectHandle effect, OfxPropertySetHandle 
              outputs, 0);
     d.real(kParamStrength, "Strength", "Blend of the AO towards 1 (0 = off: the effect passes the beauty through)",
            1.0, 0.0, 1.0, 0.0, 1.0);
+    // From the method table, in its order: hosts store the index, and methods are only appended.
+    std::vector<const char*> methodChoices;
+    for (const MethodInfo& m : methods()) methodChoices.push_back(m.name);
     d.choice(kParamMethod, "Method", "Occlusion method for the AO outputs (--method); DO, GI and Relit always use ssdo",
-             {kMethods[0], kMethods[1]}, 0);
+             methodChoices, 0);
     d.real(kParamRadius, "Radius", "Radius in world units (--radius)", 1.0, 1e-6, 1e9, 0.01, 10.0);
     d.integer(kParamDirections, "Directions", "Slices per pixel (--directions)", 8, 1, 256, 1, 32);
     d.integer(kParamSteps, "Steps", "Samples per slice (--steps)", 8, 1, 256, 1, 32);
@@ -797,6 +811,29 @@ OfxStatus onDescribeInContext(OfxImageEffectHandle effect, OfxPropertySetHandle 
         gProp->propSetInt(p, kOfxParamPropAnimates, 0, 0);
     }
 
+    // The methods' own parameters that have no control above (ssao's, rtao's), from the method
+    // table, with its ranges and the Settings defaults, in a group per method.
+    const Settings defaults;
+    for (const MethodInfo& m : methods()) {
+        bool grouped = false;
+        for (const MethodParam& mp : m.params) {
+            if (std::find(d.defined.begin(), d.defined.end(), mp.key) != d.defined.end()) continue;
+            if (!grouped) d.group(m.name, m.name);
+            grouped = true;
+            if (mp.boolField) {
+                OfxPropertySetHandle p = d.define(kOfxParamTypeBoolean, mp.key, mp.key, mp.help, m.name);
+                gProp->propSetInt(p, kOfxParamPropDefault, 0, defaults.*(mp.boolField) ? 1 : 0);
+                gProp->propSetInt(p, kOfxParamPropAnimates, 0, 0);
+            } else if (mp.intField) {
+                d.integer(mp.key, mp.key, mp.help, defaults.*(mp.intField), (int)mp.min, (int)mp.max, (int)mp.min,
+                          (int)std::min(mp.max, 256.0), m.name);
+            } else {
+                d.real(mp.key, mp.key, mp.help, defaults.*(mp.floatField), mp.min, std::min(mp.max, 1e9), mp.min,
+                       std::min(mp.max, 10.0), m.name);
+            }
+        }
+    }
+
     OfxPropertySetHandle page = d.define(kOfxParamTypePage, kPage, "Controls", nullptr);
     d.topLevel.pop_back();  // the page itself
     for (int i = 0; i < (int)d.topLevel.size(); ++i)
@@ -872,6 +909,7 @@ OfxStatus onCreateInstance(OfxImageEffectHandle effect) {
     in->envIntensity = param(set, kParamEnvIntensity);
     in->upAxis = param(set, kParamUpAxis);
     in->timesAlbedo = param(set, kParamTimesAlbedo);
+    for (const MethodParam* mp : allMethodParams()) in->methodParams.push_back(param(set, mp->key));
     check(gProp->propSetPointer(effectProps(effect), kOfxPropInstanceData, 0, in.get()));
     updateEnabled(*in);
     in.release();

@@ -3,6 +3,7 @@
 // converted; the GIL is released while pixels are read, computed or written.
 #include "core/error.h"
 #include "core/operator.h"
+#include "core/methods.h"
 #include "gpu/gl_backend.h"
 #include "io/camera_sources.h"
 #include "io/frame_job.h"
@@ -202,7 +203,29 @@ Camera cameraArg(const py::handle& obj) {
 
 struct SettingArgs {
     py::object quality, method, radius, directions, steps, weighting, falloff, blur, device, threads;
+    py::dict own;  // the remaining keywords: the methods' own parameters (core/methods.h), by key
 };
+
+// A method's own parameter from the method table (ssao_samples, thickness, rtao_grid, ...),
+// checked against the table's range; an unknown keyword is a TypeError, as Python's own.
+void applyMethodParam(const std::string& key, const py::handle& value, Settings& s) {
+    for (const MethodParam* p : allMethodParams()) {
+        if (key != p->key) continue;
+        if (p->boolField) {
+            if (!py::isinstance<py::bool_>(value)) throw py::type_error(key + " must be a bool, got " + typeName(value));
+            s.*(p->boolField) = value.cast<bool>();
+        } else if (p->intField) {
+            s.*(p->intField) = intInRange(value, p->key, (long long)p->min, (long long)p->max);
+        } else {
+            const double v = floatArg(value, p->key);
+            const std::string problem = checkParam(*p, v);  // "--thickness must be ..."
+            if (!problem.empty()) valueError(key + problem.substr(std::string(p->flag).size()) + ", got " + std::to_string(v));
+            s.*(p->floatField) = (float)v;
+        }
+        return;
+    }
+    throw py::type_error("unexpected keyword argument '" + key + "'");
+}
 
 Settings settingsFrom(const SettingArgs& a) {
     Settings s;
@@ -210,7 +233,11 @@ Settings settingsFrom(const SettingArgs& a) {
         const std::string q = strArg(a.quality, "quality");
         if (!applyQualityPreset(q, s)) valueError("quality must be 'low', 'medium', 'high' or 'ultra', got '" + q + "'");
     }
-    if (!a.method.is_none()) s.method = choiceArg(a.method, "method", {"hbao", "ssdo"});
+    if (!a.method.is_none()) {
+        std::vector<std::string> names;
+        for (const MethodInfo& m : methods()) names.push_back(m.name);
+        s.method = choiceArg(a.method, "method", names);
+    }
     if (!a.radius.is_none()) {
         s.radius = (float)floatArg(a.radius, "radius");
         if (!(s.radius > 0.0f)) valueError("radius must be a positive number of world units, got " + std::to_string(s.radius));
@@ -226,6 +253,7 @@ Settings settingsFrom(const SettingArgs& a) {
             valueError("device must be 'cpu', 'auto', 'gl', 'gl-egl' or 'gl-osmesa', got '" + s.device + "'");
     }
     if (!a.threads.is_none()) s.threads = intInRange(a.threads, "threads", 0, 1 << 16);
+    for (const auto& item : a.own) applyMethodParam(py::str(item.first), item.second, s);
     return s;
 }
 
@@ -338,7 +366,7 @@ OperatorInputs viewInputs(const py::object& depthObj, const py::object& normalOb
 
 py::array computeAo(const py::object& depthObj, const py::object& normalObj, const ViewArgs& v, const SettingArgs& sa) {
     Settings settings = settingsFrom(sa);
-    if (settings.method != "hbao") valueError("compute_ao computes method 'hbao'; use compute_ssdo for SSDO");
+    if (methodOutputs(settings.method, "do")) valueError("compute_ao computes AO methods; use compute_ssdo for SSDO");
     OperatorInputs in = viewInputs(depthObj, normalObj, v, settings);
     OperatorOutputs out;
     {
@@ -592,7 +620,7 @@ std::string inspectPy(const py::object& path, const FileArgs& f, const py::objec
     FrameJob job = jobFrom(path, f);
     if (!device.is_none()) {
         SettingArgs sa{py::none(), py::none(), py::none(), py::none(), py::none(),
-                       py::none(), py::none(), py::none(), device,      py::none()};
+                       py::none(), py::none(), py::none(), device,      py::none(), py::dict()};
         job.settings = settingsFrom(sa);
     }
     py::gil_scoped_release release;
@@ -683,8 +711,10 @@ The same operator and file pipeline as the ``obscura`` command, for numpy:
 
 Settings are the CLI's flags with underscores: radius, directions, steps, weighting
 ('uniform' | 'cosine'), falloff ('linear' | 'none'), blur, quality ('low' | 'medium' |
-'high' | 'ultra', applied before directions/steps/blur), method ('hbao' | 'ssdo'), device,
-threads; for 'ssdo' also samples, interleave, sky, env_rotate, env_intensity, lights, up.
+'high' | 'ultra', applied before directions/steps/blur), method (a key of obscura.METHODS:
+'hbao', 'ssdo', 'ssao', 'rtao'), device, threads; each method's own keywords as METHODS lists
+them (ssao_samples, ssao_hemisphere, rtao_rays, thickness, rtao_grid); for 'ssdo' also
+samples, interleave, sky, env_rotate, env_intensity, lights, up.
 
 Relighting from Python: ``process(path, out, method='ssdo', bounce=True, env='studio.exr',
 env_rotate=90, out_layer={'relit': 'Relit'})`` writes OUT with the directional occlusion
@@ -814,10 +844,11 @@ when the file is missing or invalid.)doc")
         [](const py::object& depth, const py::object& normal, py::object camera, py::object normals,
            py::object depthKind, py::object skyDepth, py::object dataWindow, py::object displayWindow,
            py::object quality, py::object method, py::object radius, py::object directions, py::object steps,
-           py::object weighting, py::object falloff, py::object blur, py::object device, py::object threads) {
+           py::object weighting, py::object falloff, py::object blur, py::object device, py::object threads,
+           const py::kwargs& own) {
             return computeAo(depth, normal, ViewArgs{camera, normals, depthKind, skyDepth, dataWindow, displayWindow},
                              SettingArgs{quality, method, radius, directions, steps, weighting, falloff, blur, device,
-                                         threads});
+                                         threads, own});
         },
         py::arg("depth"), py::arg("normal"), py::kw_only(), py::arg("camera"), py::arg("normals") = "world",
         py::arg("depth_kind") = "planar", py::arg("sky_depth") = 1e9, py::arg("data_window") = py::none(),
@@ -838,8 +869,9 @@ pixels (default (0, 0, W, H); larger than the display window for overscan). disp
 the frame's (x0, y0, x1, y1), default (0, 0, W, H).
 Settings (defaults as the CLI): radius=1.0 world units, directions=8, steps=8,
 weighting='uniform'|'cosine', falloff='linear'|'none', blur=0 px, quality=None ('low',
-'medium', 'high', 'ultra'; explicit directions/steps/blur override it), method='hbao',
-device='cpu', threads=0 (all cores). The GIL is released while computing.)doc");
+'medium', 'high', 'ultra'; explicit directions/steps/blur override it), method='hbao'
+(or 'ssao', 'rtao', with their own keywords: ssao_samples=16, ssao_hemisphere=False,
+rtao_rays=16, thickness=0.0, rtao_grid=1), device='cpu', threads=0 (all cores). The GIL is released while computing.)doc");
 
     m.def(
         "compute_ssdo",
@@ -850,7 +882,7 @@ device='cpu', threads=0 (all cores). The GIL is released while computing.)doc");
            py::object interleave, py::object sky, py::object envRotate, py::object envIntensity, py::object lights) {
             const py::object none = py::none();
             return computeSsdo(depth, normal, ViewArgs{camera, normals, depthKind, skyDepth, dataWindow, displayWindow},
-                               SettingArgs{none, none, radius, none, none, none, none, blur, device, threads},
+                               SettingArgs{none, none, radius, none, none, none, none, blur, device, threads, py::dict()},
                                SsdoArgs{samples, interleave, sky, envRotate, envIntensity, lights},
                                SsdoArrayArgs{radiance, albedo, environment, bounce, up});
         },
@@ -878,7 +910,7 @@ sky (r, g, b) (default white), env_rotate (degrees), env_intensity, up ('y' | 'z
         "ao_from_passes",
         [](const py::dict& passes, py::object quality, py::object method, py::object radius, py::object directions,
            py::object steps, py::object weighting, py::object falloff, py::object blur, py::object device,
-           py::object threads) {
+           py::object threads, const py::kwargs& own) {
             for (const char* key : {"depth", "normal", "camera"})
                 if (!passes.contains(key)) valueError(std::string("passes has no '") + key + "' (use read_passes())");
             py::object camera = passes["camera"];
@@ -895,7 +927,7 @@ sky (r, g, b) (default white), env_rotate (degrees), env_intensity, up ('y' | 'z
                              ViewArgs{camera, get("normals"), get("depth_kind"), get("sky_depth"), get("data_window"),
                                       get("display_window")},
                              SettingArgs{quality, method, radius, directions, steps, weighting, falloff, blur, device,
-                                         threads});
+                                         threads, own});
         },
         py::arg("passes"), py::kw_only(), OBSCURA_SETTING_ARGS,
         R"doc(compute_ao over a read_passes() dict, with its camera, conventions (normals, depth_kind,
@@ -933,10 +965,10 @@ Raises obscura.Error for a missing/unreadable file or missing passes.)doc");
            py::object report, py::object preview, py::object inPlace, py::object samples, py::object interleave,
            py::object sky, py::object envRotate, py::object envIntensity, py::object lights, py::object bounce,
            py::object bounceSource, py::object env, py::object envColorspace, py::object colorspace, py::object up,
-           py::object timesAlbedo, py::object relitDirect, py::object write) {
+           py::object timesAlbedo, py::object relitDirect, py::object write, const py::kwargs& own) {
             return processPy(path, out, FileArgs{preset, layer, camera, fovDeg, orthoWidth, c2w, depth, normals, skyDepth},
                              SettingArgs{quality, method, radius, directions, steps, weighting, falloff, blur, device,
-                                         threads},
+                                         threads, own},
                              OutputArgs{outLayer, outType, badPixels, reference, report, preview, inPlace, write},
                              SsdoArgs{samples, interleave, sky, envRotate, envIntensity, lights},
                              JobSsdoArgs{bounce, bounceSource, env, envColorspace, colorspace, up, timesAlbedo,
@@ -953,7 +985,7 @@ Raises obscura.Error for a missing/unreadable file or missing passes.)doc");
 the --report JSON as a dict (settings, camera, conventions, timings_s, stats, reference, warnings,
 plan, written).
 
-Keywords are the CLI's flags with underscores: quality, method ('hbao' | 'ssdo'), radius,
+Keywords are the CLI's flags with underscores: quality, method (a key of obscura.METHODS), radius,
 directions, steps, weighting, falloff, blur, device, threads; preset, layer={role: name}, camera
 (sidecar path), fov_deg, ortho_width, camera_to_world (4x4 or 16 numbers, row-major), depth
 ('planar' | 'radial'), normals ('world' | 'camera'), sky_depth; out_layer (name, or
@@ -991,5 +1023,21 @@ Raises obscura.Error when the file or the name is missing.)doc");
     for (const QualityPreset& q : qualityPresets())
         quality[py::str(q.name)] = py::dict("directions"_a = q.directions, "steps"_a = q.steps, "blur"_a = q.blur);
     m.attr("QUALITY_PRESETS") = quality;
+    // The method table (core/methods.h): what each method reads and writes, where it runs, and
+    // its own keywords with their ranges.
+    py::dict table;
+    for (const MethodInfo& mi : methods()) {
+        py::dict params;
+        for (const MethodParam& mp : mi.params)
+            params[py::str(mp.key)] = mp.boolField ? py::object(py::str("bool")) : py::object(py::make_tuple(mp.min, mp.max));
+        py::list devices;
+        if (mi.cpu) devices.append("cpu");
+        if (mi.gl) devices.append("gl");
+        table[py::str(mi.name)] = py::dict("description"_a = mi.description, "devices"_a = devices,
+                                           "reads"_a = py::cast(std::vector<std::string>(mi.reads.begin(), mi.reads.end())),
+                                           "outputs"_a = py::cast(std::vector<std::string>(mi.outputs.begin(), mi.outputs.end())),
+                                           "params"_a = params);
+    }
+    m.attr("METHODS") = table;
     m.attr("PRESETS") = py::tuple(py::cast(presetNames()));
 }

@@ -6,6 +6,7 @@
 //   sched:NAME  the widest kernel alone on all threads, scheduled by obscura's tile pool
 //               ("pool", what runHbao uses) or by oneTBB's parallel_for over the same tiles;
 //   PRESET      the quality presets, to show that time follows the sample count (ns/sample);
+//   METHOD_PRESET  the other AO methods of the method table at their quality levels;
 //   gl-*        every OpenGL device this machine can open, with the upload/compute/readback split.
 //
 // Every run also reports ratios measured in this process, so numbers from noisy machines
@@ -18,10 +19,10 @@
 // found as the CLI finds them); OBSCURA_BENCH_WIDTH / OBSCURA_BENCH_HEIGHT set the size of
 // the built-in frame; OBSCURA_BENCH_DIRECTIONS / OBSCURA_BENCH_STEPS the sample counts (8 x 8),
 // OBSCURA_BENCH_RADIUS the radius (0.5).
+#include "core/methods.h"
 #include "core/operator.h"
 #include "io/frame_job.h"
-#include "cpu/hbao_cpu.h"
-#include "cpu/isa.h"
+#include "cpu/lane_cpu.h"
 #include "support/scenes.h"
 
 #include <benchmark/benchmark.h>
@@ -168,8 +169,8 @@ void BM_Scheduler(benchmark::State& state, Weighting w, Falloff f, int threads, 
     const Settings s = settingsFor(w, f, threads, "cpu");
     const KernelParams p = makeKernelParams(sb.inputs(), s);
     Image ao(sb.depth.width, sb.depth.height, 1);
-    const std::string isa = cpu::cpuIsas().back();
-    const auto tile = cpu::cpuKernelsNamed(isa).hbaoTile;
+    const std::string isa = cpu::laneIsas().back();
+    const cpu::LaneTileFn tile = cpu::laneTileFor(cpu::LaneKernel::Hbao, isa);
     double seconds = 0;
     for (auto _ : state) {
         const auto t0 = std::chrono::steady_clock::now();
@@ -208,7 +209,7 @@ void BM_Hbao(benchmark::State& state, Settings s, std::string caseName) {
     }
     const double n = (double)state.iterations();
     const double perFrame = seconds / n;
-    report(state, perFrame, (double)s.directions * s.steps);
+    report(state, perFrame, (double)findMethod(s.method)->samplesPerPixel(s));
     if (s.device == "cpu" && s.threads != 1) gCpuSeconds[caseName] = perFrame;
     if (s.device != "cpu") {
         state.counters["upload_ms"] = stages["gl-upload"] / n * 1e3;
@@ -257,7 +258,7 @@ int main(int argc, char** argv) {
         b->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(0.5);
     };
     // The first registered run is the xBase reference: the scalar build, 1 thread, uniform, linear.
-    for (const std::string& isa : cpu::cpuIsas())
+    for (const std::string& isa : cpu::laneIsas())
         for (const auto& c : cases) {
             const std::string name = "hbao_8x8/" + std::string(c.name) + "/isa:" + isa;
             options(benchmark::RegisterBenchmark(name.c_str(), BM_HbaoIsa, c.w, c.f, isa));
@@ -291,6 +292,20 @@ int main(int argc, char** argv) {
         const std::string name = "hbao_" + std::string(q.name) + "_" + std::to_string(q.directions) + "x" +
                                  std::to_string(q.steps) + "/cosine/none/cpu/threads:" + std::to_string(all);
         options(benchmark::RegisterBenchmark(name.c_str(), BM_Hbao, s, std::string("preset")));
+    }
+    // The other AO methods' levels on the same frame (ssao: Crytek's sphere form), to set
+    // against HBAO's: the error-against-time report pairs these times with accuracy.
+    for (const MethodInfo& m : methods()) {
+        if (std::string(m.name) == "hbao" || !methodOutputs(m.name, "ao") || m.presets.empty()) continue;
+        for (const MethodPreset& q : m.presets) {
+            Settings s = settingsFor(Weighting::Cosine, Falloff::None, all, "cpu");
+            s.method = m.name;
+            q.apply(s);
+            s.blur = 0;
+            const std::string name = std::string(m.name) + "_" + q.quality +
+                                     "/cosine/none/cpu/threads:" + std::to_string(all);
+            options(benchmark::RegisterBenchmark(name.c_str(), BM_Hbao, s, std::string("preset")));
+        }
     }
     for (const std::string& device : glDevices())
         for (const auto& c : cases) add(device, all, c);

@@ -217,18 +217,39 @@ def test_messages_say_what_is_expected(scene):
     (dict(weighting="cos"), "weighting must be 'uniform' or 'cosine'"),
     (dict(falloff="exp"), "falloff must be 'linear' or 'none'"),
     (dict(quality="max"), "quality must be"),
-    (dict(method="ssao"), "method must be one of 'hbao'"),
+    (dict(method="nope"), "method must be one of .hbao."),
     (dict(device="cuda"), "device must be"),
     (dict(normals="object"), "normals must be 'world' or 'camera'"),
     (dict(depth_kind="z"), "depth_kind must be 'planar' or 'radial'"),
     (dict(sky_depth=0.0), "sky_depth must be positive"),
     (dict(data_window=(0, 0, 10, 10)), "data_window is 10x10"),
     (dict(data_window=(0, 0, 1)), "data_window must be"),
+    (dict(method="rtao", thickness=-1.0), "thickness must be 0 or more"),
+    (dict(method="rtao", rtao_grid=0), "rtao_grid must be between 1 and 64"),
+    (dict(method="ssao", ssao_samples=0), "ssao_samples must be between 1 and 1024"),
 ])
 def test_bad_settings_raise_value_error(scene, kwargs, match):
     depth, normal, cam = scene
     with pytest.raises(ValueError, match=match):
         obscura.compute_ao(depth, normal, camera=cam, **kwargs)
+
+
+def test_method_keywords_come_from_the_method_table(scene, tmp):
+    """Every method of obscura.METHODS runs through compute_ao / process with its own keywords."""
+    depth, normal, cam = scene
+    assert {"hbao", "ssdo", "ssao", "rtao"} <= set(obscura.METHODS)
+    assert obscura.METHODS["rtao"]["devices"] == ["cpu"]
+    assert obscura.METHODS["ssao"]["params"]["ssao_samples"] == (1.0, 1024.0)
+    for method, own in [("ssao", dict(ssao_samples=8, ssao_hemisphere=True)),
+                        ("rtao", dict(rtao_rays=8, thickness=0.2, rtao_grid=2))]:
+        ao = obscura.compute_ao(depth, normal, camera=cam, method=method, radius=0.5, **own)
+        assert np.all(np.isfinite(ao)) and ao.min() >= 0 and ao.max() <= 1 and ao.min() < 0.9
+    report = obscura.process(ROOM, tmp / "rtao.exr", method="rtao", rtao_rays=4, thickness=0.1, out_type="float")
+    assert report["settings"]["thickness"] == pytest.approx(0.1) and report["settings"]["rtao_rays"] == 4
+    with pytest.raises(TypeError, match="unexpected keyword argument 'thicknes'"):
+        obscura.compute_ao(depth, normal, camera=cam, method="rtao", thicknes=0.1)
+    with pytest.raises(TypeError, match="ssao_hemisphere must be a bool"):
+        obscura.compute_ao(depth, normal, camera=cam, method="ssao", ssao_hemisphere=1)
 
 
 def test_wrong_types_raise_type_error(scene):

@@ -63,6 +63,12 @@ Camera studioCamera(int width, int height) {
     return lookAtPerspective(glm::dvec3(3.5, 3.0, 6.5), glm::dvec3(-1.0, 0.6, -1.0), 65.0 * M_PI / 180, width, height);
 }
 
+std::vector<Rect> cornerScene() {
+    const double L = 1e3;
+    return {Rect{glm::dvec3(-L, 0, -L), glm::dvec3(L, 0, 0), glm::dvec3(0, 0, 2 * L)},
+            Rect{glm::dvec3(0, 0, -L), glm::dvec3(0, L, 0), glm::dvec3(0, 0, 2 * L)}};
+}
+
 Rect planeRect(glm::dvec3 point, glm::dvec3 s, glm::dvec3 t, double half) {
     return Rect{point - half * s - half * t, 2 * half * s, 2 * half * t};
 }

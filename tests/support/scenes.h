@@ -43,6 +43,9 @@ void addBox(std::vector<Rect>& rects, glm::dvec3 lo, glm::dvec3 hi);
 // A floor, two walls meeting in a corner and a few boxes: creases, contact shadows,
 // silhouettes and sky, for tests that want a bit of everything. Seen by studioCamera().
 std::vector<Rect> studioScene();
+// A 90-degree corner: the floor y = 0 for x <= 0 and the wall x = 0 for y >= 0, 1e3 each way
+// (the closed form is tests/support/closed_forms.h cornerAo).
+std::vector<Rect> cornerScene();
 Camera studioCamera(int width, int height);
 
 // The rectangle of a plane through `point` spanned by unit vectors s, t, `half` units each way.

@@ -1,8 +1,9 @@
-// Body of hbaoTile for one instruction set: define OBSCURA_ISA (the namespace of the
+// Bodies of the lane kernels' tile entry points (hbaoTile, ssaoTile) for one instruction set: define OBSCURA_ISA (the namespace of the
 // entry point) and OBSCURA_LANES (pixels per register: 16 AVX-512, 8 AVX2, 4 SSE2, or 1
 // for the pixel-at-a-time reference), then include this once, at file scope.
 //
-// The kernel text is the one the GPU compiles (kernels/hbao.glsl, written on lane types).
+// The kernel text is the one the GPU compiles (kernels/hbao.glsl, kernels/ssao.glsl, written
+// on lane types).
 // The CPU side chooses how the lane types and the parameter block are seen: lanes are
 // SIMD registers of a row of pixels, and the switches (weighting, falloff, projection,
 // depth kind) are compile-time constants in specialised instantiations, so the untaken
@@ -31,7 +32,7 @@ struct ParamsAnyCamera : KernelParams {
 };
 
 template <class Params>
-struct HbaoCpuKernel {
+struct LaneCpuKernel {
     Params P;
     const float* depthData;
     const float* normalData;
@@ -58,6 +59,7 @@ struct HbaoCpuKernel {
 
 #include "kernels/common.glsl"
 #include "kernels/hbao.glsl"
+#include "kernels/ssao.glsl"
 };
 
 } // namespace
@@ -69,9 +71,11 @@ namespace {
 using glsl::KernelParams;
 constexpr int kLanesHere = OBSCURA_LANES;
 
-template <class Params>
+enum class Entry { Hbao, Ssao };
+
+template <Entry E, class Params>
 void runTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile) {
-    glsl::HbaoCpuKernel<Params> k;
+    glsl::LaneCpuKernel<Params> k;
     static_cast<KernelParams&>(k.P) = p;
     k.depthData = depth.data;
     k.depthXStride = (int)depth.xStride;
@@ -89,7 +93,7 @@ void runTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, Mutable
     for (int y = tile.y0; y < tile.y1; ++y)
         for (int x = tile.x0; x < tile.x1; x += kLanesHere) {
             // Lanes past the tile compute a neighbour (or, past the buffer, nothing) and are not stored.
-            const auto v = k.hbaoLanes(lane + x, y);
+            const auto v = E == Entry::Hbao ? k.hbaoLanes(lane + x, y) : k.ssaoLanes(lane + x, y);
             const int count = tile.x1 - x < kLanesHere ? tile.x1 - x : kLanesHere;
             for (int i = 0; i < count; ++i) {
 #if OBSCURA_LANES == 1
@@ -101,24 +105,34 @@ void runTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, Mutable
         }
 }
 
-template <int Cosine, int Linear>
+template <Entry E, int Cosine, int Linear>
 void runTileFor(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile) {
     if (p.orthographic == 0 && p.radialDepth == 0)
-        runTile<glsl::ParamsPerspPlanar<Cosine, Linear>>(p, depth, normal, ao, tile);
+        runTile<E, glsl::ParamsPerspPlanar<Cosine, Linear>>(p, depth, normal, ao, tile);
     else
-        runTile<glsl::ParamsAnyCamera<Cosine, Linear>>(p, depth, normal, ao, tile);
+        runTile<E, glsl::ParamsAnyCamera<Cosine, Linear>>(p, depth, normal, ao, tile);
+}
+
+// The weighting and falloff switches as template arguments.
+template <Entry E>
+void runEntry(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile) {
+    if (p.cosineWeighting != 0) {
+        if (p.linearFalloff != 0) runTileFor<E, 1, 1>(p, depth, normal, ao, tile);
+        else runTileFor<E, 1, 0>(p, depth, normal, ao, tile);
+    } else {
+        if (p.linearFalloff != 0) runTileFor<E, 0, 1>(p, depth, normal, ao, tile);
+        else runTileFor<E, 0, 0>(p, depth, normal, ao, tile);
+    }
 }
 
 } // namespace
 
 void hbaoTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile) {
-    if (p.cosineWeighting != 0) {
-        if (p.linearFalloff != 0) runTileFor<1, 1>(p, depth, normal, ao, tile);
-        else runTileFor<1, 0>(p, depth, normal, ao, tile);
-    } else {
-        if (p.linearFalloff != 0) runTileFor<0, 1>(p, depth, normal, ao, tile);
-        else runTileFor<0, 0>(p, depth, normal, ao, tile);
-    }
+    runEntry<Entry::Hbao>(p, depth, normal, ao, tile);
+}
+
+void ssaoTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile) {
+    runEntry<Entry::Ssao>(p, depth, normal, ao, tile);
 }
 
 } // namespace obscura::cpu::OBSCURA_ISA

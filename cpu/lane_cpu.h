@@ -1,0 +1,44 @@
+// CPU backend of the lane kernels that read depth and normals only (kernels/hbao.glsl,
+// kernels/ssao.glsl): the widest instruction set this CPU runs (cpu/isa.h), tiles over all cores.
+#pragma once
+#include "core/image.h"
+#include "cpu/isa.h"
+#include "cpu/kernel_params.h"
+
+#include <string>
+#include <vector>
+
+namespace obscura::cpu {
+
+using glsl::KernelParams;
+
+enum class LaneKernel { Hbao, Ssao };
+
+// One tile of a kernel, as each instruction set provides it.
+using LaneTileFn = decltype(IsaKernels::hbaoTile);
+
+// Name of the instruction set the kernels run with here ("x86-64-v4", ...), for reports.
+const char* laneIsa();
+// Every instruction set this CPU can run the kernels with, from "scalar" (a pixel at a time,
+// the reference) to the widest; the last is the one used unless OBSCURA_CPU_ISA says otherwise.
+std::vector<std::string> laneIsas();
+
+// The tile function of a kernel for a named instruction set from laneIsas()
+// (std::invalid_argument for another): for tests and benchmarks.
+LaneTileFn laneTileFor(LaneKernel kernel, const std::string& isa);
+
+// The kernel for every texel of `ao` (same size as depth/normal buffers, p.width x p.height);
+// `isa` empty: the chosen one.
+void runLaneKernel(LaneKernel kernel, const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao,
+                   int threads, const std::string& isa = "");
+
+inline void runHbao(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, int threads,
+                    const std::string& isa = "") {
+    runLaneKernel(LaneKernel::Hbao, p, depth, normal, ao, threads, isa);
+}
+inline void runSsao(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, int threads,
+                    const std::string& isa = "") {
+    runLaneKernel(LaneKernel::Ssao, p, depth, normal, ao, threads, isa);
+}
+
+} // namespace obscura::cpu

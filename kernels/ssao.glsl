@@ -1,0 +1,114 @@
+// Screen-space ambient occlusion as Crytek shipped it (Mittring 2007), written on lane types
+// like kernels/hbao.glsl: the cheap baseline the other methods are measured against.
+//
+// N points are placed within R of the pixel: in the whole sphere (the original), or in the
+// normal-oriented hemisphere (P.ssaoHemisphere), cosine-distributed for the cosine
+// weighting. Each point is projected into the depth buffer; it is occluded when the surface
+// seen there lies in front of it and within R of the pixel (the range check, which keeps a
+// distant foreground object from darkening what it hides). AO is the unoccluded fraction; in
+// the sphere, where a flat wall hides half the points, twice that, clamped to 1.
+//
+// In the hemisphere, "in front" is judged by height above the pixel's tangent plane rather
+// than by depth along the ray: for nearby points the two agree (the eye is above the plane),
+// and the tangent-plane form survives snapping to texel centres, so a plane stays AO = 1.
+
+// Golden angle: successive points turn by it, so any prefix of the set covers the azimuths.
+CONST_GLOBAL float GOLDEN_ANGLE = 2.39996322972865f;
+
+lfloat ssaoLanes(lint x, lint y) {
+    lbool computing = insideBuffer(x, y);
+    lfloat depth = gatherDepth(x, y, computing) * P.depthScale;
+    computing = computing && isSurfaceDepth(depth);
+    if (!anyLane(computing)) {
+        return lfloat(1.0f);
+    }
+    depth = select(computing, depth, 1.0f);
+    lint displayX = x + P.originX;
+    lint displayY = y + P.originY;
+    lvec2 centre = lvec2(lfloat(displayX) + 0.5f, lfloat(displayY) + 0.5f);
+    lvec3 ray = viewRay(centre);
+    lvec2 cornerToOffset = lvec2(0.5f - centre.x, 0.5f - centre.y);
+    lvec3 n = viewNormal(gatherNormal(x, y, computing), viewVector(ray));
+    lvec3 receiver = positionOnRay(ray, depth);
+    vec2 origin = vec2(bufferOrigin());
+
+    // A frame around n (Duff et al. 2017), branch-free.
+    lfloat sgn = select(n.z >= 0.0f, lfloat(1.0f), lfloat(-1.0f));
+    lfloat fa = -1.0f / (sgn + n.z);
+    lfloat fb = n.x * n.y * fa;
+    lvec3 b1 = lvec3(1.0f + sgn * n.x * n.x * fa, sgn * fb, -sgn * n.x);
+    lvec3 b2 = lvec3(fb, sgn + n.y * n.y * fa, -n.y);
+
+    luint h = hashPixel(displayX, displayY);
+    lfloat jitter = hashToUnit(h);
+    lfloat jitter2 = hashToUnit(hashU32(h));
+    lfloat cosA = cos(TWO_PI * jitter2);
+    lfloat sinA = sin(TWO_PI * jitter2);
+    float cosStep = cos(GOLDEN_ANGLE);
+    float sinStep = sin(GOLDEN_ANGLE);
+    float invN = 1.0f / float(P.ssaoSamples);
+    float radius2 = P.radius * P.radius;
+    float invRadius = 1.0f / P.radius;
+    float maxReach2 = P.maxRadiusPixels * P.maxRadiusPixels;
+
+    lfloat occlusion = lfloat(0.0f);
+    lfloat weights = lfloat(0.0f);
+    for (int i = 0; i < P.ssaoSamples; ++i) {
+        // Stratified elevation: t in [0, 1), so the hemisphere's z = 1 - t (or sqrt) is > 0.
+        lfloat t = (float(i) + jitter) * invN;
+        lfloat z;
+        if (P.ssaoHemisphere != 0) {
+            z = P.cosineWeighting != 0 ? sqrt(1.0f - t) : 1.0f - t;
+        } else {
+            z = 1.0f - 2.0f * t;
+        }
+        lfloat s = sqrt(max(1.0f - z * z, 0.0f));
+        // Distances cluster towards the pixel, where occluders matter most (Crytek's choice).
+        lfloat u = fract(float(i) * 0.754877666f + jitter2);
+        lfloat dist = P.radius * (0.1f + 0.9f * u * u);
+        lvec3 D = ((cosA * s) * b1 + (sinA * s) * b2 + z * n) * dist;
+        // Linear falloff weights each point by W(r) = 1 - r/R of its own distance, in the sum
+        // and in the normalisation, so a flat wall still hides exactly its share of the sphere.
+        lfloat weight = lfloat(1.0f);
+        if (P.linearFalloff != 0) {
+            weight = 1.0f - dist * invRadius;
+        }
+        lfloat nextCos = cosA * cosStep - sinA * sinStep;
+        sinA = sinA * cosStep + cosA * sinStep;
+        cosA = nextCos;
+
+        lvec3 q = receiver + D;
+        lbool counts = computing;
+        lfloat invW = lfloat(1.0f);
+        if (P.orthographic == 0) {
+            counts = counts && q.z < 0.0f;
+            invW = 1.0f / max(-q.z, 1e-30f);
+        }
+        lvec2 displayPos = lvec2(P.cx + P.fx * q.x * invW, P.cy - P.fy * q.y * invW);
+        // Reads stop at maxRadiusPixels, as HBAO's do, so tiles pinned to it equal the frame.
+        lvec2 reach = displayPos - centre;
+        counts = counts && dot(reach, reach) <= maxReach2;
+        lvec2 corner = floor(lvec2(select(counts, displayPos.x, centre.x), select(counts, displayPos.y, centre.y)));
+        counts = counts && insideBuffer(corner - origin, 0.0f);
+        lfloat sampleDepth = gatherDepthAtDisplay(corner, counts) * P.depthScale;
+        counts = counts && isSurfaceDepth(sampleDepth);
+        sampleDepth = select(counts, sampleDepth, depth);
+        lvec2 w = lvec2((corner.x + cornerToOffset.x) * P.invFx, (corner.y + cornerToOffset.y) * -P.invFy);
+        lvec3 X = viewOffset(ray, depth, w, sampleDepth);
+        lfloat r2 = dot(X, X);
+        lbool inFront;
+        if (P.ssaoHemisphere != 0) {
+            inFront = dot(n, X) > dot(n, D);
+        } else {
+            inFront = X.z > D.z;
+        }
+        lbool occluded = counts && inFront && r2 <= radius2;
+        occlusion += select(occluded, weight, 0.0f);
+        weights += weight;
+    }
+    lfloat open = 1.0f - occlusion / weights;
+    if (P.ssaoHemisphere == 0) {
+        open = 2.0f * open;
+    }
+    return select(computing, clamp(open, 0.0f, 1.0f), 1.0f);
+}

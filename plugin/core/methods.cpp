@@ -1,0 +1,142 @@
+#include "methods.h"
+
+#include "method_runs.h"
+
+#include <algorithm>
+#include <cstdio>
+
+namespace obscura {
+
+namespace {
+
+// HBAO's levels carry the shared blur; directions x steps are HBAO's own.
+void hbaoLevel(Settings& s, int level) {
+    const QualityPreset& q = qualityPresets()[level];
+    s.directions = q.directions;
+    s.steps = q.steps;
+    s.blur = q.blur;
+}
+
+MethodParam intParam(const char* key, const char* flag, const char* help, int lo, int hi, int Settings::*field) {
+    MethodParam p{key, flag, "N", help, (double)lo, (double)hi};
+    p.intField = field;
+    return p;
+}
+MethodParam floatParam(const char* key, const char* flag, const char* value, const char* help, double lo, double hi,
+                       float Settings::*field) {
+    MethodParam p{key, flag, value, help, lo, hi};
+    p.floatField = field;
+    return p;
+}
+MethodParam switchParam(const char* key, const char* flag, const char* help, bool Settings::*field) {
+    MethodParam p{key, flag, nullptr, help, 0, 1};
+    p.boolField = field;
+    return p;
+}
+
+std::vector<MethodInfo> makeTable() {
+    std::vector<MethodInfo> t;
+    t.push_back({"hbao", "horizon-based ambient occlusion (Bavoil et al. 2008): slices around the view vector",
+                 "kernels/hbao.glsl", true, true, {"depth", "normal"}, {"ao"},
+                 {{"low", "4x4 + blur 2", [](Settings& s) { hbaoLevel(s, 0); }},
+                  {"medium", "8x8 + blur 1", [](Settings& s) { hbaoLevel(s, 1); }},
+                  {"high", "16x12", [](Settings& s) { hbaoLevel(s, 2); }},
+                  {"ultra", "32x24", [](Settings& s) { hbaoLevel(s, 3); }}},
+                 {intParam("directions", "--directions", "hbao: directions (slices) per pixel (default 8)", 1, 256,
+                           &Settings::directions),
+                  intParam("steps", "--steps", "hbao: samples per direction (default 8)", 1, 256, &Settings::steps)},
+                 [](const Settings& s) { return s.directions * s.steps; }, nullptr, &runHbaoMethod});
+    t.push_back({"ssdo", "directional occlusion and one bounce (Ritschel et al. 2009): DO, AO and, with --bounce, GI",
+                 "kernels/ssdo.glsl", true, true, {"depth", "normal", "beauty|direct-diffuse", "albedo"},
+                 {"ao", "do", "gi"}, {},
+                 {intParam("samples", "--samples", "ssdo: sample set per M x M block (default 64)", 1, 4096,
+                           &Settings::ssdoSamples),
+                  intParam("interleave", "--interleave",
+                           "ssdo: interleaved sampling over M x M pixels, then a blur of M (default 2; 1 = off)", 1, 8,
+                           &Settings::interleave)},
+                 [](const Settings& s) { return std::max(1, s.ssdoSamples / (s.interleave * s.interleave)); },
+                 nullptr, &runSsdoMethod});
+    t.push_back({"ssao", "Crytek's screen-space AO (Mittring 2007): points around the pixel tested against the depth",
+                 "kernels/ssao.glsl", true, true, {"depth", "normal"}, {"ao"},
+                 {{"low", "8 points", [](Settings& s) { s.ssaoSamples = 8; }},
+                  {"medium", "16 points", [](Settings& s) { s.ssaoSamples = 16; }},
+                  {"high", "32 points", [](Settings& s) { s.ssaoSamples = 32; }},
+                  {"ultra", "64 points", [](Settings& s) { s.ssaoSamples = 64; }}},
+                 {intParam("ssao_samples", "--ssao-samples", "ssao: points per pixel (default 16)", 1, 1024,
+                           &Settings::ssaoSamples),
+                  switchParam("ssao_hemisphere", "--ssao-hemisphere",
+                              "ssao: points in the normal-oriented hemisphere, not the sphere", &Settings::ssaoHemisphere)},
+                 [](const Settings& s) { return s.ssaoSamples; }, nullptr, &runSsaoMethod});
+    t.push_back({"rtao", "rays (Embree) against the mesh the depth pass describes, optionally extruded by --thickness",
+                 "cpu/rtao_*", true, false, {"depth", "normal"}, {"ao"},
+                 {{"low", "4 rays", [](Settings& s) { s.rtaoRays = 4; }},
+                  {"medium", "16 rays", [](Settings& s) { s.rtaoRays = 16; }},
+                  {"high", "64 rays", [](Settings& s) { s.rtaoRays = 64; }},
+                  {"ultra", "256 rays", [](Settings& s) { s.rtaoRays = 256; }}},
+                 {intParam("rtao_rays", "--rtao-rays", "rtao: rays per traced point (default 16)", 1, 4096,
+                           &Settings::rtaoRays),
+                  floatParam("thickness", "--thickness", "T",
+                             "rtao: extrude each surface T world units away from the eye (default 0, a sheet)", 0.0, 1e30,
+                             &Settings::thickness),
+                  intParam("rtao_grid", "--rtao-grid", "rtao: trace every N-th pixel, interpolate between (default 1)",
+                           1, 64, &Settings::rtaoGrid)},
+                 [](const Settings& s) { return s.rtaoRays; },
+                 // The mesh joins texels by looking 2 beyond an edge; the grid interpolates across a cell.
+                 [](const Settings& s) { return 1 + s.rtaoGrid; }, &runRtaoMethod});
+    return t;
+}
+
+} // namespace
+
+const std::vector<MethodInfo>& methods() {
+    static const std::vector<MethodInfo> table = makeTable();
+    return table;
+}
+
+const MethodInfo* findMethod(const std::string& name) {
+    for (const MethodInfo& m : methods())
+        if (name == m.name) return &m;
+    return nullptr;
+}
+
+bool methodOutputs(const std::string& method, const char* output) {
+    const MethodInfo* m = findMethod(method);
+    if (!m) return false;
+    for (const char* o : m->outputs)
+        if (std::string(o) == output) return true;
+    return false;
+}
+
+std::string methodNames(const char* sep) {
+    std::string names;
+    for (const MethodInfo& m : methods()) names += (names.empty() ? "" : sep) + std::string(m.name);
+    return names;
+}
+
+std::vector<const MethodParam*> allMethodParams() {
+    std::vector<const MethodParam*> all;
+    for (const MethodInfo& m : methods())
+        for (const MethodParam& p : m.params) all.push_back(&p);
+    return all;
+}
+
+std::string checkParam(const MethodParam& p, double v) {
+    if (p.boolField || (v >= p.min && v <= p.max)) return "";
+    char range[96];
+    if (p.max >= 1e30) std::snprintf(range, sizeof range, " must be %g or more", p.min);
+    else std::snprintf(range, sizeof range, " must be between %g and %g", p.min, p.max);
+    return std::string(p.flag) + range;
+}
+
+bool applyMethodPresets(const std::string& quality, Settings& s) {
+    bool known = false;
+    for (const MethodInfo& m : methods())
+        for (const MethodPreset& p : m.presets)
+            if (quality == p.quality) {
+                p.apply(s);
+                known = true;
+            }
+    return known;
+}
+
+} // namespace obscura

@@ -1,0 +1,68 @@
+// The occlusion methods, registered once. The operator dispatches through this table, and
+// the hosts build their method choices, method flags, OFX parameters and Python keywords
+// from it, so adding a method touches no `if (method == ...)` chain.
+#pragma once
+#include "settings.h"
+
+#include <string>
+#include <vector>
+
+namespace obscura {
+
+struct OperatorInputs;
+struct OperatorOutputs;
+struct MethodRun;
+
+// A method's own numeric or switch parameter, with the range every host enforces.
+struct MethodParam {
+    const char* key;     // Python keyword and OFX parameter name ("ssao_samples")
+    const char* flag;    // CLI flag ("--ssao-samples")
+    const char* value;   // CLI value placeholder ("N"); nullptr: a switch, no value
+    const char* help;
+    double min, max;     // inclusive; ignored for switches
+    int Settings::*intField = nullptr;      // exactly one of the three is set
+    float Settings::*floatField = nullptr;
+    bool Settings::*boolField = nullptr;
+};
+
+// What a quality level sets for this method (applied with every other method's levels,
+// each to its own fields, so flag order does not matter).
+struct MethodPreset {
+    const char* quality;   // "low", "medium", "high", "ultra"
+    const char* summary;   // for --help: "8 samples"
+    void (*apply)(Settings&);
+};
+
+struct MethodInfo {
+    const char* name;
+    const char* description;            // one line
+    const char* kernels;                // the kernels/ files (or CPU code) that compute it
+    bool cpu, gl;                       // devices it runs on
+    std::vector<const char*> reads;     // passes: "depth", "normal", "beauty", ...
+    std::vector<const char*> outputs;   // "ao", "do", "gi"
+    std::vector<MethodPreset> presets;
+    std::vector<MethodParam> params;
+    // Samples (or rays) per pixel at these settings: the cost reports divide by.
+    int (*samplesPerPixel)(const Settings&);
+    // Texels a method reads beyond the screen cap (maxRadiusPixels) of a pixel, past the 2 every
+    // method's texel snapping takes: what a host rendering tiles adds to its apron (nullptr: 0).
+    int (*extraApron)(const Settings&);
+    // Fills `out` (out.ao is preallocated to 1); throws obscura::Error.
+    void (*run)(const MethodRun&);
+};
+
+const std::vector<MethodInfo>& methods();
+// nullptr for an unknown name.
+const MethodInfo* findMethod(const std::string& name);
+// Whether `method` makes `output` ("ao", "do", "gi"); false for an unknown method.
+bool methodOutputs(const std::string& method, const char* output);
+// "hbao, ssdo, ssao, rtao" (or with `sep`).
+std::string methodNames(const char* sep = ", ");
+// Every method's own parameter, in table order (the hosts' extra flags and keywords).
+std::vector<const MethodParam*> allMethodParams();
+// The message for a value outside the parameter's range, or "" when it is inside.
+std::string checkParam(const MethodParam& p, double value);
+// Applies every method's level `quality` to `s`; false for an unknown level.
+bool applyMethodPresets(const std::string& quality, Settings& s);
+
+} // namespace obscura
