@@ -420,6 +420,7 @@ std::vector<char> encodePlane(const Image& img, Imf::PixelType type) {
 Imf::Header outputHeader(const ExrPart& part, const std::vector<const NewChannel*>& add,
                          const std::vector<StringAttribute>& attrs, int p) {
     Imf::Header h = part.header;
+    h.erase("chunkCount");  // the writer counts its own; a corrupt input's may have the wrong type
     Imf::ChannelList list;  // ChannelList has no erase: rebuild it, dropping replaced channels
     for (auto it = h.channels().begin(); it != h.channels().end(); ++it) {
         bool replaced = false;
