@@ -418,7 +418,8 @@ TEST(CliBadInput, RequiredLayerMissing) {
 TEST(CliBadInput, SubsampledNormalRefused) {
     const fs::path dir = testDir();
     const SceneBuffers s = cornerScene(64, 48);
-    FixturePart part = makePart(planesOf(s), kGeneric);
+    const Planes planes = planesOf(s);  // the fixture's channels read from these
+    FixturePart part = makePart(planes, kGeneric);
     for (FixtureChannel& c : part.channels)
         if (c.name == "N.Y") c.xSampling = c.ySampling = 2;
     const fs::path in = dir / "sub.exr", out = dir / "out.exr";
@@ -430,7 +431,8 @@ TEST(CliBadInput, SubsampledNormalRefused) {
 TEST(CliBadInput, SubsampledPassThroughKept) {
     const fs::path dir = testDir();
     const SceneBuffers s = cornerScene(64, 48);
-    FixturePart part = makePart(planesOf(s), kGeneric);
+    const Planes planes = planesOf(s);  // the fixture's channels read from these
+    FixturePart part = makePart(planes, kGeneric);
     part.channels.push_back({"chroma.RY", Imf::HALF, 2, 2, {}});
     const fs::path in = dir / "sub.exr", out = dir / "out.exr";
     writeFixture(in.string(), {part});
