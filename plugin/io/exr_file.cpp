@@ -301,6 +301,9 @@ ExrInfo readExrInfo(const std::string& path, long long maxPixels) {
             if (type == Imf::DEEPSCANLINE || type == Imf::DEEPTILE)
                 throw Error(quoted(path) + " holds deep data (part " + std::to_string(p) +
                             "), which obscura does not support");
+            // Again here: a header the core API refused was not checked before opening.
+            checkWindow(path, "data", h.dataWindow(), maxPixels, 0, -1);
+            checkWindow(path, "display", h.displayWindow(), maxPixels, 0, -1);
             ExrPart part;
             part.header = h;
             part.name = h.hasName() ? h.name() : "";
