@@ -415,6 +415,47 @@ TEST(CliBadInput, RequiredLayerMissing) {
     expectCleanFailure(r, 1, out, {"no depth layer", "R G B", "--layer depth="});
 }
 
+TEST(CliBadInput, SubsampledNormalRefused) {
+    const fs::path dir = testDir();
+    const SceneBuffers s = cornerScene(64, 48);
+    const Planes planes = planesOf(s);  // the fixture's channels read from these
+    FixturePart part = makePart(planes, kGeneric);
+    for (FixtureChannel& c : part.channels)
+        if (c.name == "N.Y") c.xSampling = c.ySampling = 2;
+    const fs::path in = dir / "sub.exr", out = dir / "out.exr";
+    writeFixture(in.string(), {part});
+    const CliResult r = cli(cat({in.string(), "-o", out.string()}, cameraFlags(s)));
+    expectCleanFailure(r, 1, out, {"'" + in.string() + "': channel 'N.Y' is subsampled (2x2)"});
+}
+
+TEST(CliBadInput, SubsampledPassThroughKept) {
+    const fs::path dir = testDir();
+    const SceneBuffers s = cornerScene(64, 48);
+    const Planes planes = planesOf(s);  // the fixture's channels read from these
+    FixturePart part = makePart(planes, kGeneric);
+    part.channels.push_back({"chroma.RY", Imf::HALF, 2, 2, {}});
+    const fs::path in = dir / "sub.exr", out = dir / "out.exr";
+    writeFixture(in.string(), {part});
+    const CliResult r = cli(cat({in.string(), "-o", out.string()}, cameraFlags(s)));
+    expectSuccess(r, out);
+    Imf::MultiPartInputFile f(out.c_str());
+    const Imf::Channel* ry = f.header(0).channels().findChannel("chroma.RY");
+    ASSERT_NE(ry, nullptr);
+    EXPECT_EQ(ry->xSampling, 2);
+    EXPECT_EQ(ry->ySampling, 2);
+}
+
+TEST(CliBadInput, BrokenSidecarNamedOnOneLine) {
+    const fs::path dir = testDir();
+    const SceneBuffers s = cornerScene(64, 48);
+    const std::string in = writeGeneric(dir, "in.exr", planesOf(s));
+    const fs::path json = dir / "in.json", out = dir / "out.exr";
+    std::ofstream(json) << "{\"camera_to_world\": [[1, 0, 0, 0],\n \"horizontal";
+    const CliResult r = cli({in, "-o", out.string()});
+    expectCleanFailure(r, 1, out, {"'" + json.string() + "': camera sidecar is not valid JSON"});
+    EXPECT_FALSE(contains(r.err, "json.exception")) << r.err;
+}
+
 struct BrokenFrame {
     SceneBuffers scene = cornerScene(48, 32);
     Planes planes = planesOf(scene);

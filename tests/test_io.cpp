@@ -211,7 +211,7 @@ TEST(Presets, ExplicitPresetThatDoesNotFitErrors) {
     EXPECT_EQ(p.preset, "arnold");
     EXPECT_EQ(p.find(Role::Depth), nullptr);
     expectError([&] { requireRoles(p, info, {Role::Depth, Role::Normal}); },
-                {"no depth layer in '" + path + "'", "(preset arnold)", "ViewLayer.Depth", "ViewLayer.Normal",
+                {"'" + path + "': no depth layer", "(preset arnold)", "ViewLayer.Depth", "ViewLayer.Normal",
                  "use --layer depth=NAME"});
     EXPECT_NO_THROW(requireRoles(planLayers(info, "blender", {}), info, {Role::Depth, Role::Normal}));
     expectError([&] { planLayers(info, "maya", {}); }, {"unknown preset 'maya'", "blender"});

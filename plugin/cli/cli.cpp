@@ -432,6 +432,15 @@ int runSequence(const Options& o) {
 
 } // namespace
 
+// The message as one printable line: control bytes (a corrupt file's names may hold
+// newlines) become '?', trailing whitespace is dropped.
+static std::string printableLine(std::string s) {
+    for (char& c : s)
+        if ((unsigned char)c < 0x20 || c == 0x7f) c = '?';
+    while (!s.empty() && s.back() == ' ') s.pop_back();
+    return s;
+}
+
 int run(int argc, char** argv) {
     Options o;
     try {
@@ -457,10 +466,10 @@ int run(int argc, char** argv) {
         runOneFrame(o, o.job, o.reportPath);
         return 0;
     } catch (const UsageError& e) {
-        std::fprintf(stderr, "obscura: %s\n", e.what());
+        std::fprintf(stderr, "obscura: %s\n", printableLine(e.what()).c_str());
         return 2;
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "obscura: %s\n", e.what());
+        std::fprintf(stderr, "obscura: %s\n", printableLine(e.what()).c_str());
         return 1;
     }
 }

@@ -10,10 +10,12 @@
 #include <OpenEXR/ImfMatrixAttribute.h>
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <vector>
 
 namespace obscura {
 namespace {
@@ -178,61 +180,76 @@ glm::dmat4 cameraToWorldFromRows(const std::array<double, 16>& v, const std::str
     return m;
 }
 
+// A finite number at j[key], or one line naming the sidecar and the key.
+static double sidecarNumber(const nlohmann::json& j, const char* key, const std::string& where) {
+    if (!j.contains(key)) throw Error(where + " has no \"" + key + "\"");
+    if (!j[key].is_number() || !std::isfinite(j[key].get<double>()))
+        throw Error(where + ": \"" + key + "\" must be a finite number");
+    return j[key].get<double>();
+}
+
 Camera cameraFromSidecar(const std::string& path, Box2i display, double pixelAspect) {
+    const std::string where = "'" + path + "': camera sidecar";
     std::ifstream in(path);
-    if (!in) throw Error("cannot open camera sidecar " + path);
+    if (!in) throw Error("'" + path + "': cannot open the camera sidecar");
     nlohmann::json j;
     try {
         in >> j;
-    } catch (const std::exception& e) {
-        throw Error("camera sidecar " + path + " is not valid JSON: " + e.what());
+    } catch (const nlohmann::json::parse_error& e) {
+        throw Error(where + " is not valid JSON (at byte " + std::to_string(e.byte) + ")");
+    } catch (const std::exception&) {
+        throw Error(where + " is not valid JSON");
     }
-    try {
-        std::array<double, 16> rows{};
-        const auto& m = j.at("camera_to_world");
-        if (m.size() == 4) {
-            for (int r = 0; r < 4; ++r) {
-                if (m[r].size() != 4) throw Error("");
-                for (int c = 0; c < 4; ++c) rows[r * 4 + c] = m[r][c].get<double>();
-            }
-        } else if (m.size() == 16) {
-            for (int i = 0; i < 16; ++i) rows[i] = m[i].get<double>();
-        } else {
-            throw Error("");
+    if (!j.is_object()) throw Error(where + " is not a JSON object");
+    const std::string rowsMessage = where + ": \"camera_to_world\" must be 4 rows of 4 numbers (or 16 numbers)";
+    if (!j.contains("camera_to_world") || !j["camera_to_world"].is_array()) throw Error(rowsMessage);
+    const auto& m = j["camera_to_world"];
+    std::vector<const nlohmann::json*> flat;
+    if (m.size() == 4) {
+        for (const auto& row : m) {
+            if (!row.is_array() || row.size() != 4) throw Error(rowsMessage);
+            for (const auto& v : row) flat.push_back(&v);
         }
-        const std::string projection = j.value("projection", std::string("persp"));
-        Camera c;
-        if (projection == "persp" || projection == "PERSP" || projection == "perspective") {
-            const double fov = j.at("horizontal_fov_rad").get<double>();
-            if (!(fov > 0 && fov < kPi)) throw Error("camera sidecar " + path + ": horizontal_fov_rad must be in (0, pi)");
-            c = Camera::perspectiveFromFov(fov, display.width(), display.height(), pixelAspect);
-        } else if (projection == "ortho" || projection == "ORTHO" || projection == "orthographic") {
-            const double width = j.at("ortho_width").get<double>();
-            if (!(width > 0)) throw Error("camera sidecar " + path + ": ortho_width must be positive");
-            c = Camera::orthographic(width, display.width(), display.height(), pixelAspect);
-        } else {
-            throw Error("camera sidecar " + path + ": projection \"" + projection + "\" is not supported (persp or ortho)");
-        }
-        if (j.contains("width") && j.contains("height") && j["width"].is_number() && j["height"].is_number()) {
-            const double aspect = j["width"].get<double>() / j["height"].get<double>();
-            const double displayAspect = double(display.width()) / display.height();
-            if (std::fabs(aspect / displayAspect - 1) > 0.01)
-                throw Error("camera sidecar " + path + " is for a " + fmt(j["width"].get<double>()) + "x" +
-                            fmt(j["height"].get<double>()) + " frame, the image is " + std::to_string(display.width()) +
-                            "x" + std::to_string(display.height()));
-        }
-        c.cx += display.x0;
-        c.cy += display.y0;
-        c.cameraToWorld = cameraToWorldFromRows(rows, "camera sidecar " + path);
-        c.hasPose = true;
-        c.source = "sidecar:" + path;
-        return c;
-    } catch (const Error& e) {
-        if (e.what()[0] != '\0') throw;
-        throw Error("camera sidecar " + path + ": camera_to_world must be 4 rows of 4 numbers");
-    } catch (const nlohmann::json::exception& e) {
-        throw Error("camera sidecar " + path + ": " + e.what());
+    } else if (m.size() == 16) {
+        for (const auto& v : m) flat.push_back(&v);
+    } else {
+        throw Error(rowsMessage);
     }
+    std::array<double, 16> rows{};
+    for (int i = 0; i < 16; ++i) {
+        if (!flat[i]->is_number()) throw Error(rowsMessage);
+        rows[i] = flat[i]->get<double>();
+    }
+    std::string projection = "persp";
+    if (j.contains("projection")) {
+        if (!j["projection"].is_string()) throw Error(where + ": \"projection\" must be \"persp\" or \"ortho\"");
+        projection = j["projection"].get<std::string>();
+    }
+    Camera c;
+    if (projection == "persp" || projection == "PERSP" || projection == "perspective") {
+        const double fov = sidecarNumber(j, "horizontal_fov_rad", where);
+        if (!(fov > 0 && fov < kPi)) throw Error(where + ": horizontal_fov_rad must be in (0, pi)");
+        c = Camera::perspectiveFromFov(fov, display.width(), display.height(), pixelAspect);
+    } else if (projection == "ortho" || projection == "ORTHO" || projection == "orthographic") {
+        const double width = sidecarNumber(j, "ortho_width", where);
+        if (!(width > 0)) throw Error(where + ": ortho_width must be positive");
+        c = Camera::orthographic(width, display.width(), display.height(), pixelAspect);
+    } else {
+        throw Error(where + ": projection is not supported (persp or ortho)");
+    }
+    if (j.contains("width") && j.contains("height") && j["width"].is_number() && j["height"].is_number()) {
+        const double w = j["width"].get<double>(), h = j["height"].get<double>();
+        const double displayAspect = double(display.width()) / display.height();
+        if (!(w > 0 && h > 0 && std::isfinite(w / h)) || std::fabs((w / h) / displayAspect - 1) > 0.01)
+            throw Error(where + " is for a " + fmt(w) + "x" + fmt(h) + " frame, the image is " +
+                        std::to_string(display.width()) + "x" + std::to_string(display.height()));
+    }
+    c.cx += display.x0;
+    c.cy += display.y0;
+    c.cameraToWorld = cameraToWorldFromRows(rows, where);
+    c.hasPose = true;
+    c.source = "sidecar:" + path;
+    return c;
 }
 
 std::string findSidecar(const std::string& exrPath) {

@@ -301,6 +301,9 @@ ExrInfo readExrInfo(const std::string& path, long long maxPixels) {
             if (type == Imf::DEEPSCANLINE || type == Imf::DEEPTILE)
                 throw Error(quoted(path) + " holds deep data (part " + std::to_string(p) +
                             "), which obscura does not support");
+            // Again here: a header the core API refused was not checked before opening.
+            checkWindow(path, "data", h.dataWindow(), maxPixels, 0, -1);
+            checkWindow(path, "display", h.displayWindow(), maxPixels, 0, -1);
             ExrPart part;
             part.header = h;
             part.name = h.hasName() ? h.name() : "";
@@ -420,6 +423,7 @@ std::vector<char> encodePlane(const Image& img, Imf::PixelType type) {
 Imf::Header outputHeader(const ExrPart& part, const std::vector<const NewChannel*>& add,
                          const std::vector<StringAttribute>& attrs, int p) {
     Imf::Header h = part.header;
+    h.erase("chunkCount");  // the writer counts its own; a corrupt input's may have the wrong type
     Imf::ChannelList list;  // ChannelList has no erase: rebuild it, dropping replaced channels
     for (auto it = h.channels().begin(); it != h.channels().end(); ++it) {
         bool replaced = false;

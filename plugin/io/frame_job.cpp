@@ -42,7 +42,7 @@ std::string findReferenceChannel(const ExrPart& part, const std::string& layer, 
     }
     std::string found;
     for (const std::string& l : listLayers(info)) found += (found.empty() ? "" : "; ") + l;
-    throw Error("no reference layer '" + layer + "' in '" + info.path + "'; layers found: " + found);
+    throw Error("'" + info.path + "': no reference layer '" + layer + "'; layers found: " + found);
 }
 
 bool sameFile(const std::string& a, const std::string& b) {
@@ -116,8 +116,8 @@ std::vector<std::string> rgbChannels(const ExrPart& part, const std::string& lay
         if (part.findChannel(name) < 0) {
             std::string found;
             for (const std::string& l : listLayers(info)) found += (found.empty() ? "" : "; ") + l;
-            throw Error(std::string("no ") + what + " layer '" + layer + "' with R, G, B in '" + info.path +
-                        "'; layers found: " + found);
+            throw Error("'" + info.path + "': no " + what + " layer '" + layer + "' with R, G, B; layers found: " +
+                        found);
         }
         names.push_back(name);
     }
@@ -320,6 +320,15 @@ FramePasses loadFramePasses(const FrameJob& job, bool keepAll, std::vector<Stage
     for (const std::vector<std::string>* rgb : {&ssdo.radiance, &ssdo.albedo, &ssdo.directDiffuse})
         for (const std::string& c : *rgb) wanted.push_back({p.part, c});
 
+    // The passes obscura computes from are read at full resolution only.
+    for (const ChannelRef& c : wanted) {
+        const ExrPart& owner = p.info.parts[c.part];
+        const int i = owner.findChannel(c.name);
+        if (i >= 0 && (owner.channels[i].xSampling != 1 || owner.channels[i].ySampling != 1))
+            throw Error("'" + job.input + "': channel '" + c.name + "' is subsampled (" +
+                        std::to_string(owner.channels[i].xSampling) + "x" + std::to_string(owner.channels[i].ySampling) +
+                        "); obscura reads the passes it computes from at full resolution only");
+    }
     std::vector<Image> planes = readExrChannels(job.input, p.info, wanted, keepAll, keepAll ? &p.raw : nullptr);
     size_t next = 0;
     p.depth = std::move(planes[next++]);

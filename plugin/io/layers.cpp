@@ -343,7 +343,7 @@ LayerPlan planLayers(const ExrInfo& info, const std::string& preset,
 void requireRoles(const LayerPlan& plan, const ExrInfo& info, const std::vector<Role>& roles) {
     for (Role r : roles)
         if (!plan.find(r))
-            throw Error(std::string("no ") + roleName(r) + " layer in '" + info.path + "' (preset " +
+            throw Error("'" + info.path + "': no " + roleName(r) + " layer (preset " +
                         plan.preset + "); layers found: " + layersFound(info) + "; use --layer " +
                         roleName(r) + "=NAME");
 }
