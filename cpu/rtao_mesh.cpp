@@ -10,6 +10,8 @@ namespace {
 // The kernels' own camera reconstruction and normal handling (kernels/common.glsl), a pixel at a time.
 struct SurfaceKernel {
     KernelParams P;
+    ConstPlane depth; // the loads of common.glsl's surfaceDepth (0 where not used: not a surface)
+    float gatherDepth(int x, int y, bool use) const { return use && depth.valid() ? *depth.at(x, y) : 0.0f; }
 #include "kernels/common.glsl"
 };
 } // namespace

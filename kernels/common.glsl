@@ -47,6 +47,16 @@ lbool insideBuffer(lvec2 corner, float margin) {
            corner.y < float(P.height) - margin;
 }
 
+// Depth of the buffer texels (x, y) in world units, and which of them are surfaces (inside
+// the buffer, finite, nearer than the sky). The others get depth 1: harmless in arithmetic
+// whose result they discard. Requires the backend's gatherDepth(x, y, use).
+lfloat surfaceDepth(lint x, lint y, OUT(lbool) surface) {
+    surface = insideBuffer(x, y);
+    lfloat depth = gatherDepth(x, y, surface) * P.depthScale;
+    surface = surface && isSurfaceDepth(depth);
+    return select(surface, depth, 1.0f);
+}
+
 // Direction through a display position, scaled so z = -1 (perspective); for an
 // orthographic camera, the position on the image plane with z = 0.
 lvec3 viewRay(lvec2 displayPos) {

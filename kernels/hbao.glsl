@@ -38,13 +38,11 @@ lfloat sliceOcclusionAt(lfloat cosTheta, lfloat sinTheta, lfloat cosB, lfloat si
 // Ambient occlusion in [0,1] (1 = unoccluded) of the buffer texels (x, y); texels outside
 // the buffer, sky and holes get 1.
 lfloat hbaoLanes(lint x, lint y) {
-    lbool computing = insideBuffer(x, y);
-    lfloat depth = gatherDepth(x, y, computing) * P.depthScale;
-    computing = computing && isSurfaceDepth(depth);
+    lbool computing;
+    lfloat depth = surfaceDepth(x, y, computing);
     if (!anyLane(computing)) {
         return lfloat(1.0f);
     }
-    depth = select(computing, depth, 1.0f); // lanes that sit out compute on a harmless depth
     lint displayX = x + P.originX;
     lint displayY = y + P.originY;
     lvec2 centre = lvec2(lfloat(displayX) + 0.5f, lfloat(displayY) + 0.5f);

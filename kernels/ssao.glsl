@@ -16,13 +16,11 @@
 CONST_GLOBAL float GOLDEN_ANGLE = 2.39996322972865f;
 
 lfloat ssaoLanes(lint x, lint y) {
-    lbool computing = insideBuffer(x, y);
-    lfloat depth = gatherDepth(x, y, computing) * P.depthScale;
-    computing = computing && isSurfaceDepth(depth);
+    lbool computing;
+    lfloat depth = surfaceDepth(x, y, computing);
     if (!anyLane(computing)) {
         return lfloat(1.0f);
     }
-    depth = select(computing, depth, 1.0f);
     lint displayX = x + P.originX;
     lint displayY = y + P.originY;
     lvec2 centre = lvec2(lfloat(displayX) + 0.5f, lfloat(displayY) + 0.5f);
