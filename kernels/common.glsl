@@ -117,6 +117,16 @@ lvec2 screenDirection(lvec3 ray, lvec3 dirVS) {
     return d * inversesqrt(max(dot(d, d), 1e-30f));
 }
 
+// Orthonormal basis around a unit normal without a branch on its direction
+// (Duff et al. 2017), so every normal gets a well-conditioned frame.
+void tangentFrame(lvec3 n, OUT(lvec3) b1, OUT(lvec3) b2) {
+    lfloat sgn = select(n.z >= 0.0f, lfloat(1.0f), lfloat(-1.0f));
+    lfloat a = -1.0f / (sgn + n.z);
+    lfloat b = n.x * n.y * a;
+    b1 = lvec3(1.0f + sgn * n.x * n.x * a, sgn * b, -sgn * n.x);
+    b2 = lvec3(b, sgn + n.y * n.y * a, -n.y);
+}
+
 // Smallest n.V kept: only back-facing (or exactly edge-on) normals are bent. A surface seen
 // at a grazing angle keeps its true normal, or its own samples would rise above a bent tangent plane.
 CONST_GLOBAL float MIN_NORMAL_DOT_VIEW = 1e-6f;

@@ -30,12 +30,9 @@ lfloat ssaoLanes(lint x, lint y) {
     lvec3 receiver = positionOnRay(ray, depth);
     vec2 origin = vec2(bufferOrigin());
 
-    // A frame around n (Duff et al. 2017), branch-free.
-    lfloat sgn = select(n.z >= 0.0f, lfloat(1.0f), lfloat(-1.0f));
-    lfloat fa = -1.0f / (sgn + n.z);
-    lfloat fb = n.x * n.y * fa;
-    lvec3 b1 = lvec3(1.0f + sgn * n.x * n.x * fa, sgn * fb, -sgn * n.x);
-    lvec3 b2 = lvec3(fb, sgn + n.y * n.y * fa, -n.y);
+    lvec3 b1;
+    lvec3 b2;
+    tangentFrame(n, b1, b2);
 
     luint h = hashPixel(displayX, displayY);
     lfloat jitter = hashToUnit(h);

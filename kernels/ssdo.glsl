@@ -28,16 +28,6 @@ lfloat radicalInverse2(luint i) {
     return lfloat(i >> 8u) * (1.0f / 16777216.0f);
 }
 
-// Orthonormal basis around a unit normal without a branch on its direction
-// (Duff et al. 2017), so every normal gets a well-conditioned frame.
-void tangentFrame(lvec3 n, OUT(lvec3) b1, OUT(lvec3) b2) {
-    lfloat sgn = select(n.z >= 0.0f, lfloat(1.0f), lfloat(-1.0f));
-    lfloat a = -1.0f / (sgn + n.z);
-    lfloat b = n.x * n.y * a;
-    b1 = lvec3(1.0f + sgn * n.x * n.x * a, sgn * b, -sgn * n.x);
-    b2 = lvec3(b, sgn + n.y * n.y * a, -n.y);
-}
-
 // Bilinear lookup of the lat-long environment level (wraps in longitude, clamps at the poles),
 // read where `use`.
 lvec3 environmentRadiance(lvec3 dirView, lbool use) {
