@@ -6,6 +6,7 @@
 #include "io/frame_job.h"
 #include "io/sequence.h"
 
+#include <nlohmann/json.hpp>
 #include <unistd.h>
 
 #include <algorithm>
@@ -26,10 +27,6 @@
 namespace obscura::cli {
 
 namespace {
-
-struct UsageError : Error {
-    using Error::Error;
-};
 
 struct Options {
     FrameJob job;
@@ -299,7 +296,8 @@ std::string helpText() {
     os << "obscura " << OBSCURA_VERSION_STRING
        << " - screen-space ambient and directional occlusion for multilayer OpenEXR renders\n\n"
           "usage: obscura INPUT.exr -o OUTPUT.exr [options]\n"
-          "       obscura INPUT.exr --inspect\n\n"
+          "       obscura INPUT.exr --inspect\n"
+          "       obscura farm slurm|summary ...   (a sequence as farm work; obscura farm --help)\n\n"
           "The input's passes (depth, normals, position) are found by renderer preset; the camera comes\n"
           "from the flags, a JSON sidecar, the EXR header, or a fit to the position pass, in that order.\n"
           "The output is the input with every channel and attribute kept, plus the new layers\n"
@@ -378,17 +376,24 @@ void runOneFrame(const Options& o, const FrameJob& job, const std::string& repor
     if (!o.quiet && !isFramePattern(o.job.input)) printSummary(o, report);
 }
 
-// An output is complete when it reads back as an EXR holding the AO channel (writes are
-// atomic, so a file that exists was written whole; the read guards against other writers).
-bool outputComplete(const std::string& path, const std::string& aoChannel) {
-    std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) return false;
+// With --report, a frame is complete once its report is written too (it comes after the output),
+// and the report is not a failure's.
+bool frameComplete(const FrameJob& job, const std::string& reportPath) {
+    if (!outputComplete(job.output, aoChannelName(job.aoLayer))) return false;
+    if (reportPath.empty()) return true;
+    std::ifstream f(reportPath);
+    const nlohmann::json report = nlohmann::json::parse(f, nullptr, false);
+    return report.is_object() && report.contains("total_s") && !report.contains("error");
+}
+
+// A failed frame's report holds the error, so `obscura farm summary` can tell failed from missing.
+void writeFailureReport(const FrameJob& job, int frame, const std::string& reportPath, const std::string& what) {
+    if (reportPath.empty()) return;
     try {
-        for (const ExrPart& part : readExrInfo(path).parts)
-            if (part.findChannel(aoChannel) >= 0) return true;
-    } catch (const Error&) {
+        writeTextFileAtomically(reportPath, frameFailureJson(job, frame, what));
+    } catch (const std::exception&) {
+        // The frame's own error is the one to report.
     }
-    return false;
 }
 
 // A frame sequence, with a progress line and --resume; stops at the first failing frame.
@@ -404,16 +409,21 @@ int runSequence(const Options& o) {
         job.input = framePath(o.job.input, frames[i]);
         job.output = framePath(o.job.output, frames[i]);
         job.previewPath = framePath(o.job.previewPath, frames[i]);
-        if (o.resume && outputComplete(job.output, aoChannelName(job.aoLayer))) {
+        const std::string reportPath = framePath(o.reportPath, frames[i]);
+        if (o.resume && frameComplete(job, reportPath)) {
             ++skipped;
         } else {
             try {
-                runOneFrame(o, job, framePath(o.reportPath, frames[i]));
+                // A run killed mid-frame (a farm task, a dead node) left its temp files behind.
+                if (o.resume) removeStaleTemps(job.output), removeStaleTemps(reportPath);
+                runOneFrame(o, job, reportPath);
             } catch (const UsageError&) {
                 throw;
             } catch (const std::exception& e) {
                 if (tty && !o.quiet) std::fputc('\n', stderr);
-                throw Error("frame " + std::to_string(frames[i]) + ": " + e.what());
+                const std::string message = "frame " + std::to_string(frames[i]) + ": " + e.what();
+                writeFailureReport(job, frames[i], reportPath, e.what());
+                throw Error(message);
             }
             ++done;
         }
@@ -432,6 +442,34 @@ int runSequence(const Options& o) {
 
 } // namespace
 
+// Writes are atomic, so a file that exists was written whole; the read guards against other writers.
+bool outputComplete(const std::string& path, const std::string& aoChannel) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) return false;
+    try {
+        for (const ExrPart& part : readExrInfo(path).parts)
+            if (part.findChannel(aoChannel) >= 0) return true;
+    } catch (const Error&) {
+    }
+    return false;
+}
+
+RunPlan planRun(const std::vector<std::string>& args) {
+    std::vector<std::string> copy = args;
+    std::vector<char*> argv{const_cast<char*>("obscura")};
+    for (std::string& a : copy) argv.push_back(a.data());
+    const Options o = parseArgs((int)argv.size(), argv.data());
+    RunPlan plan;
+    plan.input = o.job.input;
+    plan.output = o.job.output;
+    plan.frames = o.frames;
+    plan.report = o.reportPath;
+    plan.aoChannel = aoChannelName(o.job.aoLayer);
+    plan.threads = o.job.settings.threads;
+    plan.resume = o.resume;
+    return plan;
+}
+
 // The message as one printable line: control bytes (a corrupt file's names may hold
 // newlines) become '?', trailing whitespace is dropped.
 static std::string printableLine(std::string s) {
@@ -442,6 +480,7 @@ static std::string printableLine(std::string s) {
 }
 
 int run(int argc, char** argv) {
+    if (argc > 1 && std::string(argv[1]) == "farm") return runFarm(argc, argv);
     Options o;
     try {
         o = parseArgs(argc, argv);

@@ -8,14 +8,19 @@
 #include <OpenImageIO/imageio.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <utility>
 
+#include <signal.h>
 #include <unistd.h>
+
+#include <cerrno>
 
 namespace obscura {
 
@@ -275,6 +280,41 @@ void writeTextFileAtomically(const std::string& path, const std::string& text) {
         std::remove(tmp.c_str());
         throw Error("cannot write '" + path + "'");
     }
+}
+
+std::string frameFailureJson(const FrameJob& job, int frame, const std::string& error) {
+    const nlohmann::json j = {{"obscura", OBSCURA_VERSION_STRING}, {"frame", frame}, {"input", job.input},
+                              {"output", job.output}, {"error", error}};
+    return j.dump(2);
+}
+
+std::vector<std::string> atomicWriteTemps(const std::string& path) {
+    namespace fs = std::filesystem;
+    const fs::path p(path);
+    const fs::path dir = p.parent_path().empty() ? fs::path(".") : p.parent_path();
+    const std::string prefix = p.filename().string() + ".tmp-";
+    std::vector<std::string> found;
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(dir, ec)) {
+        const std::string name = entry.path().filename().string();
+        if (name.size() > prefix.size() && name.compare(0, prefix.size(), prefix) == 0 &&
+            name.find_first_not_of("0123456789", prefix.size()) == std::string::npos)
+            found.push_back((p.parent_path() / name).string());
+    }
+    std::sort(found.begin(), found.end());
+    return found;
+}
+
+int removeStaleTemps(const std::string& path) {
+    int removed = 0;
+    for (const std::string& tmp : atomicWriteTemps(path)) {
+        const long pid = std::atol(tmp.c_str() + tmp.rfind('-') + 1);
+        // kill(pid, 0) probes without signalling: ESRCH means no such process here.
+        if (pid > 0 && pid != (long)::getpid() && ::kill((pid_t)pid, 0) == 0) continue;
+        if (pid > 0 && pid != (long)::getpid() && errno != ESRCH) continue;
+        if (std::remove(tmp.c_str()) == 0) ++removed;
+    }
+    return removed;
 }
 
 std::string aoChannelName(const std::string& layer) {

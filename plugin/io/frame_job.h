@@ -104,6 +104,11 @@ FramePasses loadFramePasses(const FrameJob& job, bool keepAll, std::vector<Stage
 Image interleavePlanes(const std::vector<Image>& planes, size_t first, int channels);
 // Writes text + newline to path through a temp file and a rename; throws obscura::Error.
 void writeTextFileAtomically(const std::string& path, const std::string& text);
+// The temp files "<path>.tmp-<pid>" of atomic writes to `path` (outputs, reports).
+std::vector<std::string> atomicWriteTemps(const std::string& path);
+// Removes those whose writer is no longer running on this host (a killed or crashed run), so a
+// retried frame leaves no half-written file; a live writer's temp file is kept. Returns how many.
+int removeStaleTemps(const std::string& path);
 // The camera this job would use for these passes.
 Camera resolveFrameCamera(const FrameJob& job, const FramePasses& passes);
 // The full pipeline. Throws obscura::Error (one line) on any failure; nothing is left on disk then.
@@ -112,6 +117,8 @@ FrameReport runFrameJob(const FrameJob& job);
 std::string inspectFrame(const FrameJob& job);
 // --report: settings, camera, timings and statistics as JSON text.
 std::string frameReportJson(const FrameJob& job, const FrameReport& report);
+// A failed frame's report instead: the frame, its files and the one-line error.
+std::string frameFailureJson(const FrameJob& job, int frame, const std::string& error);
 // How `job` writes its output for this input: the mode, and the codec of the new layers.
 std::string describeWrite(const FrameJob& job, const ExrInfo& info, int part);
 // Throws obscura::Error when the directory `path` would be written into does not exist.

@@ -110,4 +110,32 @@ std::vector<int> existingFrames(const std::string& pattern) {
     return frames;
 }
 
+std::vector<std::vector<int>> chunkFrames(const std::vector<int>& frames, int size) {
+    if (size < 1) throw Error("chunk size must be at least 1, got " + std::to_string(size));
+    std::vector<std::vector<int>> chunks;
+    for (size_t i = 0; i < frames.size(); i += (size_t)size)
+        chunks.emplace_back(frames.begin() + i, frames.begin() + std::min(frames.size(), i + (size_t)size));
+    return chunks;
+}
+
+std::string frameSpec(const std::vector<int>& frames) {
+    std::string spec;
+    for (size_t i = 0; i < frames.size();) {
+        // The longest run from i with one positive step; runs of two stay two items ("1,3").
+        size_t j = i + 1;
+        const long step = j < frames.size() ? (long)frames[j] - frames[i] : 0;
+        while (step > 0 && j < frames.size() && (long)frames[j] - frames[j - 1] == step) ++j;
+        if (!spec.empty()) spec += ',';
+        if (j - i >= 3 || (j - i == 2 && step == 1)) {
+            spec += std::to_string(frames[i]) + "-" + std::to_string(frames[j - 1]);
+            if (step > 1) spec += "x" + std::to_string(step);
+            i = j;
+        } else {
+            spec += std::to_string(frames[i]);
+            ++i;
+        }
+    }
+    return spec;
+}
+
 } // namespace obscura

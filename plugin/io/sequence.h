@@ -13,5 +13,10 @@ std::string framePath(const std::string& pattern, int frame);
 std::vector<int> parseFrames(const std::string& spec);
 // Frames whose file exists, found by listing the pattern's directory, in order.
 std::vector<int> existingFrames(const std::string& pattern);
+// The frames in order, cut into consecutive chunks of `size` (the last may be shorter): the same
+// list and size always give the same chunks, so a farm task's frames never depend on timing.
+std::vector<std::vector<int>> chunkFrames(const std::vector<int>& frames, int size);
+// The shortest --frames text for `frames` in order ("1-4,7,9-13x2"); parseFrames reads it back.
+std::string frameSpec(const std::vector<int>& frames);
 
 } // namespace obscura

@@ -1,0 +1,316 @@
+// `obscura farm`: a frame sequence as farm work. `slurm` writes (and submits) an sbatch array
+// job, one task per chunk of frames, each task an ordinary `obscura ... --frames CHUNK --resume`
+// run; `summary` merges the per-frame reports the tasks write next to the outputs.
+#include "cli.h"
+
+#include "io/frame_job.h"
+#include "io/sequence.h"
+
+#include <nlohmann/json.hpp>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <sstream>
+
+namespace obscura::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+const char* const kManifest = "obscura_farm.json";
+const char* const kScript = "obscura_farm.sbatch";
+const char* const kLogs = "obscura_farm_logs";
+
+const char* const kFarmHelp =
+    "usage: obscura farm slurm INPUT.####.exr -o OUTPUT.####.exr [obscura flags] [farm flags]\n"
+    "       obscura farm summary DIR [--json]\n\n"
+    "slurm: an sbatch array job over the frames (--frames, or every input frame found), one task per\n"
+    "chunk; each task runs obscura on its frames with --resume and --report (default: the output\n"
+    "pattern with .json), so a retried or resubmitted task skips finished frames. Writes\n"
+    "DIR/obscura_farm.sbatch and DIR/obscura_farm.json next to the outputs, then submits.\n"
+    "  --chunk N          frames per task (10)\n"
+    "  --dry-run          print the script; write and submit nothing\n"
+    "  --job-name NAME    Slurm job name (obscura)\n"
+    "  --sbatch-arg ARG   one more #SBATCH line, e.g. --sbatch-arg=--partition=render (repeatable)\n\n"
+    "summary: frames done, failed and missing, time per frame and the reference error, from the\n"
+    "job's reports in DIR; --json prints it as JSON. Exit status 0 when every frame is done, else 1.\n";
+
+std::string shellQuote(const std::string& s) {
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+std::string absolutePath(const std::string& p) { return fs::absolute(p).lexically_normal().string(); }
+
+std::string selfPath() {
+    std::error_code ec;
+    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+    if (ec) throw Error("cannot find the obscura executable's path (/proc/self/exe)");
+    return exe.string();
+}
+
+struct SlurmJob {
+    std::vector<std::string> runArgs;  // the ordinary run's command line, as given
+    RunPlan plan;
+    std::vector<int> frames;
+    std::vector<std::vector<int>> chunks;
+    std::string dir, report;  // the outputs' directory and the report pattern, absolute
+    std::vector<std::string> sbatchArgs;
+    std::string jobName = "obscura";
+    int chunk = 10;
+    bool dryRun = false;
+};
+
+int toCount(const std::string& flag, const std::string& v) {
+    char* end = nullptr;
+    const long n = std::strtol(v.c_str(), &end, 10);
+    if (v.empty() || *end != '\0' || n < 1 || n > 1000000)
+        throw UsageError(flag + " expects a whole number of at least 1, got '" + v + "'");
+    return (int)n;
+}
+
+SlurmJob parseSlurm(int argc, char** argv) {
+    SlurmJob job;
+    for (int i = 3; i < argc; ++i) {
+        std::string arg = argv[i], value;
+        const size_t eq = arg.find('=');
+        const std::string name = arg.rfind("--", 0) == 0 && eq != std::string::npos ? arg.substr(0, eq) : arg;
+        const bool takesValue = name == "--chunk" || name == "--job-name" || name == "--sbatch-arg";
+        if (takesValue) {
+            if (name != arg) value = arg.substr(eq + 1);
+            else if (i + 1 < argc) value = argv[++i];
+            else throw UsageError(name + " needs a value");
+        }
+        if (name == "--chunk") job.chunk = toCount("--chunk", value);
+        else if (name == "--job-name") job.jobName = value;
+        else if (name == "--sbatch-arg") job.sbatchArgs.push_back(value);
+        else if (arg == "--dry-run") job.dryRun = true;
+        else job.runArgs.push_back(arg);
+    }
+    job.plan = planRun(job.runArgs);
+    if (job.plan.input.empty()) throw UsageError("farm slurm: no input sequence (see obscura farm --help)");
+    if (!isFramePattern(job.plan.input) || !isFramePattern(job.plan.output))
+        throw UsageError("farm slurm: INPUT and -o must be sequences (shot.####.exr or shot.%04d.exr)");
+    if (job.jobName.empty() || job.jobName.find_first_of(" \t\n'\"\\$`") != std::string::npos)
+        throw UsageError("--job-name must be one word, got '" + job.jobName + "'");
+    for (const std::string& a : job.sbatchArgs)
+        if (a.rfind("-", 0) != 0 || a.find('\n') != std::string::npos)
+            throw UsageError("--sbatch-arg expects one sbatch option such as --partition=render, got '" + a + "'");
+    if (!job.plan.report.empty() && !isFramePattern(job.plan.report))
+        throw UsageError("farm slurm: --report must be a pattern too (e.g. out.####.json)");
+    const std::string output = absolutePath(job.plan.output);
+    job.dir = fs::path(output).parent_path().string();
+    job.report = job.plan.report.empty() ? fs::path(output).replace_extension(".json").string()
+                                         : absolutePath(job.plan.report);
+    job.frames = job.plan.frames.empty() ? existingFrames(job.plan.input) : parseFrames(job.plan.frames);
+    if (job.frames.empty()) throw Error("no frames match '" + job.plan.input + "' (give --frames)");
+    job.chunks = chunkFrames(job.frames, job.chunk);
+    return job;
+}
+
+std::string slurmScript(const SlurmJob& job) {
+    std::ostringstream s;
+    s << "#!/bin/bash\n"
+      << "# obscura farm slurm: " << job.frames.size() << " frame(s) of " << job.plan.input << " in "
+      << job.chunks.size() << " task(s) of up to " << job.chunk << " (obscura " << OBSCURA_VERSION_STRING << ").\n"
+      << "# Each task is an ordinary obscura run over its chunk with --resume: a retried or resubmitted\n"
+      << "# task skips the frames already complete; outputs and reports are written atomically.\n"
+      << "#SBATCH --job-name=" << job.jobName << "\n"
+      << "#SBATCH --array=0-" << job.chunks.size() - 1 << "\n"
+      << "#SBATCH --chdir=" << fs::current_path().string() << "\n"
+      << "#SBATCH --output=" << job.dir << "/" << kLogs << "/%A_%a.log\n"
+      << "#SBATCH --ntasks=1\n"
+      << "#SBATCH --requeue\n";
+    if (job.plan.threads > 0) s << "#SBATCH --cpus-per-task=" << job.plan.threads << "\n";
+    for (const std::string& a : job.sbatchArgs) s << "#SBATCH " << a << "\n";
+    s << "set -u\nchunks=(";
+    for (size_t i = 0; i < job.chunks.size(); ++i) s << (i ? " " : "") << frameSpec(job.chunks[i]);
+    s << ")\nexec " << shellQuote(selfPath());
+    for (const std::string& a : job.runArgs) s << " " << shellQuote(a);
+    s << " --frames \"${chunks[$SLURM_ARRAY_TASK_ID]}\" --resume --report " << shellQuote(job.report) << "\n";
+    return s.str();
+}
+
+json manifest(const SlurmJob& job) {
+    json chunks = json::array();
+    for (const auto& c : job.chunks) chunks.push_back(frameSpec(c));
+    return {{"obscura", OBSCURA_VERSION_STRING}, {"engine", "slurm"},
+            {"input", absolutePath(job.plan.input)}, {"output", absolutePath(job.plan.output)},
+            {"report", job.report}, {"ao_channel", job.plan.aoChannel}, {"frames", job.frames},
+            {"chunks", chunks}};
+}
+
+// Runs `command` through the shell, returning its exit status and its stdout.
+int capture(const std::string& command, std::string& out) {
+    FILE* p = ::popen(command.c_str(), "r");
+    if (!p) throw Error("cannot run '" + command + "'");
+    char buf[4096];
+    size_t n;
+    while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+    const int status = ::pclose(p);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
+}
+
+int runSlurm(int argc, char** argv) {
+    const SlurmJob job = parseSlurm(argc, argv);
+    const std::string script = slurmScript(job);
+    if (job.dryRun) {
+        std::fputs(script.c_str(), stdout);
+        return 0;
+    }
+    requireOutputDirectory(job.plan.output);
+    fs::create_directories(fs::path(job.dir) / kLogs);
+    const std::string scriptPath = (fs::path(job.dir) / kScript).string();
+    writeTextFileAtomically(scriptPath, script);
+    json m = manifest(job);
+    writeTextFileAtomically((fs::path(job.dir) / kManifest).string(), m.dump(2));
+    std::string out;
+    const int rc = capture("sbatch --parsable " + shellQuote(scriptPath) + " 2>&1", out);
+    while (!out.empty() && (out.back() == '\n' || out.back() == ' ')) out.pop_back();
+    if (rc == 127) throw Error("sbatch not found (install slurm-client, or use --dry-run to print the script)");
+    if (rc != 0) throw Error("sbatch failed: " + out.substr(out.find_last_of('\n') + 1));
+    const std::string jobId = out.substr(out.find_last_of('\n') + 1);
+    m["job_id"] = jobId.substr(0, jobId.find(';'));
+    writeTextFileAtomically((fs::path(job.dir) / kManifest).string(), m.dump(2));
+    std::printf("submitted job %s: %zu frame(s) in %zu task(s); obscura farm summary %s\n",
+                m["job_id"].get<std::string>().c_str(), job.frames.size(), job.chunks.size(), job.dir.c_str());
+    return 0;
+}
+
+// --- summary -------------------------------------------------------------------------------
+
+struct Range {
+    double sum = 0, lo = INFINITY, hi = -INFINITY;
+    int n = 0;
+    void add(double v) { sum += v, lo = std::min(lo, v), hi = std::max(hi, v), ++n; }
+    json toJson() const { return n ? json{{"mean", sum / n}, {"min", lo}, {"max", hi}, {"total", sum}} : json(); }
+};
+
+json summarise(const std::string& dir) {
+    const fs::path path = fs::path(dir) / kManifest;
+    std::ifstream f(path);
+    if (!f) throw Error("cannot read '" + path.string() + "' (written by obscura farm slurm)");
+    const json m = json::parse(f, nullptr, false);
+    if (!m.is_object() || !m.contains("frames") || !m.contains("output") || !m.contains("report"))
+        throw Error("'" + path.string() + "' is not an obscura farm manifest");
+    const std::string output = m["output"], report = m["report"], channel = m.value("ao_channel", "obscura.AO.Y");
+    json done = json::array(), missing = json::array(), failed = json::object(), temps = json::array();
+    Range seconds;
+    std::map<std::string, Range> error;
+    std::string referenceLayer;
+    for (int frame : m["frames"].get<std::vector<int>>()) {
+        const std::string out = framePath(output, frame), rep = framePath(report, frame);
+        for (const std::string& p : atomicWriteTemps(out)) temps.push_back(p);
+        for (const std::string& p : atomicWriteTemps(rep)) temps.push_back(p);
+        std::ifstream rf(rep);
+        const json r = rf ? json::parse(rf, nullptr, false) : json();
+        if (r.is_object() && r.contains("error") && !outputComplete(out, channel)) {
+            failed[std::to_string(frame)] = r["error"];
+        } else if (r.is_object() && r.contains("total_s") && outputComplete(out, channel)) {
+            done.push_back(frame);
+            seconds.add(r["total_s"].get<double>());
+            if (r.contains("reference")) {
+                const json& e = r["reference"];
+                referenceLayer = e.value("layer", "");
+                for (const char* k : {"mae", "rmse", "p99_abs"}) error[k].add(e[k].get<double>());
+                if (e["psnr_db"].is_number()) error["psnr_db"].add(e["psnr_db"].get<double>());
+            }
+        } else {
+            missing.push_back(frame);
+        }
+    }
+    json s = {{"manifest", path.string()}, {"frames", m["frames"].size()}, {"done", done}, {"failed", failed},
+              {"missing", missing}, {"temp_files", temps}, {"seconds_per_frame", seconds.toJson()}};
+    if (m.contains("job_id")) s["job_id"] = m["job_id"];
+    if (!error.empty()) {
+        s["reference"] = {{"layer", referenceLayer}};
+        for (const auto& [k, r] : error) s["reference"][k] = r.toJson();
+    }
+    return s;
+}
+
+std::string summaryText(const json& s) {
+    std::ostringstream os;
+    char line[256];
+    os << "obscura farm: " << s["manifest"].get<std::string>() << "\n";
+    std::snprintf(line, sizeof line, "frames: %zu: %zu done, %zu failed, %zu missing\n", s["frames"].get<size_t>(),
+                  s["done"].size(), s["failed"].size(), s["missing"].size());
+    os << line;
+    if (const json& t = s["seconds_per_frame"]; !t.is_null()) {
+        std::snprintf(line, sizeof line, "time per frame: mean %.3f s, min %.3f s, max %.3f s; %.1f s in all\n",
+                      t["mean"].get<double>(), t["min"].get<double>(), t["max"].get<double>(), t["total"].get<double>());
+        os << line;
+    }
+    if (s.contains("reference")) {
+        const json& e = s["reference"];
+        os << "reference " << e["layer"].get<std::string>() << " (mean / worst frame):";
+        for (const char* k : {"mae", "rmse", "p99_abs"})
+            if (e.contains(k)) {
+                std::snprintf(line, sizeof line, " %s %.5f / %.5f", k, e[k]["mean"].get<double>(), e[k]["max"].get<double>());
+                os << line << ";";
+            }
+        if (e.contains("psnr_db")) {
+            std::snprintf(line, sizeof line, " psnr %.2f / %.2f dB", e["psnr_db"]["mean"].get<double>(),
+                          e["psnr_db"]["min"].get<double>());
+            os << line;
+        }
+        os << "\n";
+    }
+    for (const auto& [frame, err] : s["failed"].items()) os << "failed " << frame << ": " << err.get<std::string>() << "\n";
+    if (!s["missing"].empty()) {
+        std::vector<int> missing = s["missing"].get<std::vector<int>>();
+        os << "missing: " << frameSpec(missing) << "\n";
+    }
+    for (const auto& t : s["temp_files"])
+        os << "temp file (a write in progress, or left by a killed run): " << t.get<std::string>() << "\n";
+    return os.str();
+}
+
+int runSummary(int argc, char** argv) {
+    std::string dir;
+    bool asJson = false;
+    for (int i = 3; i < argc; ++i) {
+        const std::string arg = argv[i];
+        if (arg == "--json") asJson = true;
+        else if (arg.rfind("-", 0) == 0) throw UsageError("farm summary: unknown option '" + arg + "'");
+        else if (!dir.empty()) throw UsageError("farm summary takes one directory");
+        else dir = arg;
+    }
+    if (dir.empty()) throw UsageError("farm summary: which directory? (obscura farm summary DIR)");
+    const json s = summarise(dir);
+    if (asJson) std::printf("%s\n", s.dump(2).c_str());
+    else std::fputs(summaryText(s).c_str(), stdout);
+    return s["done"].size() == s["frames"].get<size_t>() ? 0 : 1;
+}
+
+} // namespace
+
+int runFarm(int argc, char** argv) {
+    try {
+        const std::string what = argc > 2 ? argv[2] : "";
+        if (what == "--help" || what == "-h") {
+            std::fputs(kFarmHelp, stdout);
+            return 0;
+        }
+        if (what == "slurm") return runSlurm(argc, argv);
+        if (what == "summary") return runSummary(argc, argv);
+        throw UsageError("farm expects slurm or summary, got '" + what + "' (see obscura farm --help)");
+    } catch (const UsageError& e) {
+        std::fprintf(stderr, "obscura: %s\n", e.what());
+        return 2;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "obscura: %s\n", e.what());
+        return 1;
+    }
+}
+
+} // namespace obscura::cli
