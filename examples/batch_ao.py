@@ -31,12 +31,12 @@ import json
 import os
 import re
 import sys
-import threading
 import time
 from concurrent.futures import ThreadPoolExecutor, as_completed
 from dataclasses import dataclass, field
 
 import obscura
+from obscura import farm
 
 # ------------------------------------------------------------------------------------------
 # Frame patterns
@@ -189,33 +189,22 @@ class Task:
 
 
 def output_paths(out_dir, variant, src):
-    name = os.path.basename(src)
-    out = os.path.join(out_dir, variant.name, name)
-    return out, os.path.splitext(out)[0] + ".json"
+    return farm.output_paths(out_dir, variant.name, src)
 
 
 def is_complete(task):
-    """The output and its report exist, are newer than the input, and match the settings."""
-    try:
-        src_time = os.path.getmtime(task.src)
-        if os.path.getmtime(task.out) < src_time or os.path.getmtime(task.report) < src_time:
-            return False
-        with open(task.report) as f:
-            recorded = json.load(f).get("batch_variant")
-    except (OSError, ValueError):
-        return False
-    return recorded == task.variant.to_json()
+    """The output and its report exist, are newer than the input, and match the settings
+    (obscura.farm's rule, so local and Dask runs resume each other's work)."""
+    return farm.is_complete(task.src, task.out, task.report, task.variant.to_json())
 
 
 def run_task(task):
     t0 = time.perf_counter()
+    farm.remove_stale_temps(task.out)
+    farm.remove_stale_temps(task.report)
     report = RENDERERS[task.variant.kind](task.src, task.out, task.variant.settings, task.report)
     # Record the variant in the report, so --resume can tell a stale output from a complete one.
-    report["batch_variant"] = task.variant.to_json()
-    tmp = f"{task.report}.tmp-{os.getpid()}-{threading.get_ident()}"
-    with open(tmp, "w") as f:
-        json.dump(report, f, indent=2)
-    os.replace(tmp, task.report)
+    farm.write_report(task.report, report, task.variant.to_json())
     return time.perf_counter() - t0
 
 

@@ -735,7 +735,7 @@ The GIL is released while files are read or written and while the AO is computed
 } // namespace
 } // namespace obscura::python
 
-PYBIND11_MODULE(obscura, m) {
+PYBIND11_MODULE(_obscura, m) {
     using namespace obscura;
     using namespace obscura::python;
     m.doc() = kModuleDoc;

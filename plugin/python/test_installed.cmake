@@ -13,7 +13,7 @@ if(NOT rc EQUAL 0)
   message(FATAL_ERROR "cmake --install --component python failed (${rc})")
 endif()
 set(site ${PREFIX}/${MODULE_DIR})
-file(GLOB installed ${site}/obscura*.so)
+file(GLOB installed ${site}/obscura/_obscura*.so)
 if(NOT installed)
   message(FATAL_ERROR "no obscura module under ${site}")
 endif()
@@ -31,6 +31,8 @@ normal[..., 2] = 1.0
 ao = obscura.compute_ao(depth, normal, camera=cam, radius=0.5)
 assert ao.shape == (12, 16) and ao.dtype == np.float32, (ao.shape, ao.dtype)
 assert abs(float(ao.min()) - 1.0) < 1e-5, ao.min()
+import obscura.farm
+assert callable(obscura.farm.run_dask)
 print("installed obscura", obscura.__version__, "from", where)
 ]=])
 execute_process(COMMAND ${CMAKE_COMMAND} -E env --unset=PYTHONHOME --unset=PYTHONSTARTUP PYTHONPATH=${site}
