@@ -12,6 +12,7 @@ import signal
 import socket
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -104,10 +105,12 @@ PartitionName=obscura Nodes=obscuranode Default=YES MaxTime=INFINITE State=UP
 
 
 class SlurmCluster:
-    """A one-node Slurm cluster with `cpus` CPUs; env holds SLURM_CONF for sbatch/squeue."""
+    """A one-node Slurm cluster with `cpus` CPUs; env holds SLURM_CONF for sbatch/squeue.
+    Its files live in a fresh directory under /tmp, removed on stop: slurmstepd's Unix sockets
+    go in the spool directory, and a socket path may not exceed 108 bytes."""
 
-    def __init__(self, root, cpus=2):
-        self.root = Path(root).resolve()
+    def __init__(self, cpus=2):
+        self.root = Path(tempfile.mkdtemp(prefix="obscura-slurm-", dir="/tmp"))
         self.cpus = cpus
         self.procs = _Processes(self.root)
         self.env = dict(os.environ, SLURM_CONF=str(self.root / "slurm.conf"))
@@ -129,11 +132,7 @@ class SlurmCluster:
                 raise EngineUnavailable(f"{tool} is not installed (scripts/setup.sh installs munge and slurm-wlm)")
         if os.geteuid() != 0:
             raise EngineUnavailable("slurmd must run as root to start jobs as the submitting user")
-        if len(str(self.root / "munge" / "munge.socket")) > 100:
-            raise EngineUnavailable(f"path too long for a Unix socket: {self.root}")
-        if self.root.exists():
-            shutil.rmtree(self.root)
-        (self.root / "munge").mkdir(parents=True, mode=0o711)
+        (self.root / "munge").mkdir(mode=0o711)
         for d in ("state", "spool"):
             (self.root / d).mkdir()
         key = self.root / "munge" / "munge.key"
@@ -157,8 +156,8 @@ class SlurmCluster:
                 if p.poll() is not None:
                     tail = self.procs.output(name).strip().splitlines()[-3:]
                     raise EngineUnavailable(f"{name} exited ({p.returncode}): {' | '.join(tail)}") from None
-            raise EngineUnavailable(f"the Slurm node did not become idle (state '{self.node_state()}'); "
-                                    f"see {self.root}/slurmd.log") from None
+            raise EngineUnavailable(f"the Slurm node did not become idle (state '{self.node_state()}'): "
+                                    + self.log_tail("slurmd.log", 3)) from None
 
     def node_state(self):
         r = subprocess.run(["sinfo", "-h", "-o", "%t"], env=self.env, capture_output=True, text=True, timeout=20)
@@ -170,10 +169,18 @@ class SlurmCluster:
         return bool(r.stdout.strip())
 
     def wait(self, job_id, timeout=300):
-        wait_for(lambda: not self.running(job_id), timeout, f"Slurm job {job_id}")
+        try:
+            wait_for(lambda: not self.running(job_id), timeout, f"Slurm job {job_id}")
+        except TimeoutError as e:
+            raise TimeoutError(f"{e}; slurmd.log ends:\n{self.log_tail('slurmd.log')}") from None
+
+    def log_tail(self, name, lines=5):
+        path = self.root / name
+        return "".join(path.read_text(errors="replace").splitlines(True)[-lines:]) if path.exists() else ""
 
     def stop(self):
         self.procs.stop()
+        shutil.rmtree(self.root, ignore_errors=True)
 
 
 class DaskCluster:

@@ -1,0 +1,162 @@
+"""`obscura farm slurm` (the generated array job, its chunks, submission) and `obscura farm
+summary`, without a Slurm cluster: the script's tasks run under bash as Slurm would run them,
+and submission goes through a stand-in sbatch. test_farm_slurm.py runs them on real Slurm."""
+import json
+import os
+import subprocess
+
+import pytest
+
+from conftest import CLI, SAMPLES, synthetic_scene, write_exr
+
+
+def farm(*args, env=None, cwd=None):
+    return subprocess.run([CLI, "farm", *map(str, args)], capture_output=True, text=True, env=env, cwd=cwd,
+                          timeout=300)
+
+
+@pytest.fixture
+def sequence(tmp):
+    for frame in range(1, 8):
+        depth, normal = synthetic_scene(48, 32, frame)
+        write_exr(tmp / f"shot.{frame:04d}.exr", depth, normal, sidecar=True)
+    (tmp / "out").mkdir()
+    return tmp
+
+
+def run_tasks(script, count, cwd, only=None):
+    """Runs the array job's tasks as Slurm would: the script under bash with SLURM_ARRAY_TASK_ID."""
+    for task in range(count) if only is None else only:
+        env = dict(os.environ, SLURM_ARRAY_TASK_ID=str(task))
+        proc = subprocess.run(["bash", "-c", script], env=env, cwd=cwd, capture_output=True, text=True, timeout=300)
+        yield task, proc
+
+
+def test_dry_run_script_chunks_and_writes_nothing(sequence):
+    proc = farm("slurm", "shot.####.exr", "-o", "out/ao.####.exr", "--radius", "0.5", "--threads", "1",
+                "--frames", "1-7", "--chunk", "3", "--dry-run", "--sbatch-arg=--partition=render", cwd=sequence)
+    assert proc.returncode == 0, proc.stderr
+    script = proc.stdout
+    assert script.startswith("#!/bin/bash\n")
+    lines = script.splitlines()
+    assert "#SBATCH --array=0-2" in lines  # 7 frames, 3 per task
+    assert "chunks=(1-3 4-6 7)" in lines
+    assert "#SBATCH --cpus-per-task=1" in lines and "#SBATCH --partition=render" in lines
+    assert f"#SBATCH --chdir={sequence}" in lines
+    command = lines[-1]
+    assert command.startswith(f"exec '{os.path.realpath(CLI)}' 'shot.####.exr' '-o' 'out/ao.####.exr'")
+    assert command.endswith(f"--frames \"${{chunks[$SLURM_ARRAY_TASK_ID]}}\" --resume --report "
+                            f"'{sequence}/out/ao.####.json'")
+    assert sorted(os.listdir(sequence / "out")) == []
+    # The same command line gives the same chunks: a resubmission redoes the same split.
+    again = farm("slurm", "shot.####.exr", "-o", "out/ao.####.exr", "--radius", "0.5", "--threads", "1",
+                 "--frames", "1-7", "--chunk", "3", "--dry-run", "--sbatch-arg=--partition=render", cwd=sequence)
+    assert again.stdout == script
+    # Without --frames, the frames found on disk; a chunk larger than the job is one task.
+    whole = farm("slurm", "shot.####.exr", "-o", "out/ao.####.exr", "--chunk", "100", "--dry-run", cwd=sequence)
+    assert "chunks=(1-7)" in whole.stdout.splitlines() and "#SBATCH --array=0-0" in whole.stdout
+
+
+def test_bad_command_lines(sequence):
+    cases = [
+        (["slurm", "shot.0001.exr", "-o", "out/a.exr", "--dry-run"], 2, "must be sequences"),
+        (["slurm", "shot.####.exr", "-o", "out/a.####.exr", "--chunk", "0", "--dry-run"], 2, "--chunk"),
+        (["slurm", "shot.####.exr", "-o", "out/a.####.exr", "--radius", "-1", "--dry-run"], 2, "--radius"),
+        (["slurm", "shot.####.exr", "-o", "out/a.####.exr", "--report", "r.json", "--dry-run"], 2, "--report"),
+        (["slurm", "none.####.exr", "-o", "out/a.####.exr", "--dry-run"], 1, "no frames match"),
+        (["summary", "out"], 1, "obscura_farm.json"),
+        (["summary"], 2, "which directory"),
+        (["render"], 2, "slurm or summary"),
+    ]
+    for args, status, words in cases:
+        proc = farm(*args, cwd=sequence)
+        assert proc.returncode == status, (args, proc.stderr)
+        err = proc.stderr.strip().splitlines()
+        assert len(err) == 1 and err[0].startswith("obscura: ") and words in err[0], (args, proc.stderr)
+
+
+def fake_sbatch(tmp):
+    """A stand-in for sbatch on PATH: records its arguments, prints a job id as --parsable does."""
+    bin_dir = tmp / "bin"
+    bin_dir.mkdir()
+    (bin_dir / "sbatch").write_text(f"#!/bin/sh\necho \"$@\" >> {tmp}/sbatch.args\necho 4242\n")
+    (bin_dir / "sbatch").chmod(0o755)
+    return dict(os.environ, PATH=f"{bin_dir}:{os.environ['PATH']}")
+
+
+def test_tasks_resume_and_summary(sequence):
+    env = fake_sbatch(sequence)
+    args = ["slurm", "shot.####.exr", "-o", "out/ao.####.exr", "--radius", "0.5", "--frames", "1-7", "--chunk", "2",
+            "--out-type", "float"]
+    proc = farm(*args, env=env, cwd=sequence)
+    assert proc.returncode == 0, proc.stderr
+    assert "submitted job 4242: 7 frame(s) in 4 task(s)" in proc.stdout
+    out = sequence / "out"
+    assert (sequence / "sbatch.args").read_text().split() == ["--parsable", str(out / "obscura_farm.sbatch")]
+    manifest = json.loads((out / "obscura_farm.json").read_text())
+    assert manifest["frames"] == list(range(1, 8)) and manifest["chunks"] == ["1-2", "3-4", "5-6", "7"]
+    assert manifest["job_id"] == "4242" and (out / "obscura_farm_logs").is_dir()
+    script = (out / "obscura_farm.sbatch").read_text()
+
+    # Nothing ran yet: all missing, exit status 1.
+    s = farm("summary", out, "--json")
+    assert s.returncode == 1
+    assert json.loads(s.stdout)["missing"] == list(range(1, 8))
+
+    # Frame 6's input is corrupt; task 3 (frame 7) never runs.
+    (sequence / "shot.0006.exr").write_bytes(b"not an exr")
+    results = dict(run_tasks(script, 3, sequence))
+    assert results[0].returncode == 0 and results[1].returncode == 0, results[0].stderr + results[1].stderr
+    assert results[2].returncode == 1 and "frame 6" in results[2].stderr
+    s = farm("summary", out, "--json")
+    assert s.returncode == 1
+    summary = json.loads(s.stdout)
+    assert summary["done"] == [1, 2, 3, 4, 5] and summary["missing"] == [7]
+    assert list(summary["failed"]) == ["6"] and "shot.0006.exr" in summary["failed"]["6"]
+    assert summary["temp_files"] == []
+    reports = [json.loads((out / f"ao.{f:04d}.json").read_text()) for f in range(1, 6)]
+    times = [r["total_s"] for r in reports]
+    assert summary["seconds_per_frame"]["mean"] == pytest.approx(sum(times) / 5)
+    assert summary["seconds_per_frame"]["max"] == pytest.approx(max(times))
+    text = farm("summary", out).stdout
+    assert "frames: 7: 5 done, 1 failed, 1 missing" in text and "missing: 7" in text and "failed 6:" in text
+
+    # A resubmission after the input is fixed: finished frames are skipped (their files untouched).
+    depth, normal = synthetic_scene(48, 32, 6)
+    write_exr(sequence / "shot.0006.exr", depth, normal, sidecar=True)
+    before = {f: os.stat(out / f"ao.{f:04d}.exr").st_mtime_ns for f in range(1, 6)}
+    # A frame killed mid-write left its temp file (its process is gone): the retry removes it.
+    stale = out / "ao.0007.exr.tmp-999999999"
+    stale.write_bytes(b"half")
+    for task, proc in run_tasks(script, 4, sequence):
+        assert proc.returncode == 0, proc.stderr
+    assert {f: os.stat(out / f"ao.{f:04d}.exr").st_mtime_ns for f in range(1, 6)} == before
+    assert not stale.exists()
+    s = farm("summary", out)
+    assert s.returncode == 0, s.stdout
+    assert "frames: 7: 7 done, 0 failed, 0 missing" in s.stdout
+
+
+def test_summary_merges_reference_error(tmp):
+    # Two frames of a real Blender render with its ray-traced AO pass as the reference.
+    for frame in (1, 2):
+        (tmp / f"columns.{frame:04d}.exr").symlink_to(SAMPLES / "columns.exr")
+        (tmp / f"columns.{frame:04d}.json").symlink_to(SAMPLES / "columns.json")
+    (tmp / "out").mkdir()
+    script = farm("slurm", "columns.####.exr", "-o", "out/ao.####.exr", "--write", "new", "--weighting", "cosine",
+                  "--falloff", "none", "--radius", "1", "--reference", "ViewLayer.AO", "--chunk", "1", "--dry-run",
+                  cwd=tmp).stdout
+    env = fake_sbatch(tmp)
+    assert farm("slurm", "columns.####.exr", "-o", "out/ao.####.exr", "--write", "new", "--weighting", "cosine",
+                "--falloff", "none", "--radius", "1", "--reference", "ViewLayer.AO", "--chunk", "1",
+                env=env, cwd=tmp).returncode == 0
+    for task, proc in run_tasks(script, 2, tmp):
+        assert proc.returncode == 0, proc.stderr
+    summary = json.loads(farm("summary", tmp / "out", "--json").stdout)
+    ref = summary["reference"]
+    maes = [json.loads((tmp / "out" / f"ao.{f:04d}.json").read_text())["reference"]["mae"] for f in (1, 2)]
+    assert ref["layer"] == "ViewLayer.AO"
+    assert ref["mae"]["mean"] == pytest.approx(sum(maes) / 2) and ref["mae"]["max"] == pytest.approx(max(maes))
+    # The same frame twice: the same error, and a real one (HBAO against Cycles' AO: small, not zero).
+    assert maes[0] == maes[1] and 0.005 < maes[0] < 0.2
+    assert "reference ViewLayer.AO" in farm("summary", tmp / "out").stdout
