@@ -14,6 +14,7 @@ PACKAGES=(
   libembree-dev libtinyobjloader-dev
   libgtest-dev libgmock-dev googletest libbenchmark-dev libtbb-dev
   pybind11-dev python3-dev python3-numpy python3-pytest python3-openimageio
+  slurm-wlm munge python3-distributed
 )
 
 missing=()

@@ -15,9 +15,9 @@ from farm_engines import EngineUnavailable, SlurmCluster, wait_for
 from test_farm import farm
 
 FRAMES = range(1, 7)
-# Frames heavy enough (about a second at one thread) that a task can be caught mid-frame.
-ARGS = ["shot.####.exr", "-o", "out/ao.####.exr", "--quality", "ultra", "--radius", "0.5", "--threads", "1",
-        "--frames", "1-6"]
+# Frames heavy enough (ray-traced AO, about half a second at one thread) to catch a task mid-frame.
+ARGS = ["shot.####.exr", "-o", "out/ao.####.exr", "--method", "rtao", "--rtao-rays", "64", "--radius", "0.5",
+        "--threads", "1", "--frames", "1-6"]
 
 
 def task_process(job_id, task):

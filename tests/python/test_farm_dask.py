@@ -1,0 +1,73 @@
+"""obscura.farm.run_dask on a real Dask cluster started on 127.0.0.1 for the test (a scheduler
+and 2 single-threaded workers): 6 frames x 2 variants, one worker killed during the run; every
+output ends complete and bit-identical to one process computing them in turn."""
+import os
+import shutil
+import signal
+import threading
+
+import pytest
+
+import obscura
+from obscura import farm
+from conftest import synthetic_scene, write_exr
+from farm_engines import DaskCluster, EngineUnavailable, wait_for
+
+VARIANTS = {"near": {"radius": 0.5}, "far": {"radius": 1.5, "weighting": "cosine"}}
+# Ray-traced AO at one thread: about half a second a task, so a worker dies mid-task.
+COMMON = {"method": "rtao", "rtao_rays": 64, "threads": 1}
+
+
+def test_run_dask_survives_a_killed_worker(tmp):
+    frames = []
+    for f in range(1, 7):
+        depth, normal = synthetic_scene(200, 150, f)
+        write_exr(tmp / f"shot.{f:04d}.exr", depth, normal, sidecar=True)
+        frames.append(str(tmp / f"shot.{f:04d}.exr"))
+    out, ref = tmp / "out", tmp / "ref"
+    # One process, in turn, into the same paths (the file records them), then moved aside.
+    for name, settings in VARIANTS.items():
+        (out / name).mkdir(parents=True)
+        (ref / name).mkdir(parents=True)
+        for src in frames:
+            dst, report = farm.output_paths(str(out), name, src)
+            obscura.process(src, dst, report=report, **COMMON, **settings)
+            shutil.move(dst, ref / name / os.path.basename(dst))
+            os.remove(report)
+
+    try:
+        cluster = DaskCluster(tmp / "dask", workers=2).__enter__()
+    except EngineUnavailable as e:
+        pytest.skip(f"Dask cannot run here: {e}")
+    from distributed import Client
+    result = {}
+    try:
+        with Client(cluster.address, timeout=60) as client:
+            run = threading.Thread(target=lambda: result.update(
+                farm.run_dask(client, frames, VARIANTS, out_dir=str(out), **COMMON)), daemon=True)
+            run.start()
+            # Once the first outputs are in, both workers are busy with the next ones: kill one.
+            written = lambda: sum(1 for n in VARIANTS for p in (out / n).glob("*.json"))  # noqa: E731
+            wait_for(lambda: written() >= 2 or not run.is_alive(), 120, "the first frames")
+            victim = cluster.worker_procs[1]
+            address = next(a for a, w in client.scheduler_info()["workers"].items() if w["name"] == "worker1")
+            held = client.processing()[address]
+            assert victim.poll() is None and held, "the run ended before a worker could be killed"
+            os.kill(victim.pid, signal.SIGKILL)
+            victim.wait(timeout=30)  # reaped, as a dead node's process is gone (a zombie looks alive)
+            run.join(timeout=300)
+            assert not run.is_alive(), "run_dask did not finish"
+            # Run again: everything is complete, nothing is recomputed.
+            again = farm.run_dask(client, frames, VARIANTS, out_dir=str(out), progress=False, **COMMON)
+    finally:
+        cluster.__exit__(None, None, None)
+
+    assert result["failed"] == [], result["failed"]
+    print(f"killed worker1 holding {len(held)} task(s)")
+    assert result["done"] + result["skipped"] == 12, result
+    assert again["done"] == 0 and again["skipped"] == 12 and again["failed"] == []
+    for name in VARIANTS:
+        assert not [p for p in os.listdir(out / name) if ".tmp-" in p]
+        for src in frames:
+            base = os.path.basename(src)
+            assert (out / name / base).read_bytes() == (ref / name / base).read_bytes(), (name, base)
