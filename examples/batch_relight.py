@@ -25,6 +25,10 @@ to stderr; --resume skips frames already complete for that setup (batch_ao.py's 
 and report newer than the input, made with the same settings); failed frames are listed at the
 end and the exit status is 1.
 
+--scheduler ADDRESS runs the same tasks on a Dask cluster (obscura.farm.run_dask; Debian's
+python3-distributed): one task per frame and setup, the same outputs and resume rule, and a
+task lost with its worker is run again elsewhere. --jobs is then the cluster's business.
+
 Sequence handling, resume and progress are batch_ao.py's (imported, not copied).
 """
 import argparse
@@ -100,6 +104,21 @@ def build_setups(envs, rotations, skies, common, relit_layer="Relit"):
     return setups
 
 
+def run_on_dask(address, pattern, frames, setups, out_dir, resume, quiet):
+    """The setups over the frames on the Dask scheduler at `address`; exit status 1 if any failed."""
+    import obscura.farm
+    from distributed import Client
+
+    os.makedirs(out_dir, exist_ok=True)
+    batch_ao.write_manifest(out_dir, pattern, frames, setups)
+    paths = [batch_ao.frame_path(pattern, f) for f in frames]
+    with Client(address, timeout=60) as client:
+        result = obscura.farm.run_dask(client, paths, setups, out_dir=out_dir, resume=resume, progress=not quiet)
+    for name, src, err in result["failed"]:
+        print(f"  {name} {src}: {err}", file=sys.stderr)
+    return 1 if result["failed"] else 0
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter, epilog=__doc__)
@@ -113,6 +132,7 @@ def main(argv=None):
     ap.add_argument("--set", action="append", default=[], metavar="key=value", help="setting for every setup")
     ap.add_argument("--resume", action="store_true", help="skip frames whose output is complete")
     ap.add_argument("--jobs", type=int, default=1, help="frames computed at once (threads; default 1)")
+    ap.add_argument("--scheduler", metavar="ADDRESS", help="run on a Dask cluster (e.g. tcp://farm:8786)")
     ap.add_argument("--dry-run", action="store_true", help="list what would be done")
     ap.add_argument("--quiet", action="store_true", help="print only errors and the summary")
     args = ap.parse_args(argv)
@@ -130,6 +150,8 @@ def main(argv=None):
         ap.error(f"no frames match '{args.pattern}' (give --frames)")
     if args.jobs < 1:
         ap.error("--jobs must be at least 1")
+    if args.scheduler and not args.dry_run:
+        return run_on_dask(args.scheduler, args.pattern, frames, setups, args.out_dir, args.resume, args.quiet)
     return batch_ao.run_batch("batch_relight", args.pattern, frames, setups, args.out_dir, resume=args.resume,
                               jobs=args.jobs, dry_run=args.dry_run, quiet=args.quiet)
 

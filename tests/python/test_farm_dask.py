@@ -6,6 +6,7 @@ import shutil
 import signal
 import threading
 
+import numpy as np
 import pytest
 
 import obscura
@@ -71,3 +72,37 @@ def test_run_dask_survives_a_killed_worker(tmp):
         for src in frames:
             base = os.path.basename(src)
             assert (out / name / base).read_bytes() == (ref / name / base).read_bytes(), (name, base)
+
+
+def test_batch_relight_on_a_scheduler_resumes_like_a_local_run(tmp):
+    import subprocess
+    import sys
+
+    from conftest import EXAMPLES, SAMPLES, read_channel
+    for f in (1, 2):
+        shutil.copy(SAMPLES / "room.exr", tmp / f"shot.{f:04d}.exr")
+        shutil.copy(SAMPLES / "room.json", tmp / f"shot.{f:04d}.json")
+    out = tmp / "out"
+    args = [sys.executable, str(EXAMPLES / "batch_relight.py"), tmp / "shot.####.exr", "-o", out,
+            "--sky", "1,1,1", "--sky", "0.5,0.5,1", "--set", "samples=8"]
+    try:
+        cluster = DaskCluster(tmp / "dask", workers=2).__enter__()
+    except EngineUnavailable as e:
+        pytest.skip(f"Dask cannot run here: {e}")
+    try:
+        proc = subprocess.run([*map(str, args), "--scheduler", cluster.address], capture_output=True, text=True,
+                              timeout=300)
+    finally:
+        cluster.__exit__(None, None, None)
+    assert proc.returncode == 0, proc.stderr
+    assert "2 frame(s) x 2 variant(s); 0 complete, 4 to do" in proc.stderr and "4 written" in proc.stderr
+    # A local run finds the cluster's work complete: one resume rule.
+    local = subprocess.run([*map(str, args), "--resume"], capture_output=True, text=True, timeout=300)
+    assert local.returncode == 0 and "4 complete, 0 to do" in local.stderr, local.stderr
+    # And the cluster computed what the module computes here.
+    mine = tmp / "mine.exr"
+    obscura.process(tmp / "shot.0002.exr", mine, method="ssdo", bounce=True, out_layer={"relit": "Relit"},
+                    sky=[0.5, 0.5, 1.0], samples=8)
+    for c in "RGB":
+        np.testing.assert_array_equal(read_channel(out / "sky_0.5_0.5_1" / "shot.0002.exr", f"Relit.{c}"),
+                                      read_channel(mine, f"Relit.{c}"))
