@@ -275,7 +275,7 @@ std::vector<Flag> makeFlags() {
         {"--frames", "LIST", "frames of a sequence (INPUT and -o hold #### or %04d): 1-100, 1-100x2, 1,5,9-12 "
                              "(default: every input frame found)",
          [](Options& o, const std::string& v) { o.frames = v; }},
-        {"--resume", nullptr, "skip frames whose output already exists complete",
+        {"--resume", nullptr, "skip frames whose output (and --report) already exists complete; clear a killed run's temp files",
          [](Options& o, const std::string&) { o.resume = true; }},
         {"--inspect", nullptr, "print the layers found, the role of each and the camera, then exit",
          [](Options& o, const std::string&) { o.inspect = true; }},

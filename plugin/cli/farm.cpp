@@ -213,7 +213,7 @@ json summarise(const std::string& dir) {
         for (const std::string& p : atomicWriteTemps(rep)) temps.push_back(p);
         std::ifstream rf(rep);
         const json r = rf ? json::parse(rf, nullptr, false) : json();
-        if (r.is_object() && r.contains("error") && !outputComplete(out, channel)) {
+        if (r.is_object() && r.contains("error")) {
             failed[std::to_string(frame)] = r["error"];
         } else if (r.is_object() && r.contains("total_s") && outputComplete(out, channel)) {
             done.push_back(frame);
