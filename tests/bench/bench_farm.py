@@ -6,7 +6,8 @@ process doing the same frames one after another, in frames per minute and as a t
 
 Frames: the tests' synthetic scene at --size, ray-traced AO (--rays per pixel) at one thread
 per frame, so a frame's cost dominates a task's start-up. Slurm splits the frames into one
-chunk per CPU (--chunk); Dask runs one task per frame. Each figure is the best of --repeat
+chunk per CPU (--chunk); Dask runs one task per frame, on single-threaded workers and on one
+worker with as many threads (obscura releases the GIL while it computes). Each figure is the best of --repeat
 runs (the machine may be shared); the clusters are started once, on 127.0.0.1, and stopped.
 """
 import argparse
@@ -61,13 +62,11 @@ def main():
 
         print(f"bench_farm: {args.frames} frames {width}x{height}, rtao {args.rays} rays, 1 thread per frame; "
               f"best of {args.repeat}", flush=True)
-        rows = []
 
         def row(label, seconds, base=None):
             fpm = 60.0 * args.frames / seconds
             ratio = f"  ratio {seconds / base:.2f} of one process" if base else ""
             print(f"  {label:<44} {seconds:7.2f} s  {fpm:6.1f} frames/min{ratio}", flush=True)
-            rows.append((label, seconds, fpm, seconds / base if base else None))
 
         import obscura
         from obscura import farm
@@ -107,7 +106,7 @@ def main():
             return time.perf_counter() - t0
 
         # The clusters start once; each round runs every case, so a busy spell hits all of them.
-        times = {k: [] for k in ("cli", "slurm", "python", "dask")}
+        times = {k: [] for k in ("cli", "slurm", "python", "dask", "threads")}
         skipped = {}
         with contextlib.ExitStack() as stack:
             try:
@@ -118,6 +117,9 @@ def main():
                 dask = stack.enter_context(DaskCluster(work / "dask", workers=args.cpus))
                 from distributed import Client
                 client = stack.enter_context(Client(dask.address, timeout=60))
+                # One worker with as many threads: the GIL is released while a frame computes.
+                threaded = stack.enter_context(DaskCluster(work / "dask-threads", workers=1, threads=args.cpus))
+                threaded_client = stack.enter_context(Client(threaded.address, timeout=60))
             except EngineUnavailable as e:
                 client, skipped["dask"] = None, str(e)
             for _ in range(args.repeat):
@@ -127,6 +129,7 @@ def main():
                 times["python"].append(one_process_python())
                 if client:
                     times["dask"].append(dask_run(client))
+                    times["threads"].append(dask_run(threaded_client))
         tasks = -(-args.frames // chunk)
         row("one process, frames in turn (CLI)", min(times["cli"]))
         if times["slurm"]:
@@ -134,6 +137,7 @@ def main():
         row("one process, frames in turn (Python)", min(times["python"]))
         if times["dask"]:
             row(f"dask, {args.cpus} workers x 1 thread", min(times["dask"]), min(times["python"]))
+            row(f"dask, 1 worker x {args.cpus} threads", min(times["threads"]), min(times["python"]))
         for engine, why in skipped.items():
             print(f"  {engine}: skipped ({why})")
     finally:
