@@ -7,14 +7,13 @@
 #include "io/sequence.h"
 
 #include <nlohmann/json.hpp>
-#include <unistd.h>
+#include <sys/wait.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <iostream>
 #include <map>
 #include <sstream>
 
