@@ -52,7 +52,8 @@ def test_run_dask_survives_a_killed_worker(tmp):
             wait_for(lambda: written() >= 2 or not run.is_alive(), 120, "the first frames")
             victim = cluster.worker_procs[1]
             address = next(a for a, w in client.scheduler_info()["workers"].items() if w["name"] == "worker1")
-            held = client.processing()[address]
+            wait_for(lambda: client.processing().get(address) or not run.is_alive(), 30, "a task on worker1")
+            held = client.processing().get(address)
             assert victim.poll() is None and held, "the run ended before a worker could be killed"
             os.kill(victim.pid, signal.SIGKILL)
             victim.wait(timeout=30)  # reaped, as a dead node's process is gone (a zombie looks alive)
