@@ -61,7 +61,7 @@ def main():
             return time.perf_counter() - t0
 
         print(f"bench_farm: {args.frames} frames {width}x{height}, rtao {args.rays} rays, 1 thread per frame; "
-              f"best of {args.repeat}", flush=True)
+              f"best of {args.repeat}; {os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f}", flush=True)
 
         def row(label, seconds, base=None):
             fpm = 60.0 * args.frames / seconds
@@ -138,6 +138,7 @@ def main():
         if times["dask"]:
             row(f"dask, {args.cpus} workers x 1 thread", min(times["dask"]), min(times["python"]))
             row(f"dask, 1 worker x {args.cpus} threads", min(times["threads"]), min(times["python"]))
+        print(f"  load average after: {os.getloadavg()[0]:.1f} (ratios mean little when other work holds the cores)")
         for engine, why in skipped.items():
             print(f"  {engine}: skipped ({why})")
     finally:
