@@ -270,6 +270,14 @@ inline luint operator|(luint a, luint b) { return a.v | b.v; }
 inline luint operator<<(luint a, std::uint32_t s) { return a.v << s; }
 inline lfloat& operator/=(lfloat& a, lfloat b) { return a = a / b; }
 
+// ---- added for HBAO's visibility bitmask ----
+// Shift by a per-lane count in [0, 31] (GLSL leaves 32 and more undefined, and so do these).
+inline luint operator<<(luint a, luint s) { return a.v << s.v; }
+inline luint operator>>(luint a, luint s) { return a.v >> s.v; }
+inline luint operator-(luint a, luint b) { return a.v - b.v; }
+inline luint operator~(luint a) { return ~a.v; }
+inline luint select(lbool c, luint a, luint b) { return (vuint)select(c, lint((vint)a.v), lint((vint)b.v)).v; }
+
 // A value the kernel knows to be equal in every lane, as a uniform scalar.
 inline float uniformValue(lfloat x) { return x.v[0]; }
 

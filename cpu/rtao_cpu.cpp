@@ -151,7 +151,13 @@ void runRtao(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, M
     RtaoStats st;
     auto t0 = Clock::now();
     const SurfacePoints s = reconstructSurface(p, depth, normal, threads);
-    const SurfaceMesh mesh = triangulateSurface(s, p.orthographic != 0, o.thickness);
+    Extrusion extrusion{o.thickness, o.thicknessFootprints, p.invFx, 0.0f};
+    if (!std::isfinite(o.thickness)) {  // a height field: past the farthest point by more than a ray's reach
+        for (const glm::vec3& v : s.position)
+            extrusion.farthest = std::max(extrusion.farthest, p.orthographic != 0 ? -v.z : glm::length(v));
+        extrusion.farthest += 2.0f * p.radius;
+    }
+    const SurfaceMesh mesh = triangulateSurface(s, p.orthographic != 0, extrusion);
     st.triangles = (long long)mesh.triangles.size() / 3;
     st.meshSeconds = since(t0);
     t0 = Clock::now();

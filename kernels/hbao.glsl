@@ -20,6 +20,17 @@
 // which needs F per sample (no arcsine: an inverse square root, and for cosine one
 // arctangent).
 //
+// Thickness (Therrien, Levesque, Gilet 2023, visibility bitmask): with P.hbaoBitmask a sample
+// occludes only the angles between its front face and its front face pushed a thickness t
+// away from the eye (along -V, the pixel's view direction, as in the paper), not everything
+// below it. The occluded set of a slice is then a union of intervals of theta. The interval
+// that reaches down to the tangent grows a continuous horizon exactly as above (so an
+// infinite t gives the same numbers); intervals above it set bits of a 32-sector mask, and
+// each set sector adds its exact share of F above that horizon (F's closed forms at the
+// sector's bounds). Sectors are uniform in a pseudo-angle p in [0, 2] (p = b / (|a| + b),
+// mirrored for a < 0), which needs one division per sample instead of an arctangent; a
+// sector counts when the interval covers its centre. Linear falloff keeps the horizon alone.
+//
 // Samples snap to texel centres, which moves them slightly off the slice. Taking a and b
 // from the full 3D offset brings them back into the slice along the tangent plane (not
 // orthogonally): their height above the tangent plane is kept, so a plane stays exactly
@@ -33,6 +44,51 @@ lfloat sliceOcclusionAt(lfloat cosTheta, lfloat sinTheta, lfloat cosB, lfloat si
     }
     lfloat theta = atan(sinTheta, cosTheta);
     return 0.5f * nLen * (sinB * sinTheta * sinTheta + cosB * (theta - sinTheta * cosTheta));
+}
+
+// Occlusion the set sectors add above the horizon, whose own is horizonF: each sector adds
+// F(upper bound) - F(lower bound) with both bounds raised to the horizon (F grows with the
+// angle, so raising F's value is raising the bound). F is linear in (cos b, sin b), so the
+// bounds' terms are uniform numbers; the bounds' directions are exact from the pseudo-angle.
+lfloat sectorOcclusion(luint sectors, lfloat horizonF, lfloat cosB, lfloat sinB, lfloat nLen) {
+    lfloat scale = P.cosineWeighting != 0 ? 0.5f * nLen : lfloat(1.0f);
+    lfloat wCos = scale * cosB;
+    lfloat wSin = scale * sinB;
+    lfloat lowerF = horizonF; // F at the tangent, 0, raised to the horizon
+    lfloat added = lfloat(0.0f);
+    for (int k = 1; k <= 32; ++k) {
+        // Upper bound of sector k - 1: p = k / 16, direction (1 - q, q) for p <= 1, mirrored above.
+        float q = k <= 16 ? float(k) / 16.0f : float(32 - k) / 16.0f;
+        float len = inversesqrt(q * q + (1.0f - q) * (1.0f - q));
+        float c = (k <= 16 ? 1.0f - q : q - 1.0f) * len;
+        float sn = q * len;
+        // F's two terms: uniform cos b (1 - cos) + sin b sin; cosine (scaled) cos b (theta - sin cos) + sin b sin^2.
+        float termCos = P.cosineWeighting != 0 ? atan(sn, c) - sn * c : 1.0f - c;
+        float termSin = P.cosineWeighting != 0 ? sn * sn : sn;
+        lfloat upperF = max(wCos * termCos + wSin * termSin, horizonF);
+        added += lfloat((sectors >> uint(k - 1)) & luint(1u)) * (upperF - lowerF);
+        lowerF = upperF;
+    }
+    return added;
+}
+
+// Pseudo-angle of (a, b), b >= 0, above the tangent: 0 along it, 1 along the normal, 2 opposite;
+// monotone in the angle. Sector k of the mask spans p in [k, k + 1] / 16.
+lfloat sectorPseudoAngle(lfloat a, lfloat b) {
+    lfloat q = b / max(abs(a) + b, 1e-30f);
+    return select(a >= 0.0f, q, 2.0f - q);
+}
+
+// The sector whose lower bound is nearest p: bits [sector(back), sector(front)) are the
+// sectors whose centres lie between the two.
+lint sectorBound(lfloat p) {
+    return min(lint(p * 16.0f + 0.5f), lint(32));
+}
+
+// Bits 0 .. n-1 set, n in [0, 32] (no shift by 32, which neither language defines).
+luint bitsBelow(lint n) {
+    luint low = (luint(1u) << luint(min(n, lint(31)))) - luint(1u);
+    return low | select(n >= 32, luint(0x80000000u), luint(0u));
 }
 
 // Ambient occlusion in [0,1] (1 = unoccluded) of the buffer texels (x, y); texels outside
@@ -75,6 +131,9 @@ lfloat hbaoLanes(lint x, lint y) {
     float radius2 = P.radius * P.radius;
     float invRadius = 1.0f / P.radius;
 
+    // The thickness at this pixel: world units plus pixel footprints (a pixel's world size at its depth).
+    lfloat thickness = P.thickness + P.thicknessPerFootprint * P.invFx * (P.orthographic != 0 ? lfloat(1.0f) : planarDepth);
+
     luint h = hashPixel(displayX, displayY);
     lfloat rotation = hashToUnit(h);
     lfloat jitter = hashToUnit(hashU32(h));
@@ -116,6 +175,10 @@ lfloat hbaoLanes(lint x, lint y) {
         lfloat horizonB = lfloat(0.0f);
         lfloat horizonF = lfloat(0.0f);
         lfloat sliceOcclusion = lfloat(0.0f);
+        // Pushing a sample t along -V moves it by (a, b) += t (nE, -nV) in the slice's axes.
+        lfloat backShiftA = thickness * nE;
+        lfloat backShiftB = -thickness * nV;
+        luint sectors = luint(0u); // occluded sectors above the horizon's interval
         // March along the image line in display coordinates (so any tiling rounds alike): the
         // first sample one pixel out, then evenly to the radius.
         lvec2 step = dir * stepPixels;
@@ -162,6 +225,18 @@ lfloat hbaoLanes(lint x, lint y) {
                 lfloat weight = max(1.0f - sqrt(r2) * invRadius, 0.0f);
                 sliceOcclusion += weight * max(f - horizonF, 0.0f);
                 horizonF = max(horizonF, f);
+            } else if (P.hbaoBitmask != 0) {
+                lfloat backA = a + backShiftA;
+                lfloat backB = b + backShiftB;
+                // The interval joins the horizon's when its back is not above the horizon.
+                lbool joins = backB <= 0.0f || horizonA * backB - horizonB * backA <= 0.0f;
+                lbool higher = counts && joins && horizonA * b - horizonB * a > 0.0f;
+                horizonA = select(higher, a, horizonA);
+                horizonB = select(higher, b, horizonB);
+                lint front = sectorBound(sectorPseudoAngle(a, b));
+                lint back = sectorBound(select(backB > 0.0f, sectorPseudoAngle(backA, backB), lfloat(0.0f)));
+                luint interval = bitsBelow(front) & ~bitsBelow(back);
+                sectors = sectors | select(counts && !joins, interval, luint(0u));
             } else {
                 // (a, b) lies above the horizon when it is counter-clockwise of it: no square
                 // root or division, one compare.
@@ -173,6 +248,9 @@ lfloat hbaoLanes(lint x, lint y) {
         if (P.linearFalloff == 0) {
             lfloat invLen = inversesqrt(horizonA * horizonA + horizonB * horizonB);
             sliceOcclusion = sliceOcclusionAt(horizonA * invLen, horizonB * invLen, cosB, sinB, nLen);
+            if (P.hbaoBitmask != 0 && anyLane(lfloat(sectors) > 0.0f)) {
+                sliceOcclusion += sectorOcclusion(sectors, sliceOcclusion, cosB, sinB, nLen);
+            }
         }
         occlusion += sliceOcclusion;
     }

@@ -13,7 +13,8 @@ struct KernelParams {
 
     float maxRadiusPixels; // cap on the projected radius, keeps huge R and tiny depth bounded
     float depthScale;      // multiplies loaded depth (1; lets hosts feed other units)
-    float pad0, pad1;
+    float thickness;       // hbao: world-units thickness of depth-pass surfaces (plus the term below); +inf: the horizon alone
+    float thicknessPerFootprint; // hbao: adds this many pixel footprints (world size of a pixel at the depth) to it
 
     int width, height;     // size of the buffers the loads address
     int originX, originY;  // display coordinates of buffer texel (0,0): noise and projection use display coords, so tiles agree
@@ -41,7 +42,7 @@ struct KernelParams {
 
     int envWidth, envHeight;     // the prefiltered lat-long level uploaded; 0 x 0: no map, use skyRadiance
     int senderAlbedo;            // 1: a sender's radiance is the bounce source times its albedo
-    int pad6;
+    int hbaoBitmask;             // hbao: 1 when thickness is finite: the visibility bitmask (kernels/hbao.glsl)
 
     float envIntensity;          // multiplies the environment (map or sky)
     float sampleArea;            // A_s = pi r_max^2 / N: the disc area one bounce sample stands for

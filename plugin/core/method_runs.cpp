@@ -50,7 +50,9 @@ void runRtaoMethod(const MethodRun& r) {
     const Settings& s = r.settings;
     OperatorStats& st = r.out.stats;
     cpu::RtaoStats rs;
-    cpu::runRtao(r.params, r.in.depth, r.in.normal, r.out.ao.view(), {s.rtaoRays, s.thickness, s.rtaoGrid}, r.threads, &rs);
+    const ThicknessRule thickness = thicknessRule(s);
+    cpu::runRtao(r.params, r.in.depth, r.in.normal, r.out.ao.view(),
+                 {s.rtaoRays, thickness.worldUnits, thickness.footprints, s.rtaoGrid}, r.threads, &rs);
     st.timings.push_back({"rtao-mesh", rs.meshSeconds});
     st.timings.push_back({"rtao-bvh", rs.bvhSeconds});
     st.timings.push_back({"rtao-trace", rs.traceSeconds});

@@ -34,6 +34,18 @@ MethodParam switchParam(const char* key, const char* flag, const char* help, boo
     return p;
 }
 
+// hbao and rtao: one thickness, the world-units depth of the solid behind each visible point.
+MethodParam thicknessParam() {
+    MethodParam p = floatParam("thickness", "--thickness", "T|auto|inf",
+                               "hbao, rtao: surfaces are T world units deep behind what the depth pass shows; "
+                               "auto: R/4 plus 2 pixel footprints; inf: the depth buffer is a height field "
+                               "(hbao's horizon; rtao: a sheet walled down past R) (default inf)",
+                               0.0, 1e30, &Settings::thickness);
+    p.named = {{"auto", kThicknessAuto, -1.0}, {"inf", kThicknessInfinite, 1e9}};
+    p.alsoFor = "rtao";
+    return p;
+}
+
 std::vector<MethodInfo> makeTable() {
     std::vector<MethodInfo> t;
     t.push_back({"hbao", "horizon-based ambient occlusion (Bavoil et al. 2008): slices around the view vector",
@@ -44,7 +56,8 @@ std::vector<MethodInfo> makeTable() {
                   {"ultra", "32x24", [](Settings& s) { hbaoLevel(s, 3); }}},
                  {intParam("directions", "--directions", "hbao: directions (slices) per pixel (default 8)", 1, 256,
                            &Settings::directions),
-                  intParam("steps", "--steps", "hbao: samples per direction (default 8)", 1, 256, &Settings::steps)},
+                  intParam("steps", "--steps", "hbao: samples per direction (default 8)", 1, 256, &Settings::steps),
+                  thicknessParam()},
                  [](const Settings& s) { return s.directions * s.steps; }, nullptr, &runHbaoMethod});
     t.push_back({"ssdo", "directional occlusion and one bounce (Ritschel et al. 2009): DO, AO and, with --bounce, GI",
                  "kernels/ssdo.glsl", true, true, {"depth", "normal", "beauty|direct-diffuse", "albedo"},
@@ -75,9 +88,6 @@ std::vector<MethodInfo> makeTable() {
                   {"ultra", "256 rays", [](Settings& s) { s.rtaoRays = 256; }}},
                  {intParam("rtao_rays", "--rtao-rays", "rtao: rays per traced point (default 16)", 1, 4096,
                            &Settings::rtaoRays),
-                  floatParam("thickness", "--thickness", "T",
-                             "rtao: extrude each surface T world units away from the eye (default 0, a sheet)", 0.0, 1e30,
-                             &Settings::thickness),
                   intParam("rtao_grid", "--rtao-grid", "rtao: trace every N-th pixel, interpolate between (default 1)",
                            1, 64, &Settings::rtaoGrid)},
                  [](const Settings& s) { return s.rtaoRays; },
@@ -120,12 +130,37 @@ std::vector<const MethodParam*> allMethodParams() {
     return all;
 }
 
+std::vector<const MethodParam*> paramsOf(const std::string& method) {
+    std::vector<const MethodParam*> out;
+    if (const MethodInfo* m = findMethod(method))
+        for (const MethodParam& p : m->params) out.push_back(&p);
+    for (const MethodParam* p : allMethodParams())
+        if (p->alsoFor && method == p->alsoFor) out.push_back(p);
+    return out;
+}
+
+const NamedValue* findNamed(const MethodParam& p, const std::string& word) {
+    for (const NamedValue& n : p.named)
+        if (word == n.word) return &n;
+    return nullptr;
+}
+
+double fromHostValue(const MethodParam& p, double hostValue) {
+    for (const NamedValue& n : p.named)
+        if (hostValue == n.hostValue) return n.value;
+    return hostValue;
+}
+
 std::string checkParam(const MethodParam& p, double v) {
     if (p.boolField || (v >= p.min && v <= p.max)) return "";
+    for (const NamedValue& n : p.named)
+        if (v == n.value) return "";
     char range[96];
     if (p.max >= 1e30) std::snprintf(range, sizeof range, " must be %g or more", p.min);
     else std::snprintf(range, sizeof range, " must be between %g and %g", p.min, p.max);
-    return std::string(p.flag) + range;
+    std::string words;
+    for (const NamedValue& n : p.named) words += std::string(", or ") + n.word;
+    return std::string(p.flag) + range + words;
 }
 
 bool applyMethodPresets(const std::string& quality, Settings& s) {

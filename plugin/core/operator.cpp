@@ -147,6 +147,11 @@ KernelParams makeKernelParams(const OperatorInputs& in, const Settings& s) {
     p.linearFalloff = s.falloff == Falloff::Linear ? 1 : 0;
     p.orthographic = cam.projection == Projection::Orthographic ? 1 : 0;
     p.radialDepth = in.depthKind == DepthKind::Radial ? 1 : 0;
+    const ThicknessRule thickness = thicknessRule(s);
+    p.thickness = thickness.worldUnits;
+    p.thicknessPerFootprint = thickness.footprints;
+    // A finite thickness changes binary visibility only; linear falloff keeps the horizon.
+    p.hbaoBitmask = std::isfinite(thickness.worldUnits) && p.linearFalloff == 0 ? 1 : 0;
     p.ssaoSamples = s.ssaoSamples;
     p.ssaoHemisphere = s.ssaoHemisphere ? 1 : 0;
     fillSsdoParams(in, s, p);

@@ -1,8 +1,16 @@
 #include "settings.h"
 
 #include "methods.h"
+#include <cstdio>
 
 namespace obscura {
+
+namespace {
+// The automatic thickness: a share of R (objects that occlude within R are about that deep)
+// plus a few pixel footprints (what a pixel's depth cannot resolve).
+float kAutoThicknessPerRadius = 0.25f;
+float kAutoThicknessFootprints = 2.0f;
+} // namespace
 
 const std::vector<QualityPreset>& qualityPresets() {
     // Each level roughly quadruples the samples; the blur hides the noise of the sparse ones.
@@ -16,6 +24,12 @@ const std::vector<QualityPreset>& qualityPresets() {
 }
 
 bool applyQualityPreset(const std::string& name, Settings& s) { return applyMethodPresets(name, s); }
+
+ThicknessRule thicknessRule(const Settings& s) {
+    if (s.thickness != kThicknessAuto) return {s.thickness, 0.0f};
+    // auto: see docs/hbao.md for the scenes this was chosen on.
+    return {kAutoThicknessPerRadius * s.radius, kAutoThicknessFootprints};
+}
 
 const char* toString(Weighting w) { return w == Weighting::Uniform ? "uniform" : "cosine"; }
 const char* toString(Falloff f) { return f == Falloff::Linear ? "linear" : "none"; }

@@ -217,7 +217,8 @@ void applyMethodParam(const std::string& key, const py::handle& value, Settings&
         } else if (p->intField) {
             s.*(p->intField) = intInRange(value, p->key, (long long)p->min, (long long)p->max);
         } else {
-            const double v = floatArg(value, p->key);
+            const NamedValue* named = py::isinstance<py::str>(value) ? findNamed(*p, value.cast<std::string>()) : nullptr;
+            const double v = named ? named->value : floatArg(value, p->key);
             const std::string problem = checkParam(*p, v);  // "--thickness must be ..."
             if (!problem.empty()) valueError(key + problem.substr(std::string(p->flag).size()) + ", got " + std::to_string(v));
             s.*(p->floatField) = (float)v;
@@ -1028,8 +1029,8 @@ Raises obscura.Error when the file or the name is missing.)doc");
     py::dict table;
     for (const MethodInfo& mi : methods()) {
         py::dict params;
-        for (const MethodParam& mp : mi.params)
-            params[py::str(mp.key)] = mp.boolField ? py::object(py::str("bool")) : py::object(py::make_tuple(mp.min, mp.max));
+        for (const MethodParam* mp : paramsOf(mi.name))
+            params[py::str(mp->key)] = mp->boolField ? py::object(py::str("bool")) : py::object(py::make_tuple(mp->min, mp->max));
         py::list devices;
         if (mi.cpu) devices.append("cpu");
         if (mi.gl) devices.append("gl");
