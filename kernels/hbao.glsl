@@ -48,26 +48,23 @@ lfloat sliceOcclusionAt(lfloat cosTheta, lfloat sinTheta, lfloat cosB, lfloat si
 
 // Occlusion the set sectors add above the horizon, whose own is horizonF: each sector adds
 // F(upper bound) - F(lower bound) with both bounds raised to the horizon (F grows with the
-// angle, so raising F's value is raising the bound). F is linear in (cos b, sin b), so the
-// bounds' terms are uniform numbers; the bounds' directions are exact from the pseudo-angle.
+// angle, so raising F's value is raising the bound). F is linear in (cos b, sin b); the
+// bounds' terms are uniform (P.sectorTerms). Only sectors some lane has set are visited.
 lfloat sectorOcclusion(luint sectors, lfloat horizonF, lfloat cosB, lfloat sinB, lfloat nLen) {
     lfloat scale = P.cosineWeighting != 0 ? 0.5f * nLen : lfloat(1.0f);
     lfloat wCos = scale * cosB;
     lfloat wSin = scale * sinB;
-    lfloat lowerF = horizonF; // F at the tangent, 0, raised to the horizon
+    uint any = lanesOr(sectors);
+    int first = findLSB(any);
+    int last = findMSB(any);
     lfloat added = lfloat(0.0f);
-    for (int k = 1; k <= 32; ++k) {
-        // Upper bound of sector k - 1: p = k / 16, direction (1 - q, q) for p <= 1, mirrored above.
-        float q = k <= 16 ? float(k) / 16.0f : float(32 - k) / 16.0f;
-        float len = inversesqrt(q * q + (1.0f - q) * (1.0f - q));
-        float c = (k <= 16 ? 1.0f - q : q - 1.0f) * len;
-        float sn = q * len;
-        // F's two terms: uniform cos b (1 - cos) + sin b sin; cosine (scaled) cos b (theta - sin cos) + sin b sin^2.
-        float termCos = P.cosineWeighting != 0 ? atan(sn, c) - sn * c : 1.0f - c;
-        float termSin = P.cosineWeighting != 0 ? sn * sn : sn;
-        lfloat upperF = max(wCos * termCos + wSin * termSin, horizonF);
-        added += lfloat((sectors >> uint(k - 1)) & luint(1u)) * (upperF - lowerF);
-        lowerF = upperF;
+    for (int k = first; k <= last; ++k) {
+        vec4 lower = P.sectorTerms[k];
+        vec4 upper = P.sectorTerms[k + 1];
+        lfloat lowerF = P.cosineWeighting != 0 ? wCos * lower.z + wSin * lower.w : wCos * lower.x + wSin * lower.y;
+        lfloat upperF = P.cosineWeighting != 0 ? wCos * upper.z + wSin * upper.w : wCos * upper.x + wSin * upper.y;
+        lfloat share = max(upperF, horizonF) - max(lowerF, horizonF);
+        added += lfloat((sectors >> uint(k)) & luint(1u)) * share;
     }
     return added;
 }
@@ -233,10 +230,14 @@ lfloat hbaoLanes(lint x, lint y) {
                 lbool higher = counts && joins && horizonA * b - horizonB * a > 0.0f;
                 horizonA = select(higher, a, horizonA);
                 horizonB = select(higher, b, horizonB);
-                lint front = sectorBound(sectorPseudoAngle(a, b));
-                lint back = sectorBound(select(backB > 0.0f, sectorPseudoAngle(backA, backB), lfloat(0.0f)));
-                luint interval = bitsBelow(front) & ~bitsBelow(back);
-                sectors = sectors | select(counts && !joins, interval, luint(0u));
+                // Only an interval apart from the horizon's sets sectors; in most registers none is.
+                lbool apart = counts && !joins;
+                if (anyLane(apart)) {
+                    lint front = sectorBound(sectorPseudoAngle(a, b));
+                    lint back = sectorBound(select(backB > 0.0f, sectorPseudoAngle(backA, backB), lfloat(0.0f)));
+                    luint interval = bitsBelow(front) & ~bitsBelow(back);
+                    sectors = sectors | select(apart, interval, luint(0u));
+                }
             } else {
                 // (a, b) lies above the horizon when it is counter-clockwise of it: no square
                 // root or division, one compare.
@@ -248,8 +249,13 @@ lfloat hbaoLanes(lint x, lint y) {
         if (P.linearFalloff == 0) {
             lfloat invLen = inversesqrt(horizonA * horizonA + horizonB * horizonB);
             sliceOcclusion = sliceOcclusionAt(horizonA * invLen, horizonB * invLen, cosB, sinB, nLen);
-            if (P.hbaoBitmask != 0 && anyLane(lfloat(sectors) > 0.0f)) {
-                sliceOcclusion += sectorOcclusion(sectors, sliceOcclusion, cosB, sinB, nLen);
+            if (P.hbaoBitmask != 0) {
+                // Sectors wholly below the horizon add nothing: clear them, and skip the sum when none is left.
+                lint horizonSector = min(lint(sectorPseudoAngle(horizonA, horizonB) * 16.0f), lint(31));
+                sectors = sectors & ~bitsBelow(horizonSector);
+                if (anyLane(lfloat(sectors) > 0.0f)) {
+                    sliceOcclusion += sectorOcclusion(sectors, sliceOcclusion, cosB, sinB, nLen);
+                }
             }
         }
         occlusion += sliceOcclusion;

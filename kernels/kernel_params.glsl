@@ -47,4 +47,9 @@ struct KernelParams {
     float envIntensity;          // multiplies the environment (map or sky)
     float sampleArea;            // A_s = pi r_max^2 / N: the disc area one bounce sample stands for
     float pad4, pad5;
+
+    // ---- HBAO's visibility bitmask (kernels/hbao.glsl) ----
+    // Per bound k = 0..32 of the 32 sectors (pseudo-angle k/16, angle theta_k above the tangent),
+    // the terms of F that multiply cos b and sin b: uniform (1 - cos, sin), cosine (theta - sin cos, sin^2).
+    vec4 sectorTerms[33];
 };

@@ -111,6 +111,19 @@ std::string describeDevice(const Settings& s) {
     return d;
 }
 
+// The bounds of HBAO's 32 sectors, uniform in the pseudo-angle p = b / (|a| + b) (mirrored
+// past the normal, kernels/hbao.glsl): F's terms at each, computed once here rather than
+// per pixel. At p = k/16 (k <= 16) the direction above the tangent is (1 - p, p), normalised.
+void fillSectorTerms(KernelParams& p) {
+    for (int k = 0; k <= 32; ++k) {
+        const double q = (k <= 16 ? k : 32 - k) / 16.0;
+        const double len = std::hypot(q, 1.0 - q);
+        const double c = (k <= 16 ? 1.0 - q : q - 1.0) / len, sn = q / len;
+        const double theta = std::atan2(sn, c);
+        p.sectorTerms[k] = glm::vec4((float)(1.0 - c), (float)sn, (float)(theta - sn * c), (float)(sn * sn));
+    }
+}
+
 KernelParams makeKernelParams(const OperatorInputs& in, const Settings& s) {
     const Camera& cam = in.camera;
     if (!cam.valid())
@@ -152,6 +165,7 @@ KernelParams makeKernelParams(const OperatorInputs& in, const Settings& s) {
     p.thicknessPerFootprint = thickness.footprints;
     // A finite thickness changes binary visibility only; linear falloff keeps the horizon.
     p.hbaoBitmask = std::isfinite(thickness.worldUnits) && p.linearFalloff == 0 ? 1 : 0;
+    fillSectorTerms(p);
     p.ssaoSamples = s.ssaoSamples;
     p.ssaoHemisphere = s.ssaoHemisphere ? 1 : 0;
     fillSsdoParams(in, s, p);
