@@ -8,7 +8,6 @@ namespace obscura::cpu {
 struct RtaoOptions {
     int rays = 16;          // per traced texel, cosine- (or uniformly) distributed over the hemisphere
     float thickness = 0.0f; // extrusion away from the eye, world units (+inf: a height field); 0: a sheet
-    float thicknessFootprints = 0.0f; // plus this many pixel footprints (world size of a pixel at the depth)
     int grid = 1;           // trace texels whose display coordinates are multiples of it; interpolate the rest
 };
 

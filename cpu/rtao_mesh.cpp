@@ -97,13 +97,12 @@ SurfacePoints reconstructSurface(const glsl::KernelParams& p, ConstPlane depth, 
     return s;
 }
 
-SurfaceMesh triangulateSurface(const SurfacePoints& s, bool orthographic, const Extrusion& e) {
+SurfaceMesh triangulateSurface(const SurfacePoints& s, bool orthographic, float thickness) {
     const int W = s.width, H = s.height;
-    const bool extruded = e.worldUnits > 0.0f || e.footprints > 0.0f;
     SurfaceMesh m;
     m.vertices = s.position;
     std::vector<std::uint8_t> edgeUses;  // per (texel, direction): triangles using that edge
-    if (extruded) edgeUses.assign((size_t)W * H * kDirs, 0);
+    if (thickness > 0.0f) edgeUses.assign((size_t)W * H * kDirs, 0);
     auto edgeId = [&](int a, int b) {
         int ax = a % W, ay = a / W, bx = b % W, by = b / W;
         if (by < ay || (by == ay && bx < ax)) std::swap(ax, bx), std::swap(ay, by);
@@ -141,19 +140,15 @@ SurfaceMesh triangulateSurface(const SurfacePoints& s, bool orthographic, const 
                 if (bd && cd && bc) emit(b, d, c);
             }
         }
-    if (!extruded) return m;
+    if (thickness <= 0.0f) return m;
 
-    // The back copy: each point pushed along its view ray (along -Z orthographic).
+    // The back copy: each point pushed `thickness` along its view ray (along -Z orthographic).
     const std::uint32_t back = (std::uint32_t)m.vertices.size();
     m.vertices.resize(2 * (size_t)back);
     for (std::uint32_t i = 0; i < back; ++i) {
         const glm::vec3 p = m.vertices[i];
-        const float dist = orthographic ? -p.z : glm::length(p);
-        const glm::vec3 away = orthographic ? glm::vec3(0.0f, 0.0f, -1.0f) : p * (1.0f / std::max(dist, 1e-30f));
-        const float planarDepth = orthographic ? 1.0f : -p.z;  // a footprint is invFx per unit of it
-        const float t = std::isfinite(e.worldUnits) ? e.worldUnits + e.footprints * e.invFx * planarDepth
-                                                    : std::max(e.farthest - dist, 0.0f);
-        m.vertices[back + i] = p + away * t;
+        const glm::vec3 away = orthographic ? glm::vec3(0.0f, 0.0f, -1.0f) : p * (1.0f / std::max(glm::length(p), 1e-30f));
+        m.vertices[back + i] = p + away * thickness;
     }
     const size_t front = m.triangles.size();
     for (size_t t = 0; t < front; t += 3)

@@ -31,20 +31,8 @@ struct SurfaceMesh {
     std::vector<std::uint32_t> triangles;  // three indices each
 };
 
-// How far behind each point the surface's solid reaches (Settings::thickness as
-// core/settings.h's thicknessRule gives it): worldUnits plus `footprints` times the world
-// size of a pixel at the point's depth (invFx per unit of planar depth). worldUnits +inf: a
-// height field, each point pushed to `farthest` from the eye (past every point by more than
-// a ray reaches).
-struct Extrusion {
-    float worldUnits = 0.0f;
-    float footprints = 0.0f;
-    float invFx = 0.0f;
-    float farthest = 0.0f;
-};
-
-// Extrusion 0: the sheet alone. Otherwise each triangle also gets a copy pushed away from
-// the eye, and the mesh's boundary edges are walled in between.
-SurfaceMesh triangulateSurface(const SurfacePoints& s, bool orthographic, const Extrusion& e);
+// thickness 0: the sheet alone. Otherwise each triangle also gets a copy pushed `thickness`
+// away from the eye, and the mesh's boundary edges are walled in between.
+SurfaceMesh triangulateSurface(const SurfacePoints& s, bool orthographic, float thickness);
 
 } // namespace obscura::cpu

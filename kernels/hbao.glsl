@@ -88,6 +88,24 @@ luint bitsBelow(lint n) {
     return low | select(n >= 32, luint(0x80000000u), luint(0u));
 }
 
+// Depth at which the ray through display texel `corner` meets the tangent plane of the buffer
+// texel at `edgeCorner` (its depth edgeDepth): the surface at the frame's edge continued past
+// it. Not finite or not positive where the plane does not meet the ray in front of the eye.
+lfloat tangentPlaneDepth(lvec2 edgeCorner, lvec2 corner, lfloat edgeDepth, lbool use) {
+    vec2 origin = vec2(bufferOrigin());
+    lvec3 m = mat3(P.normalToView) * gatherNormal(lint(edgeCorner.x - origin.x), lint(edgeCorner.y - origin.y), use);
+    lvec3 edgeRay = viewRay(lvec2(edgeCorner.x + 0.5f, edgeCorner.y + 0.5f));
+    lvec3 e = positionOnRay(edgeRay, edgeDepth);
+    lvec3 ray = viewRay(lvec2(corner.x + 0.5f, corner.y + 0.5f));
+    if (P.orthographic != 0) {
+        // The point (ray.x, ray.y, -d) on the plane m . (X - e) = 0.
+        return (m.x * (ray.x - e.x) + m.y * (ray.y - e.y)) / m.z - e.z;
+    }
+    // The point ray t (planar depth t, as ray.z = -1) on the plane; radial depth is t |ray|.
+    lfloat t = dot(m, e) / dot(m, ray);
+    return P.radialDepth != 0 ? t * sqrt(dot(ray, ray)) : t;
+}
+
 // Ambient occlusion in [0,1] (1 = unoccluded) of the buffer texels (x, y); texels outside
 // the buffer, sky and holes get 1.
 lfloat hbaoLanes(lint x, lint y) {
@@ -127,9 +145,6 @@ lfloat hbaoLanes(lint x, lint y) {
                                                insideBuffer(floor(centre + reach) - origin, 1.0f)));
     float radius2 = P.radius * P.radius;
     float invRadius = 1.0f / P.radius;
-
-    // The thickness at this pixel: world units plus pixel footprints (a pixel's world size at its depth).
-    lfloat thickness = P.thickness + P.thicknessPerFootprint * P.invFx * (P.orthographic != 0 ? lfloat(1.0f) : planarDepth);
 
     luint h = hashPixel(displayX, displayY);
     lfloat rotation = hashToUnit(h);
@@ -173,8 +188,8 @@ lfloat hbaoLanes(lint x, lint y) {
         lfloat horizonF = lfloat(0.0f);
         lfloat sliceOcclusion = lfloat(0.0f);
         // Pushing a sample t along -V moves it by (a, b) += t (nE, -nV) in the slice's axes.
-        lfloat backShiftA = thickness * nE;
-        lfloat backShiftB = -thickness * nV;
+        lfloat backShiftA = P.thickness * nE;
+        lfloat backShiftB = -P.thickness * nV;
         luint sectors = luint(0u); // occluded sectors above the horizon's interval
         // March along the image line in display coordinates (so any tiling rounds alike): the
         // first sample one pixel out, then evenly to the radius.
@@ -193,16 +208,32 @@ lfloat hbaoLanes(lint x, lint y) {
             lvec2 corner = floor(position);
             position = position + step;
             lbool counts = computing;
+            lvec2 loadCorner = corner;
             if (!interior) {
-                counts = counts && insideBuffer(corner - origin, 0.0f);
-                // The image line is straight and the buffer convex: once every lane has left
-                // it, every later step is outside too.
-                if (!anyLane(counts)) {
-                    break;
+                if (P.hbaoBorder == 0) {
+                    counts = counts && insideBuffer(corner - origin, 0.0f);
+                    // The image line is straight and the buffer convex: once every lane has left
+                    // it, every later step is outside too.
+                    if (!anyLane(counts)) {
+                        break;
+                    }
+                } else {
+                    // Past the edge the nearest edge texel stands in: its depth (clamp), or its
+                    // tangent plane continued to this sample's ray (tangent).
+                    loadCorner = lvec2(clamp(corner.x, float(origin.x), float(origin.x + P.width - 1)),
+                                       clamp(corner.y, float(origin.y), float(origin.y + P.height - 1)));
                 }
             }
-            lfloat sampleDepth = gatherDepthAtDisplay(corner, counts) * P.depthScale;
+            lfloat sampleDepth = gatherDepthAtDisplay(loadCorner, counts) * P.depthScale;
             counts = counts && isSurfaceDepth(sampleDepth);
+            if (!interior && P.hbaoBorder == 2) {
+                lbool continued = counts && !insideBuffer(corner - origin, 0.0f);
+                if (anyLane(continued)) {
+                    lfloat planeDepth = tangentPlaneDepth(loadCorner, corner, sampleDepth, continued);
+                    // A plane seen edge-on, or behind the eye, continues nowhere: keep the edge's depth.
+                    sampleDepth = select(continued && isSurfaceDepth(planeDepth), planeDepth, sampleDepth);
+                }
+            }
             sampleDepth = select(counts, sampleDepth, depth); // holes and sky: keep X finite
             // Scaled after the exact subtraction: scaling first would cancel digits.
             lvec2 w = lvec2((corner.x + cornerToOffset.x) * P.invFx, (corner.y + cornerToOffset.y) * -P.invFy);

@@ -13,8 +13,8 @@ struct KernelParams {
 
     float maxRadiusPixels; // cap on the projected radius, keeps huge R and tiny depth bounded
     float depthScale;      // multiplies loaded depth (1; lets hosts feed other units)
-    float thickness;       // hbao: world-units thickness of depth-pass surfaces (plus the term below); +inf: the horizon alone
-    float thicknessPerFootprint; // hbao: adds this many pixel footprints (world size of a pixel at the depth) to it
+    float thickness;       // hbao: world-units thickness of depth-pass surfaces; +inf: the horizon alone
+    int hbaoBorder;        // hbao: samples past the buffer's edge: 0 open sky, 1 the edge's depth, 2 its tangent plane
 
     int width, height;     // size of the buffers the loads address
     int originX, originY;  // display coordinates of buffer texel (0,0): noise and projection use display coords, so tiles agree

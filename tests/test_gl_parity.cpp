@@ -83,7 +83,9 @@ TEST(GlParity, ThicknessMatchesCpu) {
                 Settings s = makeSettings("cpu", w, Falloff::None, 0);
                 s.thickness = thickness;
                 const OperatorOutputs cpu = runOperator(scene->inputs(), s);
-                const OperatorOutputs horizon = runOperator(scene->inputs(), makeSettings("cpu", w, Falloff::None, 0));
+                Settings h = makeSettings("cpu", w, Falloff::None, 0);
+                h.thickness = kThicknessInfinite;
+                const OperatorOutputs horizon = runOperator(scene->inputs(), h);
                 EXPECT_GT(maxAbsDiff(cpu.ao, horizon.ao), 0.05) << "the thickness must change the result to compare";
                 for (const char* device : kGlDevices) {
                     s.device = device;
@@ -92,6 +94,23 @@ TEST(GlParity, ThicknessMatchesCpu) {
                     EXPECT_LE(maxAbsDiff(cpu.ao, gl.ao), 1e-3) << device << " " << toString(w) << " T " << thickness;
                 }
             }
+}
+
+// The border policies read the edge texel's depth and normal past the buffer on both devices.
+TEST(GlParity, BorderPoliciesMatchCpu) {
+    const std::vector<SceneBuffers> views = studioViews(160, 120);
+    for (const SceneBuffers* scene : {&views[0], &views[1]})
+        for (int border : {kBorderOpen, kBorderClamp, kBorderTangent}) {
+            Settings s = makeSettings("cpu", Weighting::Cosine, Falloff::None, 0);
+            s.border = border;
+            const OperatorOutputs cpu = runOperator(scene->inputs(), s);
+            for (const char* device : kGlDevices) {
+                s.device = device;
+                const OperatorOutputs gl = runOperator(scene->inputs(), s);
+                ASSERT_EQ(gl.stats.device.rfind(device, 0), 0u) << "ran on " << gl.stats.device;
+                EXPECT_LE(maxAbsDiff(cpu.ao, gl.ao), 1e-3) << device << " border " << border;
+            }
+        }
 }
 
 // A frame cut into many tiles with aprons gives exactly the one-tile result.

@@ -128,7 +128,7 @@ TEST(HbaoThickness, ThinPolesGetCloserToTheReference) {
     const double horizon = psnr("inf"), thin = psnr("0.1"), automatic = psnr("auto");
     std::printf("poles 200x150: hbao high, thickness inf %.2f dB, 0.1 %.2f dB, auto %.2f dB\n", horizon, thin, automatic);
     EXPECT_GT(thin, horizon + 4.0);
-    EXPECT_GT(automatic, horizon + 1.0);
+    EXPECT_GT(automatic, horizon + 1.0);  // measured +1.3 dB: auto (0.85 R) is set for every scene, not poles
     fs::remove_all(dir);
 }
 

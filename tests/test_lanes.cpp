@@ -114,7 +114,8 @@ TEST(LaneKernels, EveryInstructionSetMatchesThePixelAtATimeBuild) {
             const SceneBuffers sb = renderScene(studioScene(), cam, Box2i{0, 0, W, H}, Box2i{0, 0, W, H}, kind);
             for (Weighting w : {Weighting::Uniform, Weighting::Cosine}) {
                 for (int variant = 0; variant < 3; ++variant) {
-                    // Linear falloff, binary, and binary with a finite thickness (the visibility bitmask).
+                    // Linear falloff, binary, and binary with a finite thickness (the visibility bitmask);
+                    // each with another border policy.
                     const Falloff f = variant == 0 ? Falloff::Linear : Falloff::None;
                     if (variant == 2 && kernel != cpu::LaneKernel::Hbao) continue;
                     Settings s;
@@ -122,6 +123,7 @@ TEST(LaneKernels, EveryInstructionSetMatchesThePixelAtATimeBuild) {
                     s.weighting = w;
                     s.falloff = f;
                     s.thickness = variant == 2 ? 0.2f : kThicknessInfinite;
+                    s.border = variant == 0 ? kBorderOpen : variant == 1 ? kBorderClamp : kBorderTangent;
                     s.ssaoHemisphere = w == Weighting::Cosine;  // both SSAO forms, without doubling the cases
                     const KernelParams p = makeKernelParams(sb.inputs(), s);
                     Image reference(W, H, 1);

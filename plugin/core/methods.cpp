@@ -37,12 +37,24 @@ MethodParam switchParam(const char* key, const char* flag, const char* help, boo
 // hbao and rtao: one thickness, the world-units depth of the solid behind each visible point.
 MethodParam thicknessParam() {
     MethodParam p = floatParam("thickness", "--thickness", "T|auto|inf",
-                               "hbao, rtao: surfaces are T world units deep behind what the depth pass shows; "
-                               "auto: R/4 plus 2 pixel footprints; inf: the depth buffer is a height field "
-                               "(hbao's horizon; rtao: a sheet walled down past R) (default inf)",
+                               "hbao, rtao: the solid behind each visible point is T world units deep; "
+                               "auto: 0.85 R; inf: the depth buffer is a height field (hbao's horizon) "
+                               "(default auto)",
                                0.0, 1e30, &Settings::thickness);
     p.named = {{"auto", kThicknessAuto, -1.0}, {"inf", kThicknessInfinite, 1e9}};
     p.alsoFor = "rtao";
+    return p;
+}
+
+// hbao: what a sample past the buffer's edge sees (overscan is used where the data window has it).
+MethodParam borderParam() {
+    MethodParam p = intParam("border", "--border",
+                             "hbao: samples past the buffer's edge see open sky (open), the edge texel's depth "
+                             "(clamp) or its tangent plane continued (tangent) (default tangent)",
+                             kBorderOpen, kBorderTangent, &Settings::border);
+    p.value = "open|clamp|tangent";
+    p.named = {{"open", kBorderOpen, kBorderOpen}, {"clamp", kBorderClamp, kBorderClamp},
+               {"tangent", kBorderTangent, kBorderTangent}};
     return p;
 }
 
@@ -57,7 +69,7 @@ std::vector<MethodInfo> makeTable() {
                  {intParam("directions", "--directions", "hbao: directions (slices) per pixel (default 8)", 1, 256,
                            &Settings::directions),
                   intParam("steps", "--steps", "hbao: samples per direction (default 8)", 1, 256, &Settings::steps),
-                  thicknessParam()},
+                  thicknessParam(), borderParam()},
                  [](const Settings& s) { return s.directions * s.steps; }, nullptr, &runHbaoMethod});
     t.push_back({"ssdo", "directional occlusion and one bounce (Ritschel et al. 2009): DO, AO and, with --bounce, GI",
                  "kernels/ssdo.glsl", true, true, {"depth", "normal", "beauty|direct-diffuse", "albedo"},
@@ -151,10 +163,10 @@ double fromHostValue(const MethodParam& p, double hostValue) {
     return hostValue;
 }
 
-std::string checkParam(const MethodParam& p, double v) {
+std::string checkParam(const MethodParam& p, double v, bool named) {
     if (p.boolField || (v >= p.min && v <= p.max)) return "";
     for (const NamedValue& n : p.named)
-        if (v == n.value) return "";
+        if (named && v == n.value) return "";
     char range[96];
     if (p.max >= 1e30) std::snprintf(range, sizeof range, " must be %g or more", p.min);
     else std::snprintf(range, sizeof range, " must be between %g and %g", p.min, p.max);

@@ -77,8 +77,9 @@ std::vector<const MethodParam*> paramsOf(const std::string& method);
 const NamedValue* findNamed(const MethodParam& p, const std::string& word);
 // A host's plain number (OFX) as the parameter's value: a named value's hostValue maps back to it.
 double fromHostValue(const MethodParam& p, double hostValue);
-// The message for a value outside the parameter's range (and not a named value), or "" when it is inside.
-std::string checkParam(const MethodParam& p, double value);
+// The message for a value outside the parameter's range, or "" when it is inside. A named
+// value's number passes only with `named` (Settings hold them; hosts parse them as words).
+std::string checkParam(const MethodParam& p, double value, bool named = false);
 // Applies every method's level `quality` to `s`; false for an unknown level.
 bool applyMethodPresets(const std::string& quality, Settings& s);
 

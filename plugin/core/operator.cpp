@@ -34,7 +34,7 @@ void checkSettings(const Settings& s) {
         throw Error("--interleave must be between 1 and 8, with at least one sample per pixel");
     for (const MethodParam* p : allMethodParams()) {
         const double v = p->intField ? (double)(s.*(p->intField)) : p->floatField ? (double)(s.*(p->floatField)) : 0.0;
-        const std::string problem = checkParam(*p, v);
+        const std::string problem = checkParam(*p, v, true);
         if (!problem.empty()) throw Error(problem);
     }
     if (s.lights.size() > 4)
@@ -160,11 +160,10 @@ KernelParams makeKernelParams(const OperatorInputs& in, const Settings& s) {
     p.linearFalloff = s.falloff == Falloff::Linear ? 1 : 0;
     p.orthographic = cam.projection == Projection::Orthographic ? 1 : 0;
     p.radialDepth = in.depthKind == DepthKind::Radial ? 1 : 0;
-    const ThicknessRule thickness = thicknessRule(s);
-    p.thickness = thickness.worldUnits;
-    p.thicknessPerFootprint = thickness.footprints;
+    p.thickness = resolvedThickness(s);
+    p.hbaoBorder = s.border;
     // A finite thickness changes binary visibility only; linear falloff keeps the horizon.
-    p.hbaoBitmask = std::isfinite(thickness.worldUnits) && p.linearFalloff == 0 ? 1 : 0;
+    p.hbaoBitmask = std::isfinite(p.thickness) && p.linearFalloff == 0 ? 1 : 0;
     fillSectorTerms(p);
     p.ssaoSamples = s.ssaoSamples;
     p.ssaoHemisphere = s.ssaoHemisphere ? 1 : 0;

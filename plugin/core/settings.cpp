@@ -5,12 +5,6 @@
 
 namespace obscura {
 
-namespace {
-// The automatic thickness: a share of R (objects that occlude within R are about that deep)
-// plus a few pixel footprints (what a pixel's depth cannot resolve).
-float kAutoThicknessPerRadius = 0.25f;
-float kAutoThicknessFootprints = 2.0f;
-} // namespace
 
 const std::vector<QualityPreset>& qualityPresets() {
     // Each level roughly quadruples the samples; the blur hides the noise of the sparse ones.
@@ -25,10 +19,10 @@ const std::vector<QualityPreset>& qualityPresets() {
 
 bool applyQualityPreset(const std::string& name, Settings& s) { return applyMethodPresets(name, s); }
 
-ThicknessRule thicknessRule(const Settings& s) {
-    if (s.thickness != kThicknessAuto) return {s.thickness, 0.0f};
-    // auto: see docs/hbao.md for the scenes this was chosen on.
-    return {kAutoThicknessPerRadius * s.radius, kAutoThicknessFootprints};
+// auto: docs/hbao.md gives the reference scenes the share of R was chosen on (and the
+// footprint and occluder-width rules measured against it).
+float resolvedThickness(const Settings& s) {
+    return s.thickness == kThicknessAuto ? kAutoThicknessPerRadius * s.radius : s.thickness;
 }
 
 const char* toString(Weighting w) { return w == Weighting::Uniform ? "uniform" : "cosine"; }

@@ -14,6 +14,8 @@ enum class NormalSpace { World, Camera };   // camera space is OpenGL's: looking
 
 constexpr float kThicknessInfinite = std::numeric_limits<float>::infinity();
 constexpr float kThicknessAuto = -1.0f;
+// Settings::border: open sky past the edge, the edge texel's depth, or its tangent plane continued.
+constexpr int kBorderOpen = 0, kBorderClamp = 1, kBorderTangent = 2;
 
 struct Settings {
     std::string method = "hbao";
@@ -50,8 +52,11 @@ struct Settings {
 
     // ---- methods "hbao" and "rtao": how deep the surfaces the depth pass shows are ----
     // World units behind each visible point that are solid; kThicknessInfinite: the depth
-    // buffer is a height field (HBAO's classic horizon); kThicknessAuto: thicknessRule().
-    float thickness = kThicknessInfinite;
+    // buffer is a height field (HBAO's classic horizon); kThicknessAuto: resolvedThickness().
+    float thickness = kThicknessAuto;
+
+    // ---- method "hbao": samples past the buffer's edge (where there is no overscan) ----
+    int border = kBorderTangent;
 
     // ---- method "rtao" (rays against the mesh of the depth pass) ----
     int rtaoRays = 16;              // cosine-distributed rays per traced point
@@ -67,13 +72,10 @@ const std::vector<QualityPreset>& qualityPresets();  // low, medium, high, ultra
 // Applies every method's level `name` (core/methods.h) to `s`; false for an unknown name.
 bool applyQualityPreset(const std::string& name, Settings& s);
 
-// The thickness at a point as world units plus a number of pixel footprints (the world size
-// of one pixel at the point's depth); worldUnits is +inf for kThicknessInfinite.
-struct ThicknessRule {
-    float worldUnits = kThicknessInfinite;
-    float footprints = 0.0f;
-};
-ThicknessRule thicknessRule(const Settings& s);
+// The thickness in world units that `s` asks for: s.thickness, or for kThicknessAuto
+// kAutoThicknessPerRadius times R; +inf for kThicknessInfinite.
+constexpr float kAutoThicknessPerRadius = 0.85f;
+float resolvedThickness(const Settings& s);
 
 const char* toString(Weighting);
 const char* toString(Falloff);

@@ -560,7 +560,8 @@ std::string frameReportJson(const FrameJob& job, const FrameReport& r) {
     for (const MethodParam* p : paramsOf(s.method)) {
         json v = p->intField ? json(s.*(p->intField)) : p->floatField ? json(s.*(p->floatField)) : json(s.*(p->boolField));
         for (const NamedValue& n : p->named)  // "auto", "inf" (JSON has no infinity)
-            if (p->floatField && s.*(p->floatField) == (float)n.value) v = n.word;
+            if (p->floatField ? s.*(p->floatField) == (float)n.value : p->intField && s.*(p->intField) == (int)n.value)
+                v = n.word;
         j["settings"][p->key] = v;
     }
     if (methodOutputs(s.method, "do")) {
