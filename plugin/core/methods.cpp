@@ -92,7 +92,7 @@ std::vector<MethodInfo> makeTable() {
                   switchParam("ssao_hemisphere", "--ssao-hemisphere",
                               "ssao: points in the normal-oriented hemisphere, not the sphere", &Settings::ssaoHemisphere)},
                  [](const Settings& s) { return s.ssaoSamples; }, nullptr, &runSsaoMethod});
-    t.push_back({"rtao", "rays (Embree) against the mesh the depth pass describes, optionally extruded by --thickness",
+    t.push_back({"rtao", "rays (Embree) against the mesh the depth pass describes, extruded by --thickness",
                  "cpu/rtao_*", true, false, {"depth", "normal"}, {"ao"},
                  {{"low", "4 rays", [](Settings& s) { s.rtaoRays = 4; }},
                   {"medium", "16 rays", [](Settings& s) { s.rtaoRays = 16; }},
