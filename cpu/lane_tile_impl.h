@@ -18,17 +18,19 @@ namespace {
 
 // A parameter block whose switches are fixed at compile time: the static members
 // hide KernelParams' run-time ones, so `P.cosineWeighting` in the kernel is a constant.
-template <int Cosine, int Linear>
+template <int Cosine, int Linear, int Bitmask>
 struct ParamsPerspPlanar : KernelParams {
     static constexpr int cosineWeighting = Cosine;
     static constexpr int linearFalloff = Linear;
+    static constexpr int hbaoBitmask = Bitmask;
     static constexpr int orthographic = 0;
     static constexpr int radialDepth = 0;
 };
-template <int Cosine, int Linear>
+template <int Cosine, int Linear, int Bitmask>
 struct ParamsAnyCamera : KernelParams {
     static constexpr int cosineWeighting = Cosine;
     static constexpr int linearFalloff = Linear;
+    static constexpr int hbaoBitmask = Bitmask;
 };
 
 template <class Params>
@@ -105,22 +107,26 @@ void runTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, Mutable
         }
 }
 
-template <Entry E, int Cosine, int Linear>
+template <Entry E, int Cosine, int Linear, int Bitmask = 0>
 void runTileFor(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile) {
     if (p.orthographic == 0 && p.radialDepth == 0)
-        runTile<E, glsl::ParamsPerspPlanar<Cosine, Linear>>(p, depth, normal, ao, tile);
+        runTile<E, glsl::ParamsPerspPlanar<Cosine, Linear, Bitmask>>(p, depth, normal, ao, tile);
     else
-        runTile<E, glsl::ParamsAnyCamera<Cosine, Linear>>(p, depth, normal, ao, tile);
+        runTile<E, glsl::ParamsAnyCamera<Cosine, Linear, Bitmask>>(p, depth, normal, ao, tile);
 }
 
-// The weighting and falloff switches as template arguments.
+// The weighting and falloff switches as template arguments; HBAO's bitmask too (it only
+// changes binary visibility: linear falloff and SSAO never take it).
 template <Entry E>
 void runEntry(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile) {
+    const bool bitmask = E == Entry::Hbao && p.hbaoBitmask != 0;
     if (p.cosineWeighting != 0) {
         if (p.linearFalloff != 0) runTileFor<E, 1, 1>(p, depth, normal, ao, tile);
+        else if (bitmask) runTileFor<E, 1, 0, 1>(p, depth, normal, ao, tile);
         else runTileFor<E, 1, 0>(p, depth, normal, ao, tile);
     } else {
         if (p.linearFalloff != 0) runTileFor<E, 0, 1>(p, depth, normal, ao, tile);
+        else if (bitmask) runTileFor<E, 0, 0, 1>(p, depth, normal, ao, tile);
         else runTileFor<E, 0, 0>(p, depth, normal, ao, tile);
     }
 }

@@ -32,6 +32,8 @@ using glm::cos;
 using glm::cross;
 using glm::dot;
 using glm::exp;
+using glm::findLSB;
+using glm::findMSB;
 using glm::floor;
 using glm::fract;
 using glm::inversesqrt;
@@ -269,6 +271,20 @@ inline luint operator&(luint a, luint b) { return a.v & b.v; }
 inline luint operator|(luint a, luint b) { return a.v | b.v; }
 inline luint operator<<(luint a, std::uint32_t s) { return a.v << s; }
 inline lfloat& operator/=(lfloat& a, lfloat b) { return a = a / b; }
+
+// ---- added for HBAO's visibility bitmask ----
+// Shift by a per-lane count in [0, 31] (GLSL leaves 32 and more undefined, and so do these).
+inline luint operator<<(luint a, luint s) { return a.v << s.v; }
+inline luint operator>>(luint a, luint s) { return a.v >> s.v; }
+inline luint operator-(luint a, luint b) { return a.v - b.v; }
+inline luint operator~(luint a) { return ~a.v; }
+inline luint select(lbool c, luint a, luint b) { return (vuint)select(c, lint((vint)a.v), lint((vint)b.v)).v; }
+// The bits set in any lane, as a uniform (GLSL: the pixel's own value).
+inline std::uint32_t lanesOr(luint a) {
+    std::uint32_t any = 0;
+    for (int i = 0; i < kLanes; ++i) any |= a.v[i];
+    return any;
+}
 
 // A value the kernel knows to be equal in every lane, as a uniform scalar.
 inline float uniformValue(lfloat x) { return x.v[0]; }

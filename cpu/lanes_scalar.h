@@ -21,5 +21,8 @@ inline vec3 select(bool c, vec3 a, vec3 b) { return c ? a : b; }
 using lvec4 = vec4;
 inline vec4 select(bool c, vec4 a, vec4 b) { return c ? a : b; }
 inline float uniformValue(float x) { return x; }
+// Added for HBAO's visibility bitmask.
+inline uint select(bool c, uint a, uint b) { return c ? a : b; }
+inline uint lanesOr(uint a) { return a; }
 
 } // namespace obscura::glsl

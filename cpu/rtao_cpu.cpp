@@ -151,7 +151,18 @@ void runRtao(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, M
     RtaoStats st;
     auto t0 = Clock::now();
     const SurfacePoints s = reconstructSurface(p, depth, normal, threads);
-    const SurfaceMesh mesh = triangulateSurface(s, p.orthographic != 0, o.thickness);
+    float thickness = o.thickness;
+    if (!std::isfinite(thickness)) {  // a height field: walls reaching past the farthest point by more than a ray's reach
+        float farthest = 0.0f, nearest = std::numeric_limits<float>::max();
+        for (size_t i = 0; i < s.position.size(); ++i) {
+            if (!s.surface((int)i)) continue;
+            const float d = p.orthographic != 0 ? -s.position[i].z : glm::length(s.position[i]);
+            farthest = std::max(farthest, d);
+            nearest = std::min(nearest, d);
+        }
+        thickness = farthest > nearest ? farthest - nearest + 2.0f * p.radius : 2.0f * p.radius;
+    }
+    const SurfaceMesh mesh = triangulateSurface(s, p.orthographic != 0, thickness);
     st.triangles = (long long)mesh.triangles.size() / 3;
     st.meshSeconds = since(t0);
     t0 = Clock::now();

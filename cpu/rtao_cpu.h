@@ -7,7 +7,7 @@ namespace obscura::cpu {
 
 struct RtaoOptions {
     int rays = 16;          // per traced texel, cosine- (or uniformly) distributed over the hemisphere
-    float thickness = 0.0f; // extrusion away from the eye, world units; 0: a sheet
+    float thickness = 0.0f; // extrusion away from the eye, world units (+inf: a height field); 0: a sheet
     int grid = 1;           // trace texels whose display coordinates are multiples of it; interpolate the rest
 };
 

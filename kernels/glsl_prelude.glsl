@@ -21,3 +21,6 @@ vec3 select(bool c, vec3 a, vec3 b) { return c ? a : b; }
 // Added for SSDO and the blur.
 vec4 select(bool c, vec4 a, vec4 b) { return c ? a : b; }
 float uniformValue(float x) { return x; } // a value equal in every lane, as a uniform
+// Added for HBAO's visibility bitmask.
+uint select(bool c, uint a, uint b) { return c ? a : b; }
+uint lanesOr(uint a) { return a; } // the bits set in any lane: a pixel's own

@@ -20,6 +20,17 @@
 // which needs F per sample (no arcsine: an inverse square root, and for cosine one
 // arctangent).
 //
+// Thickness (Therrien, Levesque, Gilet 2023, visibility bitmask): with P.hbaoBitmask a sample
+// occludes only the angles between its front face and its front face pushed a thickness t
+// away from the eye (along -V, the pixel's view direction, as in the paper), not everything
+// below it. The occluded set of a slice is then a union of intervals of theta. The interval
+// that reaches down to the tangent grows a continuous horizon exactly as above (so an
+// infinite t gives the same numbers); intervals above it set bits of a 32-sector mask, and
+// each set sector adds its exact share of F above that horizon (F's closed forms at the
+// sector's bounds). Sectors are uniform in a pseudo-angle p in [0, 2] (p = b / (|a| + b),
+// mirrored for a < 0), which needs one division per sample instead of an arctangent; a
+// sector counts when the interval covers its centre. Linear falloff keeps the horizon alone.
+//
 // Samples snap to texel centres, which moves them slightly off the slice. Taking a and b
 // from the full 3D offset brings them back into the slice along the tangent plane (not
 // orthogonally): their height above the tangent plane is kept, so a plane stays exactly
@@ -33,6 +44,66 @@ lfloat sliceOcclusionAt(lfloat cosTheta, lfloat sinTheta, lfloat cosB, lfloat si
     }
     lfloat theta = atan(sinTheta, cosTheta);
     return 0.5f * nLen * (sinB * sinTheta * sinTheta + cosB * (theta - sinTheta * cosTheta));
+}
+
+// Occlusion the set sectors add above the horizon, whose own is horizonF: each sector adds
+// F(upper bound) - F(lower bound) with both bounds raised to the horizon (F grows with the
+// angle, so raising F's value is raising the bound). F is linear in (cos b, sin b); the
+// bounds' terms are uniform (P.sectorTerms). Only sectors some lane has set are visited.
+lfloat sectorOcclusion(luint sectors, lfloat horizonF, lfloat cosB, lfloat sinB, lfloat nLen) {
+    lfloat scale = P.cosineWeighting != 0 ? 0.5f * nLen : lfloat(1.0f);
+    lfloat wCos = scale * cosB;
+    lfloat wSin = scale * sinB;
+    uint any = lanesOr(sectors);
+    int first = findLSB(any);
+    int last = findMSB(any);
+    lfloat added = lfloat(0.0f);
+    for (int k = first; k <= last; ++k) {
+        vec4 lower = P.sectorTerms[k];
+        vec4 upper = P.sectorTerms[k + 1];
+        lfloat lowerF = P.cosineWeighting != 0 ? wCos * lower.z + wSin * lower.w : wCos * lower.x + wSin * lower.y;
+        lfloat upperF = P.cosineWeighting != 0 ? wCos * upper.z + wSin * upper.w : wCos * upper.x + wSin * upper.y;
+        lfloat share = max(upperF, horizonF) - max(lowerF, horizonF);
+        added += lfloat((sectors >> uint(k)) & luint(1u)) * share;
+    }
+    return added;
+}
+
+// Pseudo-angle of (a, b), b >= 0, above the tangent: 0 along it, 1 along the normal, 2 opposite;
+// monotone in the angle. Sector k of the mask spans p in [k, k + 1] / 16.
+lfloat sectorPseudoAngle(lfloat a, lfloat b) {
+    lfloat q = b / max(abs(a) + b, 1e-30f);
+    return select(a >= 0.0f, q, 2.0f - q);
+}
+
+// The sector whose lower bound is nearest p: bits [sector(back), sector(front)) are the
+// sectors whose centres lie between the two.
+lint sectorBound(lfloat p) {
+    return min(lint(p * 16.0f + 0.5f), lint(32));
+}
+
+// Bits 0 .. n-1 set, n in [0, 32] (no shift by 32, which neither language defines).
+luint bitsBelow(lint n) {
+    luint low = (luint(1u) << luint(min(n, lint(31)))) - luint(1u);
+    return low | select(n >= 32, luint(0x80000000u), luint(0u));
+}
+
+// Depth at which the ray through display texel `corner` meets the tangent plane of the buffer
+// texel at `edgeCorner` (its depth edgeDepth): the surface at the frame's edge continued past
+// it. Not finite or not positive where the plane does not meet the ray in front of the eye.
+lfloat tangentPlaneDepth(lvec2 edgeCorner, lvec2 corner, lfloat edgeDepth, lbool use) {
+    vec2 origin = vec2(bufferOrigin());
+    lvec3 m = mat3(P.normalToView) * gatherNormal(lint(edgeCorner.x - origin.x), lint(edgeCorner.y - origin.y), use);
+    lvec3 edgeRay = viewRay(lvec2(edgeCorner.x + 0.5f, edgeCorner.y + 0.5f));
+    lvec3 e = positionOnRay(edgeRay, edgeDepth);
+    lvec3 ray = viewRay(lvec2(corner.x + 0.5f, corner.y + 0.5f));
+    if (P.orthographic != 0) {
+        // The point (ray.x, ray.y, -d) on the plane m . (X - e) = 0.
+        return (m.x * (ray.x - e.x) + m.y * (ray.y - e.y)) / m.z - e.z;
+    }
+    // The point ray t (planar depth t, as ray.z = -1) on the plane; radial depth is t |ray|.
+    lfloat t = dot(m, e) / dot(m, ray);
+    return P.radialDepth != 0 ? t * sqrt(dot(ray, ray)) : t;
 }
 
 // Ambient occlusion in [0,1] (1 = unoccluded) of the buffer texels (x, y); texels outside
@@ -116,6 +187,10 @@ lfloat hbaoLanes(lint x, lint y) {
         lfloat horizonB = lfloat(0.0f);
         lfloat horizonF = lfloat(0.0f);
         lfloat sliceOcclusion = lfloat(0.0f);
+        // Pushing a sample t along -V moves it by (a, b) += t (nE, -nV) in the slice's axes.
+        lfloat backShiftA = P.thickness * nE;
+        lfloat backShiftB = -P.thickness * nV;
+        luint sectors = luint(0u); // occluded sectors above the horizon's interval
         // March along the image line in display coordinates (so any tiling rounds alike): the
         // first sample one pixel out, then evenly to the radius.
         lvec2 step = dir * stepPixels;
@@ -133,16 +208,32 @@ lfloat hbaoLanes(lint x, lint y) {
             lvec2 corner = floor(position);
             position = position + step;
             lbool counts = computing;
+            lvec2 loadCorner = corner;
             if (!interior) {
-                counts = counts && insideBuffer(corner - origin, 0.0f);
-                // The image line is straight and the buffer convex: once every lane has left
-                // it, every later step is outside too.
-                if (!anyLane(counts)) {
-                    break;
+                if (P.hbaoBorder == 0) {
+                    counts = counts && insideBuffer(corner - origin, 0.0f);
+                    // The image line is straight and the buffer convex: once every lane has left
+                    // it, every later step is outside too.
+                    if (!anyLane(counts)) {
+                        break;
+                    }
+                } else {
+                    // Past the edge the nearest edge texel stands in: its depth (clamp), or its
+                    // tangent plane continued to this sample's ray (tangent).
+                    loadCorner = lvec2(clamp(corner.x, float(origin.x), float(origin.x + P.width - 1)),
+                                       clamp(corner.y, float(origin.y), float(origin.y + P.height - 1)));
                 }
             }
-            lfloat sampleDepth = gatherDepthAtDisplay(corner, counts) * P.depthScale;
+            lfloat sampleDepth = gatherDepthAtDisplay(loadCorner, counts) * P.depthScale;
             counts = counts && isSurfaceDepth(sampleDepth);
+            if (!interior && P.hbaoBorder == 2) {
+                lbool continued = counts && !insideBuffer(corner - origin, 0.0f);
+                if (anyLane(continued)) {
+                    lfloat planeDepth = tangentPlaneDepth(loadCorner, corner, sampleDepth, continued);
+                    // A plane seen edge-on, or behind the eye, continues nowhere: keep the edge's depth.
+                    sampleDepth = select(continued && isSurfaceDepth(planeDepth), planeDepth, sampleDepth);
+                }
+            }
             sampleDepth = select(counts, sampleDepth, depth); // holes and sky: keep X finite
             // Scaled after the exact subtraction: scaling first would cancel digits.
             lvec2 w = lvec2((corner.x + cornerToOffset.x) * P.invFx, (corner.y + cornerToOffset.y) * -P.invFy);
@@ -162,6 +253,22 @@ lfloat hbaoLanes(lint x, lint y) {
                 lfloat weight = max(1.0f - sqrt(r2) * invRadius, 0.0f);
                 sliceOcclusion += weight * max(f - horizonF, 0.0f);
                 horizonF = max(horizonF, f);
+            } else if (P.hbaoBitmask != 0) {
+                lfloat backA = a + backShiftA;
+                lfloat backB = b + backShiftB;
+                // The interval joins the horizon's when its back is not above the horizon.
+                lbool joins = backB <= 0.0f || horizonA * backB - horizonB * backA <= 0.0f;
+                lbool higher = counts && joins && horizonA * b - horizonB * a > 0.0f;
+                horizonA = select(higher, a, horizonA);
+                horizonB = select(higher, b, horizonB);
+                // Only an interval apart from the horizon's sets sectors; in most registers none is.
+                lbool apart = counts && !joins;
+                if (anyLane(apart)) {
+                    lint front = sectorBound(sectorPseudoAngle(a, b));
+                    lint back = sectorBound(select(backB > 0.0f, sectorPseudoAngle(backA, backB), lfloat(0.0f)));
+                    luint interval = bitsBelow(front) & ~bitsBelow(back);
+                    sectors = sectors | select(apart, interval, luint(0u));
+                }
             } else {
                 // (a, b) lies above the horizon when it is counter-clockwise of it: no square
                 // root or division, one compare.
@@ -173,6 +280,14 @@ lfloat hbaoLanes(lint x, lint y) {
         if (P.linearFalloff == 0) {
             lfloat invLen = inversesqrt(horizonA * horizonA + horizonB * horizonB);
             sliceOcclusion = sliceOcclusionAt(horizonA * invLen, horizonB * invLen, cosB, sinB, nLen);
+            if (P.hbaoBitmask != 0) {
+                // Sectors wholly below the horizon add nothing: clear them, and skip the sum when none is left.
+                lint horizonSector = min(lint(sectorPseudoAngle(horizonA, horizonB) * 16.0f), lint(31));
+                sectors = sectors & ~bitsBelow(horizonSector);
+                if (anyLane(lfloat(sectors) > 0.0f)) {
+                    sliceOcclusion += sectorOcclusion(sectors, sliceOcclusion, cosB, sinB, nLen);
+                }
+            }
         }
         occlusion += sliceOcclusion;
     }

@@ -13,7 +13,8 @@ struct KernelParams {
 
     float maxRadiusPixels; // cap on the projected radius, keeps huge R and tiny depth bounded
     float depthScale;      // multiplies loaded depth (1; lets hosts feed other units)
-    float pad0, pad1;
+    float thickness;       // hbao: world-units thickness of depth-pass surfaces; +inf: the horizon alone
+    int hbaoBorder;        // hbao: samples past the buffer's edge: 0 open sky, 1 the edge's depth, 2 its tangent plane
 
     int width, height;     // size of the buffers the loads address
     int originX, originY;  // display coordinates of buffer texel (0,0): noise and projection use display coords, so tiles agree
@@ -41,9 +42,14 @@ struct KernelParams {
 
     int envWidth, envHeight;     // the prefiltered lat-long level uploaded; 0 x 0: no map, use skyRadiance
     int senderAlbedo;            // 1: a sender's radiance is the bounce source times its albedo
-    int pad6;
+    int hbaoBitmask;             // hbao: 1 when thickness is finite: the visibility bitmask (kernels/hbao.glsl)
 
     float envIntensity;          // multiplies the environment (map or sky)
     float sampleArea;            // A_s = pi r_max^2 / N: the disc area one bounce sample stands for
     float pad4, pad5;
+
+    // ---- HBAO's visibility bitmask (kernels/hbao.glsl) ----
+    // Per bound k = 0..32 of the 32 sectors (pseudo-angle k/16, angle theta_k above the tangent),
+    // the terms of F that multiply cos b and sin b: uniform (1 - cos, sin), cosine (theta - sin cos, sin^2).
+    vec4 sectorTerms[33];
 };

@@ -73,6 +73,46 @@ TEST(GlParity, AnalyticScenesMatchCpu) {
     }
 }
 
+// The visibility bitmask (a finite thickness) is the same kernel text on both devices: a fixed
+// thickness and the automatic one (which adds pixel footprints), both weightings, both cameras.
+TEST(GlParity, ThicknessMatchesCpu) {
+    const std::vector<SceneBuffers> views = studioViews(160, 120);
+    for (const SceneBuffers* scene : {&views[0], &views[1]})
+        for (Weighting w : {Weighting::Uniform, Weighting::Cosine})
+            for (float thickness : {0.15f, kThicknessAuto}) {
+                Settings s = makeSettings("cpu", w, Falloff::None, 0);
+                s.thickness = thickness;
+                const OperatorOutputs cpu = runOperator(scene->inputs(), s);
+                Settings h = makeSettings("cpu", w, Falloff::None, 0);
+                h.thickness = kThicknessInfinite;
+                const OperatorOutputs horizon = runOperator(scene->inputs(), h);
+                EXPECT_GT(maxAbsDiff(cpu.ao, horizon.ao), 0.05) << "the thickness must change the result to compare";
+                for (const char* device : kGlDevices) {
+                    s.device = device;
+                    const OperatorOutputs gl = runOperator(scene->inputs(), s);
+                    ASSERT_EQ(gl.stats.device.rfind(device, 0), 0u) << "ran on " << gl.stats.device;
+                    EXPECT_LE(maxAbsDiff(cpu.ao, gl.ao), 1e-3) << device << " " << toString(w) << " T " << thickness;
+                }
+            }
+}
+
+// The border policies read the edge texel's depth and normal past the buffer on both devices.
+TEST(GlParity, BorderPoliciesMatchCpu) {
+    const std::vector<SceneBuffers> views = studioViews(160, 120);
+    for (const SceneBuffers* scene : {&views[0], &views[1]})
+        for (int border : {kBorderOpen, kBorderClamp, kBorderTangent}) {
+            Settings s = makeSettings("cpu", Weighting::Cosine, Falloff::None, 0);
+            s.border = border;
+            const OperatorOutputs cpu = runOperator(scene->inputs(), s);
+            for (const char* device : kGlDevices) {
+                s.device = device;
+                const OperatorOutputs gl = runOperator(scene->inputs(), s);
+                ASSERT_EQ(gl.stats.device.rfind(device, 0), 0u) << "ran on " << gl.stats.device;
+                EXPECT_LE(maxAbsDiff(cpu.ao, gl.ao), 1e-3) << device << " border " << border;
+            }
+        }
+}
+
 // A frame cut into many tiles with aprons gives exactly the one-tile result.
 TEST(GlParity, TilesEqualOneTile) {
     const int W = 200, H = 150;

@@ -79,6 +79,24 @@ TEST(LaneMath, InverseSqrtAndFloor) {
     EXPECT_EQ(lanes::floor(w)[0], 0.0f);
 }
 
+// The unsigned bit operations HBAO's visibility bitmask uses, lane by lane against scalar C++.
+TEST(LaneMath, BitOpsPerLane) {
+    const std::uint32_t a[4] = {0xffffffffu, 0x80000001u, 0x12345678u, 0u};
+    const std::uint32_t n[4] = {0u, 31u, 7u, 16u};
+    lanes::luint va(0u), vn(0u);
+    for (int k = 0; k < 4; ++k) va.v[k] = a[k], vn.v[k] = n[k];
+    const lanes::lbool odd = lanes::lint((lanes::vint)(vn.v & 1u)) > lanes::lint(0);
+    const lanes::luint left = va << vn, right = va >> vn, diff = va - vn, inv = ~va;
+    const lanes::luint chosen = lanes::select(odd, va, vn);
+    for (int k = 0; k < 4; ++k) {
+        EXPECT_EQ(left.v[k], a[k] << n[k]) << k;
+        EXPECT_EQ(right.v[k], a[k] >> n[k]) << k;
+        EXPECT_EQ(diff.v[k], a[k] - n[k]) << k;
+        EXPECT_EQ(inv.v[k], ~a[k]) << k;
+        EXPECT_EQ(chosen.v[k], (n[k] & 1u) ? a[k] : n[k]) << k;
+    }
+}
+
 // Every instruction set's HBAO and SSAO equal the pixel-at-a-time build within float rounding
 // (FMA contraction and the 12/14-bit estimates refined by Newton differ in the last bits),
 // for every weighting, falloff and projection.
@@ -95,11 +113,17 @@ TEST(LaneKernels, EveryInstructionSetMatchesThePixelAtATimeBuild) {
                                      : studioCamera(W, H);
             const SceneBuffers sb = renderScene(studioScene(), cam, Box2i{0, 0, W, H}, Box2i{0, 0, W, H}, kind);
             for (Weighting w : {Weighting::Uniform, Weighting::Cosine}) {
-                for (Falloff f : {Falloff::Linear, Falloff::None}) {
+                for (int variant = 0; variant < 3; ++variant) {
+                    // Linear falloff, binary, and binary with a finite thickness (the visibility bitmask);
+                    // each with another border policy.
+                    const Falloff f = variant == 0 ? Falloff::Linear : Falloff::None;
+                    if (variant == 2 && kernel != cpu::LaneKernel::Hbao) continue;
                     Settings s;
                     s.radius = 1.0f;
                     s.weighting = w;
                     s.falloff = f;
+                    s.thickness = variant == 2 ? 0.2f : kThicknessInfinite;
+                    s.border = variant == 0 ? kBorderOpen : variant == 1 ? kBorderClamp : kBorderTangent;
                     s.ssaoHemisphere = w == Weighting::Cosine;  // both SSAO forms, without doubling the cases
                     const KernelParams p = makeKernelParams(sb.inputs(), s);
                     Image reference(W, H, 1);
@@ -116,7 +140,7 @@ TEST(LaneKernels, EveryInstructionSetMatchesThePixelAtATimeBuild) {
                         }
                         EXPECT_LT(worst, 5e-5) << isas[i] << (ortho ? " ortho" : " persp")
                                                << (kind == DepthKind::Radial ? " radial" : "") << " w" << (int)w
-                                               << " f" << (int)f << " kernel " << (int)kernel;
+                                               << " f" << (int)f << " T " << s.thickness << " kernel " << (int)kernel;
                     }
                 }
             }

@@ -74,7 +74,7 @@ struct Config {
     double maxScreenRadius = 256;   // the plugin's cap (0 = automatic, the CLI's rule)
     int method = 0;                 // index into the Method choice: 0 hbao, 2 ssao, 3 rtao
     int ssaoSamples = 16;
-    double thickness = 0;           // rtao's
+    double thickness = -1;          // hbao's and rtao's; -1: auto (the number OFX stores for it)
     int rtaoGrid = 1;
 };
 
@@ -158,7 +158,8 @@ std::vector<float> runCli(const Config& c, const Scene& s, const fs::path& dir) 
                                      "--camera-to-world", rowsOf(s.cam.cameraToWorld), "--device", "cpu"};
     if (c.method == 2) args.insert(args.end(), {"--method", "ssao", "--ssao-samples", std::to_string(c.ssaoSamples)});
     if (c.method == 3)
-        args.insert(args.end(), {"--method", "rtao", "--thickness", num(c.thickness), "--rtao-grid", std::to_string(c.rtaoGrid)});
+        args.insert(args.end(), {"--method", "rtao", "--rtao-grid", std::to_string(c.rtaoGrid)});
+    args.insert(args.end(), {"--thickness", c.thickness < 0 ? "auto" : num(c.thickness)});
     if (c.orthographic) {
         args.insert(args.end(), {"--ortho-width", num(s.orthoWidth)});
     } else {
@@ -367,8 +368,11 @@ TEST(OfxDescribe, DeclaresContextsDepthsClipsAndParameters) {
     EXPECT_EQ(params.find("ssao_samples")->props.ints(kOfxParamPropMax), (std::vector<int>{1024}));
     EXPECT_EQ(params.find("ssao_hemisphere")->type, kOfxParamTypeBoolean);
     EXPECT_EQ(params.find("rtao_grid")->props.ints(kOfxParamPropMin), (std::vector<int>{1}));
-    EXPECT_EQ(params.find("thickness")->props.doubles(kOfxParamPropMin), (std::vector<double>{0.0}));
-    EXPECT_EQ(params.find("thickness")->props.string(kOfxParamPropParent), "rtao");
+    // thickness is hbao's and rtao's, listed under hbao; -1 (auto) and 1e9 (inf) are inside its range.
+    EXPECT_EQ(params.find("thickness")->props.doubles(kOfxParamPropMin), (std::vector<double>{-1.0}));
+    EXPECT_EQ(params.find("thickness")->props.doubles(kOfxParamPropMax), (std::vector<double>{1e9}));
+    EXPECT_EQ(params.find("thickness")->props.doubles(kOfxParamPropDefault), (std::vector<double>{-1.0}));
+    EXPECT_EQ(params.find("thickness")->props.string(kOfxParamPropParent), "hbao");
     EXPECT_EQ(params.find("samples")->props.ints(kOfxParamPropDefault), (std::vector<int>{64}));
     EXPECT_EQ(params.find("interleave")->props.ints(kOfxParamPropDefault), (std::vector<int>{2}));
     EXPECT_EQ(params.find("interleave")->props.ints(kOfxParamPropMax), (std::vector<int>{8}));

@@ -11,7 +11,8 @@ const std::vector<std::string>& registeredMethods() {
         for (const obscura::MethodInfo& m : obscura::methods()) {
             if (obscura::methodOutputs(m.name, "do")) continue;  // SSDO's variants below
             v.push_back(m.name);
-            if (std::string(m.name) == "rtao") v.push_back("rtao+thick");
+            if (std::string(m.name) == "hbao") v.insert(v.end(), {"hbao+horizon", "hbao+open", "hbao+clamp"});
+            if (std::string(m.name) == "rtao") v.insert(v.end(), {"rtao+sheet", "rtao+thick"});
         }
         v.insert(v.end(), {"ssdo", "ssdo+bounce", "ssdo-noint"});
         return v;
@@ -21,7 +22,7 @@ const std::vector<std::string>& registeredMethods() {
 
 std::string operatorMethod(const std::string& method) {
     if (isSsdoMethod(method)) return "ssdo";
-    return method == "rtao+thick" ? "rtao" : method;
+    return method.substr(0, method.find('+'));
 }
 
 bool parseDefinition(const std::string& name, AoDefinition& out) {
@@ -54,6 +55,13 @@ void configureMethod(const std::string& method, const std::string& preset, obscu
         s.method = operatorMethod(method);
         obscura::applyQualityPreset(preset, s);
         if (method == "rtao+thick") s.thickness = 0.2f * s.radius;
+        if (method == "rtao+sheet") s.thickness = 0.0f;
+        if (method == "hbao+horizon") {
+            s.thickness = obscura::kThicknessInfinite;
+            s.border = obscura::kBorderOpen;
+        }
+        if (method == "hbao+open") s.border = obscura::kBorderOpen;
+        if (method == "hbao+clamp") s.border = obscura::kBorderClamp;
         return;
     }
     s.method = "ssdo";

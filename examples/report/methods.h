@@ -10,6 +10,9 @@ namespace report {
 
 // The report's method variants: every AO method of obscura's method table (core/methods.h) by
 // its name, so a new method joins every table, chart and contact sheet on registration; plus
+//   "hbao+horizon" hbao with an infinite thickness and open sky past the edge (before --thickness and --border)
+//   "hbao+open", "hbao+clamp"  hbao with --border open / clamp (the default is tangent)
+//   "rtao+sheet"   rtao without extrusion (--thickness 0)
 //   "rtao+thick"   rtao with every surface extruded by R / 5 (--thickness)
 //   "ssdo"         SSDO: DO + AO, no bounce; interleave 2 with its automatic 2 px blur
 //   "ssdo+bounce"  the same with the one-bounce GI (sender radiance DiffDir x DiffCol)
@@ -41,7 +44,7 @@ bool isSsdoMethod(const std::string& method);
 bool hasBounce(const std::string& method);
 // SSDO sample count N per preset: low 16, medium 64, high 256, ultra 1024 (0 for an unknown name).
 int ssdoSamplesForPreset(const std::string& preset);
-// The operator's method a report variant runs ("rtao+thick" -> "rtao").
+// The operator's method a report variant runs ("rtao+thick" -> "rtao", "hbao+clamp" -> "hbao").
 std::string operatorMethod(const std::string& method);
 // Settings for `method` at `preset`, after s.radius is set: AO methods take the quality preset as it is; the SSDO variants take
 // ssdoSamplesForPreset, interleave 2 and blur 0 (the operator's automatic blur as wide as the block),

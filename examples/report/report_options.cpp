@@ -48,7 +48,9 @@ void usage(FILE* to) {
     std::string all;
     for (const std::string& m : registeredMethods()) all += (all.empty() ? "" : ",") + m;
     std::fprintf(to, "methods registered: %s\n"
-                     "  (rtao+thick: rtao --thickness R/5; a device a method does not run on, as rtao on GL, is skipped)\n", all.c_str());
+                     "  (hbao+horizon: --thickness inf --border open; hbao+open, hbao+clamp: --border open, clamp;\n"
+                     "   rtao+sheet: rtao --thickness 0; rtao+thick: --thickness R/5;\n"
+                     "   a device a method does not run on, as rtao on GL, is skipped)\n", all.c_str());
 }
 
 [[noreturn]] void fail(const std::string& message) {

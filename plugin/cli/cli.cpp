@@ -89,8 +89,9 @@ Flag methodFlag(const MethodParam& p) {
                     s.*(p.boolField) = true;
                     return;
                 }
-                const double x = p.intField ? (double)toInt(p.flag, v) : toNumber(p.flag, v);
-                const std::string problem = checkParam(p, x);
+                const NamedValue* named = findNamed(p, v);
+                const double x = named ? named->value : p.intField ? (double)toInt(p.flag, v) : toNumber(p.flag, v);
+                const std::string problem = checkParam(p, x, named != nullptr);
                 if (!problem.empty()) throw UsageError(problem + ", got '" + v + "'");
                 if (p.intField) s.*(p.intField) = (int)x;
                 else s.*(p.floatField) = (float)x;

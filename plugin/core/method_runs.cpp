@@ -50,7 +50,8 @@ void runRtaoMethod(const MethodRun& r) {
     const Settings& s = r.settings;
     OperatorStats& st = r.out.stats;
     cpu::RtaoStats rs;
-    cpu::runRtao(r.params, r.in.depth, r.in.normal, r.out.ao.view(), {s.rtaoRays, s.thickness, s.rtaoGrid}, r.threads, &rs);
+    cpu::runRtao(r.params, r.in.depth, r.in.normal, r.out.ao.view(), {s.rtaoRays, resolvedThickness(s), s.rtaoGrid},
+                 r.threads, &rs);
     st.timings.push_back({"rtao-mesh", rs.meshSeconds});
     st.timings.push_back({"rtao-bvh", rs.bvhSeconds});
     st.timings.push_back({"rtao-trace", rs.traceSeconds});

@@ -34,6 +34,30 @@ MethodParam switchParam(const char* key, const char* flag, const char* help, boo
     return p;
 }
 
+// hbao and rtao: one thickness, the world-units depth of the solid behind each visible point.
+MethodParam thicknessParam() {
+    MethodParam p = floatParam("thickness", "--thickness", "T|auto|inf",
+                               "hbao, rtao: the solid behind each visible point is T world units deep; "
+                               "auto: 0.85 R; inf: the depth buffer is a height field (hbao's horizon) "
+                               "(default auto)",
+                               0.0, 1e30, &Settings::thickness);
+    p.named = {{"auto", kThicknessAuto, -1.0}, {"inf", kThicknessInfinite, 1e9}};
+    p.alsoFor = "rtao";
+    return p;
+}
+
+// hbao: what a sample past the buffer's edge sees (overscan is used where the data window has it).
+MethodParam borderParam() {
+    MethodParam p = intParam("border", "--border",
+                             "hbao: samples past the buffer's edge see open sky (open), the edge texel's depth "
+                             "(clamp) or its tangent plane continued (tangent) (default tangent)",
+                             kBorderOpen, kBorderTangent, &Settings::border);
+    p.value = "open|clamp|tangent";
+    p.named = {{"open", kBorderOpen, kBorderOpen}, {"clamp", kBorderClamp, kBorderClamp},
+               {"tangent", kBorderTangent, kBorderTangent}};
+    return p;
+}
+
 std::vector<MethodInfo> makeTable() {
     std::vector<MethodInfo> t;
     t.push_back({"hbao", "horizon-based ambient occlusion (Bavoil et al. 2008): slices around the view vector",
@@ -44,7 +68,8 @@ std::vector<MethodInfo> makeTable() {
                   {"ultra", "32x24", [](Settings& s) { hbaoLevel(s, 3); }}},
                  {intParam("directions", "--directions", "hbao: directions (slices) per pixel (default 8)", 1, 256,
                            &Settings::directions),
-                  intParam("steps", "--steps", "hbao: samples per direction (default 8)", 1, 256, &Settings::steps)},
+                  intParam("steps", "--steps", "hbao: samples per direction (default 8)", 1, 256, &Settings::steps),
+                  thicknessParam(), borderParam()},
                  [](const Settings& s) { return s.directions * s.steps; }, nullptr, &runHbaoMethod});
     t.push_back({"ssdo", "directional occlusion and one bounce (Ritschel et al. 2009): DO, AO and, with --bounce, GI",
                  "kernels/ssdo.glsl", true, true, {"depth", "normal", "beauty|direct-diffuse", "albedo"},
@@ -67,7 +92,7 @@ std::vector<MethodInfo> makeTable() {
                   switchParam("ssao_hemisphere", "--ssao-hemisphere",
                               "ssao: points in the normal-oriented hemisphere, not the sphere", &Settings::ssaoHemisphere)},
                  [](const Settings& s) { return s.ssaoSamples; }, nullptr, &runSsaoMethod});
-    t.push_back({"rtao", "rays (Embree) against the mesh the depth pass describes, optionally extruded by --thickness",
+    t.push_back({"rtao", "rays (Embree) against the mesh the depth pass describes, extruded by --thickness",
                  "cpu/rtao_*", true, false, {"depth", "normal"}, {"ao"},
                  {{"low", "4 rays", [](Settings& s) { s.rtaoRays = 4; }},
                   {"medium", "16 rays", [](Settings& s) { s.rtaoRays = 16; }},
@@ -75,9 +100,6 @@ std::vector<MethodInfo> makeTable() {
                   {"ultra", "256 rays", [](Settings& s) { s.rtaoRays = 256; }}},
                  {intParam("rtao_rays", "--rtao-rays", "rtao: rays per traced point (default 16)", 1, 4096,
                            &Settings::rtaoRays),
-                  floatParam("thickness", "--thickness", "T",
-                             "rtao: extrude each surface T world units away from the eye (default 0, a sheet)", 0.0, 1e30,
-                             &Settings::thickness),
                   intParam("rtao_grid", "--rtao-grid", "rtao: trace every N-th pixel, interpolate between (default 1)",
                            1, 64, &Settings::rtaoGrid)},
                  [](const Settings& s) { return s.rtaoRays; },
@@ -120,12 +142,37 @@ std::vector<const MethodParam*> allMethodParams() {
     return all;
 }
 
-std::string checkParam(const MethodParam& p, double v) {
+std::vector<const MethodParam*> paramsOf(const std::string& method) {
+    std::vector<const MethodParam*> out;
+    if (const MethodInfo* m = findMethod(method))
+        for (const MethodParam& p : m->params) out.push_back(&p);
+    for (const MethodParam* p : allMethodParams())
+        if (p->alsoFor && method == p->alsoFor) out.push_back(p);
+    return out;
+}
+
+const NamedValue* findNamed(const MethodParam& p, const std::string& word) {
+    for (const NamedValue& n : p.named)
+        if (word == n.word) return &n;
+    return nullptr;
+}
+
+double fromHostValue(const MethodParam& p, double hostValue) {
+    for (const NamedValue& n : p.named)
+        if (hostValue == n.hostValue) return n.value;
+    return hostValue;
+}
+
+std::string checkParam(const MethodParam& p, double v, bool named) {
     if (p.boolField || (v >= p.min && v <= p.max)) return "";
+    for (const NamedValue& n : p.named)
+        if (named && v == n.value) return "";
     char range[96];
     if (p.max >= 1e30) std::snprintf(range, sizeof range, " must be %g or more", p.min);
     else std::snprintf(range, sizeof range, " must be between %g and %g", p.min, p.max);
-    return std::string(p.flag) + range;
+    std::string words;
+    for (const NamedValue& n : p.named) words += std::string(", or ") + n.word;
+    return std::string(p.flag) + range + words;
 }
 
 bool applyMethodPresets(const std::string& quality, Settings& s) {

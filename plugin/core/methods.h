@@ -13,7 +13,16 @@ struct OperatorInputs;
 struct OperatorOutputs;
 struct MethodRun;
 
-// A method's own numeric or switch parameter, with the range every host enforces.
+// A word a numeric parameter also accepts ("auto", "inf"), its value, and the finite number
+// that stands for it where a host stores plain numbers (OFX).
+struct NamedValue {
+    const char* word;
+    double value;
+    double hostValue;
+};
+
+// A method's own numeric or switch parameter, with the range every host enforces. A
+// parameter that several methods share is listed under the first of them only.
 struct MethodParam {
     const char* key;     // Python keyword and OFX parameter name ("ssao_samples")
     const char* flag;    // CLI flag ("--ssao-samples")
@@ -23,6 +32,8 @@ struct MethodParam {
     int Settings::*intField = nullptr;      // exactly one of the three is set
     float Settings::*floatField = nullptr;
     bool Settings::*boolField = nullptr;
+    std::vector<NamedValue> named = {};     // words it accepts besides numbers in [min, max]
+    const char* alsoFor = nullptr;          // another method that reads it (listed under this one only)
 };
 
 // What a quality level sets for this method (applied with every other method's levels,
@@ -60,8 +71,15 @@ bool methodOutputs(const std::string& method, const char* output);
 std::string methodNames(const char* sep = ", ");
 // Every method's own parameter, in table order (the hosts' extra flags and keywords).
 std::vector<const MethodParam*> allMethodParams();
-// The message for a value outside the parameter's range, or "" when it is inside.
-std::string checkParam(const MethodParam& p, double value);
+// The parameters `method` reads: its own, then those other methods share with it.
+std::vector<const MethodParam*> paramsOf(const std::string& method);
+// The named value spelled `word`, or nullptr.
+const NamedValue* findNamed(const MethodParam& p, const std::string& word);
+// A host's plain number (OFX) as the parameter's value: a named value's hostValue maps back to it.
+double fromHostValue(const MethodParam& p, double hostValue);
+// The message for a value outside the parameter's range, or "" when it is inside. A named
+// value's number passes only with `named` (Settings hold them; hosts parse them as words).
+std::string checkParam(const MethodParam& p, double value, bool named = false);
 // Applies every method's level `quality` to `s`; false for an unknown level.
 bool applyMethodPresets(const std::string& quality, Settings& s);
 

@@ -34,7 +34,7 @@ void checkSettings(const Settings& s) {
         throw Error("--interleave must be between 1 and 8, with at least one sample per pixel");
     for (const MethodParam* p : allMethodParams()) {
         const double v = p->intField ? (double)(s.*(p->intField)) : p->floatField ? (double)(s.*(p->floatField)) : 0.0;
-        const std::string problem = checkParam(*p, v);
+        const std::string problem = checkParam(*p, v, true);
         if (!problem.empty()) throw Error(problem);
     }
     if (s.lights.size() > 4)
@@ -111,6 +111,19 @@ std::string describeDevice(const Settings& s) {
     return d;
 }
 
+// The bounds of HBAO's 32 sectors, uniform in the pseudo-angle p = b / (|a| + b) (mirrored
+// past the normal, kernels/hbao.glsl): F's terms at each, computed once here rather than
+// per pixel. At p = k/16 (k <= 16) the direction above the tangent is (1 - p, p), normalised.
+void fillSectorTerms(KernelParams& p) {
+    for (int k = 0; k <= 32; ++k) {
+        const double q = (k <= 16 ? k : 32 - k) / 16.0;
+        const double len = std::hypot(q, 1.0 - q);
+        const double c = (k <= 16 ? 1.0 - q : q - 1.0) / len, sn = q / len;
+        const double theta = std::atan2(sn, c);
+        p.sectorTerms[k] = glm::vec4((float)(1.0 - c), (float)sn, (float)(theta - sn * c), (float)(sn * sn));
+    }
+}
+
 KernelParams makeKernelParams(const OperatorInputs& in, const Settings& s) {
     const Camera& cam = in.camera;
     if (!cam.valid())
@@ -147,6 +160,11 @@ KernelParams makeKernelParams(const OperatorInputs& in, const Settings& s) {
     p.linearFalloff = s.falloff == Falloff::Linear ? 1 : 0;
     p.orthographic = cam.projection == Projection::Orthographic ? 1 : 0;
     p.radialDepth = in.depthKind == DepthKind::Radial ? 1 : 0;
+    p.thickness = resolvedThickness(s);
+    p.hbaoBorder = s.border;
+    // A finite thickness changes binary visibility only; linear falloff keeps the horizon.
+    p.hbaoBitmask = std::isfinite(p.thickness) && p.linearFalloff == 0 ? 1 : 0;
+    fillSectorTerms(p);
     p.ssaoSamples = s.ssaoSamples;
     p.ssaoHemisphere = s.ssaoHemisphere ? 1 : 0;
     fillSsdoParams(in, s, p);

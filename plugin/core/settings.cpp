@@ -1,8 +1,10 @@
 #include "settings.h"
 
 #include "methods.h"
+#include <cstdio>
 
 namespace obscura {
+
 
 const std::vector<QualityPreset>& qualityPresets() {
     // Each level roughly quadruples the samples; the blur hides the noise of the sparse ones.
@@ -16,6 +18,12 @@ const std::vector<QualityPreset>& qualityPresets() {
 }
 
 bool applyQualityPreset(const std::string& name, Settings& s) { return applyMethodPresets(name, s); }
+
+// auto: docs/hbao.md gives the reference scenes the share of R was chosen on (and the
+// footprint and occluder-width rules measured against it).
+float resolvedThickness(const Settings& s) {
+    return s.thickness == kThicknessAuto ? kAutoThicknessPerRadius * s.radius : s.thickness;
+}
 
 const char* toString(Weighting w) { return w == Weighting::Uniform ? "uniform" : "cosine"; }
 const char* toString(Falloff f) { return f == Falloff::Linear ? "linear" : "none"; }

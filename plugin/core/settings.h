@@ -1,6 +1,7 @@
 // The user-facing settings of the operator: one struct shared by every host
 // (CLI flags, OFX parameters, Python keyword arguments).
 #pragma once
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -10,6 +11,11 @@ enum class Weighting { Uniform, Cosine };   // HBAO paper's solid angle / projec
 enum class Falloff { Linear, None };        // W(r) = max(0, 1 - r/R) / binary visibility within R
 enum class DepthKind { Planar, Radial };    // camera-space Z / distance to the eye
 enum class NormalSpace { World, Camera };   // camera space is OpenGL's: looking down -Z, +Y up
+
+constexpr float kThicknessInfinite = std::numeric_limits<float>::infinity();
+constexpr float kThicknessAuto = -1.0f;
+// Settings::border: open sky past the edge, the edge texel's depth, or its tangent plane continued.
+constexpr int kBorderOpen = 0, kBorderClamp = 1, kBorderTangent = 2;
 
 struct Settings {
     std::string method = "hbao";
@@ -44,9 +50,16 @@ struct Settings {
     int ssaoSamples = 16;           // points per pixel
     bool ssaoHemisphere = false;    // normal-oriented hemisphere instead of the whole sphere
 
+    // ---- methods "hbao" and "rtao": how deep the surfaces the depth pass shows are ----
+    // World units behind each visible point that are solid; kThicknessInfinite: the depth
+    // buffer is a height field (HBAO's classic horizon); kThicknessAuto: resolvedThickness().
+    float thickness = kThicknessAuto;
+
+    // ---- method "hbao": samples past the buffer's edge (where there is no overscan) ----
+    int border = kBorderTangent;
+
     // ---- method "rtao" (rays against the mesh of the depth pass) ----
     int rtaoRays = 16;              // cosine-distributed rays per traced point
-    float thickness = 0.0f;         // extrusion behind each surface, world units; 0: a sheet
     int rtaoGrid = 1;               // trace every N-th pixel and interpolate; 1: every pixel
 };
 
@@ -58,6 +71,11 @@ struct QualityPreset {
 const std::vector<QualityPreset>& qualityPresets();  // low, medium, high, ultra
 // Applies every method's level `name` (core/methods.h) to `s`; false for an unknown name.
 bool applyQualityPreset(const std::string& name, Settings& s);
+
+// The thickness in world units that `s` asks for: s.thickness, or for kThicknessAuto
+// kAutoThicknessPerRadius times R; +inf for kThicknessInfinite.
+constexpr float kAutoThicknessPerRadius = 0.85f;
+float resolvedThickness(const Settings& s);
 
 const char* toString(Weighting);
 const char* toString(Falloff);

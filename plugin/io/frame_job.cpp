@@ -597,9 +597,13 @@ std::string frameReportJson(const FrameJob& job, const FrameReport& r) {
                      {"weighting", toString(s.weighting)}, {"falloff", toString(s.falloff)},
                      {"blur", s.blur},              {"threads", s.threads},
                      {"device", s.device}};
-    if (const MethodInfo* m = findMethod(s.method))
-        for (const MethodParam& p : m->params)
-            j["settings"][p.key] = p.intField ? json(s.*(p.intField)) : p.floatField ? json(s.*(p.floatField)) : json(s.*(p.boolField));
+    for (const MethodParam* p : paramsOf(s.method)) {
+        json v = p->intField ? json(s.*(p->intField)) : p->floatField ? json(s.*(p->floatField)) : json(s.*(p->boolField));
+        for (const NamedValue& n : p->named)  // "auto", "inf" (JSON has no infinity)
+            if (p->floatField ? s.*(p->floatField) == (float)n.value : p->intField && s.*(p->intField) == (int)n.value)
+                v = n.word;
+        j["settings"][p->key] = v;
+    }
     if (methodOutputs(s.method, "do")) {
         json lights = json::array();
         for (const auto& l : s.lights)

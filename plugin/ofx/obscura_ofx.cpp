@@ -308,7 +308,7 @@ Params readParams(const Instance& in, OfxTime t) {
     for (size_t i = 0; i < own.size(); ++i) {
         if (own[i]->boolField) s.*(own[i]->boolField) = intAt(in.methodParams[i], t) != 0;
         else if (own[i]->intField) s.*(own[i]->intField) = intAt(in.methodParams[i], t);
-        else s.*(own[i]->floatField) = (float)doubleAt(in.methodParams[i], t);
+        else s.*(own[i]->floatField) = (float)fromHostValue(*own[i], doubleAt(in.methodParams[i], t));
     }
     s.device = resolveDevice(kDevices[choiceAt(in.device, t, countOf(kDevices))]);
     p.projection = choiceAt(in.projection, t, 2) == 0 ? Projection::Perspective : Projection::Orthographic;
@@ -828,8 +828,14 @@ OfxStatus onDescribeInContext(OfxImageEffectHandle effect, OfxPropertySetHandle 
                 d.integer(mp.key, mp.key, mp.help, defaults.*(mp.intField), (int)mp.min, (int)mp.max, (int)mp.min,
                           (int)std::min(mp.max, 256.0), m.name);
             } else {
-                d.real(mp.key, mp.key, mp.help, defaults.*(mp.floatField), mp.min, std::min(mp.max, 1e9), mp.min,
-                       std::min(mp.max, 10.0), m.name);
+                // Named values (auto, inf) are plain numbers here: their hostValue, inside the range.
+                double def = defaults.*(mp.floatField), lo = mp.min, hi = std::min(mp.max, 1e9);
+                for (const NamedValue& n : mp.named) {
+                    if (def == n.value) def = n.hostValue;
+                    lo = std::min(lo, n.hostValue);
+                    hi = std::max(hi, n.hostValue);
+                }
+                d.real(mp.key, mp.key, mp.help, def, lo, hi, mp.min, std::min(mp.max, 10.0), m.name);
             }
         }
     }

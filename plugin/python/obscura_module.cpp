@@ -211,14 +211,19 @@ struct SettingArgs {
 void applyMethodParam(const std::string& key, const py::handle& value, Settings& s) {
     for (const MethodParam* p : allMethodParams()) {
         if (key != p->key) continue;
+        // A word the parameter knows ("auto", "inf", "clamp", ...) stands for its value.
+        const NamedValue* named = py::isinstance<py::str>(value) ? findNamed(*p, value.cast<std::string>()) : nullptr;
+        if (!named && !p->named.empty() && py::isinstance<py::str>(value))  // a word it does not know
+            valueError(key + checkParam(*p, std::nan("")).substr(std::string(p->flag).size()) + ", got '" +
+                       value.cast<std::string>() + "'");
         if (p->boolField) {
             if (!py::isinstance<py::bool_>(value)) throw py::type_error(key + " must be a bool, got " + typeName(value));
             s.*(p->boolField) = value.cast<bool>();
         } else if (p->intField) {
-            s.*(p->intField) = intInRange(value, p->key, (long long)p->min, (long long)p->max);
+            s.*(p->intField) = named ? (int)named->value : intInRange(value, p->key, (long long)p->min, (long long)p->max);
         } else {
-            const double v = floatArg(value, p->key);
-            const std::string problem = checkParam(*p, v);  // "--thickness must be ..."
+            const double v = named ? named->value : floatArg(value, p->key);
+            const std::string problem = checkParam(*p, v, named != nullptr);  // "--thickness must be ..."
             if (!problem.empty()) valueError(key + problem.substr(std::string(p->flag).size()) + ", got " + std::to_string(v));
             s.*(p->floatField) = (float)v;
         }
@@ -871,7 +876,8 @@ Settings (defaults as the CLI): radius=1.0 world units, directions=8, steps=8,
 weighting='uniform'|'cosine', falloff='linear'|'none', blur=0 px, quality=None ('low',
 'medium', 'high', 'ultra'; explicit directions/steps/blur override it), method='hbao'
 (or 'ssao', 'rtao', with their own keywords: ssao_samples=16, ssao_hemisphere=False,
-rtao_rays=16, thickness=0.0, rtao_grid=1), device='cpu', threads=0 (all cores). The GIL is released while computing.)doc");
+rtao_rays=16, rtao_grid=1), thickness='auto' (hbao and rtao: world units, 'auto' or 'inf'),
+device='cpu', threads=0 (all cores). The GIL is released while computing.)doc");
 
     m.def(
         "compute_ssdo",
@@ -1028,8 +1034,8 @@ Raises obscura.Error when the file or the name is missing.)doc");
     py::dict table;
     for (const MethodInfo& mi : methods()) {
         py::dict params;
-        for (const MethodParam& mp : mi.params)
-            params[py::str(mp.key)] = mp.boolField ? py::object(py::str("bool")) : py::object(py::make_tuple(mp.min, mp.max));
+        for (const MethodParam* mp : paramsOf(mi.name))
+            params[py::str(mp->key)] = mp->boolField ? py::object(py::str("bool")) : py::object(py::make_tuple(mp->min, mp->max));
         py::list devices;
         if (mi.cpu) devices.append("cpu");
         if (mi.gl) devices.append("gl");

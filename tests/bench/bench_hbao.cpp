@@ -291,7 +291,17 @@ int main(int argc, char** argv) {
         s.blur = 0; // the sample count alone
         const std::string name = "hbao_" + std::string(q.name) + "_" + std::to_string(q.directions) + "x" +
                                  std::to_string(q.steps) + "/cosine/none/cpu/threads:" + std::to_string(all);
-        options(benchmark::RegisterBenchmark(name.c_str(), BM_Hbao, s, std::string("preset")));
+        // The horizon alone (infinite thickness, open sky past the edge: HBAO before --thickness and
+        // --border), then the defaults (the visibility bitmask at thickness auto, tangent border) and a
+        // thin thickness: their cost over the horizon at the same level.
+        Settings horizon = s;
+        horizon.thickness = kThicknessInfinite;
+        horizon.border = kBorderOpen;
+        options(benchmark::RegisterBenchmark((name + "/horizon").c_str(), BM_Hbao, horizon, std::string("preset")));
+        options(benchmark::RegisterBenchmark((name + "/defaults").c_str(), BM_Hbao, s, std::string("preset")));
+        Settings thin = s;
+        thin.thickness = 0.1f;
+        options(benchmark::RegisterBenchmark((name + "/thickness:0.1").c_str(), BM_Hbao, thin, std::string("preset")));
     }
     // The other AO methods' levels on the same frame (ssao: Crytek's sphere form), to set
     // against HBAO's: the error-against-time report pairs these times with accuracy.

@@ -246,6 +246,13 @@ def test_method_keywords_come_from_the_method_table(scene, tmp):
         assert np.all(np.isfinite(ao)) and ao.min() >= 0 and ao.max() <= 1 and ao.min() < 0.9
     report = obscura.process(ROOM, tmp / "rtao.exr", method="rtao", rtao_rays=4, thickness=0.1, out_type="float")
     assert report["settings"]["thickness"] == pytest.approx(0.1) and report["settings"]["rtao_rays"] == 4
+    # hbao and rtao share one thickness, a number of world units or a word.
+    assert obscura.METHODS["hbao"]["params"]["thickness"] == obscura.METHODS["rtao"]["params"]["thickness"]
+    for word in ["auto", "inf"]:
+        report = obscura.process(ROOM, tmp / "hbao.exr", thickness=word, quality="low", out_type="float")
+        assert report["settings"]["thickness"] == word
+    with pytest.raises(ValueError, match="thickness must be 0 or more, or auto, or inf"):
+        obscura.compute_ao(depth, normal, camera=cam, thickness="thick")
     with pytest.raises(TypeError, match="unexpected keyword argument 'thicknes'"):
         obscura.compute_ao(depth, normal, camera=cam, method="rtao", thicknes=0.1)
     with pytest.raises(TypeError, match="ssao_hemisphere must be a bool"):

@@ -1,0 +1,148 @@
+// HBAO with a finite thickness (the visibility bitmask, kernels/hbao.glsl): planes stay exact,
+// a thickness too large to matter is the horizon bit for bit, closed forms still hold where
+// the occluder really is solid, and thin poles get closer to a ray-traced reference.
+#include "core/operator.h"
+#include "support/closed_forms.h"
+#include "support/cli_runner.h"
+#include "support/scenes.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+
+using namespace obscura;
+using namespace obscura::test;
+using glm::dvec3;
+namespace fs = std::filesystem;
+
+namespace {
+
+Settings binarySettings(Weighting w, float radius, float thickness, int dirs = 8, int steps = 8) {
+    Settings s;
+    s.radius = radius;
+    s.directions = dirs;
+    s.steps = steps;
+    s.weighting = w;
+    s.falloff = Falloff::None;
+    s.thickness = thickness;
+    s.threads = 2;
+    return s;
+}
+
+} // namespace
+
+// A plane occludes nothing whatever thickness its samples are given: every sample lies on the
+// tangent plane, so neither the horizon nor any sector moves.
+TEST(HbaoThickness, PlaneIsUnoccludedAtEveryPixel) {
+    for (bool ortho : {false, true})
+        for (double tiltDeg : {0.0, 45.0, 80.0, 88.0})
+            for (double dist : {0.5, 200.0, 5e4}) {
+                const double t = tiltDeg * M_PI / 180;
+                const dvec3 eye(0, 0, dist), n(std::sin(t), 0.0, std::cos(t));
+                const dvec3 s = glm::normalize(glm::cross(n, dvec3(0, 1, 0))), u = glm::cross(n, s);
+                Camera cam = ortho ? lookAtOrthographic(eye, dvec3(0.0), dist, 64, 48)
+                                   : lookAtPerspective(eye, dvec3(0.0), 70.0 * M_PI / 180, 64, 48);
+                SceneBuffers sb = renderScene({planeRect(dvec3(0.0), s, u, 1e7)}, cam, 64, 48);
+                const float radius = (float)(0.2 * dist);
+                for (Weighting w : {Weighting::Uniform, Weighting::Cosine})
+                    for (float thickness : {kThicknessAuto, 0.01f * radius, radius}) {
+                        OperatorOutputs out = runOperator(sb.inputs(), binarySettings(w, radius, thickness));
+                        const float minAo = *std::min_element(out.ao.pixels.begin(), out.ao.pixels.end());
+                        EXPECT_GE(minAo, 1.0f - 2e-4f) << "ortho=" << ortho << " tilt=" << tiltDeg << " dist=" << dist
+                                                      << " w=" << toString(w) << " T=" << thickness;
+                    }
+            }
+}
+
+// Pushed back far enough, every sample's back lies below the tangent plane, its interval joins
+// the horizon's, and the bitmask path computes what the horizon path computes (to float
+// rounding: the two are separate instantiations, contracted into FMAs differently).
+TEST(HbaoThickness, LargeThicknessIsTheHorizonExactly) {
+    const int W = 160, H = 120;
+    for (bool ortho : {false, true}) {
+        const Camera cam = ortho ? lookAtOrthographic(dvec3(4, 5, 9), dvec3(-1, 0.6, -3), 12.0, W, H)
+                                 : studioCamera(W, H);
+        const SceneBuffers sb = renderScene(studioScene(), cam, W, H);
+        for (Weighting w : {Weighting::Uniform, Weighting::Cosine}) {
+            const OperatorOutputs horizon = runOperator(sb.inputs(), binarySettings(w, 1.0f, kThicknessInfinite));
+            const OperatorOutputs bitmask = runOperator(sb.inputs(), binarySettings(w, 1.0f, 1e6f));
+            float minAo = 1.0f;
+            for (size_t i = 0; i < horizon.ao.pixels.size(); ++i) {
+                ASSERT_NEAR(horizon.ao.pixels[i], bitmask.ao.pixels[i], 1e-6f) << "pixel " << i << " ortho " << ortho;
+                minAo = std::min(minAo, horizon.ao.pixels[i]);
+            }
+            EXPECT_LT(minAo, 0.8f) << "the scene must have occlusion to compare";
+        }
+    }
+}
+
+// The floor beside a wall: the wall's samples, each pushed back by the automatic thickness,
+// overlap and cover the angles up to the horizon, so the closed form still holds.
+TEST(HbaoThickness, CornerMatchesClosedFormWithAutoThickness) {
+    const int W = 320, H = 240;
+    Camera cam = lookAtPerspective(dvec3(-7, 6, 4), dvec3(-0.6, 0, 0), 40.0 * M_PI / 180, W, H);
+    SceneBuffers sb = renderScene(cornerScene(), cam, W, H);
+    for (Weighting w : {Weighting::Uniform, Weighting::Cosine}) {
+        OperatorOutputs out = runOperator(sb.inputs(), binarySettings(w, 1.0f, kThicknessAuto, 32, 32));
+        for (double d : {0.05, 0.2, 0.4, 0.7}) {
+            double sum = 0;
+            int n = 0;
+            for (double z = -1.0; z <= 1.0; z += 0.05) {
+                int x, y;
+                ASSERT_TRUE(sb.pixelOf(dvec3(-d, 0, z), x, y));
+                sum += *out.ao.at(x, y);
+                ++n;
+            }
+            // The tolerance of HbaoAnalytic.CornerMatchesClosedForm.
+            EXPECT_NEAR(sum / n, cornerAo(w, Falloff::None, d), 0.02) << "d=" << d << " w=" << toString(w);
+        }
+    }
+}
+
+// Thin poles in front of a floor and a wall (reference_render's `poles`): the horizon darkens
+// everything behind a pole as if it were a wall; a thickness of the poles' size does not.
+TEST(HbaoThickness, ThinPolesGetCloserToTheReference) {
+    const fs::path dir = fs::path(OBSCURA_TEST_TMP) / ("hbao-thick-" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const std::string ref = (dir / "poles.exr").string();
+    const fs::path build = fs::path(OBSCURA_CLI_PATH).parent_path().parent_path();
+    const CliResult r = runProgram((build / "examples" / "reference" / "reference_render").string(),
+                                   {"--scene", "poles", "-o", ref, "--width", "200", "--height", "150", "--ao-rays",
+                                    "256", "--gi-rays", "1", "--quiet"});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    auto psnr = [&](const std::string& thickness) {
+        const std::string report = (dir / "report.json").string();
+        const CliResult c = runProgram(OBSCURA_CLI_PATH, {ref, "-o", (dir / "out.exr").string(), "--radius", "0.5",
+                                                          "--weighting", "cosine", "--falloff", "none", "--quality",
+                                                          "high", "--thickness", thickness, "--reference",
+                                                          "Reference.AO_cosine_none", "--report", report, "--quiet"});
+        EXPECT_EQ(c.exitCode, 0) << c.err;
+        std::ifstream in(report);
+        return nlohmann::json::parse(in)["reference"]["psnr_db"].get<double>();
+    };
+    const double horizon = psnr("inf"), thin = psnr("0.1"), automatic = psnr("auto");
+    std::printf("poles 200x150: hbao high, thickness inf %.2f dB, 0.1 %.2f dB, auto %.2f dB\n", horizon, thin, automatic);
+    EXPECT_GT(thin, horizon + 4.0);
+    EXPECT_GT(automatic, horizon + 1.0);  // measured +1.3 dB: auto (0.85 R) is set for every scene, not poles
+    fs::remove_all(dir);
+}
+
+// The flag takes a number of world units, auto or inf; anything else is a usage error.
+TEST(HbaoThickness, FlagValues) {
+    const std::string in = std::string(OBSCURA_TEST_DATA_DIR) + "/room.exr";
+    const std::string out = std::string(OBSCURA_TEST_TMP) + "/hbao-thickness.exr";
+    for (const char* ok : {"0.3", "auto", "inf"}) {
+        const CliResult c = runProgram(OBSCURA_CLI_PATH, {in, "-o", out, "--thickness", ok, "--quality", "low", "--quiet"});
+        EXPECT_EQ(c.exitCode, 0) << ok << ": " << c.err;
+    }
+    for (const char* bad : {"-2", "automatic", "nan"}) {
+        const CliResult c = runProgram(OBSCURA_CLI_PATH, {in, "-o", out, "--thickness", bad});
+        EXPECT_EQ(c.exitCode, 2) << bad << ": " << c.err;
+        EXPECT_NE(c.err.find("--thickness"), std::string::npos) << c.err;
+    }
+}
