@@ -46,4 +46,15 @@ struct KernelParams {
     float envIntensity;          // multiplies the environment (map or sky)
     float sampleArea;            // A_s = pi r_max^2 / N: the disc area one bounce sample stands for
     float pad4, pad5;
+
+    // ---- discs (kernels/discs.glsl, docs/discs.md); the pyramid is built by the host ----
+    ivec4 discLevelOffset[4];    // texel offset of level L's plane in the pyramid, at [L / 4][L % 4]
+    int discTop;                 // T: the coarsest level visited
+    int discTopHalf;             // m: the top level's window is (2m + 1)^2 nodes
+    int discWindow;              // k: below the top, windows of (4k + 2)^2 nodes
+    int discPolygon;             // 1: exact polygon form factor for the 8 pixels around the receiver
+
+    int discBlend;               // 1: smooth open weights between levels; 0: hard windows
+    int discVisibility;          // 1: weight each element by channel 7, its first-pass AO
+    int pad7, pad8;
 };

@@ -17,6 +17,11 @@ void hbaoLevel(Settings& s, int level) {
     s.blur = q.blur;
 }
 
+void discsLevel(Settings& s, int window, int passes) {
+    s.discsWindow = window;
+    s.discsPasses = passes;
+}
+
 MethodParam intParam(const char* key, const char* flag, const char* help, int lo, int hi, int Settings::*field) {
     MethodParam p{key, flag, "N", help, (double)lo, (double)hi};
     p.intField = field;
@@ -83,6 +88,26 @@ std::vector<MethodInfo> makeTable() {
                  [](const Settings& s) { return s.rtaoRays; },
                  // The mesh joins texels by looking 2 beyond an edge; the grid interpolates across a cell.
                  [](const Settings& s) { return 1 + s.rtaoGrid; }, &runRtaoMethod});
+    t.push_back({"discs", "hierarchical disc form factors (Bunnell 2005; Hoberock & Jia 2007): cosine-weighted, every pixel an element",
+                 "kernels/discs.glsl, cpu/discs_cpu.cpp", true, true, {"depth", "normal"}, {"ao"},
+                 {{"low", "k 1, one pass", [](Settings& s) { discsLevel(s, 1, 1); }},
+                  {"medium", "k 1, two passes", [](Settings& s) { discsLevel(s, 1, 2); }},
+                  {"high", "k 2, two passes", [](Settings& s) { discsLevel(s, 2, 2); }},
+                  {"ultra", "k 3, two passes", [](Settings& s) { discsLevel(s, 3, 2); }}},
+                 {intParam("disc_window", "--disc-window",
+                           "discs: k, nodes open within k + 1/2 of their sizes: (4k+2)^2 per level (default 1)", 1, 4,
+                           &Settings::discsWindow),
+                  intParam("disc_passes", "--disc-passes",
+                           "discs: 2 weights each element by its own first-pass AO (default 2)", 1, 2,
+                           &Settings::discsPasses),
+                  switchParam("disc_hard_levels", "--disc-hard-levels",
+                              "discs: change level at window edges, without blending", &Settings::discsHardLevels),
+                  switchParam("disc_no_polygon", "--disc-no-polygon",
+                              "discs: discs for the 8 nearest pixels too, not their exact polygons",
+                              &Settings::discsNoPolygon)},
+                 // Nodes visited per pass: about seven levels of (4k + 2)^2 for a typical reach.
+                 [](const Settings& s) { return 7 * (4 * s.discsWindow + 2) * (4 * s.discsWindow + 2) * s.discsPasses; },
+                 nullptr, &runDiscsMethod});
     return t;
 }
 
