@@ -94,7 +94,8 @@ lfloat discFormFactor(lvec3 v, lfloat d2, lvec3 nr, lvec3 ne, lfloat area) {
     lfloat cosR = max(dot(nr, v) * invD - DISC_HORIZON, 0.0f);
     lfloat cosE = abs(dot(ne, v)) * invD;
     lfloat projected = cosE * area;
-    return cosR * projected / (PI * d2 + projected);
+    // The receiver's own pixel (d = 0, no polygon) has cosR = 0 and must not give 0 / 0.
+    return cosR * projected / max(PI * d2 + projected, 1e-30f);
 }
 
 // Lambert's term of one polygon edge a -> b seen from the origin: the angle it subtends times

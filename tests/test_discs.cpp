@@ -1,9 +1,10 @@
 // Disc AO (kernels/discs.glsl): analytic properties on both devices, the instruction sets
-// against the pixel-at-a-time build, and the corrections' switches.
-#include "core/methods.h"
+// against the pixel-at-a-time build, CPU/GL parity and the corrections' switches.
+#include "core/error.h"
 #include "core/operator.h"
 #include "cpu/discs_cpu.h"
 #include "cpu/lane_cpu.h"
+#include "support/cli_runner.h"
 #include "support/closed_forms.h"
 #include "support/scenes.h"
 
@@ -17,6 +18,8 @@ using namespace obscura::test;
 using glm::dvec3;
 
 namespace {
+
+const char* kDevices[] = {"cpu", "gl-osmesa"};
 
 Settings discsSettings(const char* device, float radius) {
     Settings s;
@@ -42,19 +45,145 @@ double cornerLine(const SceneBuffers& sb, const Image& ao, double d) {
     return sum / std::max(n, 1);
 }
 
+SceneBuffers cornerView(int W, int H) {
+    return renderScene(cornerScene(), lookAtPerspective(dvec3(-7, 6, 4), dvec3(-0.6, 0, 0), 40.0 * M_PI / 180, W, H),
+                       W, H);
+}
+
+double maxAbsDiff(const Image& a, const Image& b) {
+    double m = 0;
+    for (size_t i = 0; i < a.pixels.size(); ++i) m = std::max(m, (double)std::abs(a.pixels[i] - b.pixels[i]));
+    return m;
+}
+
 } // namespace
 
-TEST(Discs, CornerDiagnostic) {
-    const int W = 320, H = 240;
-    Camera cam = lookAtPerspective(dvec3(-7, 6, 4), dvec3(-0.6, 0, 0), 40.0 * M_PI / 180, W, H);
-    SceneBuffers sb = renderScene(cornerScene(), cam, W, H);
-    for (int variant = 0; variant < 4; ++variant) {
+// An open plane's elements lie in every receiver's tangent plane: form factor 0, AO exactly
+// 1, for a pinhole at several tilts and an orthographic camera, every switch, both devices.
+TEST(Discs, OpenPlaneIsExactlyUnoccluded) {
+    const int W = 96, H = 72;
+    const dvec3 target(0.3, 0, -0.2);
+    std::vector<Camera> cams;
+    for (double elevationDeg : {3.0, 30.0, 89.0}) {
+        const double e = elevationDeg * M_PI / 180;
+        cams.push_back(lookAtPerspective(target + 6.0 * dvec3(std::cos(e), std::sin(e), 0.4), target, 50.0 * M_PI / 180,
+                                         W, H));
+    }
+    cams.push_back(lookAtOrthographic(target + dvec3(4, 5, 3), target, 6.0, W, H));
+    for (const Camera& cam : cams) {
+        const SceneBuffers sb = renderScene({planeRect(dvec3(0), dvec3(1, 0, 0), dvec3(0, 0, 1), 1e6)}, cam, W, H);
+        for (const char* device : kDevices)
+            for (float R : {0.01f, 0.5f, 100.0f})
+                for (int variant = 0; variant < 4; ++variant) {
+                    Settings s = discsSettings(device, R);
+                    s.discsWindow = 1 + variant % 2;
+                    s.discsPasses = variant == 1 ? 2 : 1;
+                    s.discsNoPolygon = variant == 2;
+                    s.discsHardLevels = variant == 3;
+                    const Image ao = runOperator(sb.inputs(), s).ao;
+                    EXPECT_EQ(*std::min_element(ao.pixels.begin(), ao.pixels.end()), 1.0f)
+                        << device << " R " << R << " variant " << variant;
+                }
+    }
+}
+
+// Floor next to a wall: along lines at distance d the AO approaches the closed form as the
+// window grows. Bounds measured (k 1: up to 0.04 under; k 2: 0.025; k 4: 0.012 at d = 0.05,
+// a pixel being 0.025 here) with margin; a lost level or a double-counted one costs > 0.1.
+TEST(Discs, CornerApproachesTheClosedForm) {
+    const SceneBuffers sb = cornerView(320, 240);
+    const double bound[] = {0.06, 0.04, 0.03, 0.025};
+    for (int k = 1; k <= 4; ++k) {
         Settings s = discsSettings("cpu", 1.0f);
-        s.discsPasses = 1;
-        s.discsWindow = variant + 1;
+        s.discsWindow = k;
         const Image ao = runOperator(sb.inputs(), s).ao;
-        for (double d : {0.02, 0.05, 0.2, 0.4, 0.7, 1.2})
-            std::printf("variant %d d %.2f  discs %.4f  closed %.4f\n", variant, d, cornerLine(sb, ao, d),
-                        cornerAo(Weighting::Cosine, Falloff::None, d));
+        for (double d : {0.05, 0.2, 0.4, 0.7, 1.5}) {
+            const double expected = cornerAo(Weighting::Cosine, Falloff::None, d);
+            EXPECT_NEAR(cornerLine(sb, ao, d), expected, bound[k - 1]) << "k " << k << " d " << d;
+        }
+    }
+}
+
+// Every instruction set's traversal (and level 0 of the pyramid) equals the pixel-at-a-time
+// build within float rounding (FMA contraction, the lane atan and inverse square root).
+TEST(Discs, EveryInstructionSetMatchesThePixelAtATimeBuild) {
+    const std::vector<std::string> isas = cpu::laneIsas();
+    ASSERT_GE(isas.size(), 2u);
+    const int W = 157, H = 101;  // partial registers at row ends
+    for (bool ortho : {false, true}) {
+        const Camera cam = ortho ? lookAtOrthographic(dvec3(4, 5, 9), dvec3(-1, 0.6, -3), 12.0, W, H) : studioCamera(W, H);
+        const SceneBuffers sb = renderScene(studioScene(), cam, W, H);
+        for (int variant = 0; variant < 3; ++variant) {
+            Settings s = discsSettings("cpu", 1.0f);
+            s.discsNoPolygon = variant == 1;
+            s.discsHardLevels = variant == 2;
+            KernelParams p = makeKernelParams(sb.inputs(), s);
+            cpu::DiscPyramid pyramid = cpu::buildDiscPyramid(p, sb.depth.view(), sb.normal.view(), 2);
+            Image reference(W, H, 1);
+            cpu::runDiscs(p, pyramid, reference.view(), 1, "scalar");
+            ASSERT_LT(*std::min_element(reference.pixels.begin(), reference.pixels.end()), 0.9f);
+            for (size_t i = 1; i < isas.size(); ++i) {
+                Image ao(W, H, 1);
+                cpu::runDiscs(p, pyramid, ao.view(), 2, isas[i]);
+                for (float v : ao.pixels) ASSERT_TRUE(v >= 0.0f && v <= 1.0f) << v;
+                EXPECT_LT(maxAbsDiff(ao, reference), 1e-4) << isas[i] << (ortho ? " ortho" : " persp") << " " << variant;
+            }
+        }
+    }
+}
+
+// The GL program reads the CPU's pyramid and runs the same text: equal within 1e-3, with
+// every switch, the second pass and the blur, for a pinhole and an orthographic camera.
+TEST(Discs, GlMatchesCpu) {
+    const int W = 128, H = 96;
+    for (bool ortho : {false, true}) {
+        const Camera cam = ortho ? lookAtOrthographic(dvec3(3.5, 3.0, 6.5), dvec3(-1.0, 0.6, -1.0), 9.0, W, H)
+                                 : studioCamera(W, H);
+        const SceneBuffers sb = renderScene(studioScene(), cam, W, H);
+        for (int variant = 0; variant < 5; ++variant) {
+            Settings s = discsSettings("cpu", 0.8f);
+            s.discsPasses = variant == 1 ? 2 : 1;
+            s.discsNoPolygon = variant == 2;
+            s.discsHardLevels = variant == 3;
+            s.blur = variant == 4 ? 2 : 0;
+            s.falloff = variant == 4 ? Falloff::Linear : Falloff::None;
+            const Image cpu = runOperator(sb.inputs(), s).ao;
+            ASSERT_LT(*std::min_element(cpu.pixels.begin(), cpu.pixels.end()), 0.9f);
+            s.device = "gl-osmesa";
+            const OperatorOutputs gl = runOperator(sb.inputs(), s);
+            ASSERT_EQ(gl.stats.device.rfind("gl-osmesa", 0), 0u) << gl.stats.device;
+            EXPECT_LE(maxAbsDiff(cpu, gl.ao), 1e-3) << (ortho ? "ortho " : "persp ") << variant;
+        }
+    }
+}
+
+// Each correction changes the result where it should: the second pass only lightens (every
+// element's weight is its AO <= 1), and the others move the corner's AO.
+TEST(Discs, CorrectionsAreSwitches) {
+    const SceneBuffers sb = cornerView(160, 120);
+    const Image base = runOperator(sb.inputs(), discsSettings("cpu", 1.0f)).ao;
+    Settings s = discsSettings("cpu", 1.0f);
+    s.discsPasses = 2;
+    const Image second = runOperator(sb.inputs(), s).ao;
+    for (size_t i = 0; i < base.pixels.size(); ++i) ASSERT_GE(second.pixels[i], base.pixels[i] - 1e-6f);
+    EXPECT_GT(maxAbsDiff(base, second), 0.02);
+    s = discsSettings("cpu", 1.0f);
+    s.discsNoPolygon = true;
+    EXPECT_GT(maxAbsDiff(base, runOperator(sb.inputs(), s).ao), 1e-3);
+    s = discsSettings("cpu", 1.0f);
+    s.discsHardLevels = true;
+    EXPECT_GT(maxAbsDiff(base, runOperator(sb.inputs(), s).ao), 1e-3);
+}
+
+// Parameters outside the table's ranges are one-line command-line errors (exit 2, docs/cli.md).
+TEST(Discs, BadParametersAreUsageErrors) {
+    for (std::vector<std::string> bad : {std::vector<std::string>{"--disc-window", "0"}, {"--disc-window", "5"},
+                                         {"--disc-passes", "3"}}) {
+        std::vector<std::string> args = {"in.exr", "-o", "out.exr", "--method", "discs"};
+        args.insert(args.end(), bad.begin(), bad.end());
+        const CliResult r = runProgram(OBSCURA_CLI_PATH, args);
+        EXPECT_EQ(r.exitCode, 2) << bad[0] << " " << bad[1];
+        EXPECT_EQ(r.err.rfind("obscura: ", 0), 0u) << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     }
 }

@@ -17,11 +17,6 @@ void hbaoLevel(Settings& s, int level) {
     s.blur = q.blur;
 }
 
-void discsLevel(Settings& s, int window, int passes) {
-    s.discsWindow = window;
-    s.discsPasses = passes;
-}
-
 MethodParam intParam(const char* key, const char* flag, const char* help, int lo, int hi, int Settings::*field) {
     MethodParam p{key, flag, "N", help, (double)lo, (double)hi};
     p.intField = field;
@@ -90,15 +85,15 @@ std::vector<MethodInfo> makeTable() {
                  [](const Settings& s) { return 1 + s.rtaoGrid; }, &runRtaoMethod});
     t.push_back({"discs", "hierarchical disc form factors (Bunnell 2005; Hoberock & Jia 2007): cosine-weighted, every pixel an element",
                  "kernels/discs.glsl, cpu/discs_cpu.cpp", true, true, {"depth", "normal"}, {"ao"},
-                 {{"low", "k 1, one pass", [](Settings& s) { discsLevel(s, 1, 1); }},
-                  {"medium", "k 1, two passes", [](Settings& s) { discsLevel(s, 1, 2); }},
-                  {"high", "k 2, two passes", [](Settings& s) { discsLevel(s, 2, 2); }},
-                  {"ultra", "k 3, two passes", [](Settings& s) { discsLevel(s, 3, 2); }}},
+                 {{"low", "k 1", [](Settings& s) { s.discsWindow = 1; }},
+                  {"medium", "k 2", [](Settings& s) { s.discsWindow = 2; }},
+                  {"high", "k 3", [](Settings& s) { s.discsWindow = 3; }},
+                  {"ultra", "k 4", [](Settings& s) { s.discsWindow = 4; }}},
                  {intParam("disc_window", "--disc-window",
-                           "discs: k, nodes open within k + 1/2 of their sizes: (4k+2)^2 per level (default 1)", 1, 4,
+                           "discs: k, nodes open within k + 1/2 of their sizes: (4k+2)^2 per level (default 2)", 1, 4,
                            &Settings::discsWindow),
                   intParam("disc_passes", "--disc-passes",
-                           "discs: 2 weights each element by its own first-pass AO (default 2)", 1, 2,
+                           "discs: 2 weights each element by its own first-pass AO (default 1)", 1, 2,
                            &Settings::discsPasses),
                   switchParam("disc_hard_levels", "--disc-hard-levels",
                               "discs: change level at window edges, without blending", &Settings::discsHardLevels),
