@@ -23,10 +23,11 @@ float* texel(DiscPyramid& pyr, int level, int x, int y) {
 
 // Level `level` from the one below: area-weighted position, normal and visibility, summed
 // area. With `visibilityOnly`, only channel 7 (the rest is already merged).
-void mergeLevel(DiscPyramid& pyr, int level, bool visibilityOnly) {
+void mergeLevel(DiscPyramid& pyr, int level, bool visibilityOnly, int threads) {
     const int w = levelSize(pyr.width, level), h = levelSize(pyr.height, level);
     const int cw = levelSize(pyr.width, level - 1), ch = levelSize(pyr.height, level - 1);
-    for (int y = 0; y < h; ++y)
+    parallelForTiles(Box2i{0, 0, w, h}, w, 8, threads, [&](const Box2i& rows) {
+    for (int y = rows.y0; y < rows.y1; ++y)
         for (int x = 0; x < w; ++x) {
             double sum[kChannels] = {};
             for (int j = 2 * y; j < std::min(2 * y + 2, ch); ++j)
@@ -52,23 +53,33 @@ void mergeLevel(DiscPyramid& pyr, int level, bool visibilityOnly) {
             t[3] = used ? (float)area : 0.0f;
             t[7] = used ? (float)(sum[7] / area) : 1.0f;
         }
+    });
 }
 
-// The largest projected radius of R over the frame's surfaces, in pixels: a pixel at depth
-// z whose ray makes angle a with the axis sees R across at most R f (1 + tan^2 a) / (z - R).
-float frameReachPixels(const KernelParams& p, const DiscPyramid& pyr) {
-    const float cap = p.maxRadiusPixels;
-    if (p.orthographic) return std::min(p.radius * std::max(p.fx, p.fy), cap);
-    const double f = std::max(p.fx, p.fy), R = p.radius;
-    double reach = 0;
-    for (size_t i = 0; i < (size_t)pyr.width * pyr.height; ++i) {
-        const float* t = &pyr.data[i * kChannels];
-        if (!(t[3] > 0)) continue;
-        const double z = -t[2];
-        if (z <= R) return cap;
-        reach = std::max(reach, R * f * (1 + (t[0] * (double)t[0] + t[1] * (double)t[1]) / (z * z)) / (z - R));
+// The coarsest top level any pixel takes: kernels/discs.glsl's discTopLevel, with its reach
+// bound discReachPixels written out in the same float arithmetic.
+int frameTopLevel(const KernelParams& p, const DiscPyramid& pyr, int levels) {
+    const float cap = p.maxRadiusPixels + 2.0f, f = std::max(p.fx, p.fy), R = p.radius;
+    float reach = 0.0f;
+    if (p.orthographic) {
+        reach = std::min(1.25f * R * f + 2.0f, cap);
+    } else {
+        for (size_t i = 0; i < (size_t)pyr.width * pyr.height; ++i) {
+            const float* t = &pyr.data[i * kChannels];
+            if (!(t[3] > 0.0f)) continue;
+            const float z = -t[2];
+            if (!(z > 1.01f * R)) {
+                reach = cap;
+                break;
+            }
+            const float tan2 = (t[0] * t[0] + t[1] * t[1]) / std::max(z * z, 1e-30f);
+            const float r = (1.25f * R * f) * (1.0f + tan2) / std::sqrt(std::max(z * z - R * R, 1e-30f)) + 2.0f;
+            reach = std::max(reach, std::min(r, cap));
+        }
     }
-    return (float)std::min(reach, (double)cap);
+    int top = 0;
+    while (top + 1 < levels && (float)(2 * p.discWindow) * (float)(1 << top) < reach) ++top;
+    return top;
 }
 
 } // namespace
@@ -88,30 +99,26 @@ DiscPyramid buildDiscPyramid(KernelParams& p, ConstPlane depth, ConstPlane norma
     }
     if (texels * kChannels >= INT_MAX)
         throw Error("the frame is too large for --method discs (" + std::to_string(texels) + " elements)");
-    pyr.data.assign((size_t)texels * kChannels, 0.0f);
+    pyr.data.resize((size_t)texels * kChannels);  // every texel of the stored levels is written
 
     const IsaKernels& k = cpuKernelsFor({depth, normal});
     float* base = pyr.data.data();
     parallelForTiles(Box2i{0, 0, p.width, p.height}, kLaneTileWidth, kLaneTileHeight, threads,
                      [&](const Box2i& tile) { k.discsBaseTile(p, depth, normal, base, tile); });
 
-    // The top level: the coarsest whose window of m nodes each way covers the reach.
-    p.discTopHalf = 2 * p.discWindow + 1;
-    const float reach = frameReachPixels(p, pyr);
-    int top = 0;
-    while (top + 1 < allLevels && (float)p.discTopHalf * (float)(1 << top) < reach) ++top;
+    const int top = frameTopLevel(p, pyr, allLevels);
     p.discTop = top;
     pyr.offsets.resize(top + 1);
     pyr.data.resize(((size_t)pyr.offsets[top] + (size_t)levelSize(p.width, top) * levelSize(p.height, top)) * kChannels);
-    for (int l = 1; l <= top; ++l) mergeLevel(pyr, l, false);
+    for (int l = 1; l <= top; ++l) mergeLevel(pyr, l, false, threads);
     for (int l = 0; l < kMaxLevels; ++l) p.discLevelOffset[l / 4][l % 4] = l <= top ? pyr.offsets[l] : 0;
     return pyr;
 }
 
-void setDiscVisibility(DiscPyramid& pyr, ConstPlane ao) {
+void setDiscVisibility(DiscPyramid& pyr, ConstPlane ao, int threads) {
     for (int y = 0; y < pyr.height; ++y)
         for (int x = 0; x < pyr.width; ++x) texel(pyr, 0, x, y)[7] = *ao.at(x, y);
-    for (int l = 1; l < (int)pyr.offsets.size(); ++l) mergeLevel(pyr, l, true);
+    for (int l = 1; l < (int)pyr.offsets.size(); ++l) mergeLevel(pyr, l, true, threads);
 }
 
 void runDiscs(const KernelParams& p, const DiscPyramid& pyramid, MutablePlane ao, int threads, const std::string& isa) {

@@ -20,14 +20,14 @@ struct DiscPyramid {
 };
 
 // Builds the pyramid for the buffers p describes and fills p's disc fields: the level
-// offsets, the top level T and its window m = 2k + 1, with m 2^T covering the largest
-// projected radius in the frame (p.maxRadiusPixels at most). Throws obscura::Error when
+// offsets and the top level T, the coarsest any pixel's window needs to cover R on the
+// screen (p.maxRadiusPixels at most). Throws obscura::Error when
 // the pyramid would not fit 32-bit texel indices.
 DiscPyramid buildDiscPyramid(KernelParams& p, ConstPlane depth, ConstPlane normal, int threads);
 
 // Channel 7 at level 0 becomes `ao` (each element's own first-pass AO: correction c), merged
 // up the levels by area like the positions.
-void setDiscVisibility(DiscPyramid& pyramid, ConstPlane ao);
+void setDiscVisibility(DiscPyramid& pyramid, ConstPlane ao, int threads);
 
 // The traversal for every texel of `ao` (p.width x p.height); `isa` empty: the chosen one.
 void runDiscs(const KernelParams& p, const DiscPyramid& pyramid, MutablePlane ao, int threads,

@@ -5,8 +5,8 @@
 // Every surface pixel is an element: its view-space position, normal and the area of its
 // footprint on its tangent plane. A pyramid merges 2 x 2 elements per level (area-weighted
 // position and normal, summed area); the host builds it (cpu/discs_cpu.cpp) from discBase().
-// A receiver visits, from the coarsest level T down to the pixels, a fixed window of nodes
-// around itself. A node whose centre lies `dist` node sizes from the receiver (Chebyshev, on
+// A receiver visits, from its top level (where a window covers R on the screen) down to the
+// pixels, a fixed window of nodes around itself at each level. A node whose centre lies `dist` node sizes from the receiver (Chebyshev, on
 // the screen) is open with weight discOpen(dist): 1 near, 0 from k + 1/2 on, where the finer
 // window ends. A node contributes (1 - open(itself)) * open(parent) of its form factor, so
 // each pixel's weights along its chain of ancestors sum to 1 and change continuously with
@@ -176,6 +176,33 @@ lfloat discContribution(lvec3 xr, lvec3 nr, lint index, lbool use, lfloat weight
     return select(use && area > 0.0f, ff, lfloat(0.0f));
 }
 
+// How far, in pixels, the sphere of radius R around a receiver at view position xr reaches on
+// the screen: R f / sqrt(z^2 - R^2) on the axis, stretched by up to 1 + tan^2 of the ray's
+// angle off it, with a quarter for the stretch across the sphere; capped by maxRadiusPixels.
+// The host bounds the frame's top level with the same expression (cpu/discs_cpu.cpp).
+lfloat discReachPixels(lvec3 xr) {
+    float cap = P.maxRadiusPixels + 2.0f;
+    float f = max(P.fx, P.fy);
+    if (P.orthographic != 0) {
+        return lfloat(min(1.25f * P.radius * f + 2.0f, cap));
+    }
+    lfloat z = -xr.z;
+    lfloat tan2 = (xr.x * xr.x + xr.y * xr.y) / max(z * z, 1e-30f);
+    lfloat reach = (1.25f * P.radius * f) * (1.0f + tan2) * inversesqrt(max(z * z - P.radius * P.radius, 1e-30f)) + 2.0f;
+    return select(z > 1.01f * P.radius, min(reach, lfloat(cap)), lfloat(cap));
+}
+
+// The receiver's top level: the coarsest whose window (2k nodes each way beyond the
+// receiver's own) covers its reach, at most P.discTop.
+lint discTopLevel(lvec3 xr) {
+    lfloat reach = discReachPixels(xr);
+    lint top = lint(0);
+    for (int level = 1; level <= P.discTop; ++level) {
+        top = top + select(float(2 * P.discWindow) * float(1 << (level - 1)) < reach, lint(1), lint(0));
+    }
+    return top;
+}
+
 lfloat discsLanes(lint x, lint y) {
     lbool inside = insideBuffer(x, y);
     lint self = x + y * P.width;
@@ -186,21 +213,26 @@ lfloat discsLanes(lint x, lint y) {
     }
     lvec3 xr = gatherDisc3(self, 0, computing);
     lvec3 nr = gatherDisc3(self, 4, computing);
+    lint topLevel = discTopLevel(xr);
     lfloat px = lfloat(x) + 0.5f;
     lfloat py = lfloat(y) + 0.5f;
     int k = P.discWindow;
+    int span = 4 * k + 2;
     lfloat occlusion = lfloat(0.0f);
     for (int level = P.discTop; level >= 0; --level) {
+        // Lanes whose top is coarser go on; at its top a lane takes its nodes whole.
+        lbool visiting = computing && !(topLevel < lint(level));
+        if (!anyLane(visiting)) {
+            continue;
+        }
+        lbool top = !(topLevel > lint(level));
         float size = float(1 << level);
         int levelW = discLevelWidth(level);
         int levelH = discLevelHeight(level);
         int levelOffset = discOffsetOf(level);
-        bool top = level == P.discTop;
-        // The top window: (2m + 1)^2 nodes around the receiver's; below, the children of the
-        // (2k + 1)^2 block around the receiver's parent.
-        int span = top ? 2 * P.discTopHalf + 1 : 4 * k + 2;
-        lint bx = top ? (x >> level) - P.discTopHalf : ((x >> (level + 1)) << 1) - 2 * k;
-        lint by = top ? (y >> level) - P.discTopHalf : ((y >> (level + 1)) << 1) - 2 * k;
+        // The window: the children of the (2k + 1)^2 nodes around the receiver's parent.
+        lint bx = ((x >> (level + 1)) << 1) - 2 * k;
+        lint by = ((y >> (level + 1)) << 1) - 2 * k;
         for (int j = 0; j < span; ++j) {
             lint ny = by + j;
             lfloat dy = abs((lfloat(ny) + 0.5f) * size - py);
@@ -209,18 +241,16 @@ lfloat discsLanes(lint x, lint y) {
             lfloat pidy = abs(lfloat((ny >> 1) - (y >> (level + 1))));
             for (int i = 0; i < span; ++i) {
                 lint nx = bx + i;
-                lbool use = computing && nx >= 0 && ny >= 0 && nx < levelW && ny < levelH;
+                lbool use = visiting && nx >= 0 && ny >= 0 && nx < levelW && ny < levelH;
                 lfloat weight = lfloat(1.0f);
                 if (level > 0) {
                     lfloat dist = max(abs((lfloat(nx) + 0.5f) * size - px), dy) * (1.0f / size);
                     lfloat idist = max(abs(lfloat(nx - (x >> level))), idy);
                     weight = 1.0f - discOpen(dist, idist);
                 }
-                if (!top) {
-                    lfloat pdist = max(abs((lfloat(nx >> 1) + 0.5f) * (2.0f * size) - px), pdy) * (0.5f / size);
-                    lfloat pidist = max(abs(lfloat((nx >> 1) - (x >> (level + 1)))), pidy);
-                    weight = weight * discOpen(pdist, pidist);
-                }
+                lfloat pdist = max(abs((lfloat(nx >> 1) + 0.5f) * (2.0f * size) - px), pdy) * (0.5f / size);
+                lfloat pidist = max(abs(lfloat((nx >> 1) - (x >> (level + 1)))), pidy);
+                weight = weight * select(top, lfloat(1.0f), discOpen(pdist, pidist));
                 if (level == 0 && P.discPolygon != 0) {
                     // The 3 x 3 pixels around the receiver are the polygon loop's below.
                     weight = select(max(abs(lfloat(nx - x)), idy) < 1.5f, lfloat(0.0f), weight);

@@ -49,9 +49,9 @@ struct KernelParams {
 
     // ---- discs (kernels/discs.glsl, docs/discs.md); the pyramid is built by the host ----
     ivec4 discLevelOffset[4];    // texel offset of level L's plane in the pyramid, at [L / 4][L % 4]
-    int discTop;                 // T: the coarsest level visited
-    int discTopHalf;             // m: the top level's window is (2m + 1)^2 nodes
-    int discWindow;              // k: below the top, windows of (4k + 2)^2 nodes
+    int discTop;                 // T: the coarsest level stored (any pixel's top level at most)
+    int discWindow;              // k: windows of (4k + 2)^2 nodes per level
+    int pad9;
     int discPolygon;             // 1: exact polygon form factor for the 8 pixels around the receiver
 
     int discBlend;               // 1: smooth open weights between levels; 0: hard windows

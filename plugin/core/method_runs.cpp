@@ -74,7 +74,7 @@ void runDiscsMethod(const MethodRun& r) {
     for (int pass = 0; pass < passes; ++pass) {
         if (pass > 0) {
             t0 = Clock::now();
-            cpu::setDiscVisibility(pyramid, r.out.ao.view());
+            cpu::setDiscVisibility(pyramid, r.out.ao.view(), r.threads);
             p.discVisibility = 1;
             st.timings.push_back({"discs-visibility", secondsSince(t0)});
         }
