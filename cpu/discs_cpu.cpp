@@ -18,7 +18,7 @@ constexpr int kMaxLevels = 16;  // p.discLevelOffset holds 16
 int levelSize(int n, int level) { return (n + (1 << level) - 1) >> level; }
 
 float* texel(DiscPyramid& pyr, int level, int x, int y) {
-    return pyr.data.data() + ((size_t)pyr.offsets[level] + (size_t)y * levelSize(pyr.width, level) + x) * kChannels;
+    return pyr.data.get() + ((size_t)pyr.offsets[level] + (size_t)y * levelSize(pyr.width, level) + x) * kChannels;
 }
 
 // Level `level` from the one below: area-weighted position, normal and visibility, summed
@@ -65,7 +65,7 @@ int frameTopLevel(const KernelParams& p, const DiscPyramid& pyr, int levels) {
         reach = std::min(1.25f * R * f + 2.0f, cap);
     } else {
         for (size_t i = 0; i < (size_t)pyr.width * pyr.height; ++i) {
-            const float* t = &pyr.data[i * kChannels];
+            const float* t = pyr.data.get() + i * kChannels;
             if (!(t[3] > 0.0f)) continue;
             const float z = -t[2];
             if (!(z > 1.01f * R)) {
@@ -99,17 +99,23 @@ DiscPyramid buildDiscPyramid(KernelParams& p, ConstPlane depth, ConstPlane norma
     }
     if (texels * kChannels >= INT_MAX)
         throw Error("the frame is too large for --method discs (" + std::to_string(texels) + " elements)");
-    pyr.data.resize((size_t)texels * kChannels);  // every texel of the stored levels is written
 
+    // Level 0 first, then only the levels up to the frame's top level.
+    pyr.data.reset(new float[(size_t)levelSize(p.width, 0) * levelSize(p.height, 0) * kChannels + kChannels]);
     const IsaKernels& k = cpuKernelsFor({depth, normal});
-    float* base = pyr.data.data();
+    float* base = pyr.data.get();
     parallelForTiles(Box2i{0, 0, p.width, p.height}, kLaneTileWidth, kLaneTileHeight, threads,
                      [&](const Box2i& tile) { k.discsBaseTile(p, depth, normal, base, tile); });
 
     const int top = frameTopLevel(p, pyr, allLevels);
     p.discTop = top;
     pyr.offsets.resize(top + 1);
-    pyr.data.resize(((size_t)pyr.offsets[top] + (size_t)levelSize(p.width, top) * levelSize(p.height, top)) * kChannels);
+    pyr.floats = ((size_t)pyr.offsets[top] + (size_t)levelSize(p.width, top) * levelSize(p.height, top)) * kChannels;
+    if (top > 0) {
+        std::unique_ptr<float[]> all(new float[pyr.floats]);
+        std::copy(base, base + (size_t)p.width * p.height * kChannels, all.get());
+        pyr.data = std::move(all);
+    }
     for (int l = 1; l <= top; ++l) mergeLevel(pyr, l, false, threads);
     for (int l = 0; l < kMaxLevels; ++l) p.discLevelOffset[l / 4][l % 4] = l <= top ? pyr.offsets[l] : 0;
     return pyr;
@@ -123,7 +129,7 @@ void setDiscVisibility(DiscPyramid& pyr, ConstPlane ao, int threads) {
 
 void runDiscs(const KernelParams& p, const DiscPyramid& pyramid, MutablePlane ao, int threads, const std::string& isa) {
     const IsaKernels& k = isa.empty() ? cpuKernels() : cpuKernelsNamed(isa);
-    const float* data = pyramid.data.data();
+    const float* data = pyramid.data.get();
     parallelForTiles(Box2i{0, 0, p.width, p.height}, kLaneTileWidth, kLaneTileHeight, threads,
                      [&](const Box2i& tile) { k.discsTile(p, data, ao, tile); });
 }

@@ -4,6 +4,7 @@
 #include "core/image.h"
 #include "cpu/kernel_params.h"
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -14,7 +15,8 @@ using glsl::KernelParams;
 // Level 0: one texel per pixel; level L: one per 2^L x 2^L block. Each texel is 8 floats
 // (kernels/discs.glsl): mean position (3), area, unit mean normal (3), visibility.
 struct DiscPyramid {
-    std::vector<float> data;
+    std::unique_ptr<float[]> data;  // not zeroed first: every texel of the stored levels is written
+    size_t floats = 0;
     std::vector<int> offsets;  // texel offset of each stored level
     int width = 0, height = 0;
 };

@@ -15,8 +15,27 @@ struct DiscsCpuKernel {
 
     lfloat gatherDepth(lint x, lint y, lbool use) const { return depth.gather1(x, y, use); }
     lvec3 gatherNormal(lint x, lint y, lbool use) const { return normal.gather3(x, y, use); }
-    // Channel c of pyramid texel `index`; masked-off lanes read nothing and get 0.
-    lfloat gatherDisc(lint index, int c, lbool use) const { return gather(pyramid + c, index * 8, use); }
+    // Channel c of pyramid texel `index`; masked-off lanes read nothing and get 0. From level 3
+    // up a row of 16 lanes usually visits one node: then one broadcast load, not a gather.
+    lfloat gatherDisc(lint index, int c, lbool use) const {
+#if OBSCURA_LANES > 1
+        if (sameNode(index, use)) return lfloat(pyramid[c + index[0] * 8]);
+#endif
+        return gather(pyramid + c, index * 8, use);
+    }
+#if OBSCURA_LANES > 1
+    static bool sameNode(lint index, lbool use) {
+        bool same = true;
+        for (int i = 1; i < cpu::lanes::kLanes; ++i) same = same && index[i] == index[0];
+#if OBSCURA_LANES == 16
+        return same && use.k == 0xffff;
+#else
+        bool all = true;
+        for (int i = 0; i < cpu::lanes::kLanes; ++i) all = all && use.m[i] != 0;
+        return same && all;
+#endif
+    }
+#endif
 
 #include "kernels/common.glsl"
 #include "kernels/discs.glsl"

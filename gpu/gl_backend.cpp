@@ -238,12 +238,12 @@ void GlBackend::runAo(const char* program, const glsl::KernelParams& p, ConstPla
     if (timings) *timings = t;
 }
 
-void GlBackend::runDiscs(const glsl::KernelParams& p, const std::vector<float>& pyramid, ConstPlane depth,
+void GlBackend::runDiscs(const glsl::KernelParams& p, const float* pyramid, size_t pyramidFloats, ConstPlane depth,
                          ConstPlane normal, MutablePlane ao, int blur, GlTimings* timings) {
     context_->makeCurrent();
     const GlApi& gl = context_->gl();
     const ContextInfo& ci = info();
-    const size_t bytes = pyramid.size() * sizeof(float);
+    const size_t bytes = pyramidFloats * sizeof(float);
     const long long groupLimit = (long long)std::min(ci.maxWorkGroups[0], ci.maxWorkGroups[1]) * kGroup;
     // Every receiver may read any node of the pyramid, so the frame runs as one tile.
     if ((long long)bytes > ci.maxStorageBlockBytes || std::max(p.width, p.height) > groupLimit)
@@ -252,7 +252,7 @@ void GlBackend::runDiscs(const glsl::KernelParams& p, const std::vector<float>& 
     GlTimings t;
     auto t0 = Clock::now();
     uploadBuffer(kParams, GL_UNIFORM_BUFFER, &p, sizeof(p));
-    uploadBuffer(kSignalIn, GL_SHADER_STORAGE_BUFFER, pyramid.data(), bytes);
+    uploadBuffer(kSignalIn, GL_SHADER_STORAGE_BUFFER, pyramid, bytes);
     uploadBuffer(kSignalOut, GL_SHADER_STORAGE_BUFFER, nullptr, (size_t)p.width * p.height * sizeof(float));
     const Box2i frame{0, 0, p.width, p.height};
     std::vector<float> packed;

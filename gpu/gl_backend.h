@@ -42,7 +42,7 @@ public:
 
     // One pass of disc AO (kernels/discs.glsl) over the whole frame from the host's pyramid
     // (cpu/discs_cpu.h; p's disc fields describe it), then `blur` passes.
-    void runDiscs(const glsl::KernelParams& p, const std::vector<float>& pyramid, ConstPlane depth, ConstPlane normal,
+    void runDiscs(const glsl::KernelParams& p, const float* pyramid, size_t pyramidFloats, ConstPlane depth, ConstPlane normal,
                   MutablePlane ao, int blur, GlTimings* timings = nullptr);
 
     struct SsdoInputs {

@@ -64,15 +64,15 @@ void discBase(lint x, lint y, OUT(lvec3) pos, OUT(lvec3) n, OUT(lfloat) area) {
     area = select(surface, sqrt(dot(c, c)), lfloat(0.0f));
 }
 
-// Open weight of a node `dist` node sizes from the receiver: smooth from 1 at k/2 + 1/2 (where
-// every grandparent of a visited node is still fully open) to 0 at k + 1/2 (the edge of the
-// block the finer window covers). Without blending: open inside that block, by index.
+// Open weight of a node `dist` node sizes from the receiver: smooth from 1 at k (where every
+// grandparent of a visited node is still fully open, as k >= k/2 + 1/2) to 0 at k + 1/2 (the
+// edge of the block the finer window covers). Without blending: open inside that block, by index.
 lfloat discOpen(lfloat dist, lfloat indexDist) {
     float k = float(P.discWindow);
     if (P.discBlend == 0) {
         return select(indexDist < k + 0.5f, lfloat(1.0f), lfloat(0.0f));
     }
-    lfloat s = clamp((dist - (0.5f * k + 0.5f)) * (2.0f / k), 0.0f, 1.0f);
+    lfloat s = clamp((dist - k) * 2.0f, 0.0f, 1.0f);
     return 1.0f - s * s * (3.0f - 2.0f * s);
 }
 

@@ -81,7 +81,7 @@ void runDiscsMethod(const MethodRun& r) {
         const int blur = pass + 1 == passes ? r.settings.blur : 0;
         if (r.gl) {
             gpu::GlTimings t;
-            r.gl->runDiscs(p, pyramid.data, r.in.depth, r.in.normal, r.out.ao.view(), blur, &t);
+            r.gl->runDiscs(p, pyramid.data.get(), pyramid.floats, r.in.depth, r.in.normal, r.out.ao.view(), blur, &t);
             recordGl(st, t);
             continue;
         }
