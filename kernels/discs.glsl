@@ -50,15 +50,56 @@ void discAxes(lvec3 ray, lvec3 pos, lvec3 n, OUT(lvec3) du, OUT(lvec3) dv) {
     dv = b * (t * P.invFy);
 }
 
-// The level-0 element of buffer texel (x, y); area 0 where it is not a surface.
+// The offset to a neighbouring texel's surface point (side: +-1 along x or y), and whether
+// it is a surface. viewOffset keeps it exact where the depth is large.
+lvec3 discStep(lint x, lint y, lvec3 ray, lfloat depth, int sx, int sy, OUT(lbool) surface) {
+    lfloat depthS = surfaceDepth(x + sx, y + sy, surface);
+    return viewOffset(ray, depth, lvec2(lfloat(float(sx) * P.invFx), lfloat(-float(sy) * P.invFy)), depthS);
+}
+
+// The shorter of the steps to the two neighbours along one axis that are surfaces (across a
+// depth step, the far side is the longer); `found`: at least one is.
+lvec3 discShortStep(lvec3 back, lbool backOk, lvec3 ahead, lbool aheadOk, OUT(lbool) found) {
+    found = backOk || aheadOk;
+    lbool takeAhead = aheadOk && (!backOk || dot(ahead, ahead) < dot(back, back));
+    return select(takeAhead, ahead, back * -1.0f);
+}
+
+// The level-0 element of buffer texel (x, y); area 0 where it is not a surface. Its normal is
+// the depth's own (the cross product of the shorter steps to its neighbours) wherever those
+// steps are no longer than three footprints of the shading normal: elements must lie in each
+// other's tangent planes where the surface is smooth, and shading normals need not (a smooth-
+// shaded cylinder averages its caps into its sides; a facet bends them). Elsewhere (edges,
+// one-pixel features) the pass's normal stays.
 void discBase(lint x, lint y, OUT(lvec3) pos, OUT(lvec3) n, OUT(lfloat) area) {
     lbool surface;
     lfloat depth = surfaceDepth(x, y, surface);
     lvec3 ray = viewRay(lvec2(lfloat(x + P.originX) + 0.5f, lfloat(y + P.originY) + 0.5f));
+    lvec3 V = viewVector(ray);
     pos = positionOnRay(ray, depth);
-    n = viewNormal(gatherNormal(x, y, surface), viewVector(ray));
+    n = viewNormal(gatherNormal(x, y, surface), V);
     lvec3 du;
     lvec3 dv;
+    discAxes(ray, pos, n, du, dv);
+    lbool leftOk;
+    lbool rightOk;
+    lbool upOk;
+    lbool downOk;
+    lvec3 left = discStep(x, y, ray, depth, -1, 0, leftOk);
+    lvec3 right = discStep(x, y, ray, depth, 1, 0, rightOk);
+    lvec3 up = discStep(x, y, ray, depth, 0, -1, upOk);
+    lvec3 down = discStep(x, y, ray, depth, 0, 1, downOk);
+    lbool alongX;
+    lbool alongY;
+    lvec3 sx = discShortStep(left, leftOk, right, rightOk, alongX);
+    lvec3 sy = discShortStep(up, upOk, down, downOk, alongY);
+    lvec3 g = cross(sy, sx);
+    lfloat g2 = dot(g, g);
+    lbool fromDepth = surface && alongX && alongY && g2 > 0.0f && dot(sx, sx) < 9.0f * dot(du, du) &&
+                    dot(sy, sy) < 9.0f * dot(dv, dv);
+    g = g * inversesqrt(select(fromDepth, g2, lfloat(1.0f)));
+    g = select(dot(g, V) < 0.0f, g * -1.0f, g);
+    n = select(fromDepth, g, n);
     discAxes(ray, pos, n, du, dv);
     lvec3 c = cross(du, dv);
     area = select(surface, sqrt(dot(c, c)), lfloat(0.0f));
@@ -122,17 +163,22 @@ void discClipEdge(lvec3 a, lfloat ha, lvec3 b, lfloat hb, lvec3 nr, INOUT(lfloat
     entryP = select(inB && !inA, crossing, entryP);
 }
 
-// Exact form factor of the pixel (ex, ey)'s footprint quad, clipped to the receiver's upper
-// half-space (correction b): Lambert's formula, |sum of edge terms| / 2 pi. The clip plane is
-// raised by DISC_HORIZON of the distance, as the discs' horizon is.
-lfloat discPolygonFormFactor(lvec3 xr, lvec3 nr, lvec3 e, lvec3 ne, lint ex, lint ey) {
-    lvec3 ray = viewRay(lvec2(lfloat(ex + P.originX) + 0.5f, lfloat(ey + P.originY) + 0.5f));
+// Exact form factor of a node's footprint quad, clipped to the receiver's upper half-space
+// (correction b): Lambert's formula, |sum of edge terms| / 2 pi. The quad is the image on the
+// node's tangent plane of its screen block (node (ex, ey) of `level`), scaled to its area
+// (a block part sky keeps its shape, smaller). The clip plane is raised by DISC_HORIZON of
+// the distance, as the discs' horizon is.
+lfloat discPolygonFormFactor(lvec3 xr, lvec3 nr, lvec3 e, lvec3 ne, lfloat area, lint ex, lint ey, int level) {
+    float size = float(1 << level);
+    lvec3 ray = viewRay(lvec2((lfloat(ex) + 0.5f) * size + float(P.originX), (lfloat(ey) + 0.5f) * size + float(P.originY)));
     lvec3 du;
     lvec3 dv;
     discAxes(ray, e, ne, du, dv);
+    lvec3 n = cross(du, dv);
+    lfloat scale = 0.5f * sqrt(area * inversesqrt(max(dot(n, n), 1e-36f)));
+    du = du * scale;
+    dv = dv * scale;
     lvec3 c = e - xr;
-    du = du * 0.5f;
-    dv = dv * 0.5f;
     lvec3 q0 = c - du - dv;
     lvec3 q1 = c + du - dv;
     lvec3 q2 = c + du + dv;
@@ -155,19 +201,27 @@ lfloat discPolygonFormFactor(lvec3 xr, lvec3 nr, lvec3 e, lvec3 ne, lint ex, lin
     return abs(sum) * (1.0f / TWO_PI);
 }
 
-// The element of pyramid texel `index`: its occlusion of the receiver (xr, nr), `weight`
-// included; polygon: the exact footprint form factor of level-0 pixel (ex, ey).
-lfloat discContribution(lvec3 xr, lvec3 nr, lint index, lbool use, lfloat weight, bool polygon, lint ex, lint ey) {
+// A disc closer than this many radii is replaced by its polygon: there the disc's form factor
+// saturates towards cos(receiver) whatever part of the hemisphere the element really covers
+// (a floor seen at a grazing angle, merged into nodes far larger in the world than on screen).
+CONST_GLOBAL float DISC_NEAR_RADII = 4.0f;
+
+// The element of pyramid texel `index` (node (ex, ey) of `level`): its occlusion of the
+// receiver (xr, nr), `weight` included; `polygon`: always the exact footprint form factor.
+lfloat discContribution(lvec3 xr, lvec3 nr, lint index, lbool use, lfloat weight, bool polygon, lint ex, lint ey,
+                        int level) {
     lvec3 e = gatherDisc3(index, 0, use);
     lfloat area = gatherDisc(index, 3, use);
     lvec3 ne = gatherDisc3(index, 4, use);
     lvec3 v = e - xr;
     lfloat d2 = dot(v, v);
-    lfloat ff;
+    lfloat ff = discFormFactor(v, d2, nr, ne, area);
+    lbool near = use && d2 * PI < (DISC_NEAR_RADII * DISC_NEAR_RADII) * area;
     if (polygon) {
-        ff = discPolygonFormFactor(xr, nr, e, ne, ex, ey);
-    } else {
-        ff = discFormFactor(v, d2, nr, ne, area);
+        near = use;
+    }
+    if (P.discPolygon != 0 && anyLane(near)) {
+        ff = select(near, discPolygonFormFactor(xr, nr, e, ne, area, ex, ey, level), ff);
     }
     ff = ff * discRangeWeight(sqrt(d2), area) * weight;
     if (P.discVisibility != 0) {
@@ -257,7 +311,7 @@ lfloat discsLanes(lint x, lint y) {
                 }
                 use = use && weight > 0.0f;
                 if (anyLane(use)) {
-                    occlusion += discContribution(xr, nr, levelOffset + nx + ny * levelW, use, weight, false, nx, ny);
+                    occlusion += discContribution(xr, nr, levelOffset + nx + ny * levelW, use, weight, false, nx, ny, level);
                 }
             }
         }
@@ -269,7 +323,7 @@ lfloat discsLanes(lint x, lint y) {
                     lint ex = x + i;
                     lint ey = y + j;
                     lbool use = computing && insideBuffer(ex, ey);
-                    occlusion += discContribution(xr, nr, ex + ey * P.width, use, lfloat(1.0f), true, ex, ey);
+                    occlusion += discContribution(xr, nr, ex + ey * P.width, use, lfloat(1.0f), true, ex, ey, 0);
                 }
             }
         }
