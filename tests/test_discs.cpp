@@ -1,5 +1,5 @@
 // Disc AO (kernels/discs.glsl): analytic properties on both devices, the instruction sets
-// against the pixel-at-a-time build, CPU/GL parity and the corrections' switches.
+// against the pixel-at-a-time build and the corrections' switches (CPU/GL parity: test_gl_parity).
 #include "core/error.h"
 #include "core/operator.h"
 #include "cpu/discs_cpu.h"
@@ -129,31 +129,6 @@ TEST(Discs, EveryInstructionSetMatchesThePixelAtATimeBuild) {
                 for (float v : ao.pixels) ASSERT_TRUE(v >= 0.0f && v <= 1.0f) << v;
                 EXPECT_LT(maxAbsDiff(ao, reference), 1e-4) << isas[i] << (ortho ? " ortho" : " persp") << " " << variant;
             }
-        }
-    }
-}
-
-// The GL program reads the CPU's pyramid and runs the same text: equal within 1e-3, with
-// every switch, the second pass and the blur, for a pinhole and an orthographic camera.
-TEST(Discs, GlMatchesCpu) {
-    const int W = 128, H = 96;
-    for (bool ortho : {false, true}) {
-        const Camera cam = ortho ? lookAtOrthographic(dvec3(3.5, 3.0, 6.5), dvec3(-1.0, 0.6, -1.0), 9.0, W, H)
-                                 : studioCamera(W, H);
-        const SceneBuffers sb = renderScene(studioScene(), cam, W, H);
-        for (int variant = 0; variant < 5; ++variant) {
-            Settings s = discsSettings("cpu", 0.8f);
-            s.discsPasses = variant == 1 ? 2 : 1;
-            s.discsNoPolygon = variant == 2;
-            s.discsHardLevels = variant == 3;
-            s.blur = variant == 4 ? 2 : 0;
-            s.falloff = variant == 4 ? Falloff::Linear : Falloff::None;
-            const Image cpu = runOperator(sb.inputs(), s).ao;
-            ASSERT_LT(*std::min_element(cpu.pixels.begin(), cpu.pixels.end()), 0.9f);
-            s.device = "gl-osmesa";
-            const OperatorOutputs gl = runOperator(sb.inputs(), s);
-            ASSERT_EQ(gl.stats.device.rfind("gl-osmesa", 0), 0u) << gl.stats.device;
-            EXPECT_LE(maxAbsDiff(cpu, gl.ao), 1e-3) << (ortho ? "ortho " : "persp ") << variant;
         }
     }
 }

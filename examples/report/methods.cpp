@@ -12,6 +12,8 @@ const std::vector<std::string>& registeredMethods() {
             if (obscura::methodOutputs(m.name, "do")) continue;  // SSDO's variants below
             v.push_back(m.name);
             if (std::string(m.name) == "rtao") v.push_back("rtao+thick");
+            // Disc AO with one of its corrections switched (docs/discs.md).
+            if (std::string(m.name) == "discs") v.insert(v.end(), {"discs+vis", "discs-hard", "discs-nopoly"});
         }
         v.insert(v.end(), {"ssdo", "ssdo+bounce", "ssdo-noint"});
         return v;
@@ -21,6 +23,7 @@ const std::vector<std::string>& registeredMethods() {
 
 std::string operatorMethod(const std::string& method) {
     if (isSsdoMethod(method)) return "ssdo";
+    if (method.rfind("discs", 0) == 0) return "discs";
     return method == "rtao+thick" ? "rtao" : method;
 }
 
@@ -54,6 +57,9 @@ void configureMethod(const std::string& method, const std::string& preset, obscu
         s.method = operatorMethod(method);
         obscura::applyQualityPreset(preset, s);
         if (method == "rtao+thick") s.thickness = 0.2f * s.radius;
+        if (method == "discs+vis") s.discsPasses = 2;
+        if (method == "discs-hard") s.discsHardLevels = true;
+        if (method == "discs-nopoly") s.discsNoPolygon = true;
         return;
     }
     s.method = "ssdo";

@@ -48,7 +48,8 @@ void usage(FILE* to) {
     std::string all;
     for (const std::string& m : registeredMethods()) all += (all.empty() ? "" : ",") + m;
     std::fprintf(to, "methods registered: %s\n"
-                     "  (rtao+thick: rtao --thickness R/5; a device a method does not run on, as rtao on GL, is skipped)\n", all.c_str());
+                     "  (rtao+thick: rtao --thickness R/5; discs+vis: --disc-passes 2; discs-hard: --disc-hard-levels;\n"
+                     "   discs-nopoly: --disc-no-polygon; a device a method does not run on, as rtao on GL, is skipped)\n", all.c_str());
 }
 
 [[noreturn]] void fail(const std::string& message) {
