@@ -100,8 +100,9 @@ DiscPyramid buildDiscPyramid(KernelParams& p, ConstPlane depth, ConstPlane norma
     if (texels * kChannels >= INT_MAX)
         throw Error("the frame is too large for --method discs (" + std::to_string(texels) + " elements)");
 
-    // Level 0 first, then only the levels up to the frame's top level.
-    pyr.data.reset(new float[(size_t)levelSize(p.width, 0) * levelSize(p.height, 0) * kChannels + kChannels]);
+    // Room for every level, not zeroed: only the levels up to the frame's top level are
+    // written, and the pages of the others are never touched.
+    pyr.data.reset(new float[(size_t)texels * kChannels]);
     const IsaKernels& k = cpuKernelsFor({depth, normal});
     float* base = pyr.data.get();
     parallelForTiles(Box2i{0, 0, p.width, p.height}, kLaneTileWidth, kLaneTileHeight, threads,
@@ -111,11 +112,6 @@ DiscPyramid buildDiscPyramid(KernelParams& p, ConstPlane depth, ConstPlane norma
     p.discTop = top;
     pyr.offsets.resize(top + 1);
     pyr.floats = ((size_t)pyr.offsets[top] + (size_t)levelSize(p.width, top) * levelSize(p.height, top)) * kChannels;
-    if (top > 0) {
-        std::unique_ptr<float[]> all(new float[pyr.floats]);
-        std::copy(base, base + (size_t)p.width * p.height * kChannels, all.get());
-        pyr.data = std::move(all);
-    }
     for (int l = 1; l <= top; ++l) mergeLevel(pyr, l, false, threads);
     for (int l = 0; l < kMaxLevels; ++l) p.discLevelOffset[l / 4][l % 4] = l <= top ? pyr.offsets[l] : 0;
     return pyr;
