@@ -204,7 +204,7 @@ lfloat discPolygonFormFactor(lvec3 xr, lvec3 nr, lvec3 e, lvec3 ne, lfloat area,
 // A disc closer than this many radii is replaced by its polygon: there the disc's form factor
 // saturates towards cos(receiver) whatever part of the hemisphere the element really covers
 // (a floor seen at a grazing angle, merged into nodes far larger in the world than on screen).
-CONST_GLOBAL float DISC_NEAR_RADII = 2.0f;
+CONST_GLOBAL float DISC_NEAR_RADII = 3.0f;
 
 // The element of pyramid texel `index` (node (ex, ey) of `level`): its occlusion of the
 // receiver (xr, nr), `weight` included; `polygon`: always the exact footprint form factor.

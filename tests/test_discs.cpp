@@ -88,8 +88,8 @@ TEST(Discs, OpenPlaneIsExactlyUnoccluded) {
 }
 
 // Floor next to a wall: along lines at distance d the AO approaches the closed form as the
-// window grows. Measured errors (all too light): 0.026-0.032 two pixels from the crease
-// (d = 0.05, a pixel being 0.025 here), then for d >= 0.2 at most 0.020 (k 1), 0.012 (k 2),
+// window grows. Measured errors (all too light): 0.026-0.041 two pixels from the crease
+// (d = 0.05, a pixel being 0.025 here), then for d >= 0.2 at most 0.024 (k 1), 0.013 (k 2),
 // 0.0075 (k 3), 0.0056 (k 4). Bounds add margin; a lost or double-counted level costs > 0.1.
 TEST(Discs, CornerApproachesTheClosedForm) {
     const SceneBuffers sb = cornerView(320, 240);
@@ -100,7 +100,7 @@ TEST(Discs, CornerApproachesTheClosedForm) {
         const Image ao = runOperator(sb.inputs(), s).ao;
         for (double d : {0.05, 0.2, 0.4, 0.7, 1.5}) {
             const double expected = cornerAo(Weighting::Cosine, Falloff::None, d);
-            EXPECT_NEAR(cornerLine(sb, ao, d), expected, d < 0.1 ? 0.045 : bound[k - 1]) << "k " << k << " d " << d;
+            EXPECT_NEAR(cornerLine(sb, ao, d), expected, d < 0.1 ? 0.05 : bound[k - 1]) << "k " << k << " d " << d;
         }
     }
 }
