@@ -6,9 +6,9 @@
 // footprint on its tangent plane. A pyramid merges 2 x 2 elements per level (area-weighted
 // position and normal, summed area); the host builds it (cpu/discs_cpu.cpp) from discBase().
 // A receiver visits, from its top level (where a window covers R on the screen) down to the
-// pixels, a fixed window of nodes around itself at each level. A node whose centre lies `dist` node sizes from the receiver (Chebyshev, on
-// the screen) is open with weight discOpen(dist): 1 near, 0 from k + 1/2 on, where the finer
-// window ends. A node contributes (1 - open(itself)) * open(parent) of its form factor, so
+// pixels, a fixed window of nodes around itself at each level. A node whose centre lies
+// `dist` node sizes from the receiver (Chebyshev, on the screen) is open with weight
+// discOpen(dist): 1 within k, 0 from k + 1/2 on, where the finer window ends. A node contributes (1 - open(itself)) * open(parent) of its form factor, so
 // each pixel's weights along its chain of ancestors sum to 1 and change continuously with
 // the receiver's position: no seams where the level changes (correction a).
 //
