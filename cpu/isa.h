@@ -1,4 +1,4 @@
-// The CPU kernels (HBAO, SSAO, SSDO, the blur) instantiated once per instruction set, and the
+// The CPU kernels (HBAO, SSAO, SSDO, the blur, discs) instantiated once per instruction set, and the
 // one place that picks among them. cpu/isa_kernels.cpp is compiled once per ISA, each in
 // its own namespace (scalar, baseline, x86_64_v3, x86_64_v4); everything there except the
 // `kernels` table has internal linkage, so no out-of-line copy compiled for one ISA can be
@@ -27,6 +27,11 @@ struct IsaKernels {
     // One pass of the blur along `axis`, from `src` to `dst` (same channel count).
     void (*blurTile)(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane src,
                      MutablePlane dst, glm::ivec2 axis, int radius, const Box2i& tile);
+    // Disc AO (kernels/discs.glsl): level 0 of the pyramid (8 floats per texel, p.width per
+    // row) over `tile`, and the traversal of a whole pyramid for the receivers in `tile`.
+    void (*discsBaseTile)(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, float* base,
+                          const Box2i& tile);
+    void (*discsTile)(const glsl::KernelParams& p, const float* pyramid, MutablePlane ao, const Box2i& tile);
 };
 
 #define OBSCURA_DECLARE_ISA(isa) \

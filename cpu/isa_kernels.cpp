@@ -2,9 +2,10 @@
 // file several times with OBSCURA_ISA, OBSCURA_LANES and the matching -march.
 // Nothing here may have external linkage but the `kernels` table (see cpu/isa.h).
 #include "cpu/blur_tile_impl.h"
+#include "cpu/discs_tile_impl.h"
 #include "cpu/lane_tile_impl.h"
 #include "cpu/ssdo_tile_impl.h"
 
 namespace obscura::cpu::OBSCURA_ISA {
-const IsaKernels kernels{&hbaoTile, &ssaoTile, &ssdoTile, &blurTile};
+const IsaKernels kernels{&hbaoTile, &ssaoTile, &ssdoTile, &blurTile, &discsBaseTile, &discsTile};
 } // namespace obscura::cpu::OBSCURA_ISA

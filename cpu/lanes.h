@@ -267,6 +267,9 @@ inline lint operator%(lint a, lint b) { return a.v % b.v; }
 inline lint min(lint x, lint y) { return y.v < x.v ? y.v : x.v; }
 inline lint max(lint x, lint y) { return x.v < y.v ? y.v : x.v; }
 inline lint clamp(lint x, lint lo, lint hi) { return min(max(x, lo), hi); }
+// Arithmetic shifts by a uniform count, as GLSL's on int (floor division by 2^s).
+inline lint operator>>(lint a, int s) { return a.v >> s; }
+inline lint operator<<(lint a, int s) { return a.v << s; }
 inline luint operator&(luint a, luint b) { return a.v & b.v; }
 inline luint operator|(luint a, luint b) { return a.v | b.v; }
 inline luint operator<<(luint a, std::uint32_t s) { return a.v << s; }

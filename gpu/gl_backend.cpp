@@ -238,6 +238,47 @@ void GlBackend::runAo(const char* program, const glsl::KernelParams& p, ConstPla
     if (timings) *timings = t;
 }
 
+void GlBackend::runDiscs(const glsl::KernelParams& p, const float* pyramid, size_t pyramidFloats, ConstPlane depth,
+                         ConstPlane normal, MutablePlane ao, int blur, GlTimings* timings) {
+    context_->makeCurrent();
+    const GlApi& gl = context_->gl();
+    const ContextInfo& ci = info();
+    const size_t bytes = pyramidFloats * sizeof(float);
+    const long long groupLimit = (long long)std::min(ci.maxWorkGroups[0], ci.maxWorkGroups[1]) * kGroup;
+    // Every receiver may read any node of the pyramid, so the frame runs as one tile.
+    if ((long long)bytes > ci.maxStorageBlockBytes || std::max(p.width, p.height) > groupLimit)
+        throw Error("the disc pyramid (" + std::to_string(bytes >> 20) + " MiB) does not fit one " + ci.backend +
+                    " storage buffer; use --device cpu");
+    GlTimings t;
+    auto t0 = Clock::now();
+    uploadBuffer(kParams, GL_UNIFORM_BUFFER, &p, sizeof(p));
+    uploadBuffer(kSignalIn, GL_SHADER_STORAGE_BUFFER, pyramid, bytes);
+    uploadBuffer(kSignalOut, GL_SHADER_STORAGE_BUFFER, nullptr, (size_t)p.width * p.height * sizeof(float));
+    const Box2i frame{0, 0, p.width, p.height};
+    std::vector<float> packed;
+    if (blur > 0) {
+        pack(depth, frame, 1, packed);
+        uploadBuffer(kDepth, GL_SHADER_STORAGE_BUFFER, packed.data(), packed.size() * sizeof(float));
+        pack(normal, frame, 3, packed);
+        uploadBuffer(kNormal, GL_SHADER_STORAGE_BUFFER, packed.data(), packed.size() * sizeof(float));
+    }
+    t.upload += since(t0);
+    t0 = Clock::now();
+    dispatch("discs", p);
+    gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    blurBuffer(kSignalOut, 1, blur, p);
+    gl.MemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    gl.Finish();
+    t.compute += since(t0);
+    t0 = Clock::now();
+    readInner(kSignalOut, 1, frame, frame, ao);
+    t.readback += since(t0);
+    t.tiles = 1;
+    const GLenum err = gl.GetError();
+    if (err != GL_NO_ERROR) throw Error("OpenGL error " + hex(err) + " on " + ci.backend);
+    if (timings) *timings = t;
+}
+
 void GlBackend::runSsdo(const glsl::KernelParams& p, const SsdoInputs& in, MutablePlane directional, MutablePlane indirect,
                         MutablePlane ao, int blur, GlTimings* timings) {
     if (info().maxStorageBindings < kBindings)

@@ -9,6 +9,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace obscura::gpu {
 
@@ -38,6 +39,11 @@ public:
     // The same for any AO kernel reading depth and normals only ("hbao", "ssao").
     void runAo(const char* program, const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao,
                int blur, GlTimings* timings = nullptr, long long maxTexels = 0);
+
+    // One pass of disc AO (kernels/discs.glsl) over the whole frame from the host's pyramid
+    // (cpu/discs_cpu.h; p's disc fields describe it), then `blur` passes.
+    void runDiscs(const glsl::KernelParams& p, const float* pyramid, size_t pyramidFloats, ConstPlane depth, ConstPlane normal,
+                  MutablePlane ao, int blur, GlTimings* timings = nullptr);
 
     struct SsdoInputs {
         ConstPlane depth, normal, radiance, albedo;  // radiance used when p.bounce; albedo optional

@@ -60,6 +60,8 @@ vec3 gatherRadiance(int x, int y, bool use) { return use ? loadRadiance(ivec2(x,
 vec3 gatherAlbedo(int x, int y, bool use) { return use ? loadAlbedo(ivec2(x, y)) : vec3(1.0f); }
 vec3 gatherEnv(int x, int y, bool use) { return use ? loadEnv(ivec2(x, y)) : vec3(0.0f); }
 vec4 gatherSignal(int x, int y, bool use) { return use ? loadSignal(ivec2(x, y)) : vec4(0.0f); }
+// Disc AO reads the host's pyramid (8 floats a texel) through the signal-in binding.
+float gatherDisc(int index, int c, bool use) { return use ? signalIn[index * 8 + c] : 0.0f; }
 bool outsideDispatch(ivec2 t) { return t.x >= P.width || t.y >= P.height; }
 )glsl";
 
@@ -67,6 +69,7 @@ const std::vector<GlKernel>& glKernels() {
     static const std::vector<GlKernel> kernels = {
         {"hbao", "hbao.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; signalOut[texelIndex(t)] = hbaoLanes(t.x, t.y); }"},
         {"ssao", "ssao.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; signalOut[texelIndex(t)] = ssaoLanes(t.x, t.y); }"},
+        {"discs", "discs.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; signalOut[texelIndex(t)] = discsLanes(t.x, t.y); }"},
         {"blur", "blur.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; storeSignal(t, blurLanes(t.x, t.y, blurAxis, blurRadius)); }"},
         {"ssdo", "ssdo.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; vec3 d; vec3 g; float a; ssdoLanes(t.x, t.y, d, g, a); int i = texelIndex(t); signalOut[i] = a; for (int c = 0; c < 3; ++c) { directionalOut[3 * i + c] = d[c]; indirectOut[3 * i + c] = g[c]; } }"},
     };

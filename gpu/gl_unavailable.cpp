@@ -21,6 +21,8 @@ void GlBackend::runAo(const char*, const glsl::KernelParams&, ConstPlane, ConstP
                       long long) {}
 void GlBackend::runSsdo(const glsl::KernelParams&, const SsdoInputs&, MutablePlane, MutablePlane, MutablePlane, int,
                         GlTimings*) {}
+void GlBackend::runDiscs(const glsl::KernelParams&, const float*, size_t, ConstPlane, ConstPlane, MutablePlane, int,
+                         GlTimings*) {}
 bool isDeviceName(const std::string& n) {
     return n == "cpu" || n == "auto" || n == "gl" || n == "gl-egl" || n == "gl-osmesa";
 }

@@ -52,4 +52,15 @@ struct KernelParams {
     // Per bound k = 0..32 of the 32 sectors (pseudo-angle k/16, angle theta_k above the tangent),
     // the terms of F that multiply cos b and sin b: uniform (1 - cos, sin), cosine (theta - sin cos, sin^2).
     vec4 sectorTerms[33];
+
+    // ---- discs (kernels/discs.glsl, docs/discs.md); the pyramid is built by the host ----
+    ivec4 discLevelOffset[4];    // texel offset of level L's plane in the pyramid, at [L / 4][L % 4]
+    int discTop;                 // T: the coarsest level stored (any pixel's top level at most)
+    int discWindow;              // k: windows of (4k + 2)^2 nodes per level
+    int pad9;
+    int discPolygon;             // 1: exact polygon form factor for the 8 pixels around the receiver
+
+    int discBlend;               // 1: smooth open weights between levels; 0: hard windows
+    int discVisibility;          // 1: weight each element by channel 7, its first-pass AO
+    int pad7, pad8;
 };

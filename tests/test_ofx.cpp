@@ -363,7 +363,7 @@ TEST(OfxDescribe, DeclaresContextsDepthsClipsAndParameters) {
     EXPECT_EQ(params.find("output")->props.strings(kOfxParamPropChoiceOption),
               (std::vector<std::string>{"AO", "Beauty x AO", "Directional occlusion (DO)", "Indirect (GI)", "Relit"}));
     EXPECT_EQ(params.find("method")->props.strings(kOfxParamPropChoiceOption),
-              (std::vector<std::string>{"hbao", "ssdo", "ssao", "rtao"}));
+              (std::vector<std::string>{"hbao", "ssdo", "ssao", "rtao", "discs"}));
     // The methods' own parameters come from the method table, with its ranges, one group per method.
     EXPECT_EQ(params.find("ssao_samples")->props.ints(kOfxParamPropMax), (std::vector<int>{1024}));
     EXPECT_EQ(params.find("ssao_hemisphere")->type, kOfxParamTypeBoolean);
@@ -373,6 +373,8 @@ TEST(OfxDescribe, DeclaresContextsDepthsClipsAndParameters) {
     EXPECT_EQ(params.find("thickness")->props.doubles(kOfxParamPropMax), (std::vector<double>{1e9}));
     EXPECT_EQ(params.find("thickness")->props.doubles(kOfxParamPropDefault), (std::vector<double>{-1.0}));
     EXPECT_EQ(params.find("thickness")->props.string(kOfxParamPropParent), "hbao");
+    EXPECT_EQ(params.find("disc_window")->props.ints(kOfxParamPropMax), (std::vector<int>{4}));
+    EXPECT_EQ(params.find("disc_no_polygon")->type, kOfxParamTypeBoolean);
     EXPECT_EQ(params.find("samples")->props.ints(kOfxParamPropDefault), (std::vector<int>{64}));
     EXPECT_EQ(params.find("interleave")->props.ints(kOfxParamPropDefault), (std::vector<int>{2}));
     EXPECT_EQ(params.find("interleave")->props.ints(kOfxParamPropMax), (std::vector<int>{8}));

@@ -13,6 +13,8 @@ const std::vector<std::string>& registeredMethods() {
             v.push_back(m.name);
             if (std::string(m.name) == "hbao") v.insert(v.end(), {"hbao+horizon", "hbao+open", "hbao+clamp"});
             if (std::string(m.name) == "rtao") v.insert(v.end(), {"rtao+sheet", "rtao+thick"});
+            // Disc AO with one of its corrections switched (docs/discs.md).
+            if (std::string(m.name) == "discs") v.insert(v.end(), {"discs+vis", "discs-hard", "discs-nopoly"});
         }
         v.insert(v.end(), {"ssdo", "ssdo+bounce", "ssdo-noint"});
         return v;
@@ -22,6 +24,7 @@ const std::vector<std::string>& registeredMethods() {
 
 std::string operatorMethod(const std::string& method) {
     if (isSsdoMethod(method)) return "ssdo";
+    if (method.rfind("discs", 0) == 0) return "discs";  // discs+vis, discs-hard, discs-nopoly
     return method.substr(0, method.find('+'));
 }
 
@@ -62,6 +65,9 @@ void configureMethod(const std::string& method, const std::string& preset, obscu
         }
         if (method == "hbao+open") s.border = obscura::kBorderOpen;
         if (method == "hbao+clamp") s.border = obscura::kBorderClamp;
+        if (method == "discs+vis") s.discsPasses = 2;
+        if (method == "discs-hard") s.discsHardLevels = true;
+        if (method == "discs-nopoly") s.discsNoPolygon = true;
         return;
     }
     s.method = "ssdo";

@@ -49,7 +49,8 @@ void usage(FILE* to) {
     for (const std::string& m : registeredMethods()) all += (all.empty() ? "" : ",") + m;
     std::fprintf(to, "methods registered: %s\n"
                      "  (hbao+horizon: --thickness inf --border open; hbao+open, hbao+clamp: --border open, clamp;\n"
-                     "   rtao+sheet: rtao --thickness 0; rtao+thick: --thickness R/5;\n"
+                     "   rtao+sheet: rtao --thickness 0; rtao+thick: --thickness R/5; discs+vis: --disc-passes 2;\n"
+                     "   discs-hard: --disc-hard-levels; discs-nopoly: --disc-no-polygon;\n"
                      "   a device a method does not run on, as rtao on GL, is skipped)\n", all.c_str());
 }
 

@@ -3,6 +3,7 @@
 #include "core/environment.h"
 #include "core/error.h"
 #include "cpu/blur_cpu.h"
+#include "cpu/discs_cpu.h"
 #include "cpu/lane_cpu.h"
 #include "cpu/rtao_cpu.h"
 #include "cpu/ssdo_cpu.h"
@@ -59,6 +60,40 @@ void runRtaoMethod(const MethodRun& r) {
         const auto t0 = Clock::now();
         cpu::runBlur(r.params, r.in.depth, r.in.normal, r.out.ao.view(), s.blur, r.threads);
         st.timings.push_back({"blur", secondsSince(t0)});
+    }
+}
+
+// Discs: one pyramid on the CPU (both devices read it), then one traversal per pass; the
+// second weights each element by its own first-pass AO.
+void runDiscsMethod(const MethodRun& r) {
+    OperatorStats& st = r.out.stats;
+    KernelParams p = r.params;
+    auto t0 = Clock::now();
+    cpu::DiscPyramid pyramid = cpu::buildDiscPyramid(p, r.in.depth, r.in.normal, r.threads);
+    st.timings.push_back({"discs-pyramid", secondsSince(t0)});
+    const int passes = r.settings.discsPasses;
+    for (int pass = 0; pass < passes; ++pass) {
+        if (pass > 0) {
+            t0 = Clock::now();
+            cpu::setDiscVisibility(pyramid, r.out.ao.view(), r.threads);
+            p.discVisibility = 1;
+            st.timings.push_back({"discs-visibility", secondsSince(t0)});
+        }
+        const int blur = pass + 1 == passes ? r.settings.blur : 0;
+        if (r.gl) {
+            gpu::GlTimings t;
+            r.gl->runDiscs(p, pyramid.data.get(), pyramid.floats, r.in.depth, r.in.normal, r.out.ao.view(), blur, &t);
+            recordGl(st, t);
+            continue;
+        }
+        t0 = Clock::now();
+        cpu::runDiscs(p, pyramid, r.out.ao.view(), r.threads);
+        st.timings.push_back({"discs", secondsSince(t0)});
+        if (blur > 0) {
+            t0 = Clock::now();
+            cpu::runBlur(p, r.in.depth, r.in.normal, r.out.ao.view(), blur, r.threads);
+            st.timings.push_back({"blur", secondsSince(t0)});
+        }
     }
 }
 

@@ -29,5 +29,6 @@ void runHbaoMethod(const MethodRun& r);
 void runSsdoMethod(const MethodRun& r);
 void runSsaoMethod(const MethodRun& r);
 void runRtaoMethod(const MethodRun& r);
+void runDiscsMethod(const MethodRun& r);
 
 } // namespace obscura

@@ -105,6 +105,26 @@ std::vector<MethodInfo> makeTable() {
                  [](const Settings& s) { return s.rtaoRays; },
                  // The mesh joins texels by looking 2 beyond an edge; the grid interpolates across a cell.
                  [](const Settings& s) { return 1 + s.rtaoGrid; }, &runRtaoMethod});
+    t.push_back({"discs", "hierarchical disc form factors (Bunnell 2005; Hoberock & Jia 2007): cosine-weighted, every pixel an element",
+                 "kernels/discs.glsl, cpu/discs_cpu.cpp", true, true, {"depth", "normal"}, {"ao"},
+                 {{"low", "k 1", [](Settings& s) { s.discsWindow = 1; }},
+                  {"medium", "k 2", [](Settings& s) { s.discsWindow = 2; }},
+                  {"high", "k 3", [](Settings& s) { s.discsWindow = 3; }},
+                  {"ultra", "k 4", [](Settings& s) { s.discsWindow = 4; }}},
+                 {intParam("disc_window", "--disc-window",
+                           "discs: k, nodes open within k + 1/2 of their sizes: (4k+2)^2 per level (default 2)", 1, 4,
+                           &Settings::discsWindow),
+                  intParam("disc_passes", "--disc-passes",
+                           "discs: 2 weights each element by its own first-pass AO (default 1)", 1, 2,
+                           &Settings::discsPasses),
+                  switchParam("disc_hard_levels", "--disc-hard-levels",
+                              "discs: change level at window edges, without blending", &Settings::discsHardLevels),
+                  switchParam("disc_no_polygon", "--disc-no-polygon",
+                              "discs: discs for the 8 nearest pixels too, not their exact polygons",
+                              &Settings::discsNoPolygon)},
+                 // Nodes visited per pass: about seven levels of (4k + 2)^2 for a typical reach.
+                 [](const Settings& s) { return 7 * (4 * s.discsWindow + 2) * (4 * s.discsWindow + 2) * s.discsPasses; },
+                 nullptr, &runDiscsMethod});
     return t;
 }
 

@@ -168,6 +168,11 @@ KernelParams makeKernelParams(const OperatorInputs& in, const Settings& s) {
     p.ssaoSamples = s.ssaoSamples;
     p.ssaoHemisphere = s.ssaoHemisphere ? 1 : 0;
     fillSsdoParams(in, s, p);
+    // The pyramid's levels and top window are set when it is built (cpu/discs_cpu.h).
+    p.discWindow = s.discsWindow;
+    p.discPolygon = s.discsNoPolygon ? 0 : 1;
+    p.discBlend = s.discsHardLevels ? 0 : 1;
+    p.discVisibility = 0;
     return p;
 }
 

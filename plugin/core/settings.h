@@ -61,6 +61,12 @@ struct Settings {
     // ---- method "rtao" (rays against the mesh of the depth pass) ----
     int rtaoRays = 16;              // cosine-distributed rays per traced point
     int rtaoGrid = 1;               // trace every N-th pixel and interpolate; 1: every pixel
+
+    // ---- method "discs" (hierarchical disc form factors, docs/discs.md) ----
+    int discsWindow = 2;            // k: a node is opened within k + 1/2 of its sizes of the receiver
+    int discsPasses = 1;            // 2: weight each element by its own first-pass AO (correction c)
+    bool discsHardLevels = false;   // switch levels at window edges, no blending (correction a off)
+    bool discsNoPolygon = false;    // discs for the nearest pixels too (correction b off)
 };
 
 // Named quality levels: directions x steps (and blur), from a preview to near-converged.

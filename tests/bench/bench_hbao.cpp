@@ -58,8 +58,6 @@ float envFloat(const char* name, float fallback) {
     return v && std::atof(v) > 0 ? (float)std::atof(v) : fallback;
 }
 
-// A room corner open to the sky on the right and above: floor, back and left walls,
-// boxes of several sizes (some stacked, some touching walls), a tilted slab.
 // A render's depth, normals and camera, as the CLI would read them.
 SceneBuffers loadRender(const std::string& path) {
     FrameJob job;
@@ -82,20 +80,7 @@ SceneBuffers& scene() {
     static SceneBuffers sb = [] {
         if (const char* exr = std::getenv("OBSCURA_BENCH_EXR")) return loadRender(exr);
         const int w = envInt("OBSCURA_BENCH_WIDTH", 1920), h = envInt("OBSCURA_BENCH_HEIGHT", 1080);
-        std::vector<Rect> rects;
-        rects.push_back({dvec3(-6, 0, -8), dvec3(14, 0, 0), dvec3(0, 0, 16)});  // floor, ends at x = 8
-        rects.push_back({dvec3(-6, 0, -8), dvec3(14, 0, 0), dvec3(0, 3, 0)});   // back wall, 3 high
-        rects.push_back({dvec3(-6, 0, -8), dvec3(0, 0, 16), dvec3(0, 4, 0)});   // left wall, 4 high
-        addBox(rects, dvec3(-6, 0, -8), dvec3(-4.5, 2.2, -6.5));  // cupboard in the corner
-        addBox(rects, dvec3(-2, 0, -3), dvec3(-0.8, 1.2, -1.8));
-        addBox(rects, dvec3(-1.9, 1.2, -2.9), dvec3(-1.1, 1.8, -2.1)); // stacked
-        addBox(rects, dvec3(0.5, 0, -5), dvec3(2.5, 0.6, -4));
-        addBox(rects, dvec3(1.5, 0, -1), dvec3(1.9, 0.4, -0.6));
-        addBox(rects, dvec3(-6, 0, -1), dvec3(-5.4, 0.9, 1));     // against the left wall
-        addBox(rects, dvec3(3, 0, -7.9), dvec3(4, 2.5, -7));      // pillar at the back wall
-        rects.push_back({dvec3(-3.5, 0, 0.5), dvec3(1.2, 0.6, 0), dvec3(0, 0, 1.0)}); // ramp
-        const Camera cam = lookAtPerspective(dvec3(1.5, 2.2, 5.5), dvec3(-1, 0.6, -3), 75.0 * M_PI / 180, w, h);
-        return renderScene(rects, cam, w, h);
+        return renderScene(benchRoomScene(), benchRoomCamera(w, h), w, h);
     }();
     return sb;
 }

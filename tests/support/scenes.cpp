@@ -63,6 +63,27 @@ Camera studioCamera(int width, int height) {
     return lookAtPerspective(glm::dvec3(3.5, 3.0, 6.5), glm::dvec3(-1.0, 0.6, -1.0), 65.0 * M_PI / 180, width, height);
 }
 
+std::vector<Rect> benchRoomScene() {
+    using glm::dvec3;
+    std::vector<Rect> rects;
+    rects.push_back({dvec3(-6, 0, -8), dvec3(14, 0, 0), dvec3(0, 0, 16)});  // floor, ends at x = 8
+    rects.push_back({dvec3(-6, 0, -8), dvec3(14, 0, 0), dvec3(0, 3, 0)});   // back wall, 3 high
+    rects.push_back({dvec3(-6, 0, -8), dvec3(0, 0, 16), dvec3(0, 4, 0)});   // left wall, 4 high
+    addBox(rects, dvec3(-6, 0, -8), dvec3(-4.5, 2.2, -6.5));  // cupboard in the corner
+    addBox(rects, dvec3(-2, 0, -3), dvec3(-0.8, 1.2, -1.8));
+    addBox(rects, dvec3(-1.9, 1.2, -2.9), dvec3(-1.1, 1.8, -2.1)); // stacked
+    addBox(rects, dvec3(0.5, 0, -5), dvec3(2.5, 0.6, -4));
+    addBox(rects, dvec3(1.5, 0, -1), dvec3(1.9, 0.4, -0.6));
+    addBox(rects, dvec3(-6, 0, -1), dvec3(-5.4, 0.9, 1));     // against the left wall
+    addBox(rects, dvec3(3, 0, -7.9), dvec3(4, 2.5, -7));      // pillar at the back wall
+    rects.push_back({dvec3(-3.5, 0, 0.5), dvec3(1.2, 0.6, 0), dvec3(0, 0, 1.0)}); // ramp
+    return rects;
+}
+
+Camera benchRoomCamera(int width, int height) {
+    return lookAtPerspective(glm::dvec3(1.5, 2.2, 5.5), glm::dvec3(-1, 0.6, -3), 75.0 * M_PI / 180, width, height);
+}
+
 std::vector<Rect> cornerScene() {
     const double L = 1e3;
     return {Rect{glm::dvec3(-L, 0, -L), glm::dvec3(L, 0, 0), glm::dvec3(0, 0, 2 * L)},

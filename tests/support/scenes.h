@@ -47,6 +47,11 @@ std::vector<Rect> studioScene();
 // (the closed form is tests/support/closed_forms.h cornerAo).
 std::vector<Rect> cornerScene();
 Camera studioCamera(int width, int height);
+// The benchmarks' frame (tests/bench): a room corner open to the sky on the right and above:
+// floor, back and left walls, boxes of several sizes (some stacked, some touching walls), a
+// tilted slab. Seen by benchRoomCamera().
+std::vector<Rect> benchRoomScene();
+Camera benchRoomCamera(int width, int height);
 
 // The rectangle of a plane through `point` spanned by unit vectors s, t, `half` units each way.
 Rect planeRect(glm::dvec3 point, glm::dvec3 s, glm::dvec3 t, double half = 1e4);

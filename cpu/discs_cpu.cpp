@@ -1,0 +1,133 @@
+#include "cpu/discs_cpu.h"
+
+#include "core/error.h"
+#include "cpu/isa.h"
+#include "cpu/parallel.h"
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+
+namespace obscura::cpu {
+
+namespace {
+
+constexpr int kChannels = 8;
+constexpr int kMaxLevels = 16;  // p.discLevelOffset holds 16
+
+int levelSize(int n, int level) { return (n + (1 << level) - 1) >> level; }
+
+float* texel(DiscPyramid& pyr, int level, int x, int y) {
+    return pyr.data.get() + ((size_t)pyr.offsets[level] + (size_t)y * levelSize(pyr.width, level) + x) * kChannels;
+}
+
+// Level `level` from the one below: area-weighted position, normal and visibility, summed
+// area. With `visibilityOnly`, only channel 7 (the rest is already merged).
+void mergeLevel(DiscPyramid& pyr, int level, bool visibilityOnly, int threads) {
+    const int w = levelSize(pyr.width, level), h = levelSize(pyr.height, level);
+    const int cw = levelSize(pyr.width, level - 1), ch = levelSize(pyr.height, level - 1);
+    parallelForTiles(Box2i{0, 0, w, h}, w, 8, threads, [&](const Box2i& rows) {
+    for (int y = rows.y0; y < rows.y1; ++y)
+        for (int x = 0; x < w; ++x) {
+            double sum[kChannels] = {};
+            for (int j = 2 * y; j < std::min(2 * y + 2, ch); ++j)
+                for (int i = 2 * x; i < std::min(2 * x + 2, cw); ++i) {
+                    const float* c = texel(pyr, level - 1, i, j);
+                    const double a = c[3];
+                    for (int k = 0; k < 3; ++k) sum[k] += a * c[k], sum[4 + k] += a * c[4 + k];
+                    sum[3] += a;
+                    sum[7] += a * c[7];
+                }
+            float* t = texel(pyr, level, x, y);
+            const double area = sum[3];
+            if (visibilityOnly) {
+                t[7] = area > 0 ? (float)(sum[7] / area) : 1.0f;
+                continue;
+            }
+            const double nlen = std::sqrt(sum[4] * sum[4] + sum[5] * sum[5] + sum[6] * sum[6]);
+            const bool used = area > 0 && nlen > 0;
+            for (int k = 0; k < 3; ++k) {
+                t[k] = used ? (float)(sum[k] / area) : 0.0f;
+                t[4 + k] = used ? (float)(sum[4 + k] / nlen) : 0.0f;
+            }
+            t[3] = used ? (float)area : 0.0f;
+            t[7] = used ? (float)(sum[7] / area) : 1.0f;
+        }
+    });
+}
+
+// The coarsest top level any pixel takes: kernels/discs.glsl's discTopLevel, with its reach
+// bound discReachPixels written out in the same float arithmetic.
+int frameTopLevel(const KernelParams& p, const DiscPyramid& pyr, int levels) {
+    const float cap = p.maxRadiusPixels + 2.0f, f = std::max(p.fx, p.fy), R = p.radius;
+    float reach = 0.0f;
+    if (p.orthographic) {
+        reach = std::min(1.25f * R * f + 2.0f, cap);
+    } else {
+        for (size_t i = 0; i < (size_t)pyr.width * pyr.height; ++i) {
+            const float* t = pyr.data.get() + i * kChannels;
+            if (!(t[3] > 0.0f)) continue;
+            const float z = -t[2];
+            if (!(z > 1.01f * R)) {
+                reach = cap;
+                break;
+            }
+            const float tan2 = (t[0] * t[0] + t[1] * t[1]) / std::max(z * z, 1e-30f);
+            const float r = (1.25f * R * f) * (1.0f + tan2) / std::sqrt(std::max(z * z - R * R, 1e-30f)) + 2.0f;
+            reach = std::max(reach, std::min(r, cap));
+        }
+    }
+    int top = 0;
+    while (top + 1 < levels && (float)(2 * p.discWindow) * (float)(1 << top) < reach) ++top;
+    return top;
+}
+
+} // namespace
+
+DiscPyramid buildDiscPyramid(KernelParams& p, ConstPlane depth, ConstPlane normal, int threads) {
+    DiscPyramid pyr;
+    pyr.width = p.width;
+    pyr.height = p.height;
+    // Enough levels for the top window to span the frame, at most kMaxLevels.
+    int allLevels = 1;
+    while (allLevels < kMaxLevels && (levelSize(p.width, allLevels - 1) > 1 || levelSize(p.height, allLevels - 1) > 1))
+        ++allLevels;
+    long long texels = 0;
+    for (int l = 0; l < allLevels; ++l) {
+        pyr.offsets.push_back((int)std::min<long long>(texels, INT_MAX));
+        texels += (long long)levelSize(p.width, l) * levelSize(p.height, l);
+    }
+    if (texels * kChannels >= INT_MAX)
+        throw Error("the frame is too large for --method discs (" + std::to_string(texels) + " elements)");
+
+    // Room for every level, not zeroed: only the levels up to the frame's top level are
+    // written, and the pages of the others are never touched.
+    pyr.data.reset(new float[(size_t)texels * kChannels]);
+    const IsaKernels& k = cpuKernelsFor({depth, normal});
+    float* base = pyr.data.get();
+    parallelForTiles(Box2i{0, 0, p.width, p.height}, kLaneTileWidth, kLaneTileHeight, threads,
+                     [&](const Box2i& tile) { k.discsBaseTile(p, depth, normal, base, tile); });
+
+    const int top = frameTopLevel(p, pyr, allLevels);
+    p.discTop = top;
+    pyr.offsets.resize(top + 1);
+    pyr.floats = ((size_t)pyr.offsets[top] + (size_t)levelSize(p.width, top) * levelSize(p.height, top)) * kChannels;
+    for (int l = 1; l <= top; ++l) mergeLevel(pyr, l, false, threads);
+    for (int l = 0; l < kMaxLevels; ++l) p.discLevelOffset[l / 4][l % 4] = l <= top ? pyr.offsets[l] : 0;
+    return pyr;
+}
+
+void setDiscVisibility(DiscPyramid& pyr, ConstPlane ao, int threads) {
+    for (int y = 0; y < pyr.height; ++y)
+        for (int x = 0; x < pyr.width; ++x) texel(pyr, 0, x, y)[7] = *ao.at(x, y);
+    for (int l = 1; l < (int)pyr.offsets.size(); ++l) mergeLevel(pyr, l, true, threads);
+}
+
+void runDiscs(const KernelParams& p, const DiscPyramid& pyramid, MutablePlane ao, int threads, const std::string& isa) {
+    const IsaKernels& k = isa.empty() ? cpuKernels() : cpuKernelsNamed(isa);
+    const float* data = pyramid.data.get();
+    parallelForTiles(Box2i{0, 0, p.width, p.height}, kLaneTileWidth, kLaneTileHeight, threads,
+                     [&](const Box2i& tile) { k.discsTile(p, data, ao, tile); });
+}
+
+} // namespace obscura::cpu

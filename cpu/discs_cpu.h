@@ -1,0 +1,38 @@
+// CPU side of disc AO (kernels/discs.glsl): the pyramid of elements, which both devices read,
+// and the traversal over tiles on all cores with the widest instruction set (cpu/isa.h).
+#pragma once
+#include "core/image.h"
+#include "cpu/kernel_params.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace obscura::cpu {
+
+using glsl::KernelParams;
+
+// Level 0: one texel per pixel; level L: one per 2^L x 2^L block. Each texel is 8 floats
+// (kernels/discs.glsl): mean position (3), area, unit mean normal (3), visibility.
+struct DiscPyramid {
+    std::unique_ptr<float[]> data;  // not zeroed first: every texel of the stored levels is written
+    size_t floats = 0;
+    std::vector<int> offsets;  // texel offset of each stored level
+    int width = 0, height = 0;
+};
+
+// Builds the pyramid for the buffers p describes and fills p's disc fields: the level
+// offsets and the top level T, the coarsest any pixel's window needs to cover R on the
+// screen (p.maxRadiusPixels at most). Throws obscura::Error when
+// the pyramid would not fit 32-bit texel indices.
+DiscPyramid buildDiscPyramid(KernelParams& p, ConstPlane depth, ConstPlane normal, int threads);
+
+// Channel 7 at level 0 becomes `ao` (each element's own first-pass AO: correction c), merged
+// up the levels by area like the positions.
+void setDiscVisibility(DiscPyramid& pyramid, ConstPlane ao, int threads);
+
+// The traversal for every texel of `ao` (p.width x p.height); `isa` empty: the chosen one.
+void runDiscs(const KernelParams& p, const DiscPyramid& pyramid, MutablePlane ao, int threads,
+              const std::string& isa = "");
+
+} // namespace obscura::cpu

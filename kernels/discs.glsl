@@ -1,0 +1,332 @@
+// Hierarchical disc AO: Bunnell's discs (GPU Gems 2, ch. 14) with the corrections of Hoberock
+// and Jia (GPU Gems 3, ch. 12), on the pixels of the depth pass. Written on lane types like
+// kernels/hbao.glsl; docs/discs.md derives the windows and the open criterion.
+//
+// Every surface pixel is an element: its view-space position, normal and the area of its
+// footprint on its tangent plane. A pyramid merges 2 x 2 elements per level (area-weighted
+// position and normal, summed area); the host builds it (cpu/discs_cpu.cpp) from discBase().
+// A receiver visits, from its top level (where a window covers R on the screen) down to the
+// pixels, a fixed window of nodes around itself at each level. A node whose centre lies
+// `dist` node sizes from the receiver (Chebyshev, on the screen) is open with weight
+// discOpen(dist): 1 within k, 0 from k + 1/2 on, where the finer window ends. A node contributes (1 - open(itself)) * open(parent) of its form factor, so
+// each pixel's weights along its chain of ancestors sum to 1 and change continuously with
+// the receiver's position: no seams where the level changes (correction a).
+//
+// Backend contract: gatherDisc(index, c, use) reads channel c of pyramid texel `index`.
+// Channels: 0-2 mean position, 3 area, 4-6 unit mean normal, 7 visibility (pass 2).
+
+CONST_GLOBAL int DISC_CHANNELS = 8;
+// A footprint is stretched at most as for n.V = 0.02 (88.9 degrees from the eye): beyond,
+// depth gives no usable extent and a pixel would stand for an unbounded strip.
+CONST_GLOBAL float DISC_MIN_NV = 0.02f;
+// Elements within this sine of the receiver's horizon do not occlude: a plane's own elements
+// lie on it up to float rounding of positions, and must give AO = 1 exactly.
+CONST_GLOBAL float DISC_HORIZON = 2e-3f;
+
+int discLevelWidth(int level) { return (P.width + (1 << level) - 1) >> level; }
+int discLevelHeight(int level) { return (P.height + (1 << level) - 1) >> level; }
+int discOffsetOf(int level) { return P.discLevelOffset[level >> 2][level & 3]; }
+
+lvec3 gatherDisc3(lint index, int c, lbool use) {
+    return lvec3(gatherDisc(index, c, use), gatherDisc(index, c + 1, use), gatherDisc(index, c + 2, use));
+}
+
+// The footprint of a pixel on its tangent plane (through `pos`, normal n), as the images du,
+// dv of one pixel step right and down: d(point)/d(display x) is t/fx (e_x - n_x V / n.V), with
+// t = depth (-z) for a pinhole and 1 for an orthographic camera; area = |du x dv|.
+void discAxes(lvec3 ray, lvec3 pos, lvec3 n, OUT(lvec3) du, OUT(lvec3) dv) {
+    lvec3 V = viewVector(ray);
+    lfloat t = lfloat(1.0f);
+    if (P.orthographic == 0) {
+        t = -pos.z;
+    }
+    lfloat nv = max(dot(n, V), lfloat(DISC_MIN_NV));
+    lvec3 a = lvec3(lfloat(1.0f), lfloat(0.0f), lfloat(0.0f)) - V * (n.x / nv);
+    lvec3 b = V * (n.y / nv) - lvec3(lfloat(0.0f), lfloat(1.0f), lfloat(0.0f));
+    // Where n.V was raised the steps leave the plane; project them back onto it.
+    a = a - n * dot(n, a);
+    b = b - n * dot(n, b);
+    du = a * (t * P.invFx);
+    dv = b * (t * P.invFy);
+}
+
+// The offset to a neighbouring texel's surface point (side: +-1 along x or y), and whether
+// it is a surface. viewOffset keeps it exact where the depth is large.
+lvec3 discStep(lint x, lint y, lvec3 ray, lfloat depth, int sx, int sy, OUT(lbool) surface) {
+    lfloat depthS = surfaceDepth(x + sx, y + sy, surface);
+    return viewOffset(ray, depth, lvec2(lfloat(float(sx) * P.invFx), lfloat(-float(sy) * P.invFy)), depthS);
+}
+
+// The shorter of the steps to the two neighbours along one axis that are surfaces (across a
+// depth step, the far side is the longer); `found`: at least one is.
+lvec3 discShortStep(lvec3 back, lbool backOk, lvec3 ahead, lbool aheadOk, OUT(lbool) found) {
+    found = backOk || aheadOk;
+    lbool takeAhead = aheadOk && (!backOk || dot(ahead, ahead) < dot(back, back));
+    return select(takeAhead, ahead, back * -1.0f);
+}
+
+// The level-0 element of buffer texel (x, y); area 0 where it is not a surface. Its normal is
+// the depth's own (the cross product of the shorter steps to its neighbours) wherever those
+// steps are no longer than three footprints of the shading normal: elements must lie in each
+// other's tangent planes where the surface is smooth, and shading normals need not (a smooth-
+// shaded cylinder averages its caps into its sides; a facet bends them). Elsewhere (edges,
+// one-pixel features) the pass's normal stays.
+void discBase(lint x, lint y, OUT(lvec3) pos, OUT(lvec3) n, OUT(lfloat) area) {
+    lbool surface;
+    lfloat depth = surfaceDepth(x, y, surface);
+    lvec3 ray = viewRay(lvec2(lfloat(x + P.originX) + 0.5f, lfloat(y + P.originY) + 0.5f));
+    lvec3 V = viewVector(ray);
+    pos = positionOnRay(ray, depth);
+    n = viewNormal(gatherNormal(x, y, surface), V);
+    lvec3 du;
+    lvec3 dv;
+    discAxes(ray, pos, n, du, dv);
+    lbool leftOk;
+    lbool rightOk;
+    lbool upOk;
+    lbool downOk;
+    lvec3 left = discStep(x, y, ray, depth, -1, 0, leftOk);
+    lvec3 right = discStep(x, y, ray, depth, 1, 0, rightOk);
+    lvec3 up = discStep(x, y, ray, depth, 0, -1, upOk);
+    lvec3 down = discStep(x, y, ray, depth, 0, 1, downOk);
+    lbool alongX;
+    lbool alongY;
+    lvec3 sx = discShortStep(left, leftOk, right, rightOk, alongX);
+    lvec3 sy = discShortStep(up, upOk, down, downOk, alongY);
+    lvec3 g = cross(sy, sx);
+    lfloat g2 = dot(g, g);
+    lbool fromDepth = surface && alongX && alongY && g2 > 0.0f && dot(sx, sx) < 9.0f * dot(du, du) &&
+                    dot(sy, sy) < 9.0f * dot(dv, dv);
+    g = g * inversesqrt(select(fromDepth, g2, lfloat(1.0f)));
+    g = select(dot(g, V) < 0.0f, g * -1.0f, g);
+    n = select(fromDepth, g, n);
+    discAxes(ray, pos, n, du, dv);
+    lvec3 c = cross(du, dv);
+    area = select(surface, sqrt(dot(c, c)), lfloat(0.0f));
+}
+
+// Open weight of a node `dist` node sizes from the receiver: smooth from 1 at k (where every
+// grandparent of a visited node is still fully open, as k >= k/2 + 1/2) to 0 at k + 1/2 (the
+// edge of the block the finer window covers). Without blending: open inside that block, by index.
+lfloat discOpen(lfloat dist, lfloat indexDist) {
+    float k = float(P.discWindow);
+    if (P.discBlend == 0) {
+        return select(indexDist < k + 0.5f, lfloat(1.0f), lfloat(0.0f));
+    }
+    lfloat s = clamp((dist - k) * 2.0f, 0.0f, 1.0f);
+    return 1.0f - s * s * (3.0f - 2.0f * s);
+}
+
+// Share of an element at distance d inside R (binary visibility, or W = 1 - r/R for linear
+// falloff): a ramp across the element's radius, so elements straddling R count in part.
+lfloat discRangeWeight(lfloat d, lfloat area) {
+    lfloat inside = clamp(0.5f + (P.radius - d) * (0.5f * inversesqrt(max(area * (1.0f / PI), 1e-30f))), 0.0f, 1.0f);
+    if (P.linearFalloff != 0) {
+        inside = inside * max(1.0f - d * (1.0f / P.radius), 0.0f);
+    }
+    return inside;
+}
+
+// Cosine-weighted form factor of a disc (area A, normal ne) at v from the receiver: exact
+// for a disc facing the receiver on its axis, A / (A + pi d^2), and A cos cos / (pi d^2) far
+// away. The emitter's side does not matter: a surface seen from behind stands for its solid.
+lfloat discFormFactor(lvec3 v, lfloat d2, lvec3 nr, lvec3 ne, lfloat area) {
+    lfloat invD = inversesqrt(max(d2, 1e-30f));
+    lfloat cosR = max(dot(nr, v) * invD - DISC_HORIZON, 0.0f);
+    lfloat cosE = abs(dot(ne, v)) * invD;
+    lfloat projected = cosE * area;
+    // The receiver's own pixel (d = 0, no polygon) has cosR = 0 and must not give 0 / 0.
+    return cosR * projected / max(PI * d2 + projected, 1e-30f);
+}
+
+// Lambert's term of one polygon edge a -> b seen from the origin: the angle it subtends times
+// the receiver normal's component along the edge plane's unit normal.
+lfloat discEdgeTerm(lvec3 a, lvec3 b, lvec3 nr) {
+    lvec3 c = cross(a, b);
+    lfloat s2 = dot(c, c);
+    return atan(sqrt(s2), dot(a, b)) * dot(nr, c) * inversesqrt(max(s2, 1e-36f));
+}
+
+// One edge a -> b (heights ha, hb above the clip plane) clipped to the part above it; adds
+// its term and records where the boundary leaves (exitP) and re-enters (entryP) the half-space.
+void discClipEdge(lvec3 a, lfloat ha, lvec3 b, lfloat hb, lvec3 nr, INOUT(lfloat) sum, INOUT(lvec3) exitP,
+                  INOUT(lvec3) entryP) {
+    lbool inA = ha > 0.0f;
+    lbool inB = hb > 0.0f;
+    lfloat denom = ha - hb;
+    denom = select(abs(denom) > 1e-30f, denom, lfloat(1.0f));
+    lvec3 crossing = a + (b - a) * (ha / denom);
+    lvec3 s0 = select(inA, a, crossing);
+    lvec3 s1 = select(inB, b, crossing);
+    sum += select(inA || inB, discEdgeTerm(s0, s1, nr), lfloat(0.0f));
+    exitP = select(inA && !inB, crossing, exitP);
+    entryP = select(inB && !inA, crossing, entryP);
+}
+
+// Exact form factor of a node's footprint quad, clipped to the receiver's upper half-space
+// (correction b): Lambert's formula, |sum of edge terms| / 2 pi. The quad is the image on the
+// node's tangent plane of its screen block (node (ex, ey) of `level`), scaled to its area
+// (a block part sky keeps its shape, smaller). The clip plane is raised by DISC_HORIZON of
+// the distance, as the discs' horizon is.
+lfloat discPolygonFormFactor(lvec3 xr, lvec3 nr, lvec3 e, lvec3 ne, lfloat area, lint ex, lint ey, int level) {
+    float size = float(1 << level);
+    lvec3 ray = viewRay(lvec2((lfloat(ex) + 0.5f) * size + float(P.originX), (lfloat(ey) + 0.5f) * size + float(P.originY)));
+    lvec3 du;
+    lvec3 dv;
+    discAxes(ray, e, ne, du, dv);
+    lvec3 n = cross(du, dv);
+    lfloat scale = 0.5f * sqrt(area * inversesqrt(max(dot(n, n), 1e-36f)));
+    du = du * scale;
+    dv = dv * scale;
+    lvec3 c = e - xr;
+    lvec3 q0 = c - du - dv;
+    lvec3 q1 = c + du - dv;
+    lvec3 q2 = c + du + dv;
+    lvec3 q3 = c - du + dv;
+    lfloat lift = DISC_HORIZON * sqrt(dot(c, c));
+    lfloat h0 = dot(nr, q0) - lift;
+    lfloat h1 = dot(nr, q1) - lift;
+    lfloat h2 = dot(nr, q2) - lift;
+    lfloat h3 = dot(nr, q3) - lift;
+    lfloat sum = lfloat(0.0f);
+    lvec3 exitP = c;
+    lvec3 entryP = c;
+    discClipEdge(q0, h0, q1, h1, nr, sum, exitP, entryP);
+    discClipEdge(q1, h1, q2, h2, nr, sum, exitP, entryP);
+    discClipEdge(q2, h2, q3, h3, nr, sum, exitP, entryP);
+    discClipEdge(q3, h3, q0, h0, nr, sum, exitP, entryP);
+    lbool crossed = (h0 > 0.0f || h1 > 0.0f || h2 > 0.0f || h3 > 0.0f) &&
+                    !(h0 > 0.0f && h1 > 0.0f && h2 > 0.0f && h3 > 0.0f);
+    sum += select(crossed, discEdgeTerm(exitP, entryP, nr), lfloat(0.0f));
+    return abs(sum) * (1.0f / TWO_PI);
+}
+
+// A disc closer than this many radii is replaced by its polygon: there the disc's form factor
+// saturates towards cos(receiver) whatever part of the hemisphere the element really covers
+// (a floor seen at a grazing angle, merged into nodes far larger in the world than on screen).
+CONST_GLOBAL float DISC_NEAR_RADII = 3.0f;
+
+// The element of pyramid texel `index` (node (ex, ey) of `level`): its occlusion of the
+// receiver (xr, nr), `weight` included; `polygon`: always the exact footprint form factor.
+lfloat discContribution(lvec3 xr, lvec3 nr, lint index, lbool use, lfloat weight, bool polygon, lint ex, lint ey,
+                        int level) {
+    lvec3 e = gatherDisc3(index, 0, use);
+    lfloat area = gatherDisc(index, 3, use);
+    lvec3 ne = gatherDisc3(index, 4, use);
+    lvec3 v = e - xr;
+    lfloat d2 = dot(v, v);
+    lfloat ff = discFormFactor(v, d2, nr, ne, area);
+    lbool near = use && d2 * PI < (DISC_NEAR_RADII * DISC_NEAR_RADII) * area;
+    if (polygon) {
+        near = use;
+    }
+    if (P.discPolygon != 0 && anyLane(near)) {
+        ff = select(near, discPolygonFormFactor(xr, nr, e, ne, area, ex, ey, level), ff);
+    }
+    ff = ff * discRangeWeight(sqrt(d2), area) * weight;
+    if (P.discVisibility != 0) {
+        ff = ff * gatherDisc(index, 7, use);
+    }
+    return select(use && area > 0.0f, ff, lfloat(0.0f));
+}
+
+// How far, in pixels, the sphere of radius R around a receiver at view position xr reaches on
+// the screen: R f / sqrt(z^2 - R^2) on the axis, stretched by up to 1 + tan^2 of the ray's
+// angle off it, with a quarter for the stretch across the sphere; capped by maxRadiusPixels.
+// The host bounds the frame's top level with the same expression (cpu/discs_cpu.cpp).
+lfloat discReachPixels(lvec3 xr) {
+    float cap = P.maxRadiusPixels + 2.0f;
+    float f = max(P.fx, P.fy);
+    if (P.orthographic != 0) {
+        return lfloat(min(1.25f * P.radius * f + 2.0f, cap));
+    }
+    lfloat z = -xr.z;
+    lfloat tan2 = (xr.x * xr.x + xr.y * xr.y) / max(z * z, 1e-30f);
+    lfloat reach = (1.25f * P.radius * f) * (1.0f + tan2) * inversesqrt(max(z * z - P.radius * P.radius, 1e-30f)) + 2.0f;
+    return select(z > 1.01f * P.radius, min(reach, lfloat(cap)), lfloat(cap));
+}
+
+// The receiver's top level: the coarsest whose window (2k nodes each way beyond the
+// receiver's own) covers its reach, at most P.discTop.
+lint discTopLevel(lvec3 xr) {
+    lfloat reach = discReachPixels(xr);
+    lint top = lint(0);
+    for (int level = 1; level <= P.discTop; ++level) {
+        top = top + select(float(2 * P.discWindow) * float(1 << (level - 1)) < reach, lint(1), lint(0));
+    }
+    return top;
+}
+
+lfloat discsLanes(lint x, lint y) {
+    lbool inside = insideBuffer(x, y);
+    lint self = x + y * P.width;
+    lfloat areaR = gatherDisc(self, 3, inside);
+    lbool computing = inside && areaR > 0.0f;
+    if (!anyLane(computing)) {
+        return lfloat(1.0f);
+    }
+    lvec3 xr = gatherDisc3(self, 0, computing);
+    lvec3 nr = gatherDisc3(self, 4, computing);
+    lint topLevel = discTopLevel(xr);
+    lfloat px = lfloat(x) + 0.5f;
+    lfloat py = lfloat(y) + 0.5f;
+    int k = P.discWindow;
+    int span = 4 * k + 2;
+    lfloat occlusion = lfloat(0.0f);
+    for (int level = P.discTop; level >= 0; --level) {
+        // Lanes whose top is coarser go on; at its top a lane takes its nodes whole.
+        lbool visiting = computing && !(topLevel < lint(level));
+        if (!anyLane(visiting)) {
+            continue;
+        }
+        lbool top = !(topLevel > lint(level));
+        float size = float(1 << level);
+        int levelW = discLevelWidth(level);
+        int levelH = discLevelHeight(level);
+        int levelOffset = discOffsetOf(level);
+        // The window: the children of the (2k + 1)^2 nodes around the receiver's parent.
+        lint bx = ((x >> (level + 1)) << 1) - 2 * k;
+        lint by = ((y >> (level + 1)) << 1) - 2 * k;
+        for (int j = 0; j < span; ++j) {
+            lint ny = by + j;
+            lfloat dy = abs((lfloat(ny) + 0.5f) * size - py);
+            lfloat pdy = abs((lfloat(ny >> 1) + 0.5f) * (2.0f * size) - py);
+            lfloat idy = abs(lfloat(ny - (y >> level)));
+            lfloat pidy = abs(lfloat((ny >> 1) - (y >> (level + 1))));
+            for (int i = 0; i < span; ++i) {
+                lint nx = bx + i;
+                lbool use = visiting && nx >= 0 && ny >= 0 && nx < levelW && ny < levelH;
+                lfloat weight = lfloat(1.0f);
+                if (level > 0) {
+                    lfloat dist = max(abs((lfloat(nx) + 0.5f) * size - px), dy) * (1.0f / size);
+                    lfloat idist = max(abs(lfloat(nx - (x >> level))), idy);
+                    weight = 1.0f - discOpen(dist, idist);
+                }
+                lfloat pdist = max(abs((lfloat(nx >> 1) + 0.5f) * (2.0f * size) - px), pdy) * (0.5f / size);
+                lfloat pidist = max(abs(lfloat((nx >> 1) - (x >> (level + 1)))), pidy);
+                weight = weight * select(top, lfloat(1.0f), discOpen(pdist, pidist));
+                if (level == 0 && P.discPolygon != 0) {
+                    // The 3 x 3 pixels around the receiver are the polygon loop's below.
+                    weight = select(max(abs(lfloat(nx - x)), idy) < 1.5f, lfloat(0.0f), weight);
+                }
+                use = use && weight > 0.0f;
+                if (anyLane(use)) {
+                    occlusion += discContribution(xr, nr, levelOffset + nx + ny * levelW, use, weight, false, nx, ny, level);
+                }
+            }
+        }
+    }
+    if (P.discPolygon != 0) {
+        for (int j = -1; j <= 1; ++j) {
+            for (int i = -1; i <= 1; ++i) {
+                if (i != 0 || j != 0) {
+                    lint ex = x + i;
+                    lint ey = y + j;
+                    lbool use = computing && insideBuffer(ex, ey);
+                    occlusion += discContribution(xr, nr, ex + ey * P.width, use, lfloat(1.0f), true, ex, ey, 0);
+                }
+            }
+        }
+    }
+    return select(computing, clamp(1.0f - occlusion, 0.0f, 1.0f), 1.0f);
+}

@@ -1,0 +1,165 @@
+// Disc AO (kernels/discs.glsl): analytic properties on both devices, the instruction sets
+// against the pixel-at-a-time build and the corrections' switches (CPU/GL parity: test_gl_parity).
+#include "core/error.h"
+#include "core/operator.h"
+#include "cpu/discs_cpu.h"
+#include "cpu/lane_cpu.h"
+#include "support/cli_runner.h"
+#include "support/closed_forms.h"
+#include "support/scenes.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+using namespace obscura;
+using namespace obscura::test;
+using glm::dvec3;
+
+namespace {
+
+const char* kDevices[] = {"cpu", "gl-osmesa"};
+
+Settings discsSettings(const char* device, float radius) {
+    Settings s;
+    s.method = "discs";
+    s.device = device;
+    s.radius = radius;
+    s.weighting = Weighting::Cosine;
+    s.falloff = Falloff::None;
+    return s;
+}
+
+// Mean AO over the floor pixels on the line at distance d from the corner's wall.
+double cornerLine(const SceneBuffers& sb, const Image& ao, double d) {
+    double sum = 0;
+    int n = 0;
+    for (double z = -1.0; z <= 1.0; z += 0.05) {
+        int x, y;
+        if (!sb.pixelOf(dvec3(-d, 0, z), x, y)) continue;
+        sum += *ao.at(x, y);
+        ++n;
+    }
+    EXPECT_GT(n, 20);
+    return sum / std::max(n, 1);
+}
+
+SceneBuffers cornerView(int W, int H) {
+    return renderScene(cornerScene(), lookAtPerspective(dvec3(-7, 6, 4), dvec3(-0.6, 0, 0), 40.0 * M_PI / 180, W, H),
+                       W, H);
+}
+
+double maxAbsDiff(const Image& a, const Image& b) {
+    double m = 0;
+    for (size_t i = 0; i < a.pixels.size(); ++i) m = std::max(m, (double)std::abs(a.pixels[i] - b.pixels[i]));
+    return m;
+}
+
+} // namespace
+
+// An open plane's elements lie in every receiver's tangent plane: form factor 0, AO exactly
+// 1, for a pinhole at several tilts and an orthographic camera, every switch, both devices.
+TEST(Discs, OpenPlaneIsExactlyUnoccluded) {
+    const int W = 96, H = 72;
+    const dvec3 target(0.3, 0, -0.2);
+    std::vector<Camera> cams;
+    for (double elevationDeg : {3.0, 30.0, 89.0}) {
+        const double e = elevationDeg * M_PI / 180;
+        cams.push_back(lookAtPerspective(target + 6.0 * dvec3(std::cos(e), std::sin(e), 0.4), target, 50.0 * M_PI / 180,
+                                         W, H));
+    }
+    cams.push_back(lookAtOrthographic(target + dvec3(4, 5, 3), target, 6.0, W, H));
+    for (const Camera& cam : cams) {
+        const SceneBuffers sb = renderScene({planeRect(dvec3(0), dvec3(1, 0, 0), dvec3(0, 0, 1), 1e6)}, cam, W, H);
+        for (const char* device : kDevices)
+            for (float R : {0.01f, 0.5f, 100.0f})
+                for (int variant = 0; variant < 4; ++variant) {
+                    Settings s = discsSettings(device, R);
+                    s.discsWindow = 1 + variant % 2;
+                    s.discsPasses = variant == 1 ? 2 : 1;
+                    s.discsNoPolygon = variant == 2;
+                    s.discsHardLevels = variant == 3;
+                    const Image ao = runOperator(sb.inputs(), s).ao;
+                    EXPECT_EQ(*std::min_element(ao.pixels.begin(), ao.pixels.end()), 1.0f)
+                        << device << " R " << R << " variant " << variant;
+                }
+    }
+}
+
+// Floor next to a wall: along lines at distance d the AO approaches the closed form as the
+// window grows. Measured errors (all too light): 0.026-0.041 two pixels from the crease
+// (d = 0.05, a pixel being 0.025 here), then for d >= 0.2 at most 0.024 (k 1), 0.013 (k 2),
+// 0.0075 (k 3), 0.0056 (k 4). Bounds add margin; a lost or double-counted level costs > 0.1.
+TEST(Discs, CornerApproachesTheClosedForm) {
+    const SceneBuffers sb = cornerView(320, 240);
+    const double bound[] = {0.03, 0.02, 0.012, 0.01};
+    for (int k = 1; k <= 4; ++k) {
+        Settings s = discsSettings("cpu", 1.0f);
+        s.discsWindow = k;
+        const Image ao = runOperator(sb.inputs(), s).ao;
+        for (double d : {0.05, 0.2, 0.4, 0.7, 1.5}) {
+            const double expected = cornerAo(Weighting::Cosine, Falloff::None, d);
+            EXPECT_NEAR(cornerLine(sb, ao, d), expected, d < 0.1 ? 0.05 : bound[k - 1]) << "k " << k << " d " << d;
+        }
+    }
+}
+
+// Every instruction set's traversal (and level 0 of the pyramid) equals the pixel-at-a-time
+// build within float rounding (FMA contraction, the lane atan and inverse square root).
+TEST(Discs, EveryInstructionSetMatchesThePixelAtATimeBuild) {
+    const std::vector<std::string> isas = cpu::laneIsas();
+    ASSERT_GE(isas.size(), 2u);
+    const int W = 157, H = 101;  // partial registers at row ends
+    for (bool ortho : {false, true}) {
+        const Camera cam = ortho ? lookAtOrthographic(dvec3(4, 5, 9), dvec3(-1, 0.6, -3), 12.0, W, H) : studioCamera(W, H);
+        const SceneBuffers sb = renderScene(studioScene(), cam, W, H);
+        for (int variant = 0; variant < 3; ++variant) {
+            Settings s = discsSettings("cpu", 1.0f);
+            s.discsNoPolygon = variant == 1;
+            s.discsHardLevels = variant == 2;
+            KernelParams p = makeKernelParams(sb.inputs(), s);
+            cpu::DiscPyramid pyramid = cpu::buildDiscPyramid(p, sb.depth.view(), sb.normal.view(), 2);
+            Image reference(W, H, 1);
+            cpu::runDiscs(p, pyramid, reference.view(), 1, "scalar");
+            ASSERT_LT(*std::min_element(reference.pixels.begin(), reference.pixels.end()), 0.9f);
+            for (size_t i = 1; i < isas.size(); ++i) {
+                Image ao(W, H, 1);
+                cpu::runDiscs(p, pyramid, ao.view(), 2, isas[i]);
+                for (float v : ao.pixels) ASSERT_TRUE(v >= 0.0f && v <= 1.0f) << v;
+                EXPECT_LT(maxAbsDiff(ao, reference), 1e-4) << isas[i] << (ortho ? " ortho" : " persp") << " " << variant;
+            }
+        }
+    }
+}
+
+// Each correction changes the result where it should: the second pass only lightens (every
+// element's weight is its AO <= 1), and the others move the corner's AO.
+TEST(Discs, CorrectionsAreSwitches) {
+    const SceneBuffers sb = cornerView(160, 120);
+    const Image base = runOperator(sb.inputs(), discsSettings("cpu", 1.0f)).ao;
+    Settings s = discsSettings("cpu", 1.0f);
+    s.discsPasses = 2;
+    const Image second = runOperator(sb.inputs(), s).ao;
+    for (size_t i = 0; i < base.pixels.size(); ++i) ASSERT_GE(second.pixels[i], base.pixels[i] - 1e-6f);
+    EXPECT_GT(maxAbsDiff(base, second), 0.02);
+    s = discsSettings("cpu", 1.0f);
+    s.discsNoPolygon = true;
+    EXPECT_GT(maxAbsDiff(base, runOperator(sb.inputs(), s).ao), 1e-3);
+    s = discsSettings("cpu", 1.0f);
+    s.discsHardLevels = true;
+    EXPECT_GT(maxAbsDiff(base, runOperator(sb.inputs(), s).ao), 1e-3);
+}
+
+// Parameters outside the table's ranges are one-line command-line errors (exit 2, docs/cli.md).
+TEST(Discs, BadParametersAreUsageErrors) {
+    for (std::vector<std::string> bad : {std::vector<std::string>{"--disc-window", "0"}, {"--disc-window", "5"},
+                                         {"--disc-passes", "3"}}) {
+        std::vector<std::string> args = {"in.exr", "-o", "out.exr", "--method", "discs"};
+        args.insert(args.end(), bad.begin(), bad.end());
+        const CliResult r = runProgram(OBSCURA_CLI_PATH, args);
+        EXPECT_EQ(r.exitCode, 2) << bad[0] << " " << bad[1];
+        EXPECT_EQ(r.err.rfind("obscura: ", 0), 0u) << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    }
+}
