@@ -7,7 +7,7 @@
 // world -> environment axes and the rotation. Elsewhere SSDO only sees the depth buffer
 // (no geometry behind the visible surface or off screen), so the whole image is held to a
 // PSNR floor instead.
-#include "support/cli_runner.h"
+#include "support/reference_runs.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
@@ -20,16 +20,10 @@
 #include <vector>
 
 namespace fs = std::filesystem;
+using obscura::test::referenceRenderPath;
 using obscura::test::runProgram;
 
 namespace {
-
-// The build tree: OBSCURA_CLI_PATH is <build>/plugin/obscura, reference_render is
-// <build>/examples/reference/reference_render.
-std::string referenceRenderPath() {
-    const fs::path cli(OBSCURA_CLI_PATH);
-    return (cli.parent_path().parent_path() / "examples" / "reference" / "reference_render").string();
-}
 
 std::string tmpPath(const std::string& name) { return (fs::path(OBSCURA_TEST_TMP) / ("do_reference_" + name)).string(); }
 

@@ -14,17 +14,6 @@ using glm::dvec3;
 
 namespace {
 
-Settings hbaoSettings(Weighting w, Falloff f, float radius, int dirs = 8, int steps = 8) {
-    Settings s;
-    s.radius = radius;
-    s.directions = dirs;
-    s.steps = steps;
-    s.weighting = w;
-    s.falloff = f;
-    s.threads = 2;
-    return s;
-}
-
 struct Case {
     Weighting w;
     Falloff f;

@@ -15,12 +15,8 @@ using glm::dvec3;
 namespace {
 
 Settings borderSettings(int border, Weighting w = Weighting::Cosine) {
-    Settings s;
-    s.radius = 1.0f;
-    s.weighting = w;
-    s.falloff = Falloff::None;
+    Settings s = hbaoSettings(w, Falloff::None, 1.0f);
     s.border = border;
-    s.threads = 2;
     return s;
 }
 

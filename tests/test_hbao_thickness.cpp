@@ -3,16 +3,14 @@
 // the occluder really is solid, and thin poles get closer to a ray-traced reference.
 #include "core/operator.h"
 #include "support/closed_forms.h"
-#include "support/cli_runner.h"
+#include "support/reference_runs.h"
 #include "support/scenes.h"
 
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <unistd.h>
 
 using namespace obscura;
@@ -23,14 +21,8 @@ namespace fs = std::filesystem;
 namespace {
 
 Settings binarySettings(Weighting w, float radius, float thickness, int dirs = 8, int steps = 8) {
-    Settings s;
-    s.radius = radius;
-    s.directions = dirs;
-    s.steps = steps;
-    s.weighting = w;
-    s.falloff = Falloff::None;
+    Settings s = hbaoSettings(w, Falloff::None, radius, dirs, steps);
     s.thickness = thickness;
-    s.threads = 2;
     return s;
 }
 
@@ -110,20 +102,10 @@ TEST(HbaoThickness, ThinPolesGetCloserToTheReference) {
     const fs::path dir = fs::path(OBSCURA_TEST_TMP) / ("hbao-thick-" + std::to_string(::getpid()));
     fs::create_directories(dir);
     const std::string ref = (dir / "poles.exr").string();
-    const fs::path build = fs::path(OBSCURA_CLI_PATH).parent_path().parent_path();
-    const CliResult r = runProgram((build / "examples" / "reference" / "reference_render").string(),
-                                   {"--scene", "poles", "-o", ref, "--width", "200", "--height", "150", "--ao-rays",
-                                    "256", "--gi-rays", "1", "--quiet"});
+    const CliResult r = renderReferenceScene("poles", ref, 200, 150);
     ASSERT_EQ(r.exitCode, 0) << r.err;
     auto psnr = [&](const std::string& thickness) {
-        const std::string report = (dir / "report.json").string();
-        const CliResult c = runProgram(OBSCURA_CLI_PATH, {ref, "-o", (dir / "out.exr").string(), "--radius", "0.5",
-                                                          "--weighting", "cosine", "--falloff", "none", "--quality",
-                                                          "high", "--thickness", thickness, "--reference",
-                                                          "Reference.AO_cosine_none", "--report", report, "--quiet"});
-        EXPECT_EQ(c.exitCode, 0) << c.err;
-        std::ifstream in(report);
-        return nlohmann::json::parse(in)["reference"]["psnr_db"].get<double>();
+        return psnrAgainstCosineReference(ref, dir, 0.5f, {"--quality", "high", "--thickness", thickness});
     };
     const double horizon = psnr("inf"), thin = psnr("0.1"), automatic = psnr("auto");
     std::printf("poles 200x150: hbao high, thickness inf %.2f dB, 0.1 %.2f dB, auto %.2f dB\n", horizon, thin, automatic);

@@ -3,16 +3,14 @@
 // and its command-line errors.
 #include "core/operator.h"
 #include "cpu/rtao_cpu.h"
-#include "support/cli_runner.h"
+#include "support/reference_runs.h"
 #include "support/closed_forms.h"
 #include "support/scenes.h"
 
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <unistd.h>
 
 using namespace obscura;
@@ -152,22 +150,9 @@ TEST(Rtao, ThinPolesBeatHbaoAgainstTheReference) {
     const fs::path dir = fs::path(OBSCURA_TEST_TMP) / ("rtao-" + std::to_string(::getpid()));
     fs::create_directories(dir);
     const std::string ref = (dir / "poles.exr").string();
-    const fs::path build = fs::path(OBSCURA_CLI_PATH).parent_path().parent_path();
-    const CliResult r = runProgram((build / "examples" / "reference" / "reference_render").string(),
-                                   {"--scene", "poles", "-o", ref, "--width", "200", "--height", "150", "--ao-rays",
-                                    "256", "--gi-rays", "1", "--quiet"});
+    const CliResult r = renderReferenceScene("poles", ref, 200, 150);
     ASSERT_EQ(r.exitCode, 0) << r.err;
-    auto psnr = [&](std::vector<std::string> method) {
-        const std::string report = (dir / "report.json").string();
-        std::vector<std::string> args = {ref, "-o", (dir / "out.exr").string(), "--radius", "0.5", "--weighting",
-                                         "cosine", "--falloff", "none", "--reference", "Reference.AO_cosine_none",
-                                         "--report", report, "--quiet"};
-        args.insert(args.end(), method.begin(), method.end());
-        const CliResult c = runProgram(OBSCURA_CLI_PATH, args);
-        EXPECT_EQ(c.exitCode, 0) << c.err;
-        std::ifstream in(report);
-        return nlohmann::json::parse(in)["reference"]["psnr_db"].get<double>();
-    };
+    auto psnr = [&](const std::vector<std::string>& method) { return psnrAgainstCosineReference(ref, dir, 0.5f, method); };
     const double hbao = psnr({"--method", "hbao", "--quality", "high", "--thickness", "inf"});
     const double rtao = psnr({"--method", "rtao", "--quality", "high", "--thickness", "0.1"});
     std::printf("poles 200x150: hbao high %.2f dB, rtao high --thickness 0.1 %.2f dB\n", hbao, rtao);

@@ -175,4 +175,15 @@ SceneBuffers renderScene(const std::vector<Rect>& rects, const Camera& cam, Box2
     return sb;
 }
 
+Settings hbaoSettings(Weighting w, Falloff f, float radius, int dirs, int steps) {
+    Settings s;
+    s.radius = radius;
+    s.directions = dirs;
+    s.steps = steps;
+    s.weighting = w;
+    s.falloff = f;
+    s.threads = 2;
+    return s;
+}
+
 } // namespace obscura::test

@@ -56,4 +56,7 @@ Camera benchRoomCamera(int width, int height);
 // The rectangle of a plane through `point` spanned by unit vectors s, t, `half` units each way.
 Rect planeRect(glm::dvec3 point, glm::dvec3 s, glm::dvec3 t, double half = 1e4);
 
+// HBAO settings for analytic tests: weighting, falloff, radius, slices x steps, 2 threads.
+Settings hbaoSettings(Weighting w, Falloff f, float radius, int dirs = 8, int steps = 8);
+
 } // namespace obscura::test
