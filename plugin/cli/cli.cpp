@@ -395,7 +395,7 @@ bool outputComplete(const std::string& path, const std::string& aoChannel) {
 int runSequence(const Options& o) {
     if (!isFramePattern(o.job.output)) throw UsageError("the input is a sequence: -o needs a pattern too (e.g. out.####.exr)");
     const std::vector<int> frames = o.frames.empty() ? existingFrames(o.job.input) : parseFrames(o.frames);
-    if (frames.empty()) throw Error("no frames match '" + o.job.input + "'");
+    if (frames.empty()) throw FileError(o.job.input, "no frames match");
     const bool tty = ::isatty(2);
     const auto start = std::chrono::steady_clock::now();
     int done = 0, skipped = 0;
@@ -413,7 +413,11 @@ int runSequence(const Options& o) {
                 throw;
             } catch (const std::exception& e) {
                 if (tty && !o.quiet) std::fputc('\n', stderr);
-                throw Error("frame " + std::to_string(frames[i]) + ": " + e.what());
+                // 'FILE': what, with the frame number after the file it names.
+                const std::string prefix = "'" + job.input + "': ", what = e.what();
+                const bool named = what.rfind(prefix, 0) == 0;
+                throw FileError(job.input, "frame " + std::to_string(frames[i]) + ": " +
+                                               (named ? what.substr(prefix.size()) : what));
             }
             ++done;
         }
