@@ -288,6 +288,42 @@ double decodedBytes(const exr_attr_chlist_t* chlist, const exr_attr_box2i_t& dat
     return bytes;
 }
 
+// Every attribute's size against the file's: OpenEXR's C++ API allocates and fills what a size
+// field claims (a 2 GB string attribute takes it half a minute) before it finds the file short.
+// Only the sizes are checked; anything else malformed is left to the libraries to report.
+void checkAttributeSizes(const std::string& path) {
+    std::ifstream f(path, std::ios::binary);
+    std::error_code ec;
+    const long long fileBytes = (long long)fs::file_size(path, ec);
+    unsigned char version[8];
+    if (ec || !f.read(reinterpret_cast<char*>(version), 8)) return;
+    const bool multipart = (version[5] & 0x10) != 0;
+    auto readName = [&](std::string& out) {
+        out.clear();
+        for (char c; f.get(c);) {
+            if (c == 0) return true;
+            if (out.size() >= 255) return false;
+            out.push_back(c);
+        }
+        return false;
+    };
+    std::string name, type;
+    for (;;) {
+        if (!readName(name)) return;
+        if (name.empty()) {  // end of a header; a multipart file ends its list with an empty one
+            if (!multipart || f.peek() == 0) return;
+            continue;
+        }
+        int32_t size = 0;
+        if (!readName(type) || !f.read(reinterpret_cast<char*>(&size), 4)) return;
+        const long long end = (long long)f.tellg() + size;
+        if (size < 0 || end > fileBytes)
+            throw FileError(path, "truncated or corrupt: attribute '" + name + "' claims " + std::to_string(size) +
+                                      " bytes, past the end of the file (" + std::to_string(fileBytes) + " bytes)");
+        f.seekg(end);
+    }
+}
+
 // The windows, from the header alone: OpenEXR's core API reads no chunk table, where the C++
 // API sizes and reads one from the windows as it opens a file. A header the core API refuses
 // is left to the C++ API to report.
@@ -348,6 +384,7 @@ void checkWindowsBeforeOpening(const std::string& path, long long maxPixels) {
 
 ExrInfo readExrInfo(const std::string& path, long long maxPixels) {
     checkMagic(path);
+    checkAttributeSizes(path);
     checkWindowsBeforeOpening(path, maxPixels);
     ensureThreads();
     ExrInfo info;
