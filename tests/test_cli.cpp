@@ -693,6 +693,12 @@ TEST_F(UsageFixture, BadNumber) {
                        {"--radius"});
 }
 
+TEST_F(UsageFixture, BadFramesListIsACommandLineError) {
+    const std::string pattern = (dir / "in.####.exr").string(), outs = (dir / "out.####.exr").string();
+    expectCleanFailure(cli({pattern, "-o", outs, "--frames", "5-1"}), 2, out, {"--frames", "'5-1' is an empty range"});
+    expectCleanFailure(cli({pattern, "-o", outs, "--frames", "x"}), 2, out, {"--frames", "cannot read 'x'"});
+}
+
 TEST_F(UsageFixture, BadCameraMatrixCount) {
     expectCleanFailure(cli({in, "-o", out.string(), "--fov-deg", "70", "--camera-to-world", "1,0,0"}), 2, out,
                        {"--camera-to-world"});

@@ -394,7 +394,14 @@ bool outputComplete(const std::string& path, const std::string& aoChannel) {
 // A frame sequence, with a progress line and --resume; stops at the first failing frame.
 int runSequence(const Options& o) {
     if (!isFramePattern(o.job.output)) throw UsageError("the input is a sequence: -o needs a pattern too (e.g. out.####.exr)");
-    const std::vector<int> frames = o.frames.empty() ? existingFrames(o.job.input) : parseFrames(o.frames);
+    std::vector<int> frames;
+    try {
+        frames = o.frames.empty() ? existingFrames(o.job.input) : parseFrames(o.frames);
+    } catch (const FileError&) {
+        throw;
+    } catch (const Error& e) {  // a --frames list that does not parse: the command line
+        throw UsageError(e.what());
+    }
     if (frames.empty()) throw FileError(o.job.input, "no frames match");
     const bool tty = ::isatty(2);
     const auto start = std::chrono::steady_clock::now();
