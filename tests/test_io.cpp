@@ -607,7 +607,11 @@ TEST(ExrErrors, TruncatedFiles) {
         part.channels = {{"Z", Imf::FLOAT, 1, 1, {}}};
         std::string full = tmp(tiled ? "full-t.exr" : "full-s.exr"), cut = tmp(tiled ? "cut-t.exr" : "cut-s.exr");
         writeFixture(full, {part});
+        // 60% of the file cannot hold 64 x 64 uncompressed floats: refused from the header.
         truncatedCopy(full, cut, fileSize(full) * 6 / 10);
+        expectError([&] { readExrInfo(cut); }, {"'" + cut + "': data window [0,0 - 63,63] decodes to 16384 bytes"});
+        // Cut in its last chunk: the header passes, the pixels are found missing.
+        truncatedCopy(full, cut, fileSize(full) - 100);
         ExrInfo info = readExrInfo(cut);  // header intact
         expectError([&] { readExrChannels(cut, info, {{0, "Z"}}, false, nullptr); },
                     {"'" + cut + "': truncated or corrupt"});
