@@ -21,6 +21,9 @@ void put64(Bytes& b, std::size_t at, std::uint64_t v) {
     if (at + 8 <= b.size()) std::memcpy(b.data() + at, &v, 8);
 }
 
+// a + d with two's-complement wrap-around, as the header's int32 fields hold it (no overflow).
+std::int32_t wrapAdd(std::int32_t a, std::int64_t d) { return (std::int32_t)(std::uint32_t)((std::int64_t)a + d); }
+
 // Reads a NUL-terminated string at `at`; false past the end.
 bool readName(const Bytes& b, std::size_t& at, std::string& out) {
     out.clear();
@@ -53,8 +56,8 @@ void editWindow(Bytes& b, const HeaderMap& h, std::mt19937_64& rng, std::string&
     case 0: x1 = y1 = 99999; break;                                   // huge
     case 1: std::swap(x0, x1); break;                                 // inverted
     case 2: x0 = INT_MIN; x1 = INT_MAX; break;                        // width overflows
-    case 3: x0 += (int)(rng() % 9) - 4; y1 += (int)(rng() % 9) - 4; break;  // off by a few
-    case 4: x0 += 1 << 30; x1 += 1 << 30; break;                      // far away
+    case 3: x0 = wrapAdd(x0, (int)(rng() % 9) - 4); y1 = wrapAdd(y1, (int)(rng() % 9) - 4); break;  // off by a few
+    case 4: x0 = wrapAdd(x0, 1 << 30); x1 = wrapAdd(x1, 1 << 30); break;  // far away
     default: (rng() % 2 ? x0 : y1) = nastyInt(rng); break;
     }
     put32(b, v, x0), put32(b, v + 4, y0), put32(b, v + 8, x1), put32(b, v + 12, y1);
@@ -95,7 +98,7 @@ void editByteAttr(Bytes& b, const HeaderMap& h, std::mt19937_64& rng, const char
 void editChunkCount(Bytes& b, const HeaderMap& h, std::mt19937_64& rng, std::string& what) {
     const Attribute* a = pick(h, rng, "chunkCount");
     if (!a || a->size != 4) return;
-    const std::int32_t v = rng() % 2 ? get32(b, a->value) + (int)(rng() % 5) - 2 : nastyInt(rng);
+    const std::int32_t v = rng() % 2 ? wrapAdd(get32(b, a->value), (int)(rng() % 5) - 2) : nastyInt(rng);
     put32(b, a->value, v);
     what += " chunkCount=" + std::to_string(v);
 }
