@@ -76,6 +76,9 @@ void expectCleanFailure(const CliResult& r, int exitCode, const fs::path& output
     EXPECT_EQ(r.exitCode, exitCode) << describe(r);
     EXPECT_EQ(r.err.rfind("obscura: ", 0), 0u) << describe(r);
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "not exactly one line:\n" << describe(r);
+    if (exitCode == 1) {  // a failure (not a usage error) names the file at fault first
+        EXPECT_TRUE(std::regex_search(r.err, std::regex("^obscura: '[^\n]+': [^\n]+\n$"))) << describe(r);
+    }
     EXPECT_TRUE(!r.err.empty() && r.err.back() == '\n') << describe(r);
     for (const std::string& m : mentions) EXPECT_TRUE(contains(r.err, m)) << "'" << m << "' not in: " << r.err;
     if (!output.empty()) {
@@ -456,6 +459,49 @@ TEST(CliBadInput, BrokenSidecarNamedOnOneLine) {
     EXPECT_FALSE(contains(r.err, "json.exception")) << r.err;
 }
 
+// Every failure a file or a flag naming a file can cause reads "obscura: 'FILE': what", FILE
+// the one at fault, exit 1, and leaves nothing behind.
+TEST(CliBadInput, EveryFailureNamesTheFileAtFault) {
+    const fs::path dir = testDir();
+    const SceneBuffers s = cornerScene(32, 24);
+    const std::string in = writeGeneric(dir, "in.exr", planesOf(s));
+    const std::string out = (dir / "out.exr").string(), missing = (dir / "nope.exr").string();
+    const std::string notExr = (dir / "notes.exr").string(), cut = (dir / "cut.exr").string();
+    std::ofstream(notExr) << "not pixels\n";
+    truncatedCopy(in, cut, fileSize(in) / 2);
+    const std::string json = (dir / "broken.json").string();
+    std::ofstream(json) << "{\"camera_to_world\": 3}";
+    const std::string noDir = (dir / "no_such_dir").string();
+    const std::vector<std::string> cam = cameraFlags(s);
+    struct Case {
+        std::vector<std::string> args;
+        std::string file, what;
+    };
+    const std::vector<Case> cases = {
+        {{missing, "-o", out}, missing, "cannot open: no such file"},
+        {{dir.string(), "-o", out}, dir.string(), "cannot open: it is a directory"},
+        {{notExr, "-o", out}, notExr, "not an OpenEXR file"},
+        {cat({cut, "-o", out}, cam), cut, "truncated or corrupt"},
+        {cat({in, "-o", noDir + "/o.exr"}, cam), noDir + "/o.exr", "cannot write: directory"},
+        {cat({in, "-o", out, "--report", noDir + "/r.json"}, cam), noDir + "/r.json", "cannot write: directory"},
+        {cat({in, "-o", out, "--preview", noDir + "/p.png"}, cam), noDir + "/p.png", "cannot write: directory"},
+        {{in, "-o", out, "--camera", json}, json, "camera sidecar"},
+        {{in, "-o", out, "--camera", missing}, missing, "cannot open the camera sidecar"},
+        {cat({in, "-o", out, "--method", "ssdo", "--env", missing}, cam), missing, "cannot read the environment map"},
+        {cat({in, "-o", out, "--layer", "normal=nope"}, cam), in, "--layer normal=nope: no layer or channel 'nope'"},
+        {cat({in, "-o", out, "--reference", "nope"}, cam), in, "no reference layer 'nope'"},
+        {cat({in, "-o", in}, cam), in, "refusing to overwrite the input"},
+        {cat({in, "-o", out, "--method", "ssdo", "--bounce"}, cam), in, "no direct-diffuse layer for the bounce"},
+        {cat({(dir / "seq.####.exr").string(), "-o", (dir / "o.####.exr").string()}, cam),
+         (dir / "seq.####.exr").string(), "no frames match"},
+    };
+    for (const Case& c : cases) {
+        const CliResult r = cli(c.args);
+        SCOPED_TRACE(c.args[0] + " ... " + c.args.back());
+        expectCleanFailure(r, 1, out, {"obscura: '" + c.file + "': ", c.what});
+    }
+}
+
 struct BrokenFrame {
     SceneBuffers scene = cornerScene(48, 32);
     Planes planes = planesOf(scene);
@@ -645,6 +691,12 @@ TEST_F(UsageFixture, BadNumber) {
                        {"--directions"});
     expectCleanFailure(cli(cat({in, "-o", out.string(), "--radius", "nan"}, cameraFlags(scene))), 2, out,
                        {"--radius"});
+}
+
+TEST_F(UsageFixture, BadFramesListIsACommandLineError) {
+    const std::string pattern = (dir / "in.####.exr").string(), outs = (dir / "out.####.exr").string();
+    expectCleanFailure(cli({pattern, "-o", outs, "--frames", "5-1"}), 2, out, {"--frames", "'5-1' is an empty range"});
+    expectCleanFailure(cli({pattern, "-o", outs, "--frames", "x"}), 2, out, {"--frames", "cannot read 'x'"});
 }
 
 TEST_F(UsageFixture, BadCameraMatrixCount) {

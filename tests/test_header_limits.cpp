@@ -1,5 +1,6 @@
 // Windows in a header are checked before anything is allocated: against --max-pixels and
 // against the size of the file, for the input and for an environment map.
+#include "io/exr_file.h"
 #include "support/cli_runner.h"
 #include "support/exr_fixtures.h"
 #include "support/scratch.h"
@@ -74,6 +75,35 @@ TEST(HeaderLimits, WindowLargerThanTheFileCanHoldIsRefused) {
     const std::string in = frameWithDataWindow(dir, 0, 0, 15999, 11999);
     ASSERT_LT(fileSize(in), 6000u);
     expectOneLine(cli(run(in, dir, {})), {in, "data window [0,0 - 15999,11999]", "chunk table", "the file has"});
+}
+
+// 16384 x 1024 (under the limit; 64 ZIP chunks, a 512-byte table the file has) of 4 float
+// channels decode to 268 MB: more than a file of a few kB holds at deflate's best (1032:1).
+TEST(HeaderLimits, WindowDecodingToMoreThanTheFileCanHoldIsRefused) {
+    const fs::path dir = obscura::test::testDir("limits");
+    const std::string in = frameWithDataWindow(dir, 0, 0, 16383, 1023);
+    ASSERT_LT(fileSize(in), 10000u);
+    expectOneLine(cli(run(in, dir, {})),
+                  {in + "': data window [0,0 - 16383,1023] decodes to 268435456 bytes", "can hold", "1032:1"});
+    expectOneLine(cli({in, "--inspect"}), {in + "': data window", "decodes to"});
+    EXPECT_FALSE(fs::exists(dir / "out.exr"));
+}
+
+// The bound never refuses a real file: zero-filled channels, each codec's best case, read.
+TEST(HeaderLimits, MostCompressibleFilesOfEveryCodecAreRead) {
+    const fs::path dir = obscura::test::testDir("limits");
+    const auto zero = [](int, int) { return 0.0f; };
+    for (int c = 0; c < Imf::NUM_COMPRESSION_METHODS; ++c)
+        for (Imf::PixelType type : {Imf::HALF, Imf::FLOAT}) {
+            FixturePart part;
+            part.displayWindow = part.dataWindow = Imath::Box2i(Imath::V2i(0, 0), Imath::V2i(1023, 1023));
+            part.compression = (Imf::Compression)c;
+            for (const char* name : {"R", "G", "B", "Z"}) part.channels.push_back({name, type, 1, 1, zero});
+            const std::string path = (dir / ("zero_" + std::to_string(c) + ".exr")).string();
+            writeFixture(path, {part});
+            EXPECT_NO_THROW(obscura::readExrInfo(path)) << "codec " << c << (type == Imf::HALF ? " half" : " float")
+                                                        << ", " << fileSize(path) << " bytes";
+        }
 }
 
 TEST(HeaderLimits, MaxPixelsIsTheUsersLimit) {

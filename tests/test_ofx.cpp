@@ -1018,6 +1018,17 @@ TEST(OfxSsdo, EnvironmentMapFromFileMatchesOperator) {
     HostImage frame(OfxRectI{0, 0, kW, kH}, 4);
     EXPECT_EQ(l.inst->render({0, 0, 16, 16}, frame), kOfxStatFailed);
     EXPECT_EQ(l.host->liveImages(), 0);
+
+    // A Radiance header claiming 20000 x 20000 pixels (and no pixels) is refused before the
+    // 4.8 GB it claims are allocated.
+    std::ofstream(dir / "huge_env.hdr") << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 20000 +X 20000\n";
+    ASSERT_EQ(l.inst->setString("envMap", (dir / "huge_env.hdr").string()), kOfxStatOK);
+    EXPECT_EQ(l.inst->render({0, 0, 16, 16}, frame), kOfxStatFailed);
+    const std::vector<std::string> msgs = l.host->messages();
+    ASSERT_FALSE(msgs.empty());
+    EXPECT_NE(msgs.back().find("huge_env.hdr': the environment map holds 20000 x 20000 pixels"), std::string::npos)
+        << msgs.back();
+    EXPECT_EQ(l.host->liveImages(), 0);
 }
 
 // ---------------------------------------------------------------------------

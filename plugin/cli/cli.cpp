@@ -400,8 +400,15 @@ void writeFailureReport(const FrameJob& job, int frame, const std::string& repor
 // A frame sequence, with a progress line and --resume; stops at the first failing frame.
 int runSequence(const Options& o) {
     if (!isFramePattern(o.job.output)) throw UsageError("the input is a sequence: -o needs a pattern too (e.g. out.####.exr)");
-    const std::vector<int> frames = o.frames.empty() ? existingFrames(o.job.input) : parseFrames(o.frames);
-    if (frames.empty()) throw Error("no frames match '" + o.job.input + "'");
+    std::vector<int> frames;
+    try {
+        frames = o.frames.empty() ? existingFrames(o.job.input) : parseFrames(o.frames);
+    } catch (const FileError&) {
+        throw;
+    } catch (const Error& e) {  // a --frames list that does not parse: the command line
+        throw UsageError(e.what());
+    }
+    if (frames.empty()) throw FileError(o.job.input, "no frames match");
     const bool tty = ::isatty(2);
     const auto start = std::chrono::steady_clock::now();
     int done = 0, skipped = 0;
@@ -422,9 +429,12 @@ int runSequence(const Options& o) {
                 throw;
             } catch (const std::exception& e) {
                 if (tty && !o.quiet) std::fputc('\n', stderr);
-                const std::string message = "frame " + std::to_string(frames[i]) + ": " + e.what();
                 writeFailureReport(job, frames[i], reportPath, e.what());
-                throw Error(message);
+                // 'FILE': what, with the frame number after the file it names.
+                const std::string prefix = "'" + job.input + "': ", what = e.what();
+                const bool named = what.rfind(prefix, 0) == 0;
+                throw FileError(job.input, "frame " + std::to_string(frames[i]) + ": " +
+                                               (named ? what.substr(prefix.size()) : what));
             }
             ++done;
         }

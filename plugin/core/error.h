@@ -7,4 +7,19 @@ namespace obscura {
 struct Error : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
+
+// A failure a file caused, in the one form users and scripts parse: 'FILE': what is wrong.
+// Hosts name the input for an Error that names no file (see blameInput in io/frame_job.h).
+struct FileError : Error {
+    FileError(const std::string& path, const std::string& what) : Error("'" + path + "': " + what) {}
+};
+
+// The first line of a library's message (OpenImageIO, OpenColorIO), trailing spaces and dots
+// dropped: users get one line.
+inline std::string firstLineOf(std::string s, const char* ifEmpty = "unknown error") {
+    const auto nl = s.find_first_of("\r\n");
+    if (nl != std::string::npos) s.resize(nl);
+    while (!s.empty() && (s.back() == ' ' || s.back() == '.')) s.pop_back();
+    return s.empty() ? std::string(ifEmpty) : s;
+}
 } // namespace obscura

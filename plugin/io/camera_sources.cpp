@@ -181,72 +181,77 @@ glm::dmat4 cameraToWorldFromRows(const std::array<double, 16>& v, const std::str
 }
 
 // A finite number at j[key], or one line naming the sidecar and the key.
-static double sidecarNumber(const nlohmann::json& j, const char* key, const std::string& where) {
-    if (!j.contains(key)) throw Error(where + " has no \"" + key + "\"");
+static double sidecarNumber(const nlohmann::json& j, const char* key, const std::string& path,
+                            const std::string& where) {
+    if (!j.contains(key)) throw FileError(path, where + " has no \"" + key + "\"");
     if (!j[key].is_number() || !std::isfinite(j[key].get<double>()))
-        throw Error(where + ": \"" + key + "\" must be a finite number");
+        throw FileError(path, where + ": \"" + key + "\" must be a finite number");
     return j[key].get<double>();
 }
 
 Camera cameraFromSidecar(const std::string& path, Box2i display, double pixelAspect) {
-    const std::string where = "'" + path + "': camera sidecar";
+    const std::string where = "camera sidecar";
     std::ifstream in(path);
-    if (!in) throw Error("'" + path + "': cannot open the camera sidecar");
+    if (!in) throw FileError(path, "cannot open the camera sidecar");
     nlohmann::json j;
     try {
         in >> j;
     } catch (const nlohmann::json::parse_error& e) {
-        throw Error(where + " is not valid JSON (at byte " + std::to_string(e.byte) + ")");
+        throw FileError(path, where + " is not valid JSON (at byte " + std::to_string(e.byte) + ")");
     } catch (const std::exception&) {
-        throw Error(where + " is not valid JSON");
+        throw FileError(path, where + " is not valid JSON");
     }
-    if (!j.is_object()) throw Error(where + " is not a JSON object");
+    if (!j.is_object()) throw FileError(path, where + " is not a JSON object");
     const std::string rowsMessage = where + ": \"camera_to_world\" must be 4 rows of 4 numbers (or 16 numbers)";
-    if (!j.contains("camera_to_world") || !j["camera_to_world"].is_array()) throw Error(rowsMessage);
+    if (!j.contains("camera_to_world") || !j["camera_to_world"].is_array()) throw FileError(path, rowsMessage);
     const auto& m = j["camera_to_world"];
     std::vector<const nlohmann::json*> flat;
     if (m.size() == 4) {
         for (const auto& row : m) {
-            if (!row.is_array() || row.size() != 4) throw Error(rowsMessage);
+            if (!row.is_array() || row.size() != 4) throw FileError(path, rowsMessage);
             for (const auto& v : row) flat.push_back(&v);
         }
     } else if (m.size() == 16) {
         for (const auto& v : m) flat.push_back(&v);
     } else {
-        throw Error(rowsMessage);
+        throw FileError(path, rowsMessage);
     }
     std::array<double, 16> rows{};
     for (int i = 0; i < 16; ++i) {
-        if (!flat[i]->is_number()) throw Error(rowsMessage);
+        if (!flat[i]->is_number()) throw FileError(path, rowsMessage);
         rows[i] = flat[i]->get<double>();
     }
     std::string projection = "persp";
     if (j.contains("projection")) {
-        if (!j["projection"].is_string()) throw Error(where + ": \"projection\" must be \"persp\" or \"ortho\"");
+        if (!j["projection"].is_string()) throw FileError(path, where + ": \"projection\" must be \"persp\" or \"ortho\"");
         projection = j["projection"].get<std::string>();
     }
     Camera c;
     if (projection == "persp" || projection == "PERSP" || projection == "perspective") {
-        const double fov = sidecarNumber(j, "horizontal_fov_rad", where);
-        if (!(fov > 0 && fov < kPi)) throw Error(where + ": horizontal_fov_rad must be in (0, pi)");
+        const double fov = sidecarNumber(j, "horizontal_fov_rad", path, where);
+        if (!(fov > 0 && fov < kPi)) throw FileError(path, where + ": horizontal_fov_rad must be in (0, pi)");
         c = Camera::perspectiveFromFov(fov, display.width(), display.height(), pixelAspect);
     } else if (projection == "ortho" || projection == "ORTHO" || projection == "orthographic") {
-        const double width = sidecarNumber(j, "ortho_width", where);
-        if (!(width > 0)) throw Error(where + ": ortho_width must be positive");
+        const double width = sidecarNumber(j, "ortho_width", path, where);
+        if (!(width > 0)) throw FileError(path, where + ": ortho_width must be positive");
         c = Camera::orthographic(width, display.width(), display.height(), pixelAspect);
     } else {
-        throw Error(where + ": projection is not supported (persp or ortho)");
+        throw FileError(path, where + ": projection is not supported (persp or ortho)");
     }
     if (j.contains("width") && j.contains("height") && j["width"].is_number() && j["height"].is_number()) {
         const double w = j["width"].get<double>(), h = j["height"].get<double>();
         const double displayAspect = double(display.width()) / display.height();
         if (!(w > 0 && h > 0 && std::isfinite(w / h)) || std::fabs((w / h) / displayAspect - 1) > 0.01)
-            throw Error(where + " is for a " + fmt(w) + "x" + fmt(h) + " frame, the image is " +
+            throw FileError(path, where + " is for a " + fmt(w) + "x" + fmt(h) + " frame, the image is " +
                         std::to_string(display.width()) + "x" + std::to_string(display.height()));
     }
     c.cx += display.x0;
     c.cy += display.y0;
-    c.cameraToWorld = cameraToWorldFromRows(rows, where);
+    try {
+        c.cameraToWorld = cameraToWorldFromRows(rows, where);
+    } catch (const Error& e) {
+        throw FileError(path, e.what());
+    }
     c.hasPose = true;
     c.source = "sidecar:" + path;
     return c;

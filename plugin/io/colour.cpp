@@ -24,12 +24,7 @@ namespace OCIO = OCIO_NAMESPACE;
 namespace obscura {
 namespace {
 
-std::string firstLine(std::string s) {
-    auto nl = s.find_first_of("\r\n");
-    if (nl != std::string::npos) s.resize(nl);
-    while (!s.empty() && (s.back() == ' ' || s.back() == '.')) s.pop_back();
-    return s.empty() ? std::string("unknown OpenColorIO error") : s;
-}
+std::string firstLine(const std::string& s) { return firstLineOf(s, "unknown OpenColorIO error"); }
 
 // "ACES - ACEScg" -> "acesacescg": lower case, letters and digits only, so spellings
 // differing in case, spaces, '-', '_', '.', '(' compare equal.
@@ -156,14 +151,14 @@ struct ColourManager::Impl {
     mutable std::vector<std::pair<std::string, OCIO::ConstCPUProcessorRcPtr>> cpu;
 
     Impl(const std::string& configPath, const std::string& origin) : path(configPath) {
-        const std::string what = "cannot load OpenColorIO config " + path + (origin.empty() ? "" : " (" + origin + ")");
+        const std::string what = "cannot load the OpenColorIO config" + (origin.empty() ? "" : " (" + origin + ")");
         try {
             config = OCIO::Config::CreateFromFile(path.c_str());
         } catch (const std::exception& e) {
-            throw Error(what + ": " + firstLine(e.what()));
+            throw FileError(path, what + ": " + firstLine(e.what()));
         }
         auto sceneLinear = config->getColorSpace(OCIO::ROLE_SCENE_LINEAR);
-        if (!sceneLinear) throw Error(what + ": it has no scene_linear role (the working space)");
+        if (!sceneLinear) throw FileError(path, what + ": it has no scene_linear role (the working space)");
         working = sceneLinear->getName();
         auto dataSpace = config->getColorSpace(OCIO::ROLE_DATA);
         data = dataSpace ? dataSpace->getName() : "raw";
@@ -178,7 +173,7 @@ struct ColourManager::Impl {
         try {
             p = make()->getOptimizedCPUProcessor(OCIO::OPTIMIZATION_LOSSLESS);
         } catch (const OCIO::Exception& e) {
-            throw Error("OpenColorIO (" + path + "): " + firstLine(e.what()));
+            throw FileError(path, "OpenColorIO: " + firstLine(e.what()));
         }
         cpu.emplace_back(key, p);
         return p;
@@ -217,8 +212,8 @@ std::string configFromEnvironmentOrShipped(std::string* origin) {
     const std::string shipped = ColourManager::shippedConfigPath();
     if (shipped.empty()) {
 #ifdef OBSCURA_DEFAULT_OCIO_CONFIG
-        throw Error("cannot load OpenColorIO config: $OCIO is not set and the shipped config " +
-                    std::string(OBSCURA_DEFAULT_OCIO_CONFIG) + " does not exist");
+        throw FileError(OBSCURA_DEFAULT_OCIO_CONFIG, "cannot load the OpenColorIO config: $OCIO is not set and "
+                                                     "the shipped config does not exist");
 #else
         throw Error("cannot load OpenColorIO config: $OCIO is not set and no shipped config was found");
 #endif
@@ -444,13 +439,13 @@ std::vector<StringAttribute> ColourManager::tagOutputPart(Imf::Header& header, i
 
 std::string ColourManager::defaultDisplay() const {
     const char* d = impl_->config->getDefaultDisplay();
-    if (!d || !*d) throw Error("OpenColorIO config " + impl_->path + " defines no display");
+    if (!d || !*d) throw FileError(impl_->path, "the OpenColorIO config defines no display");
     return d;
 }
 
 std::string ColourManager::defaultView(const std::string& display) const {
     const char* v = impl_->config->getDefaultView(display.c_str());
-    if (!v || !*v) throw Error("OpenColorIO config " + impl_->path + " has no view for display '" + display + "'");
+    if (!v || !*v) throw FileError(impl_->path, "the OpenColorIO config has no view for display '" + display + "'");
     return v;
 }
 
@@ -478,7 +473,7 @@ void ColourManager::applyDisplayView(Image& img, const std::string& displayIn, c
 void ColourManager::writeDisplayPreview(const std::string& path, const Image& rgbWorking, const std::string& displayIn,
                                         const std::string& viewIn) const {
     if (rgbWorking.empty() || rgbWorking.channels < 3)
-        throw Error("cannot write preview " + path + ": it needs an RGB image");
+        throw FileError(path, "cannot write the preview: it needs an RGB image");
     const std::string display = displayIn.empty() ? defaultDisplay() : displayIn;
     const std::string view = viewIn.empty() ? defaultView(display) : viewIn;
     Image rgb(rgbWorking.width, rgbWorking.height, 3);

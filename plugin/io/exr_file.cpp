@@ -127,15 +127,15 @@ void checkMagic(const std::string& path) {
     std::ifstream f(path, std::ios::binary);
     if (!f) {
         int err = errno;
-        if (!fs::exists(path)) throw Error("cannot open " + quoted(path) + ": no such file");
-        throw Error("cannot open " + quoted(path) + ": " + std::strerror(err));
+        if (!fs::exists(path)) throw FileError(path, "cannot open: no such file");
+        throw FileError(path, std::string("cannot open: ") + std::strerror(err));
     }
-    if (fs::is_directory(path)) throw Error("cannot open " + quoted(path) + ": it is a directory");
+    if (fs::is_directory(path)) throw FileError(path, "cannot open: it is a directory");
     unsigned char m[4] = {0, 0, 0, 0};
     f.read(reinterpret_cast<char*>(m), 4);
     unsigned magic = m[0] | (m[1] << 8) | (m[2] << 16) | ((unsigned)m[3] << 24);
     if (f.gcount() != 4 || magic != 20000630u)
-        throw Error(quoted(path) + " is not an OpenEXR file");
+        throw FileError(path, "not an OpenEXR file");
 }
 
 } // namespace
@@ -238,7 +238,7 @@ void checkWindow(const std::string& path, const char* which, const Imath::Box2i&
                  long long minFileBytes, long long fileBytes) {
     const long long width = (long long)w.max.x - w.min.x + 1, height = (long long)w.max.y - w.min.y + 1;
     auto fail = [&](const std::string& why) {
-        throw Error(quoted(path) + ": " + which + " window [" + std::to_string(w.min.x) + "," + std::to_string(w.min.y) +
+        throw FileError(path, std::string(which) + " window [" + std::to_string(w.min.x) + "," + std::to_string(w.min.y) +
                     " - " + std::to_string(w.max.x) + "," + std::to_string(w.max.y) + "] " + why);
     };
     if (width <= 0 || height <= 0) fail("is empty or inverted");
@@ -251,6 +251,78 @@ void checkWindow(const std::string& path, const char* which, const Imath::Box2i&
 }
 
 namespace {
+
+// The most a codec can shrink pixel data (decoded bytes per stored byte), from how each works:
+// RLE stores a run of at most 127 bytes in 2; deflate (ZIP, ZIPS) gains at most 1032:1; PIZ's
+// Huffman stage codes a run of at most 256 values in no fewer than 10 bits (measured: 402:1 on
+// zeros), bounded here by deflate's 1032; PXR24 first drops a float to 24 bits, then deflates;
+// B44 stores a 4x4 block of halves in at least 3 bytes; DWA keeps one deflated DC value and at
+// least one deflated or Huffman-coded AC end code per 8x8 block (64 floats in >= 4/1032 bytes).
+// Zero-filled 2048^2 files measure below each: 60 (RLE), 954 (ZIP), 1241 (PXR24), 10.7 (B44A),
+// 3456 (DWAB).
+double maxCompressionRatio(exr_compression_t c) {
+    switch (c) {
+    case EXR_COMPRESSION_NONE: return 1;
+    case EXR_COMPRESSION_RLE: return 64;
+    case EXR_COMPRESSION_ZIPS:
+    case EXR_COMPRESSION_ZIP:
+    case EXR_COMPRESSION_PIZ: return 1032;
+    case EXR_COMPRESSION_PXR24: return 1032 * 4.0 / 3.0;
+    case EXR_COMPRESSION_B44:
+    case EXR_COMPRESSION_B44A: return 32.0 / 3.0;
+    default: return 64 * 1032.0;  // DWAA, DWAB (and any later codec): 256 bytes in 4/1032
+    }
+}
+
+// Bytes the channels of `chlist` decode to over `data` (level 0), or -1 if a sampling is invalid
+// (left to the C++ API to report).
+double decodedBytes(const exr_attr_chlist_t* chlist, const exr_attr_box2i_t& data) {
+    double bytes = 0;
+    for (int c = 0; c < chlist->num_channels; ++c) {
+        const exr_attr_chlist_entry_t& e = chlist->entries[c];
+        if (e.x_sampling < 1 || e.y_sampling < 1) return -1;
+        const double nx = sampleCount(data.min.x, (int)std::min<long long>(INT_MAX, data.max.x + 1LL), e.x_sampling);
+        const double ny = sampleCount(data.min.y, (int)std::min<long long>(INT_MAX, data.max.y + 1LL), e.y_sampling);
+        bytes += std::max(0.0, nx) * std::max(0.0, ny) * (e.pixel_type == EXR_PIXEL_HALF ? 2 : 4);
+    }
+    return bytes;
+}
+
+// Every attribute's size against the file's: OpenEXR's C++ API allocates and fills what a size
+// field claims (a 2 GB string attribute takes it half a minute) before it finds the file short.
+// Only the sizes are checked; anything else malformed is left to the libraries to report.
+void checkAttributeSizes(const std::string& path) {
+    std::ifstream f(path, std::ios::binary);
+    std::error_code ec;
+    const long long fileBytes = (long long)fs::file_size(path, ec);
+    unsigned char version[8];
+    if (ec || !f.read(reinterpret_cast<char*>(version), 8)) return;
+    const bool multipart = (version[5] & 0x10) != 0;
+    auto readName = [&](std::string& out) {
+        out.clear();
+        for (char c; f.get(c);) {
+            if (c == 0) return true;
+            if (out.size() >= 255) return false;
+            out.push_back(c);
+        }
+        return false;
+    };
+    std::string name, type;
+    for (;;) {
+        if (!readName(name)) return;
+        if (name.empty()) {  // end of a header; a multipart file ends its list with an empty one
+            if (!multipart || f.peek() == 0) return;
+            continue;
+        }
+        int32_t size = 0;
+        if (!readName(type) || !f.read(reinterpret_cast<char*>(&size), 4)) return;
+        const long long end = (long long)f.tellg() + size;
+        if (size < 0 || end > fileBytes)
+            throw FileError(path, "truncated or corrupt: attribute '" + name + "' claims " + std::to_string(size) +
+                                      " bytes, past the end of the file (" + std::to_string(fileBytes) + " bytes)");
+        f.seekg(end);
+    }
+}
 
 // The windows, from the header alone: OpenEXR's core API reads no chunk table, where the C++
 // API sizes and reads one from the windows as it opens a file. A header the core API refuses
@@ -270,6 +342,7 @@ void checkWindowsBeforeOpening(const std::string& path, long long maxPixels) {
     int parts = 0;
     if (exr_get_count(ctx, &parts) != EXR_ERR_SUCCESS) return;
     auto box = [](const exr_attr_box2i_t& b) { return Imath::Box2i(Imath::V2i(b.min.x, b.min.y), Imath::V2i(b.max.x, b.max.y)); };
+    double storedAtLeast = 0;  // bytes the parts' pixels need in the file, at their codecs' best
     for (int p = 0; p < parts; ++p) {
         exr_attr_box2i_t data, display;
         int32_t chunks = 0;
@@ -280,6 +353,30 @@ void checkWindowsBeforeOpening(const std::string& path, long long maxPixels) {
         // Every chunk has an 8-byte entry in the offset table: a lower bound on the file size.
         checkWindow(path, "data", box(data), maxPixels, 8LL * chunks, ec ? -1 : fileBytes);
         checkWindow(path, "display", box(display), maxPixels);
+
+        // A window the file is too small to hold, however well compressed: refused before the
+        // readers allocate what the header claims.
+        exr_storage_t storage;
+        exr_compression_t codec;
+        const exr_attr_chlist_t* chlist = nullptr;
+        if (ec || exr_get_storage(ctx, p, &storage) != EXR_ERR_SUCCESS ||
+            (storage != EXR_STORAGE_SCANLINE && storage != EXR_STORAGE_TILED) ||
+            exr_get_compression(ctx, p, &codec) != EXR_ERR_SUCCESS ||
+            exr_get_channels(ctx, p, &chlist) != EXR_ERR_SUCCESS || !chlist)
+            continue;
+        const double bytes = decodedBytes(chlist, data);
+        if (bytes < 0) continue;
+        storedAtLeast += bytes / maxCompressionRatio(codec);
+        if (storedAtLeast > (double)fileBytes) {
+            char ratio[32];
+            std::snprintf(ratio, sizeof ratio, "%.0f", maxCompressionRatio(codec));
+            const Imath::Box2i w = box(data);
+            throw FileError(path, "data window [" + std::to_string(w.min.x) + "," + std::to_string(w.min.y) + " - " +
+                                      std::to_string(w.max.x) + "," + std::to_string(w.max.y) + "] decodes to " +
+                                      std::to_string((long long)bytes) + " bytes, more than the file's " +
+                                      std::to_string(fileBytes) + " bytes can hold (its codec shrinks data " +
+                                      ratio + ":1 at most)");
+        }
     }
 }
 
@@ -287,6 +384,7 @@ void checkWindowsBeforeOpening(const std::string& path, long long maxPixels) {
 
 ExrInfo readExrInfo(const std::string& path, long long maxPixels) {
     checkMagic(path);
+    checkAttributeSizes(path);
     checkWindowsBeforeOpening(path, maxPixels);
     ensureThreads();
     ExrInfo info;
@@ -299,7 +397,7 @@ ExrInfo readExrInfo(const std::string& path, long long maxPixels) {
             const Imf::Header& h = file.header(p);
             std::string type = h.hasType() ? h.type() : Imf::SCANLINEIMAGE;
             if (type == Imf::DEEPSCANLINE || type == Imf::DEEPTILE)
-                throw Error(quoted(path) + " holds deep data (part " + std::to_string(p) +
+                throw FileError(path, "holds deep data (part " + std::to_string(p) +
                             "), which obscura does not support");
             // Again here: a header the core API refused was not checked before opening.
             checkWindow(path, "data", h.dataWindow(), maxPixels, 0, -1);
@@ -318,7 +416,7 @@ ExrInfo readExrInfo(const std::string& path, long long maxPixels) {
     } catch (const Error&) {
         throw;
     } catch (const std::exception& e) {
-        throw Error(quoted(path) + " is truncated or corrupt: cannot read its header (" + detail(e) + ")");
+        throw FileError(path, "truncated or corrupt: cannot read its header (" + detail(e) + ")");
     }
     return info;
 }
@@ -331,9 +429,9 @@ std::vector<Image> readExrChannels(const std::string& path, const ExrInfo& info,
     std::vector<int> wantedIdx;
     for (const ChannelRef& r : wanted) {
         if (r.part < 0 || r.part >= nParts)
-            throw Error(quoted(path) + " has no part " + std::to_string(r.part));
+            throw FileError(path, "no part " + std::to_string(r.part));
         int c = info.parts[r.part].findChannel(r.name);
-        if (c < 0) throw Error(quoted(path) + " has no channel '" + r.name + "'" +
+        if (c < 0) throw FileError(path, "no channel '" + r.name + "'" +
                                (info.multipart ? " in part " + std::to_string(r.part) : std::string()));
         wantedIdx.push_back(c);
     }
@@ -368,18 +466,18 @@ std::vector<Image> readExrChannels(const std::string& path, const ExrInfo& info,
 
     try {
         Imf::MultiPartInputFile file(path.c_str());
-        if (file.parts() != nParts) throw Error(quoted(path) + " changed while being read");
+        if (file.parts() != nParts) throw FileError(path, "changed while being read");
         for (int p = 0; p < nParts; ++p) {
             if (!readIt[p] || info.parts[p].dataWindow.empty()) continue;
             if (!partComplete(file, p, info.parts[p].tiled))
-                throw Error(quoted(path) + " is truncated or corrupt: part " + std::to_string(p) +
+                throw FileError(path, "truncated or corrupt: part " + std::to_string(p) +
                             " is missing pixel data");
             readPart(file, p, info.parts[p], fbs[p]);
         }
     } catch (const Error&) {
         throw;
     } catch (const std::exception& e) {
-        throw Error(quoted(path) + " is truncated or corrupt: " + detail(e));
+        throw FileError(path, "truncated or corrupt: " + detail(e));
     }
 
     std::vector<Image> result;
@@ -505,33 +603,33 @@ void writeExrWithNewChannels(const std::string& outPath, const ExrPixels& in,
                 throw Error("internal: pixels of " + quoted(info.path) + " were not all kept");
     }
     if (!allowOverwriteInput && samePath(outPath, info.path))
-        throw Error("refusing to overwrite the input " + quoted(info.path) + " (use --in-place)");
+        throw FileError(info.path, "refusing to overwrite the input (use --in-place)");
 
     std::vector<std::vector<const NewChannel*>> byPart(nParts);
     for (const NewChannel& nc : add) {
         if (nc.part < 0 || nc.part >= nParts)
-            throw Error("cannot add channel '" + nc.name + "' to " + quoted(outPath) + ": no part " +
+            throw FileError(outPath, "cannot add channel '" + nc.name + "': no part " +
                         std::to_string(nc.part));
         const Box2i& d = info.parts[nc.part].dataWindow;
         if (nc.name.empty() || nc.plane.channels != 1 || nc.plane.width != d.width() ||
             nc.plane.height != d.height())
-            throw Error("cannot add channel '" + nc.name + "' to " + quoted(outPath) +
+            throw FileError(outPath, "cannot add channel '" + nc.name + "'" +
                         ": it needs a name and a 1-channel plane of " +
                         std::to_string(d.width()) + "x" + std::to_string(d.height()) + " (the data window)");
         for (const NewChannel* other : byPart[nc.part])
             if (other->name == nc.name)
-                throw Error("cannot add channel '" + nc.name + "' twice to " + quoted(outPath));
+                throw FileError(outPath, "cannot add channel '" + nc.name + "' twice");
         byPart[nc.part].push_back(&nc);
     }
     for (const StringAttribute& a : attrs)
         if (a.part < 0 || a.part >= nParts)
-            throw Error("cannot add attribute '" + a.name + "' to " + quoted(outPath) + ": no part " +
+            throw FileError(outPath, "cannot add attribute '" + a.name + "': no part " +
                         std::to_string(a.part));
 
     fs::path dir = fs::path(outPath).parent_path();
     if (dir.empty()) dir = ".";
     if (!fs::is_directory(dir))
-        throw Error("cannot write " + quoted(outPath) + ": directory '" + dir.string() + "' does not exist");
+        throw FileError(outPath, "cannot write: directory '" + dir.string() + "' does not exist");
 
     ensureThreads();
     std::string tmp = outPath + ".tmp-" + std::to_string((long)::getpid());
@@ -539,12 +637,12 @@ void writeExrWithNewChannels(const std::string& outPath, const ExrPixels& in,
         writeParts(tmp, in, byPart, attrs);  // file closed when this returns
     } catch (const std::exception& e) {
         std::remove(tmp.c_str());
-        throw Error("cannot write " + quoted(outPath) + ": " + detail(e));
+        throw FileError(outPath, "cannot write: " + detail(e));
     }
     if (std::rename(tmp.c_str(), outPath.c_str()) != 0) {
         int err = errno;
         std::remove(tmp.c_str());
-        throw Error("cannot write " + quoted(outPath) + ": rename failed: " + std::strerror(err));
+        throw FileError(outPath, std::string("cannot write: rename failed: ") + std::strerror(err));
     }
 }
 

@@ -10,7 +10,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <cstdlib>
 #include <fstream>
@@ -47,7 +49,7 @@ std::string findReferenceChannel(const ExrPart& part, const std::string& layer, 
     }
     std::string found;
     for (const std::string& l : listLayers(info)) found += (found.empty() ? "" : "; ") + l;
-    throw Error("'" + info.path + "': no reference layer '" + layer + "'; layers found: " + found);
+    throw FileError(info.path, "no reference layer '" + layer + "'; layers found: " + found);
 }
 
 bool sameFile(const std::string& a, const std::string& b) {
@@ -97,17 +99,17 @@ void validatePixels(const FrameJob& job, const FramePasses& p, float sky, FrameR
     }
     const std::string& path = job.input;
     if (surface > 0 && zeroNormal == surface)
-        throw Error("'" + path + "': the normal pass is zero on every surface pixel; check --layer normal=NAME");
+        throw FileError(path, "the normal pass is zero on every surface pixel; check --layer normal=NAME");
     if (job.badPixels == BadPixelPolicy::Skip) {
         if (badDepth) report.warnings.push_back(std::to_string(badDepth) + " NaN or negative depth pixels treated as holes");
         if (badNormal) report.warnings.push_back(std::to_string(badNormal) + " surface pixels without a usable normal");
         return;
     }
     if (badDepth)
-        throw Error("'" + path + "': depth has " + std::to_string(badDepth) + " NaN or negative pixel(s), first at " +
+        throw FileError(path, "depth has " + std::to_string(badDepth) + " NaN or negative pixel(s), first at " +
                     pixelText(p.data, firstBadDepth, p.depth.width) + "; use --bad-pixels skip to treat them as holes");
     if (badNormal)
-        throw Error("'" + path + "': " + std::to_string(badNormal) +
+        throw FileError(path, "" + std::to_string(badNormal) +
                     " surface pixel(s) have a zero or non-finite normal, first at " +
                     pixelText(p.data, firstBadNormal, p.depth.width) + "; use --bad-pixels skip to accept them");
 }
@@ -121,7 +123,7 @@ std::vector<std::string> rgbChannels(const ExrPart& part, const std::string& lay
         if (part.findChannel(name) < 0) {
             std::string found;
             for (const std::string& l : listLayers(info)) found += (found.empty() ? "" : "; ") + l;
-            throw Error("'" + info.path + "': no " + what + " layer '" + layer + "' with R, G, B; layers found: " +
+            throw FileError(info.path, std::string("no ") + what + " layer '" + layer + "' with R, G, B; layers found: " +
                         found);
         }
         names.push_back(name);
@@ -139,13 +141,13 @@ std::vector<std::string> roleRgb(const LayerPlan& plan, Role role) {
 Image readEnvironmentMap(const std::string& path, const std::string& colourSpace, long long maxPixels,
                          FrameReport& report) {
     auto in = OIIO::ImageInput::open(path);
-    if (!in) throw Error("cannot read environment map '" + path + "': " + OIIO::geterror());
+    if (!in) throw FileError(path, "cannot read the environment map: " + firstLineOf(OIIO::geterror()));
     const OIIO::ImageSpec& spec = in->spec();
-    if (spec.nchannels < 3) throw Error("environment map '" + path + "' has fewer than 3 channels");
+    if (spec.nchannels < 3) throw FileError(path, "the environment map has fewer than 3 channels");
     checkWindow(path, "image", Imath::Box2i(Imath::V2i(0, 0), Imath::V2i(spec.width - 1, spec.height - 1)), maxPixels);
     Image rgb(spec.width, spec.height, 3);
     if (!in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, rgb.pixels.data()))
-        throw Error("cannot read environment map '" + path + "': " + in->geterror());
+        throw FileError(path, "cannot read the environment map: " + firstLineOf(in->geterror()));
     const ColourManager& cm = colourManager();
     const ColourSpaceGuess space = cm.detectColourSpace(colourMetadata(spec), colourSpace);
     if (!space.warning.empty()) report.warnings.push_back("environment: " + space.warning);
@@ -228,12 +230,12 @@ SsdoReads planSsdoReads(const FrameJob& job, const FramePasses& p) {
         if (job.bounceSource == "direct-diffuse") {
             r.radiance = roleRgb(p.plan, Role::DirectDiffuse);
             if (r.radiance.empty())
-                throw Error("'" + job.input + "' has no direct-diffuse layer for the bounce; use --bounce-source beauty "
+                throw FileError(job.input, "no direct-diffuse layer for the bounce; use --bounce-source beauty "
                             "or --layer direct-diffuse=NAME");
             r.senderAlbedo = true;
         } else if (job.bounceSource == "beauty") {
             r.radiance = roleRgb(p.plan, Role::Beauty);
-            if (r.radiance.empty()) throw Error("'" + job.input + "' has no beauty layer for the bounce");
+            if (r.radiance.empty()) throw FileError(job.input, "no beauty layer for the bounce");
         } else {
             r.radiance = rgbChannels(part, job.bounceSource, p.info, "bounce source");
         }
@@ -241,11 +243,11 @@ SsdoReads planSsdoReads(const FrameJob& job, const FramePasses& p) {
     if ((bounce && r.senderAlbedo) || job.writeRelit || job.timesAlbedo) {
         r.albedo = roleRgb(p.plan, Role::Albedo);
         if (r.albedo.empty() && (job.writeRelit || job.timesAlbedo))
-            throw Error("'" + job.input + "' has no albedo layer (needed for relit or --times-albedo); use --layer albedo=NAME");
+            throw FileError(job.input, "no albedo layer (needed for relit or --times-albedo); use --layer albedo=NAME");
     }
     if (job.relitWithDirect) {
         r.directDiffuse = roleRgb(p.plan, Role::DirectDiffuse);
-        if (r.directDiffuse.empty()) throw Error("'" + job.input + "' has no direct-diffuse layer for --relit-direct");
+        if (r.directDiffuse.empty()) throw FileError(job.input, "no direct-diffuse layer for --relit-direct");
     }
     return r;
 }
@@ -254,7 +256,7 @@ void requireOutputDirectory(const std::string& path) {
     const fs::path dir = fs::path(path).parent_path();
     std::error_code ec;
     if (!dir.empty() && !fs::is_directory(dir, ec))
-        throw Error("cannot write '" + path + "': directory '" + dir.string() + "' does not exist");
+        throw FileError(path, "cannot write: directory '" + dir.string() + "' does not exist");
 }
 
 Image interleavePlanes(const std::vector<Image>& planes, size_t first, int channels) {
@@ -268,18 +270,17 @@ Image interleavePlanes(const std::vector<Image>& planes, size_t first, int chann
 
 void writeTextFileAtomically(const std::string& path, const std::string& text) {
     const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
+    auto fail = [&] {
+        const int err = errno;
+        std::remove(tmp.c_str());
+        return FileError(path, std::string("cannot write: ") + std::strerror(err));
+    };
     {
         std::ofstream f(tmp, std::ios::binary);
         f << text << "\n";
-        if (!f.good()) {
-            std::remove(tmp.c_str());
-            throw Error("cannot write '" + path + "'");
-        }
+        if (!f.good()) throw fail();
     }
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-        std::remove(tmp.c_str());
-        throw Error("cannot write '" + path + "'");
-    }
+    if (std::rename(tmp.c_str(), path.c_str()) != 0) throw fail();
 }
 
 std::string frameFailureJson(const FrameJob& job, int frame, const std::string& error) {
@@ -323,8 +324,8 @@ std::string aoChannelName(const std::string& layer) {
     return layer + ".Y";
 }
 
-FramePasses loadFramePasses(const FrameJob& job, bool keepAll, std::vector<StageTiming>* stages,
-                             bool alwaysReadPosition) {
+namespace {
+FramePasses loadPasses(const FrameJob& job, bool keepAll, std::vector<StageTiming>* stages, bool alwaysReadPosition) {
     StageTimer timer{stages, "read"};
     FramePasses p;
     p.info = readExrInfo(job.input, job.maxPixels);
@@ -337,10 +338,10 @@ FramePasses loadFramePasses(const FrameJob& job, bool keepAll, std::vector<Stage
     p.display = part.displayWindow;
     p.data = part.dataWindow;
     p.pixelAspect = part.header.pixelAspectRatio();
-    if (p.data.empty()) throw Error("'" + job.input + "': the data window is empty (0 pixels)");
+    if (p.data.empty()) throw FileError(job.input, "the data window is empty (0 pixels)");
     auto samePixels = [&](const LayerBinding& b) {
         if (p.info.parts[b.part].dataWindow != p.data)
-            throw Error("'" + job.input + "': the " + roleName(b.role) + " layer '" + b.layer +
+            throw FileError(job.input, std::string("the ") + roleName(b.role) + " layer '" + b.layer +
                         "' covers a different data window than the depth");
     };
     samePixels(normal);
@@ -365,7 +366,7 @@ FramePasses loadFramePasses(const FrameJob& job, bool keepAll, std::vector<Stage
         const ExrPart& owner = p.info.parts[c.part];
         const int i = owner.findChannel(c.name);
         if (i >= 0 && (owner.channels[i].xSampling != 1 || owner.channels[i].ySampling != 1))
-            throw Error("'" + job.input + "': channel '" + c.name + "' is subsampled (" +
+            throw FileError(job.input, "channel '" + c.name + "' is subsampled (" +
                         std::to_string(owner.channels[i].xSampling) + "x" + std::to_string(owner.channels[i].ySampling) +
                         "); obscura reads the passes it computes from at full resolution only");
     }
@@ -388,6 +389,13 @@ FramePasses loadFramePasses(const FrameJob& job, bool keepAll, std::vector<Stage
     return p;
 }
 
+} // namespace
+
+FramePasses loadFramePasses(const FrameJob& job, bool keepAll, std::vector<StageTiming>* stages,
+                             bool alwaysReadPosition) {
+    return blameInput(job.input, [&] { return loadPasses(job, keepAll, stages, alwaysReadPosition); });
+}
+
 Camera resolveFrameCamera(const FrameJob& job, const FramePasses& p) {
     CameraRequest request = job.camera;
     request.sidecarPath = sidecarFor(job);
@@ -395,10 +403,11 @@ Camera resolveFrameCamera(const FrameJob& job, const FramePasses& p) {
     return resolveCamera(request, &p.info.parts[p.part].header, position, p.data, p.display, p.pixelAspect);
 }
 
-FrameReport runFrameJob(const FrameJob& job) {
+namespace {
+FrameReport runJob(const FrameJob& job) {
     if (job.output.empty()) throw Error("no output file: give -o OUTPUT.exr");
     if (!job.inPlace && sameFile(job.input, job.output))
-        throw Error("refusing to overwrite the input '" + job.input + "' (use --in-place)");
+        throw FileError(job.input, "refusing to overwrite the input (use --in-place)");
     if (job.inPlace && job.write == WriteMode::New)
         throw Error("--write new cannot replace the input in place: the output holds only the new layers");
     // Every destination is checked before any work, so a bad one leaves nothing behind.
@@ -530,6 +539,12 @@ FrameReport runFrameJob(const FrameJob& job) {
             writePreviewPng(job.previewPath, view, 0);
     }
     return report;
+}
+
+} // namespace
+
+FrameReport runFrameJob(const FrameJob& job) {
+    return blameInput(job.input, [&] { return runJob(job); });
 }
 
 std::string inspectFrame(const FrameJob& job) {

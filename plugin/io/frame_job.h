@@ -2,6 +2,7 @@
 // run the operator, write a copy of the input with the new layers. Shared by the
 // CLI and the Python module; the operator itself never sees a file.
 #pragma once
+#include "core/error.h"
 #include "core/metrics.h"
 #include "core/operator.h"
 #include "io/camera_sources.h"
@@ -9,6 +10,7 @@
 #include "io/layers.h"
 
 #include <map>
+#include <new>
 #include <optional>
 #include <string>
 #include <vector>
@@ -111,6 +113,20 @@ std::vector<std::string> atomicWriteTemps(const std::string& path);
 int removeStaleTemps(const std::string& path);
 // The camera this job would use for these passes.
 Camera resolveFrameCamera(const FrameJob& job, const FramePasses& passes);
+// Runs f(); an error that names no file (a camera, flag or operator problem, a library's
+// exception) is re-thrown as a FileError naming `input`, so every failure reads 'FILE': what.
+template <class F>
+auto blameInput(const std::string& input, F&& f) -> decltype(f()) {
+    try {
+        return f();
+    } catch (const FileError&) {
+        throw;
+    } catch (const std::bad_alloc&) {
+        throw FileError(input, "out of memory");
+    } catch (const std::exception& e) {
+        throw FileError(input, firstLineOf(e.what()));
+    }
+}
 // The full pipeline. Throws obscura::Error (one line) on any failure; nothing is left on disk then.
 FrameReport runFrameJob(const FrameJob& job);
 // --inspect: layers found, roles, conventions and camera, as readable text.

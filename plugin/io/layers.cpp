@@ -265,15 +265,15 @@ LayerBinding resolveOverride(const ExrInfo& info, const std::vector<LayerEntry>&
         std::string prefix;
         if (!layerMatches(e, name, false, &prefix)) continue;
         if (bindLayer(role, e, &b)) return b;
-        throw Error(what + ": layer '" + name + "' in '" + info.path + "' lacks the channels a " +
+        throw FileError(info.path, what + ": layer '" + name + "' lacks the channels a " +
                     roleName(role) + " needs (" + (role == Role::Depth ? "Z/V/R/Y" : "X,Y,Z or R,G,B") + ")");
     }
     if (bindChannel(role, layers, name, &b)) return b;
     for (const LayerEntry& e : layers)
         if (std::find(e.fullNames.begin(), e.fullNames.end(), name) != e.fullNames.end())
-            throw Error(what + ": '" + name + "' in '" + info.path + "' is a single channel; " +
+            throw FileError(info.path, what + ": '" + name + "' is a single channel; " +
                         roleName(role) + " needs a layer (e.g. '" + e.layer + "')");
-    throw Error(what + ": '" + info.path + "' has no layer or channel '" + name +
+    throw FileError(info.path, what + ": no layer or channel '" + name +
                 "'; layers found: " + layersFound(info));
 }
 
@@ -343,7 +343,7 @@ LayerPlan planLayers(const ExrInfo& info, const std::string& preset,
 void requireRoles(const LayerPlan& plan, const ExrInfo& info, const std::vector<Role>& roles) {
     for (Role r : roles)
         if (!plan.find(r))
-            throw Error("'" + info.path + "': no " + roleName(r) + " layer (preset " +
+            throw FileError(info.path, std::string("no ") + roleName(r) + " layer (preset " +
                         plan.preset + "); layers found: " + layersFound(info) + "; use --layer " +
                         roleName(r) + "=NAME");
 }

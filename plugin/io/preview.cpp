@@ -14,12 +14,7 @@
 namespace obscura {
 namespace {
 
-// First line of an OpenImageIO error, so the user sees one line.
-std::string firstLine(std::string s) {
-    auto nl = s.find('\n');
-    if (nl != std::string::npos) s.resize(nl);
-    return s.empty() ? std::string("unknown OpenImageIO error") : s;
-}
+std::string firstLine(const std::string& s) { return firstLineOf(s, "unknown OpenImageIO error"); }
 
 float clamp01(float v) { return std::isnan(v) ? 0.0f : std::min(1.0f, std::max(0.0f, v)); }
 
@@ -36,12 +31,12 @@ void writePngBytes(const std::string& path, const std::string& what, int width, 
     const fs::path target(path);
     const fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
     std::error_code ec;
-    if (!fs::is_directory(dir, ec)) throw Error(what + "directory " + dir.string() + " does not exist");
+    if (!fs::is_directory(dir, ec)) throw FileError(path, what + "directory " + dir.string() + " does not exist");
 
     // The temp name keeps the .png extension so nothing guesses another format.
     const fs::path tmp = dir / ("." + target.filename().string() + ".tmp.png");
     auto out = OIIO::ImageOutput::create("png");
-    if (!out) throw Error(what + firstLine(OIIO::geterror()));
+    if (!out) throw FileError(path, what + firstLine(OIIO::geterror()));
 
     OIIO::ImageSpec spec(width, height, channels, OIIO::TypeDesc::UINT8);
     if (!colourSpaceTag.empty()) spec.attribute("oiio:ColorSpace", colourSpaceTag);  // data previews stay untagged
@@ -53,28 +48,28 @@ void writePngBytes(const std::string& path, const std::string& what, int width, 
     if (!ok) {
         std::string msg = firstLine(out->geterror());
         fs::remove(tmp, ec);
-        throw Error(what + msg);
+        throw FileError(path, what + msg);
     }
     fs::rename(tmp, target, ec);
     if (ec) {
         const std::string msg = ec.message();
         fs::remove(tmp, ec);
-        throw Error(what + msg);
+        throw FileError(path, what + msg);
     }
 }
 
-void requireImage(const Image& img, const std::string& what) {
+void requireImage(const Image& img, const std::string& path, const std::string& what) {
     if (img.empty() || img.width <= 0 || img.height <= 0 || img.channels <= 0)
-        throw Error(what + "the image is empty");
+        throw FileError(path, what + "the image is empty");
 }
 
 } // namespace
 
 void writePreviewPng(const std::string& path, const Image& img, int channel) {
-    const std::string what = "cannot write preview " + path + ": ";
-    requireImage(img, what);
+    const std::string what = "cannot write the preview: ";
+    requireImage(img, path, what);
     if (channel >= img.channels)
-        throw Error(what + "channel " + std::to_string(channel) + " does not exist (the image has " +
+        throw FileError(path, what + "channel " + std::to_string(channel) + " does not exist (the image has " +
                     std::to_string(img.channels) + ")");
 
     const bool rgb = channel < 0 && img.channels >= 3;
@@ -95,8 +90,8 @@ void writePreviewPng(const std::string& path, const Image& img, int channel) {
 }
 
 void writeEncodedPreviewPng(const std::string& path, const Image& img, const std::string& colourSpaceTag) {
-    const std::string what = "cannot write preview " + path + ": ";
-    requireImage(img, what);
+    const std::string what = "cannot write the preview: ";
+    requireImage(img, path, what);
     const int outChannels = img.channels >= 3 ? 3 : 1;
     std::vector<std::uint8_t> bytes(static_cast<std::size_t>(img.width) * img.height * outChannels);
     std::size_t k = 0;

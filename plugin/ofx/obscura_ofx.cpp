@@ -550,14 +550,20 @@ Image toDisplayPlane(const ClipImage& img, const PixRect& r, const FrameMap& f, 
 
 Image readEnvironment(const std::string& path) {
     auto file = OIIO::ImageInput::open(path);
-    if (!file) throw Error("cannot read the environment map '" + path + "': " + OIIO::geterror());
+    if (!file) throw FileError(path, "cannot read the environment map: " + firstLineOf(OIIO::geterror()));
     const OIIO::ImageSpec spec = file->spec();
     if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
-        throw Error("the environment map '" + path + "' has no pixels");
+        throw FileError(path, "the environment map has no pixels");
+    // The header's size is checked before allocating, against the CLI's default --max-pixels.
+    constexpr long long kMaxPixels = 16384LL * 16384;
+    if ((long long)spec.width * spec.height > kMaxPixels)
+        throw FileError(path, "the environment map holds " + std::to_string(spec.width) + " x " +
+                                  std::to_string(spec.height) + " pixels, more than the limit of " +
+                                  std::to_string(kMaxPixels));
     const int chans = std::min(spec.nchannels, 3);
     std::vector<float> pixels((size_t)spec.width * spec.height * chans);
     if (!file->read_image(0, 0, 0, chans, OIIO::TypeDesc::FLOAT, pixels.data()))
-        throw Error("cannot read the environment map '" + path + "': " + file->geterror());
+        throw FileError(path, "cannot read the environment map: " + firstLineOf(file->geterror()));
     file->close();
     Image img(spec.width, spec.height, 3);
     for (size_t i = 0, n = (size_t)spec.width * spec.height; i < n; ++i)
@@ -567,7 +573,7 @@ Image readEnvironment(const std::string& path) {
 
 std::shared_ptr<const Image> environmentFor(const Instance& in, const std::string& path) {
     struct stat st {};
-    if (::stat(path.c_str(), &st) != 0) throw Error("the environment map '" + path + "' does not exist");
+    if (::stat(path.c_str(), &st) != 0) throw FileError(path, "the environment map does not exist");
     const long long mtime = (long long)st.st_mtim.tv_sec * 1000000000LL + st.st_mtim.tv_nsec;
     EnvironmentCache& cache = in.environment;
     std::lock_guard<std::mutex> lock(cache.mutex);

@@ -442,12 +442,21 @@ py::dict computeSsdo(const py::object& depthObj, const py::object& normalObj, co
 // File-level jobs: a FrameJob built from keyword arguments named like the CLI's flags.
 
 struct FileArgs {
-    py::object preset, layer, camera, fovDeg, orthoWidth, cameraToWorld, depth, normals, skyDepth;
+    py::object preset, layer, camera, fovDeg, orthoWidth, cameraToWorld, depth, normals, skyDepth, maxPixels;
 };
+
+// max_pixels=, as --max-pixels: a window above it is refused before anything is allocated.
+long long maxPixelsArg(const py::object& obj) {
+    if (obj.is_none()) return kDefaultMaxPixels;
+    const long long n = intArg(obj, "max_pixels");
+    if (n < 1) valueError("max_pixels must be a positive whole number, got " + std::to_string(n));
+    return n;
+}
 
 FrameJob jobFrom(const py::object& path, const FileArgs& f) {
     FrameJob job;
     job.input = pathArg(path, "path");
+    job.maxPixels = maxPixelsArg(f.maxPixels);
     if (!f.preset.is_none()) job.preset = choiceArg(f.preset, "preset", presetNames());
     if (!f.layer.is_none()) {
         if (!py::isinstance<py::dict>(f.layer))
@@ -488,7 +497,7 @@ FrameJob jobFrom(const py::object& path, const FileArgs& f) {
     py::arg("preset") = py::none(), py::arg("layer") = py::none(), py::arg("camera") = py::none(),                 \
         py::arg("fov_deg") = py::none(), py::arg("ortho_width") = py::none(),                                      \
         py::arg("camera_to_world") = py::none(), py::arg("depth") = py::none(), py::arg("normals") = py::none(),  \
-        py::arg("sky_depth") = py::none()
+        py::arg("sky_depth") = py::none(), py::arg("max_pixels") = py::none()
 
 py::dict readPassesPy(const py::object& path, const FileArgs& f) {
     const FrameJob job = jobFrom(path, f);
@@ -632,13 +641,14 @@ std::string inspectPy(const py::object& path, const FileArgs& f, const py::objec
     return inspectFrame(job);
 }
 
-py::array readLayerPy(const py::object& path, const py::object& nameObj) {
+py::array readLayerPy(const py::object& path, const py::object& nameObj, const py::object& maxPixels) {
     const std::string file = pathArg(path, "path");
     const std::string name = strArg(nameObj, "name");
+    const long long limit = maxPixelsArg(maxPixels);
     Image image;
     {
         py::gil_scoped_release release;
-        const ExrInfo info = readExrInfo(file);
+        const ExrInfo info = readExrInfo(file, limit);
         std::vector<ChannelRef> wanted;
         for (size_t p = 0; p < info.parts.size() && wanted.empty(); ++p) {
             const ExrPart& part = info.parts[p];
@@ -665,7 +675,7 @@ py::array readLayerPy(const py::object& path, const py::object& nameObj) {
         if (wanted.empty()) {
             std::string all;
             for (const std::string& l : listLayers(info)) all += (all.empty() ? "" : "; ") + l;
-            throw Error("no channel or layer '" + name + "' in '" + file + "'; layers found: " + all);
+            throw FileError(file, "no channel or layer '" + name + "'; layers found: " + all);
         }
         std::vector<Image> planes = readExrChannels(file, info, wanted, false, nullptr);
         image = planes.size() == 1 ? std::move(planes[0]) : interleavePlanes(planes, 0, (int)planes.size());
@@ -943,8 +953,10 @@ Raises obscura.Error when the passes have no camera (see passes['camera_error'])
     m.def(
         "read_passes",
         [](const py::object& path, py::object preset, py::object layer, py::object camera, py::object fovDeg,
-           py::object orthoWidth, py::object c2w, py::object depth, py::object normals, py::object skyDepth) {
-            return readPassesPy(path, FileArgs{preset, layer, camera, fovDeg, orthoWidth, c2w, depth, normals, skyDepth});
+           py::object orthoWidth, py::object c2w, py::object depth, py::object normals, py::object skyDepth,
+           py::object maxPixels) {
+            return readPassesPy(path, FileArgs{preset, layer, camera, fovDeg, orthoWidth, c2w, depth, normals, skyDepth,
+                                               maxPixels});
         },
         py::arg("path"), py::kw_only(), OBSCURA_FILE_ARGS,
         R"doc(The passes of a multilayer EXR, found as the CLI finds them, as a dict:
@@ -958,7 +970,7 @@ already flipped to OpenGL's); 'position' float32 (H, W, 3) when the file has one
 
 Keywords as process(): preset ('auto', 'blender', 'arnold', 'renderman', 'vray', 'karma',
 'generic'), layer={role: name}, camera (sidecar path; default NAME.json next to the file),
-fov_deg, ortho_width, camera_to_world (4x4 row-major), depth, normals, sky_depth.
+fov_deg, ortho_width, camera_to_world (4x4 row-major), depth, normals, sky_depth, max_pixels.
 Raises obscura.Error for a missing/unreadable file or missing passes.)doc");
 
     m.def(
@@ -967,12 +979,13 @@ Raises obscura.Error for a missing/unreadable file or missing passes.)doc");
            py::object directions, py::object steps, py::object weighting, py::object falloff, py::object blur,
            py::object device, py::object threads, py::object preset, py::object layer, py::object camera,
            py::object fovDeg, py::object orthoWidth, py::object c2w, py::object depth, py::object normals,
-           py::object skyDepth, py::object outLayer, py::object outType, py::object badPixels, py::object reference,
+           py::object skyDepth, py::object maxPixels, py::object outLayer, py::object outType, py::object badPixels, py::object reference,
            py::object report, py::object preview, py::object inPlace, py::object samples, py::object interleave,
            py::object sky, py::object envRotate, py::object envIntensity, py::object lights, py::object bounce,
            py::object bounceSource, py::object env, py::object envColorspace, py::object colorspace, py::object up,
            py::object timesAlbedo, py::object relitDirect, py::object write, const py::kwargs& own) {
-            return processPy(path, out, FileArgs{preset, layer, camera, fovDeg, orthoWidth, c2w, depth, normals, skyDepth},
+            return processPy(path, out,
+                             FileArgs{preset, layer, camera, fovDeg, orthoWidth, c2w, depth, normals, skyDepth, maxPixels},
                              SettingArgs{quality, method, radius, directions, steps, weighting, falloff, blur, device,
                                          threads, own},
                              OutputArgs{outLayer, outType, badPixels, reference, report, preview, inPlace, write},
@@ -994,7 +1007,8 @@ plan, written).
 Keywords are the CLI's flags with underscores: quality, method (a key of obscura.METHODS), radius,
 directions, steps, weighting, falloff, blur, device, threads; preset, layer={role: name}, camera
 (sidecar path), fov_deg, ortho_width, camera_to_world (4x4 or 16 numbers, row-major), depth
-('planar' | 'radial'), normals ('world' | 'camera'), sky_depth; out_layer (name, or
+('planar' | 'radial'), normals ('world' | 'camera'), sky_depth, max_pixels (refuse a data or
+display window above it before allocating, as --max-pixels; default 16384^2); out_layer (name, or
 {'ao': .., 'do': .., 'gi': .., 'relit': ..}; naming gi or relit asks for it, as --out-layer
 does), out_type ('half' | 'float'), bad_pixels ('error' | 'skip'), reference (layer name), report
 (also write the JSON there), preview (PNG path), in_place (bool), write ('copy': PATH plus the
@@ -1013,17 +1027,18 @@ Outputs are written atomically; on obscura.Error nothing is left behind.)doc");
         "inspect",
         [](const py::object& path, py::object preset, py::object layer, py::object camera, py::object fovDeg,
            py::object orthoWidth, py::object c2w, py::object depth, py::object normals, py::object skyDepth,
-           py::object device) {
-            return inspectPy(path, FileArgs{preset, layer, camera, fovDeg, orthoWidth, c2w, depth, normals, skyDepth},
+           py::object maxPixels, py::object device) {
+            return inspectPy(path, FileArgs{preset, layer, camera, fovDeg, orthoWidth, c2w, depth, normals, skyDepth,
+                                            maxPixels},
                              device);
         },
         py::arg("path"), py::kw_only(), OBSCURA_FILE_ARGS, py::arg("device") = py::none(),
         "obscura PATH --inspect: the layers, roles, conventions, camera and device, as text.");
 
-    m.def("read_layer", &readLayerPy, py::arg("path"), py::arg("name"),
+    m.def("read_layer", &readLayerPy, py::arg("path"), py::arg("name"), py::kw_only(), py::arg("max_pixels") = py::none(),
           R"doc(One channel ('obscura.AO.Y') as float32 (H, W), or a layer ('ViewLayer.Normal') as float32
 (H, W, C) with its channels in R, G, B, A / X, Y, Z order, over its part's data window.
-Raises obscura.Error when the file or the name is missing.)doc");
+max_pixels as process(). Raises obscura.Error when the file or the name is missing.)doc");
 
     py::dict quality;
     for (const QualityPreset& q : qualityPresets())

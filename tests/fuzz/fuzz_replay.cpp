@@ -173,6 +173,20 @@ std::vector<Seed> writeSeeds(const fs::path& dir) {
     return seeds;
 }
 
+// The real Blender renders of tests/data (ZIP, 23 float channels, 320 x 320 and 320 x 240).
+std::vector<Seed> realSeeds() {
+    std::vector<Seed> seeds;
+    for (const char* name : {"room", "columns"}) {
+        const fs::path exr = fs::path(OBSCURA_TEST_DATA_DIR) / (std::string(name) + ".exr");
+        std::ifstream json(fs::path(OBSCURA_TEST_DATA_DIR) / (std::string(name) + ".json"));
+        std::ostringstream text;
+        text << json.rdbuf();
+        seeds.push_back({std::string("real_") + name, readBytes(exr), text.str()});
+        if (seeds.back().exr.empty()) throw std::runtime_error("cannot read " + exr.string());
+    }
+    return seeds;
+}
+
 // ---- the child: run the CLI, and on success check the output ----
 
 enum Verdict { kOk = 0, kFailed = 1, kUsage = 2, kOutOfRange = 20, kLostChannel = 21, kUnreadable = 22 };
@@ -222,13 +236,14 @@ int checkOutput(const std::string& in, const std::string& out) {
     }
 }
 
-[[noreturn]] void child(const fs::path& in, const fs::path& outDir, const fs::path& errFile) {
+[[noreturn]] void child(const fs::path& in, const fs::path& outDir, const fs::path& errFile, bool skipBadPixels) {
     const int err = ::open(errFile.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     const int nul = ::open("/dev/null", O_WRONLY);
     ::dup2(err, 2);
     ::dup2(nul, 1);
     const std::string out = (outDir / "out.exr").string();
     std::vector<std::string> args = {"obscura", in.string(), "-o", out, "--threads", "1", "--quiet"};
+    if (skipBadPixels) args.insert(args.end(), {"--bad-pixels", "skip"});  // extreme values reach the kernels
     std::vector<char*> argv;
     for (std::string& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
@@ -273,7 +288,8 @@ std::string classify(int status, bool timedOut, const std::string& err, const st
         const bool oneLine = !err.empty() && err.back() == '\n' && err.find('\n') == err.size() - 1;
         if (!oneLine) return "multi-line error";
         if (err.rfind("obscura: ", 0) != 0) return "error without 'obscura: '";
-        if (err.rfind("obscura: '" + (outDir.parent_path() / stem).string() + ".", 0) != 0)
+        const std::string named = "obscura: '" + (outDir.parent_path() / stem).string();
+        if (err.rfind(named + ".exr': ", 0) != 0 && err.rfind(named + ".json': ", 0) != 0)
             return "error not starting with the file's name";
         for (const char* raw : {"json.exception", "Iex", "Imf_", "OIIO", "terminate"})
             if (contains(err, raw)) return "raw library text";
@@ -320,7 +336,10 @@ int main(int argc, char** argv) {
     if (const char* env = std::getenv("OBSCURA_FUZZ_COUNT")) count = std::atol(env);
 
     fs::remove_all(dir / "work");
-    const std::vector<Seed> seeds = writeSeeds(dir / "seeds");
+    const std::vector<Seed> seeds = writeSeeds(dir / "seeds"), real = realSeeds();
+    const Seed* uncompressed = nullptr;  // the seed extreme payloads are written into
+    for (const Seed& s : seeds)
+        if (s.name == "overscan") uncompressed = &s;
     fs::create_directories(dir / "findings");
     fs::create_directories(dir / "work");
 
@@ -353,16 +372,25 @@ int main(int argc, char** argv) {
     while (next < end || !running.empty()) {
         while (next < end && (int)running.size() < jobs) {
             const long i = next++;
-            const Seed& seed = seeds[seedOnly >= 0 ? seedOnly % seeds.size() : i % seeds.size()];
+            // Every 10th mutant a broken sidecar, every 10th (others) extreme pixel values,
+            // every 20th a real render (slow: 100k pixels, 23 channels), the rest the small seeds.
+            const bool payload = seedOnly < 0 && i % 10 == 4, realSeed = seedOnly < 0 && i % 20 == 7;
+            const Seed& seed = payload    ? *uncompressed
+                               : realSeed ? real[(i / 20) % real.size()]
+                                          : seeds[seedOnly >= 0 ? seedOnly % seeds.size() : i % seeds.size()];
             const std::string stem = "mutant-" + std::to_string(i);
             const fs::path d = dir / "work" / stem;
             fs::create_directories(d / "out");
             std::string what = seed.name + ":";
             std::string json = seed.json;
-            Bytes exr;
+            Bytes exr = seed.exr;
+            const bool skipBadPixels = payload && (i / 10) % 2 == 1;
             if (i % 10 == 9) {  // a broken sidecar beside an intact file
-                exr = seed.exr;
                 json = fuzz::mutateJson(seed.json, (std::uint64_t)i, what);
+            } else if (payload) {
+                if (!fuzz::extremePayload(exr, (std::uint64_t)i, what))
+                    throw std::runtime_error("the overscan seed takes no payload edit");
+                if (skipBadPixels) what += " --bad-pixels skip";
             } else {
                 exr = fuzz::mutateExr(seed.exr, (std::uint64_t)i, what);
             }
@@ -370,7 +398,7 @@ int main(int argc, char** argv) {
             writeBytes(d / (stem + ".json"), json.data(), json.size());
             std::cout.flush();
             const pid_t pid = ::fork();
-            if (pid == 0) child(d / (stem + ".exr"), d / "out", d / "stderr.txt");
+            if (pid == 0) child(d / (stem + ".exr"), d / "out", d / "stderr.txt", skipBadPixels);
             running.push_back({pid, i, what, d, std::chrono::steady_clock::now()});
         }
         int status = 0;
@@ -393,10 +421,24 @@ int main(int argc, char** argv) {
     }
 
     long badTotal = 0;
-    for (const auto& [k, n] : counts.bad) badTotal += n;
+    std::map<std::string, long> kinds;  // the figures, each printed even when zero
+    for (const auto& [k, n] : counts.bad) {
+        badTotal += n;
+        const std::string kind = k.rfind("crash", 0) == 0                           ? "crashes"
+                                 : k == "hang"                                       ? "hangs"
+                                 : k == "AO out of range"                            ? "outputs outside [0, 1] or NaN"
+                                 : k == "lost channel"                               ? "lost channels"
+                                 : k == "leftover temp file"                         ? "temp files left"
+                                 : k.find("error") != std::string::npos || k == "raw library text" ? "bad error lines"
+                                                                                     : "other";
+        kinds[kind] += n;
+    }
     std::cout << "mutants " << counts.total << ": " << counts.ok << " succeeded, " << counts.failedCleanly
               << " refused with one clean line, " << badTotal << " bad\n";
-    for (const auto& [k, n] : counts.bad) std::cout << "  " << k << ": " << n << "\n";
+    for (const char* kind : {"crashes", "hangs", "outputs outside [0, 1] or NaN", "lost channels", "bad error lines",
+                             "temp files left", "other"})
+        std::cout << "  " << kind << ": " << kinds[kind] << "\n";
+    for (const auto& [k, n] : counts.bad) std::cout << "    " << k << ": " << n << "\n";
     if (badTotal == 0) fs::remove_all(dir / "work");
     return badTotal == 0 ? 0 : 1;
 }

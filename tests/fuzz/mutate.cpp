@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <cstdio>
 #include <cstring>
 #include <random>
 
@@ -19,6 +20,9 @@ void put32(Bytes& b, std::size_t at, std::int32_t v) {
 void put64(Bytes& b, std::size_t at, std::uint64_t v) {
     if (at + 8 <= b.size()) std::memcpy(b.data() + at, &v, 8);
 }
+
+// a + d with two's-complement wrap-around, as the header's int32 fields hold it (no overflow).
+std::int32_t wrapAdd(std::int32_t a, std::int64_t d) { return (std::int32_t)(std::uint32_t)((std::int64_t)a + d); }
 
 // Reads a NUL-terminated string at `at`; false past the end.
 bool readName(const Bytes& b, std::size_t& at, std::string& out) {
@@ -52,8 +56,8 @@ void editWindow(Bytes& b, const HeaderMap& h, std::mt19937_64& rng, std::string&
     case 0: x1 = y1 = 99999; break;                                   // huge
     case 1: std::swap(x0, x1); break;                                 // inverted
     case 2: x0 = INT_MIN; x1 = INT_MAX; break;                        // width overflows
-    case 3: x0 += (int)(rng() % 9) - 4; y1 += (int)(rng() % 9) - 4; break;  // off by a few
-    case 4: x0 += 1 << 30; x1 += 1 << 30; break;                      // far away
+    case 3: x0 = wrapAdd(x0, (int)(rng() % 9) - 4); y1 = wrapAdd(y1, (int)(rng() % 9) - 4); break;  // off by a few
+    case 4: x0 = wrapAdd(x0, 1 << 30); x1 = wrapAdd(x1, 1 << 30); break;  // far away
     default: (rng() % 2 ? x0 : y1) = nastyInt(rng); break;
     }
     put32(b, v, x0), put32(b, v + 4, y0), put32(b, v + 8, x1), put32(b, v + 12, y1);
@@ -94,7 +98,7 @@ void editByteAttr(Bytes& b, const HeaderMap& h, std::mt19937_64& rng, const char
 void editChunkCount(Bytes& b, const HeaderMap& h, std::mt19937_64& rng, std::string& what) {
     const Attribute* a = pick(h, rng, "chunkCount");
     if (!a || a->size != 4) return;
-    const std::int32_t v = rng() % 2 ? get32(b, a->value) + (int)(rng() % 5) - 2 : nastyInt(rng);
+    const std::int32_t v = rng() % 2 ? wrapAdd(get32(b, a->value), (int)(rng() % 5) - 2) : nastyInt(rng);
     put32(b, a->value, v);
     what += " chunkCount=" + std::to_string(v);
 }
@@ -208,6 +212,57 @@ Bytes mutateExr(const Bytes& seed, std::uint64_t index, std::string& what) {
     }
     if (what.empty()) flipBits(b, 0, b.size(), rng, what);
     return b;
+}
+
+bool extremePayload(Bytes& b, std::uint64_t index, std::string& what) {
+    const HeaderMap h = parseHeaders(b);
+    if (!h.ok || (b[5] & 0x1e) != 0) return false;  // tiled, long names, deep or multipart: not handled here
+    const Attribute* compression = nullptr;
+    const Attribute* channels = nullptr;
+    const Attribute* dataWindow = nullptr;
+    for (const Attribute& a : h.attributes) {
+        if (a.name == "compression") compression = &a;
+        if (a.name == "channels") channels = &a;
+        if (a.name == "dataWindow") dataWindow = &a;
+    }
+    if (!compression || !channels || !dataWindow || b[compression->value] != 0) return false;
+    for (std::size_t at = channels->value; at < channels->value + channels->size && b[at] != 0;) {
+        std::string name;
+        if (!readName(b, at, name) || get32(b, at) != 2 /* FLOAT */) return false;
+        at += 16;
+    }
+    // One scanline per chunk: the offset table has one entry per line of the data window.
+    const std::int32_t lines = get32(b, dataWindow->value + 12) - get32(b, dataWindow->value + 4) + 1;
+    if (lines <= 0 || h.end + 8ull * lines > b.size()) return false;
+
+    std::mt19937_64 rng(index * 0xA24BAED4963EE407ull + 99);
+    static const std::uint32_t bits[] = {
+        0x7fc00000u, 0xffc00000u, 0x7f800001u,  // NaNs (quiet, negative, signalling)
+        0x7f800000u, 0xff800000u,               // +-infinity
+        0x7f7fffffu, 0xff7fffffu,               // +-FLT_MAX
+        0x00000001u, 0x80000001u, 0x00800000u,  // denormals, FLT_MIN
+        0x80000000u, 0x00000000u,               // -0, 0
+        0x70000000u, 0xbf800000u, 0xcb189680u,  // 1.6e29, -1, -1e7
+    };
+    const int n = 1 + (int)(rng() % 3);
+    for (int k = 0; k < n; ++k) {
+        const std::uint32_t v = bits[rng() % (sizeof bits / sizeof *bits)];
+        std::uint64_t chunk;
+        std::memcpy(&chunk, b.data() + h.end + 8 * (rng() % lines), 8);
+        if (chunk + 8 > b.size()) return false;
+        const std::int32_t size = get32(b, (std::size_t)chunk + 4);
+        if (size < 4 || chunk + 8 + (std::uint64_t)size > b.size()) return false;
+        const std::size_t values = (std::size_t)size / 4;
+        // A few samples, or a run over a whole line of one channel.
+        const std::size_t count = rng() % 2 ? 1 + rng() % 4 : values;
+        const std::size_t first = rng() % values;
+        for (std::size_t i = 0; i < count; ++i)
+            std::memcpy(b.data() + chunk + 8 + 4 * ((first + i * (count == values ? 1 : 7)) % values), &v, 4);
+        char hex[16];
+        std::snprintf(hex, sizeof hex, "%08x", v);
+        what += std::string(" payload@") + std::to_string(chunk) + "x" + std::to_string(count) + "=" + hex;
+    }
+    return true;
 }
 
 std::string mutateJson(const std::string& json, std::uint64_t index, std::string& what) {

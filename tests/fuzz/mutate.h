@@ -27,6 +27,11 @@ HeaderMap parseHeaders(const Bytes& file);
 
 // A mutant of `seed` (an EXR file) numbered `index`; `what` says what was done.
 Bytes mutateExr(const Bytes& seed, std::uint64_t index, std::string& what);
+// Extreme pixel values (NaN, infinities, FLT_MAX, denormals, negative zero, huge and negative
+// numbers) written over the pixel data of an uncompressed single-part scanline file of 32-bit
+// floats; the file's structure stays valid. Returns false (and leaves `seed` alone) for any
+// other file.
+bool extremePayload(Bytes& file, std::uint64_t index, std::string& what);
 // A mutant of a JSON camera sidecar.
 std::string mutateJson(const std::string& json, std::uint64_t index, std::string& what);
 

@@ -56,7 +56,7 @@ OfxStatus withProp(OfxPropertySetHandle h, const char* name, bool create, Proper
     std::lock_guard<std::mutex> lock(ps->mutex);
     auto it = ps->props.find(name);
     if (it == ps->props.end()) {
-        if (!create) return kOfxStatErrUnknown;
+        if (!create || ps->closed) return kOfxStatErrUnknown;
         it = ps->props.emplace(name, Property{}).first;
         it->second.type = type;
     }
@@ -909,23 +909,28 @@ OfxStatus Instance::setRGB(const std::string& name, double r, double g, double b
 }
 
 OfxStatus Instance::clipPreferences(PropertySet& out) {
+    // The out-arguments are what HostSupport defines (per clip: components, depth, PAR; the
+    // effect's premultiplication, continuous samples, frame varying), plus the preferred
+    // colourspaces a 1.5 colour-managed host adds; a set on anything else fails.
+    const std::string style = effect_->props.string(kOfxImageEffectPropColourManagementStyle);
+    const bool colourManaged = !style.empty() && style != kOfxImageEffectColourManagementNone;
     for (const auto& c : effect_->clips) {
         out.setString(std::string(kOfxImageClipPropComponentsPrefix) + c->name, {c->props.string(kOfxImageEffectPropComponents)});
         out.setString(std::string(kOfxImageClipPropDepthPrefix) + c->name, {kOfxBitDepthFloat});
         out.setDouble(std::string(kOfxImageClipPropPARPrefix) + c->name, {effect_->par});
-        out.setString(std::string(kOfxImageClipPropPreferredColourspacesPrefix) + c->name, {});
+        if (colourManaged) out.setString(std::string(kOfxImageClipPropPreferredColourspacesPrefix) + c->name, {});
     }
     out.setString(kOfxImageEffectPropPreMultiplication, {kOfxImagePreMultiplied});
     out.setInt(kOfxImageClipPropContinuousSamples, {0});
     out.setInt(kOfxImageEffectFrameVarying, {0});
+    out.closed = true;
     ++clipPreferencesRuns;
     const OfxStatus st = host_->action(kOfxImageEffectActionGetClipPreferences, effect_.get(), nullptr, &out);
     if (st != kOfxStatOK && st != kOfxStatReplyDefault) return st;
     Clip* output = effect_->clip(kOfxImageEffectOutputClipName);
     output->props.setString(kOfxImageEffectPropPreMultiplication, {out.string(kOfxImageEffectPropPreMultiplication)});
     // A colour-managed host asks for the output colourspace after the clip preferences.
-    const std::string style = effect_->props.string(kOfxImageEffectPropColourManagementStyle);
-    if (!style.empty() && style != kOfxImageEffectColourManagementNone) {
+    if (colourManaged) {
         std::string space;
         const OfxStatus cs = outputColourspace({"ofx_scene_linear"}, space);
         if (cs != kOfxStatOK && cs != kOfxStatReplyDefault) return cs;

@@ -9,7 +9,8 @@
 // library it keeps canonical coordinates (RoD, RoI, fetch regions) apart from pixels at
 // the render scale (render windows, image bounds) for any pixel aspect ratio, delivers
 // exactly the region of interest a tile asked for, re-runs clip preferences when a slave
-// parameter changes, and can act as an OFX 1.5 colour-managed host.
+// parameter changes, refuses a clip preference it did not define (HostSupport's fixed specs),
+// and can act as an OFX 1.5 colour-managed host.
 #pragma once
 #include "ofx/ofx_api.h"
 
@@ -40,6 +41,9 @@ struct PropertySet {
     unsigned magic = 0x0f5e7001u;
     mutable std::mutex mutex;
     std::map<std::string, Property> props;
+    // Closed: the plugin may set only what the host defined (kOfxStatErrUnknown otherwise), as
+    // the official HostSupport library builds an action's out-arguments from fixed property specs.
+    bool closed = false;
 
     PropertySet() = default;
     PropertySet(const PropertySet& o) : props(o.copy()) {}

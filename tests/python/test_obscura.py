@@ -409,6 +409,46 @@ def test_file_errors_leave_nothing_behind(tmp):
     assert sorted(p.name for p in tmp.iterdir()) == ["text.exr"]
 
 
+def test_file_errors_are_the_clis_line(tmp):
+    """obscura.Error carries the CLI's line without its 'obscura: ' prefix: 'FILE': what."""
+    import subprocess
+    depth, normal = synthetic_scene()
+    src = tmp / "scene.exr"
+    write_exr(src, depth, normal, sidecar=True)
+    not_exr, cut, broken = tmp / "text.exr", tmp / "cut.exr", tmp / "broken.json"
+    not_exr.write_text("hello")
+    cut.write_bytes(src.read_bytes()[:len(src.read_bytes()) // 2])
+    broken.write_text('{"camera_to_world": 3}')
+    out = tmp / "o.exr"
+    cases = [((tmp / "nope.exr", out), {}, [], tmp / "nope.exr"), ((not_exr, out), {}, [], not_exr),
+             ((cut, out), {}, [], cut), ((src, tmp / "no-dir" / "o.exr"), {}, [], tmp / "no-dir" / "o.exr"),
+             ((src, out), dict(camera=broken), ["--camera", broken], broken),
+             ((src, out), dict(reference="Nope"), ["--reference", "Nope"], src),
+             ((src, out), dict(layer={"normal": "nope"}), ["--layer", "normal=nope"], src)]
+    for (path, dest), kwargs, flags, at_fault in cases:
+        proc = subprocess.run([CLI, str(path), "-o", str(dest), *map(str, flags)], capture_output=True, text=True)
+        assert proc.returncode == 1, proc.stderr
+        with pytest.raises(obscura.Error) as e:
+            obscura.process(path, dest, **kwargs)
+        assert proc.stderr == f"obscura: {e.value}\n"
+        assert str(e.value).startswith(f"'{at_fault}': ")
+    assert not out.exists()
+
+
+def test_max_pixels_keyword_is_the_clis_limit(tmp):
+    depth, normal = synthetic_scene()  # 96 x 64 = 6144 pixels
+    src = tmp / "scene.exr"
+    write_exr(src, depth, normal, sidecar=True)
+    for call in (lambda **k: obscura.read_passes(src, **k), lambda **k: obscura.process(src, tmp / "o.exr", **k),
+                 lambda **k: obscura.inspect(src, **k), lambda **k: obscura.read_layer(src, "Z", **k)):
+        with pytest.raises(obscura.Error, match=r"96 x 64 pixels, more than the limit of 6143 \(--max-pixels\)"):
+            call(max_pixels=6143)
+        call(max_pixels=6144)
+    for bad, error in ((0, ValueError), (-5, ValueError), (2.5, TypeError), ("many", TypeError)):
+        with pytest.raises(error, match="max_pixels"):
+            obscura.read_passes(src, max_pixels=bad)
+
+
 def test_process_bad_keywords_raise_value_error(tmp):
     for kwargs, match in [(dict(preset="maya"), "preset must be one of"), (dict(layer={"colour": "X"}), "unknown role"),
                           (dict(out_type="double"), "out_type must be one of"), (dict(fov_deg=0), "fov_deg"),
