@@ -73,6 +73,21 @@ class _Processes:
         self.procs = []
 
 
+class _Cluster:
+    """A context manager over start() and stop(): a start that fails stops what it started."""
+
+    def __enter__(self):
+        try:
+            self.start()
+        except BaseException:
+            self.stop()
+            raise
+        return self
+
+    def __exit__(self, *exc):
+        self.stop()
+
+
 SLURM_CONF = """\
 ClusterName=obscuratest
 SlurmctldHost=localhost(127.0.0.1)
@@ -104,7 +119,7 @@ PartitionName=obscura Nodes=obscuranode Default=YES MaxTime=INFINITE State=UP
 """
 
 
-class SlurmCluster:
+class SlurmCluster(_Cluster):
     """A one-node Slurm cluster with `cpus` CPUs; env holds SLURM_CONF for sbatch/squeue.
     Its files live in a fresh directory under /tmp, removed on stop: slurmstepd's Unix sockets
     go in the spool directory, and a socket path may not exceed 108 bytes."""
@@ -114,17 +129,6 @@ class SlurmCluster:
         self.cpus = cpus
         self.procs = _Processes(self.root)
         self.env = dict(os.environ, SLURM_CONF=str(self.root / "slurm.conf"))
-
-    def __enter__(self):
-        try:
-            self.start()
-        except BaseException:
-            self.stop()
-            raise
-        return self
-
-    def __exit__(self, *exc):
-        self.stop()
 
     def start(self):
         for tool in ("munged", "slurmctld", "slurmd", "sbatch", "squeue", "sinfo"):
@@ -183,7 +187,7 @@ class SlurmCluster:
         shutil.rmtree(self.root, ignore_errors=True)
 
 
-class DaskCluster:
+class DaskCluster(_Cluster):
     """dask-scheduler and `workers` single-threaded worker processes (no nanny: a killed worker
     stays dead, as a lost node would). address is the scheduler's."""
 
@@ -195,17 +199,6 @@ class DaskCluster:
         self.procs = _Processes(self.root)
         self.worker_procs = []
         self.address = None
-
-    def __enter__(self):
-        try:
-            self.start()
-        except BaseException:
-            self.stop()
-            raise
-        return self
-
-    def __exit__(self, *exc):
-        self.stop()
 
     def start(self):
         try:
