@@ -46,8 +46,7 @@ double cornerLine(const SceneBuffers& sb, const Image& ao, double d) {
 }
 
 SceneBuffers cornerView(int W, int H) {
-    return renderScene(cornerScene(), lookAtPerspective(dvec3(-7, 6, 4), dvec3(-0.6, 0, 0), 40.0 * M_PI / 180, W, H),
-                       W, H);
+    return renderScene(cornerScene(), cornerCamera(W, H), W, H);
 }
 
 double maxAbsDiff(const Image& a, const Image& b) {

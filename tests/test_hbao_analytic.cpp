@@ -73,24 +73,17 @@ TEST(HbaoAnalytic, PlaneIsUnoccludedAtEveryPixel) {
 // wall (same true AO) to average out the per-pixel rotation noise.
 TEST(HbaoAnalytic, CornerMatchesClosedForm) {
     const int W = 320, H = 240;
-    Camera cam = lookAtPerspective(dvec3(-7, 6, 4), dvec3(-0.6, 0, 0), 40.0 * M_PI / 180, W, H);
+    Camera cam = cornerCamera(W, H);
     SceneBuffers sb = renderScene(cornerScene(), cam, W, H);
     const double R = 1.0;
     for (const Case& c : kCases) {
         OperatorOutputs out = runOperator(sb.inputs(), hbaoSettings(c.w, c.f, (float)R, 32, 32));
         for (double d : {0.05, 0.2, 0.4, 0.7}) {
-            double sum = 0;
-            int n = 0;
-            for (double z = -1.0; z <= 1.0; z += 0.05) {
-                int x, y;
-                ASSERT_TRUE(sb.pixelOf(dvec3(-d, 0, z), x, y));
-                sum += *out.ao.at(x, y);
-                ++n;
-            }
+            const double mean = meanOnCornerLine(sb, out.ao, d);
             const double expected = cornerAo(c.w, c.f, d / R);
             // 0.02: 32 slices x 32 steps on a ~3 px/0.1 unit image; the horizon sample nearest R falls
             // short of R by up to one step (R/32), and pixel snapping moves d by up to half a pixel.
-            EXPECT_NEAR(sum / n, expected, 0.02) << "d=" << d << " w=" << toString(c.w) << " f=" << toString(c.f);
+            EXPECT_NEAR(mean, expected, 0.02) << "d=" << d << " w=" << toString(c.w) << " f=" << toString(c.f);
         }
     }
 }
@@ -100,26 +93,18 @@ TEST(HbaoAnalytic, CornerMatchesClosedForm) {
 TEST(HbaoAnalytic, CornerEdgeIsHalfOccluded) {
     for (Weighting w : {Weighting::Uniform, Weighting::Cosine}) EXPECT_NEAR(cornerAo(w, Falloff::None, 0.0), 0.5, 1e-12);
     const int W = 320, H = 240;
-    Camera cam = lookAtPerspective(dvec3(-7, 6, 4), dvec3(-0.6, 0, 0), 40.0 * M_PI / 180, W, H);
+    Camera cam = cornerCamera(W, H);
     SceneBuffers sb = renderScene(cornerScene(), cam, W, H);
     for (Weighting w : {Weighting::Uniform, Weighting::Cosine}) {
         OperatorOutputs out = runOperator(sb.inputs(), hbaoSettings(w, Falloff::None, 2.0f, 32, 32));
-        double sum = 0;
-        int n = 0;
-        for (double z = -1.0; z <= 1.0; z += 0.05) {
-            int x, y;
-            ASSERT_TRUE(sb.pixelOf(dvec3(-0.02, 0, z), x, y));
-            sum += *out.ao.at(x, y);
-            ++n;
-        }
-        EXPECT_NEAR(sum / n, cornerAo(w, Falloff::None, 0.01), 0.03) << toString(w);
+        EXPECT_NEAR(meanOnCornerLine(sb, out.ao, 0.02), cornerAo(w, Falloff::None, 0.01), 0.03) << toString(w);
     }
 }
 
 // Shrinking R to nothing makes AO tend continuously to 1 (no jump, no NaN).
 TEST(HbaoAnalytic, VanishingRadiusTendsToUnoccluded) {
     const int W = 160, H = 120;
-    Camera cam = lookAtPerspective(dvec3(-7, 6, 4), dvec3(-0.6, 0, 0), 40.0 * M_PI / 180, W, H);
+    Camera cam = cornerCamera(W, H);
     SceneBuffers sb = renderScene(cornerScene(), cam, W, H);
     double previous = 0;
     for (float R : {1.0f, 0.3f, 0.1f, 0.03f, 0.01f, 1e-4f, 1e-8f}) {
@@ -138,7 +123,7 @@ TEST(HbaoAnalytic, VanishingRadiusTendsToUnoccluded) {
 // bit for bit wherever the crop keeps the whole sampling footprint.
 TEST(HbaoAnalytic, ThreadsAndCropsAgreeExactly) {
     const int W = 200, H = 150;
-    Camera cam = lookAtPerspective(dvec3(-7, 6, 4), dvec3(-0.6, 0, 0), 40.0 * M_PI / 180, W, H);
+    Camera cam = cornerCamera(W, H);
     SceneBuffers full = renderScene(cornerScene(), cam, W, H);
     Settings s = hbaoSettings(Weighting::Uniform, Falloff::Linear, 0.5f);
     s.threads = 1;
@@ -162,7 +147,7 @@ TEST(HbaoAnalytic, ThreadsAndCropsAgreeExactly) {
 // Garbage in the passes never becomes garbage out.
 TEST(HbaoAnalytic, NonFiniteInputsGiveFiniteOutput) {
     const int W = 96, H = 72;
-    Camera cam = lookAtPerspective(dvec3(-7, 6, 4), dvec3(-0.6, 0, 0), 40.0 * M_PI / 180, W, H);
+    Camera cam = cornerCamera(W, H);
     SceneBuffers sb = renderScene(cornerScene(), cam, W, H);
     const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
     const float depths[] = {nan, inf, -inf, -1.0f, 0.0f, 1e-42f, 1e30f};

@@ -51,7 +51,7 @@ TEST(HbaoBorder, TangentKeepsPlanesExactAtTheEdge) {
 // closer to the overscan result than open sky, and the edge's depth alone lies in between.
 TEST(HbaoBorder, TangentRecoversMostOfWhatOverscanShows) {
     const int W = 200, H = 150;
-    const Camera cam = lookAtPerspective(dvec3(-7, 6, 4), dvec3(-0.6, 0, 0), 40.0 * M_PI / 180, W, H);
+    const Camera cam = cornerCamera(W, H);
     const SceneBuffers full = renderScene(cornerScene(), cam, W, H);
     const Box2i crop{30, 20, 170, 130};
     const SceneBuffers part = renderScene(cornerScene(), cam, Box2i{0, 0, W, H}, crop);
@@ -82,7 +82,7 @@ TEST(HbaoBorder, TangentRecoversMostOfWhatOverscanShows) {
 // Overscan comes first: where the data window reaches past every sample, the policy is never asked.
 TEST(HbaoBorder, PolicyOnlyActsPastTheBuffer) {
     const int W = 120, H = 90;
-    const Camera cam = lookAtPerspective(dvec3(-7, 6, 4), dvec3(-0.6, 0, 0), 40.0 * M_PI / 180, W, H);
+    const Camera cam = cornerCamera(W, H);
     const SceneBuffers overscan = renderScene(cornerScene(), cam, Box2i{0, 0, W, H}, Box2i{-60, -60, W + 60, H + 60});
     Settings s = borderSettings(kBorderOpen);
     s.maxRadiusPixels = 50;  // every sample of a display pixel then lies in the data window

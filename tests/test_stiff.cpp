@@ -92,7 +92,7 @@ TEST_P(Stiff, GrazingPlaneStaysUnoccluded) {
 // sees the corner. In between, AO rises monotonically as R shrinks (continuity to 1).
 TEST_P(Stiff, ExtremeRadii) {
     const int W = 80, H = 60;
-    Camera cam = lookAtPerspective(dvec3(-7, 6, 4), dvec3(-0.6, 0, 0), 40.0 * M_PI / 180, W, H);
+    Camera cam = cornerCamera(W, H);
     SceneBuffers sb = renderScene(corner(), cam, W, H);
     EXPECT_EQ(checkedMin(run(sb, 1e-6f).ao), 1.0f);
     const float huge = checkedMin(run(sb, 1e6f).ao);
@@ -218,7 +218,7 @@ TEST_P(Stiff, SsaoPlanesAndCorner) {
             EXPECT_GE(checkedMin(runOperator(sb.inputs(), s).ao), 1.0f) << grazeDeg << " deg, R " << R;
         }
     }
-    Camera cam = lookAtPerspective(dvec3(-7, 6, 4), dvec3(-0.6, 0, 0), 40.0 * M_PI / 180, W, H);
+    Camera cam = cornerCamera(W, H);
     SceneBuffers sb = renderScene(corner(), cam, W, H);
     for (bool hemisphere : {false, true})
         for (float R : {1e-4f, 1.0f, 1e6f}) {
@@ -241,8 +241,7 @@ TEST_P(Stiff, EveryMethodStaysInRange) {
     const dvec3 eye(0, 1e-3, 0);
     SceneBuffers plane = renderScene(ground(), lookAtPerspective(eye, eye + dvec3(0, -std::sin(pitch), -std::cos(pitch)),
                                                                  fovRad, W, H), W, H);
-    SceneBuffers edge = renderScene(corner(), lookAtPerspective(dvec3(-7, 6, 4), dvec3(-0.6, 0, 0), 40.0 * M_PI / 180, W, H),
-                                    W, H);
+    SceneBuffers edge = renderScene(corner(), cornerCamera(W, H), W, H);
     for (const MethodInfo& m : methods()) {
         if (std::string(GetParam()) != "cpu" && !m.gl) continue;
         Settings s;

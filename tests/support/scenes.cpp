@@ -1,5 +1,7 @@
 #include "support/scenes.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <limits>
 
@@ -173,6 +175,25 @@ SceneBuffers renderScene(const std::vector<Rect>& rects, const Camera& cam, Box2
         }
     }
     return sb;
+}
+
+Camera cornerCamera(int width, int height) {
+    return lookAtPerspective(glm::dvec3(-7, 6, 4), glm::dvec3(-0.6, 0, 0), 40.0 * M_PI / 180, width, height);
+}
+
+double meanOnCornerLine(const SceneBuffers& sb, const Image& ao, double d) {
+    double sum = 0;
+    int n = 0;
+    for (double z = -1.0; z <= 1.0; z += 0.05) {
+        int x, y;
+        if (!sb.pixelOf(glm::dvec3(-d, 0, z), x, y)) {
+            ADD_FAILURE() << "corner line point (" << -d << ", 0, " << z << ") is outside the frame";
+            return std::nan("");
+        }
+        sum += *ao.at(x, y);
+        ++n;
+    }
+    return sum / n;
 }
 
 Settings hbaoSettings(Weighting w, Falloff f, float radius, int dirs, int steps) {

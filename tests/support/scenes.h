@@ -56,6 +56,12 @@ Camera benchRoomCamera(int width, int height);
 // The rectangle of a plane through `point` spanned by unit vectors s, t, `half` units each way.
 Rect planeRect(glm::dvec3 point, glm::dvec3 s, glm::dvec3 t, double half = 1e4);
 
+// The tests' view of cornerScene(): the floor beside the wall, the corner line across the frame.
+Camera cornerCamera(int width, int height);
+// Mean of `ao` over the floor pixels on the line at distance d from cornerScene()'s wall
+// (x = -d, z in [-1, 1] every 0.05); a point outside the frame fails the running test.
+double meanOnCornerLine(const SceneBuffers& sb, const Image& ao, double d);
+
 // HBAO settings for analytic tests: weighting, falloff, radius, slices x steps, 2 threads.
 Settings hbaoSettings(Weighting w, Falloff f, float radius, int dirs = 8, int steps = 8);
 
