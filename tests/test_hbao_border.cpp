@@ -28,12 +28,7 @@ TEST(HbaoBorder, TangentKeepsPlanesExactAtTheEdge) {
     for (bool ortho : {false, true})
         for (double tiltDeg : {0.0, 45.0, 80.0})
             for (double dist : {0.5, 200.0}) {
-                const double t = tiltDeg * M_PI / 180;
-                const dvec3 eye(0, 0, dist), n(std::sin(t), 0.0, std::cos(t));
-                const dvec3 s = glm::normalize(glm::cross(n, dvec3(0, 1, 0))), u = glm::cross(n, s);
-                Camera cam = ortho ? lookAtOrthographic(eye, dvec3(0.0), dist, 64, 48)
-                                   : lookAtPerspective(eye, dvec3(0.0), 70.0 * M_PI / 180, 64, 48);
-                SceneBuffers sb = renderScene({planeRect(dvec3(0.0), s, u, 1e7)}, cam, 64, 48);
+                SceneBuffers sb = tiltedPlaneView(tiltDeg, dist, ortho, 64, 48);
                 for (Weighting w : {Weighting::Uniform, Weighting::Cosine}) {
                     Settings st = borderSettings(kBorderTangent, w);
                     st.radius = (float)(0.3 * dist);

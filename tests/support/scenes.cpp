@@ -177,6 +177,15 @@ SceneBuffers renderScene(const std::vector<Rect>& rects, const Camera& cam, Box2
     return sb;
 }
 
+SceneBuffers tiltedPlaneView(double tiltDeg, double dist, bool ortho, int width, int height) {
+    const double t = tiltDeg * M_PI / 180;
+    const glm::dvec3 eye(0, 0, dist), n(std::sin(t), 0.0, std::cos(t));
+    const glm::dvec3 s = glm::normalize(glm::cross(n, glm::dvec3(0, 1, 0))), u = glm::cross(n, s);
+    const Camera cam = ortho ? lookAtOrthographic(eye, glm::dvec3(0.0), dist, width, height)
+                             : lookAtPerspective(eye, glm::dvec3(0.0), 70.0 * M_PI / 180, width, height);
+    return renderScene({planeRect(glm::dvec3(0.0), s, u, 1e7)}, cam, width, height);
+}
+
 Camera cornerCamera(int width, int height) {
     return lookAtPerspective(glm::dvec3(-7, 6, 4), glm::dvec3(-0.6, 0, 0), 40.0 * M_PI / 180, width, height);
 }

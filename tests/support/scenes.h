@@ -62,6 +62,10 @@ Camera cornerCamera(int width, int height);
 // (x = -d, z in [-1, 1] every 0.05); a point outside the frame fails the running test.
 double meanOnCornerLine(const SceneBuffers& sb, const Image& ao, double d);
 
+// A plane through the origin, its normal tilted `tiltDeg` from the view axis, seen from `dist`
+// along +Z (70 degree pinhole, or an orthographic view `dist` wide).
+SceneBuffers tiltedPlaneView(double tiltDeg, double dist, bool ortho, int width, int height);
+
 // HBAO settings for analytic tests: weighting, falloff, radius, slices x steps, 2 threads.
 Settings hbaoSettings(Weighting w, Falloff f, float radius, int dirs = 8, int steps = 8);
 
