@@ -8,6 +8,7 @@
 // Then discs at each preset, and the default preset with each correction switched.
 // Environment: OBSCURA_BENCH_WIDTH / OBSCURA_BENCH_HEIGHT, OBSCURA_BENCH_RADIUS (0.5),
 // OBSCURA_BENCH_GL=1 adds the discs default preset on gl-osmesa.
+#include "bench_env.h"
 #include "core/methods.h"
 #include "core/operator.h"
 #include "support/scenes.h"
@@ -22,13 +23,10 @@
 
 using namespace obscura;
 using namespace obscura::test;
+using obscura::bench::envFloat;
+using obscura::bench::envInt;
 
 namespace {
-
-int envInt(const char* name, int fallback) {
-    const char* v = std::getenv(name);
-    return v && std::atoi(v) > 0 ? std::atoi(v) : fallback;
-}
 
 const SceneBuffers& scene() {
     static const SceneBuffers sb = [] {
@@ -65,7 +63,7 @@ void BM_Run(benchmark::State& state, Settings s, bool reference) {
 Settings base(const char* method, const char* quality) {
     Settings s;
     s.method = method;
-    s.radius = std::getenv("OBSCURA_BENCH_RADIUS") ? (float)std::atof(std::getenv("OBSCURA_BENCH_RADIUS")) : 0.5f;
+    s.radius = envFloat("OBSCURA_BENCH_RADIUS", 0.5f);
     s.weighting = Weighting::Cosine;
     s.falloff = Falloff::None;
     applyMethodPresets(quality, s);

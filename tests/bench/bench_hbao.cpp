@@ -19,6 +19,7 @@
 // found as the CLI finds them); OBSCURA_BENCH_WIDTH / OBSCURA_BENCH_HEIGHT set the size of
 // the built-in frame; OBSCURA_BENCH_DIRECTIONS / OBSCURA_BENCH_STEPS the sample counts (8 x 8),
 // OBSCURA_BENCH_RADIUS the radius (0.5).
+#include "bench_env.h"
 #include "core/methods.h"
 #include "core/operator.h"
 #include "io/frame_job.h"
@@ -44,19 +45,11 @@
 
 using namespace obscura;
 using namespace obscura::test;
+using obscura::bench::envFloat;
+using obscura::bench::envInt;
 using glm::dvec3;
 
 namespace {
-
-int envInt(const char* name, int fallback) {
-    const char* v = std::getenv(name);
-    return v && std::atoi(v) > 0 ? std::atoi(v) : fallback;
-}
-
-float envFloat(const char* name, float fallback) {
-    const char* v = std::getenv(name);
-    return v && std::atof(v) > 0 ? (float)std::atof(v) : fallback;
-}
 
 // A render's depth, normals and camera, as the CLI would read them.
 SceneBuffers loadRender(const std::string& path) {

@@ -10,6 +10,7 @@
 // this run's, measured in this process, so it stays comparable on noisy machines.
 //
 // Environment: OBSCURA_BENCH_WIDTH / OBSCURA_BENCH_HEIGHT override the frame size.
+#include "bench_env.h"
 #include "core/operator.h"
 #include "core/environment.h"
 #include "cpu/blur_cpu.h"
@@ -30,13 +31,9 @@
 
 using namespace obscura;
 using namespace obscura::test;
+using obscura::bench::envInt;
 
 namespace {
-
-int envInt(const char* name, int fallback) {
-    const char* v = std::getenv(name);
-    return v && std::atoi(v) > 0 ? std::atoi(v) : fallback;
-}
 
 struct Frame {
     SceneBuffers sb;
