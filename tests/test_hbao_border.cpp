@@ -1,6 +1,7 @@
 // HBAO's samples past the buffer's edge (--border): open sky, the edge texel's depth (clamp)
 // or its tangent plane continued (tangent), against what an overscan of the same frame shows.
 #include "core/operator.h"
+#include "support/cli_runner.h"
 #include "support/scenes.h"
 
 #include <gtest/gtest.h>
@@ -86,4 +87,23 @@ TEST(HbaoBorder, PolicyOnlyActsPastTheBuffer) {
     const OperatorOutputs tangent = runOperator(overscan.inputs(), s);
     for (int y = 0; y < H; ++y)
         for (int x = 0; x < W; ++x) ASSERT_EQ(*open.ao.at(x + 60, y + 60), *tangent.ao.at(x + 60, y + 60)) << x << "," << y;
+}
+
+// The flag takes one of its three words; a number outside them or any other word is a usage
+// error that lists the words.
+TEST(HbaoBorder, FlagValues) {
+    const std::string in = std::string(OBSCURA_TEST_DATA_DIR) + "/room.exr";
+    const std::string out = std::string(OBSCURA_TEST_TMP) + "/hbao-border.exr";
+    for (const char* ok : {"open", "clamp", "tangent"}) {
+        const CliResult c = runProgram(OBSCURA_CLI_PATH, {in, "-o", out, "--border", ok, "--quality", "low", "--quiet"});
+        EXPECT_EQ(c.exitCode, 0) << ok << ": " << c.err;
+    }
+    for (const char* bad : {"wide", "", "7"}) {
+        const CliResult c = runProgram(OBSCURA_CLI_PATH, {in, "-o", out, "--border", bad});
+        EXPECT_EQ(c.exitCode, 2) << bad << ": " << c.err;
+        EXPECT_NE(c.err.find("--border"), std::string::npos) << c.err;
+        EXPECT_EQ(std::count(c.err.begin(), c.err.end(), '\n'), 1) << c.err;
+    }
+    const CliResult word = runProgram(OBSCURA_CLI_PATH, {in, "-o", out, "--border", "wide"});
+    EXPECT_NE(word.err.find("open|clamp|tangent"), std::string::npos) << word.err;
 }

@@ -90,6 +90,11 @@ Flag methodFlag(const MethodParam& p) {
                     return;
                 }
                 const NamedValue* named = findNamed(p, v);
+                // A word that is neither a name nor a number: list the forms the flag takes.
+                char* end = nullptr;
+                std::strtod(v.c_str(), &end);
+                if (!named && !p.named.empty() && (v.empty() || *end != '\0'))
+                    throw UsageError(std::string(p.flag) + " expects " + p.value + ", got '" + v + "'");
                 const double x = named ? named->value : p.intField ? (double)toInt(p.flag, v) : toNumber(p.flag, v);
                 const std::string problem = checkParam(p, x, named != nullptr);
                 if (!problem.empty()) throw UsageError(problem + ", got '" + v + "'");

@@ -111,7 +111,7 @@ SlurmJob parseSlurm(int argc, char** argv) {
     job.report = job.plan.report.empty() ? fs::path(output).replace_extension(".json").string()
                                          : absolutePath(job.plan.report);
     job.frames = job.plan.frames.empty() ? existingFrames(job.plan.input) : parseFrames(job.plan.frames);
-    if (job.frames.empty()) throw Error("no frames match '" + job.plan.input + "' (give --frames)");
+    if (job.frames.empty()) throw FileError(job.plan.input, "no frames match (give --frames)");
     job.chunks = chunkFrames(job.frames, job.chunk);
     return job;
 }
@@ -197,10 +197,10 @@ struct Range {
 json summarise(const std::string& dir) {
     const fs::path path = fs::path(dir) / kManifest;
     std::ifstream f(path);
-    if (!f) throw Error("cannot read '" + path.string() + "' (written by obscura farm slurm)");
+    if (!f) throw FileError(path.string(), "cannot read (obscura farm slurm writes it)");
     const json m = json::parse(f, nullptr, false);
     if (!m.is_object() || !m.contains("frames") || !m.contains("output") || !m.contains("report"))
-        throw Error("'" + path.string() + "' is not an obscura farm manifest");
+        throw FileError(path.string(), "not an obscura farm manifest");
     const std::string output = m["output"], report = m["report"], channel = m.value("ao_channel", "obscura.AO.Y");
     json done = json::array(), missing = json::array(), failed = json::object(), temps = json::array();
     Range seconds;

@@ -63,8 +63,8 @@ def test_bad_command_lines(sequence):
         (["slurm", "shot.####.exr", "-o", "out/a.####.exr", "--chunk", "0", "--dry-run"], 2, "--chunk"),
         (["slurm", "shot.####.exr", "-o", "out/a.####.exr", "--radius", "-1", "--dry-run"], 2, "--radius"),
         (["slurm", "shot.####.exr", "-o", "out/a.####.exr", "--report", "r.json", "--dry-run"], 2, "--report"),
-        (["slurm", "none.####.exr", "-o", "out/a.####.exr", "--dry-run"], 1, "no frames match"),
-        (["summary", "out"], 1, "obscura_farm.json"),
+        (["slurm", "none.####.exr", "-o", "out/a.####.exr", "--dry-run"], 1, "none.####.exr': no frames match"),
+        (["summary", "out"], 1, "obscura_farm.json': cannot read"),
         (["summary"], 2, "which directory"),
         (["render"], 2, "slurm or summary"),
     ]
