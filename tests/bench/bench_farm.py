@@ -28,7 +28,8 @@ sys.path.insert(0, str(ROOT / "tests" / "python"))
 sys.path.insert(0, os.environ.get("OBSCURA_MODULE_DIR", str(ROOT / "build" / "plugin" / "python")))
 
 from conftest import synthetic_scene, write_exr  # noqa: E402
-from farm_engines import DaskCluster, EngineUnavailable, SlurmCluster, wait_for  # noqa: E402
+from farm_engines import DaskCluster, EngineUnavailable, SlurmCluster  # noqa: E402
+from farm_timeline import SlurmWatch, boot_clock, cpu_delta, cpu_seconds, run_measured  # noqa: E402
 
 
 def main():
@@ -63,19 +64,13 @@ def main():
             shutil.rmtree(work / "out", ignore_errors=True)
             (work / "out").mkdir()
 
-        def one_process_cli():
-            clean()
-            t0 = time.perf_counter()
-            subprocess.run([args.cli, *run_args, "--quiet"], cwd=work, check=True, timeout=3600)
-            return time.perf_counter() - t0
-
         print(f"bench_farm: {args.frames} frames {width}x{height}, {work_label}, 1 thread per frame; "
               f"best of {args.repeat}; {os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f}", flush=True)
 
-        def row(label, seconds, base=None):
-            fpm = 60.0 * args.frames / seconds
-            ratio = f"  ratio {seconds / base:.2f} of one process" if base else ""
-            print(f"  {label:<44} {seconds:7.2f} s  {fpm:6.1f} frames/min{ratio}", flush=True)
+        def one_process_cli():
+            clean()
+            _, wall, cpu = run_measured([args.cli, *run_args, "--quiet"], cwd=work, check=True, timeout=3600)
+            return wall, [f"CPU {cpu:.2f} s ({cpu / wall:.2f} of a core: --threads 1 holds it to one)"]
 
         import obscura
         from obscura import farm
@@ -85,36 +80,75 @@ def main():
         def one_process_python():
             clean()
             (work / "out" / "v").mkdir()
-            t0 = time.perf_counter()
+            t0, c0 = time.perf_counter(), time.process_time()
             for src in frames:
                 out, report = farm.output_paths(str(work / "out"), "v", src)
                 obscura.process(src, out, report=report, **settings)
-            return time.perf_counter() - t0
+            wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+            return wall, [f"CPU {cpu:.2f} s ({cpu / wall:.2f} of a core)"]
 
         def slurm_run(cluster):
             clean()
-            t0 = time.perf_counter()
-            proc = subprocess.run([args.cli, "farm", "slurm", *run_args, "--chunk", str(chunk)], cwd=work,
-                                  env=cluster.env, capture_output=True, text=True, timeout=300)
+            daemons = {name: p.pid for name, p in cluster.procs.procs}
+            before = cpu_seconds(daemons)
+            origin, t0 = boot_clock(), time.perf_counter()
+            proc, submit_wall, submit_cpu = run_measured(
+                [args.cli, "farm", "slurm", *run_args, "--chunk", str(chunk)], cwd=work, env=cluster.env,
+                capture_output=True, text=True, timeout=300)
             if proc.returncode != 0:
                 raise RuntimeError(proc.stderr)
             job = proc.stdout.split()[2].rstrip(":")
-            wait_for(lambda: not cluster.running(job), 3600, f"job {job}")
+            reports = [str(work / "out" / f"ao.{f:04d}.json") for f in range(1, args.frames + 1)]
+            watch = SlurmWatch(cluster, job, tasks, args.cli, reports, origin).run()
             seconds = time.perf_counter() - t0
+            used = cpu_delta(before, cpu_seconds(daemons))
             done = subprocess.run([args.cli, "farm", "summary", "out"], cwd=work, capture_output=True)
             if done.returncode != 0:
                 raise RuntimeError(f"job {job} left frames undone: {done.stdout.decode()}")
-            return seconds
+            return seconds, [f"submit (obscura farm slurm + sbatch) {submit_wall:.2f} s, CPU {submit_cpu:.2f} s",
+                             *watch.lines(),
+                             "daemon CPU: " + ", ".join(f"{k} {v:.2f} s" for k, v in used.items())]
 
-        def dask_run(client):
+        def dask_run(client, cluster):
+            from distributed import get_task_stream
             clean()
-            t0 = time.perf_counter()
-            result = farm.run_dask(client, frames, {"v": {}}, out_dir=str(work / "out"), progress=False, **settings)
+            pids = {name: p.pid for name, p in cluster.procs.procs}
+            before = cpu_seconds(pids)
+            t0, epoch0 = time.perf_counter(), time.time()
+            with get_task_stream(client) as stream:
+                result = farm.run_dask(client, frames, {"v": {}}, out_dir=str(work / "out"), progress=False,
+                                       **settings)
+            seconds = time.perf_counter() - t0
+            used = cpu_delta(before, cpu_seconds(pids))
             if result["failed"] or result["done"] != args.frames:
                 raise RuntimeError(f"dask run incomplete: {result}")
-            return time.perf_counter() - t0
+            spans = {}
+            for t in stream.data:
+                for ss in t.get("startstops", ()):
+                    if ss["action"] == "compute":
+                        spans.setdefault(t["worker"], []).append((ss["start"] - epoch0, ss["stop"] - epoch0))
+            lines = []
+            for w, s in sorted(spans.items()):
+                s.sort()
+                busy = sum(b - a for a, b in s)
+                gaps = sum(max(0.0, s[i + 1][0] - s[i][1]) for i in range(len(s) - 1))
+                lines.append(f"{w.rsplit(':', 1)[-1]:>6}: {len(s)} task(s), first start {s[0][0]:5.2f} s, last end "
+                             f"{s[-1][1]:6.2f} s, computing {busy:6.2f} s, idle between tasks {gaps:.2f} s")
+            lines.append("process CPU: " + ", ".join(f"{k} {v:.2f} s" for k, v in used.items()))
+            lines.insert(0, f"run_dask {result['seconds']:.2f} s (the rest: the task stream's set-up and fetch)")
+            return seconds, lines
+
+        def row(label, runs, base=None):
+            seconds, details = min(runs, key=lambda r: r[0])
+            fpm = 60.0 * args.frames / seconds
+            ratio = f"  ratio {seconds / base:.2f} of one process" if base else ""
+            print(f"  {label:<44} {seconds:7.2f} s  {fpm:6.1f} frames/min{ratio}", flush=True)
+            for d in details:
+                print(f"      {d}")
+            return seconds
 
         # The clusters start once; each round runs every case, so a busy spell hits all of them.
+        tasks = -(-args.frames // chunk)
         times = {k: [] for k in ("cli", "slurm", "python", "dask", "threads")}
         skipped = {}
         with contextlib.ExitStack() as stack:
@@ -129,6 +163,9 @@ def main():
                 # One worker with as many threads: the GIL is released while a frame computes.
                 threaded = stack.enter_context(DaskCluster(work / "dask-threads", workers=1, threads=args.cpus))
                 threaded_client = stack.enter_context(Client(threaded.address, timeout=60))
+                # Each worker imports obscura once (a few tenths of a second): not part of a run.
+                for c in (client, threaded_client):
+                    c.run(__import__, "obscura.farm")
             except EngineUnavailable as e:
                 client, skipped["dask"] = None, str(e)
             for _ in range(args.repeat):
@@ -137,16 +174,16 @@ def main():
                     times["slurm"].append(slurm_run(slurm))
                 times["python"].append(one_process_python())
                 if client:
-                    times["dask"].append(dask_run(client))
-                    times["threads"].append(dask_run(threaded_client))
-        tasks = -(-args.frames // chunk)
-        row("one process, frames in turn (CLI)", min(times["cli"]))
+                    times["dask"].append(dask_run(client, dask))
+                    times["threads"].append(dask_run(threaded_client, threaded))
+        print("  (times in the details are seconds after submission; CPU is user + system)")
+        cli = row("one process, frames in turn (CLI)", times["cli"])
         if times["slurm"]:
-            row(f"slurm, {args.cpus} CPUs, {tasks} tasks of {chunk} frames", min(times["slurm"]), min(times["cli"]))
-        row("one process, frames in turn (Python)", min(times["python"]))
+            row(f"slurm, {args.cpus} CPUs, {tasks} tasks of {chunk} frames", times["slurm"], cli)
+        py = row("one process, frames in turn (Python)", times["python"])
         if times["dask"]:
-            row(f"dask, {args.cpus} workers x 1 thread", min(times["dask"]), min(times["python"]))
-            row(f"dask, 1 worker x {args.cpus} threads", min(times["threads"]), min(times["python"]))
+            row(f"dask, {args.cpus} workers x 1 thread", times["dask"], py)
+            row(f"dask, 1 worker x {args.cpus} threads", times["threads"], py)
         print(f"  load average after: {os.getloadavg()[0]:.1f} (ratios mean little when other work holds the cores)")
         for engine, why in skipped.items():
             print(f"  {engine}: skipped ({why})")
