@@ -41,6 +41,8 @@ def main():
     ap.add_argument("--rays", type=int, default=64, help="rtao's rays per pixel")
     ap.add_argument("--cpus", type=int, default=2, help="Slurm CPUs and Dask workers")
     ap.add_argument("--chunk", type=int, default=0, help="frames per Slurm task (default: frames / cpus)")
+    ap.add_argument("--batch-sched-delay", type=int, default=0,
+                    help="slurmctld's batch_sched_delay (Slurm's default: 3 s, when tasks wait for a 3-second tick)")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--cli", default=os.environ.get("OBSCURA_CLI", str(ROOT / "build" / "plugin" / "obscura")))
     args = ap.parse_args()
@@ -153,7 +155,7 @@ def main():
         skipped = {}
         with contextlib.ExitStack() as stack:
             try:
-                slurm = stack.enter_context(SlurmCluster(cpus=args.cpus))
+                slurm = stack.enter_context(SlurmCluster(cpus=args.cpus, batch_sched_delay=args.batch_sched_delay))
             except EngineUnavailable as e:
                 slurm, skipped["slurm"] = None, str(e)
             try:
@@ -180,6 +182,8 @@ def main():
         cli = row("one process, frames in turn (CLI)", times["cli"])
         if times["slurm"]:
             row(f"slurm, {args.cpus} CPUs, {tasks} tasks of {chunk} frames", times["slurm"], cli)
+            print(f"      (batch_sched_delay={args.batch_sched_delay}: tasks start at slurmctld's next "
+                  f"{max(1, args.batch_sched_delay)}-second tick after submission)")
         py = row("one process, frames in turn (Python)", times["python"])
         if times["dask"]:
             row(f"dask, {args.cpus} workers x 1 thread", times["dask"], py)

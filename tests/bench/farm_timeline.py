@@ -62,12 +62,14 @@ class SlurmWatch:
             if not entry.isdigit():
                 continue
             pid = int(entry)
-            if pid in self.steps or any(t.pid == pid for t in self.tasks.values()):
+            if any(t.pid == pid for t in self.tasks.values()):
                 continue
             try:
+                # A task's process is slurmstepd until it execs the script (and obscura), so a
+                # slurmstepd pid is looked at again on the next scan.
                 exe = os.readlink(f"/proc/{pid}/exe")
                 if os.path.basename(exe).startswith("slurmstepd"):  # Debian: slurmstepd-wlm
-                    self.steps[pid] = 0.0
+                    self.steps.setdefault(pid, 0.0)
                     continue
                 if exe != self.exe:
                     continue
@@ -79,6 +81,7 @@ class SlurmWatch:
                 st = proc_stat(pid)
                 if st:
                     self.tasks[int(env["SLURM_ARRAY_TASK_ID"])] = Task(pid, st[1] - self.origin)
+                    self.steps.pop(pid, None)
 
     def _sample(self, now):
         for task in self.tasks.values():
