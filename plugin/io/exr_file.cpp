@@ -228,8 +228,12 @@ int addLayersPart(ExrPixels& file, int from) {
 
 void setExrThreads(int n) {
     if (n <= 0) n = (int)std::max(1u, std::thread::hardware_concurrency());
-    // Files opened after this decode and encode chunks on n threads. Resizing the pool costs
-    // thread start-ups, and a Python host may run frames concurrently: only when it changes.
+    // Files opened after this decode and encode chunks on n threads. One thread means the
+    // frame's own (OpenEXR's count 0): a pool of one would be shared by every frame a
+    // threaded host (a Dask worker) runs at once, queueing their I/O behind one thread.
+    // Resizing the pool costs thread start-ups, and a host may run frames concurrently:
+    // only when it changes.
+    if (n == 1) n = 0;
     if (Imf::globalThreadCount() != n) Imf::setGlobalThreadCount(n);
     g_threadsSet = true;
 }
