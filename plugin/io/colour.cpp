@@ -8,6 +8,7 @@
 #include <OpenEXR/ImfStringAttribute.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -356,9 +357,12 @@ void applyRows(const OCIO::CPUProcessor& cpu, const MutablePlane& plane, int y0,
         for (int x = 0; x < plane.width; ++x) cpu.applyRGB(plane.at(x, y));
 }
 
+std::atomic<int> g_colourThreads{0};
+
 void applyImage(const OCIO::CPUProcessor& cpu, const MutablePlane& plane) {
     const long long pixels = static_cast<long long>(plane.width) * plane.height;
-    unsigned n = std::max(1u, std::thread::hardware_concurrency());
+    const int cap = g_colourThreads.load();
+    unsigned n = cap > 0 ? static_cast<unsigned>(cap) : std::max(1u, std::thread::hardware_concurrency());
     n = static_cast<unsigned>(std::min<long long>(n, std::max(1LL, pixels / (256 * 1024))));
     n = std::min<unsigned>(n, static_cast<unsigned>(plane.height));
     if (n <= 1) {
@@ -383,6 +387,8 @@ void applyImage(const OCIO::CPUProcessor& cpu, const MutablePlane& plane) {
         if (!e.empty()) throw Error("OpenColorIO: " + firstLine(e));
 }
 } // namespace
+
+void setColourThreads(int n) { g_colourThreads = std::max(0, n); }
 
 void ColourManager::convert(const MutablePlane& plane, const std::string& from, const std::string& to) const {
     const std::string src = require(from, "the input"), dst = require(to, "the output");

@@ -128,6 +128,10 @@ private:
 // reuse it. Throws Error (one line) if the config cannot be loaded.
 const ColourManager& colourManager();
 
+// Threads a colour conversion may use, process-wide like OpenEXR's pool: a frame job sets its
+// --threads here, so a farm task given one CPU keeps to it (0: every core).
+void setColourThreads(int n);
+
 // Convenience wrappers over colourManager().
 std::string detectColourSpace(const Imf::Header& header, const std::string& override,
                               std::string* warning = nullptr);

@@ -414,6 +414,7 @@ FrameReport runJob(const FrameJob& job) {
     requireOutputDirectory(job.output);
     if (!job.previewPath.empty()) requireOutputDirectory(job.previewPath);
     setExrThreads(job.settings.threads);
+    setColourThreads(job.settings.threads);
 
     FrameReport report;
     const bool copy = job.write == WriteMode::Copy;
