@@ -69,6 +69,12 @@ def main():
         print(f"bench_farm: {args.frames} frames {width}x{height}, {work_label}, 1 thread per frame; "
               f"best of {args.repeat}; {os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f}", flush=True)
 
+        # What every obscura process pays before its first frame (the baseline once, the farm
+        # in `farm slurm` and again in each task): mostly loading the shared libraries.
+        startup = min((run_measured([args.cli, "--version"], capture_output=True)[1:] for _ in range(3)),
+                      key=lambda r: r[0])
+        print(f"  obscura start-up (--version, best of 3): {startup[0]:.2f} s, CPU {startup[1]:.2f} s", flush=True)
+
         def one_process_cli():
             clean()
             _, wall, cpu = run_measured([args.cli, *run_args, "--quiet"], cwd=work, check=True, timeout=3600)
