@@ -105,10 +105,7 @@ class SlurmWatch:
         last_squeue = time.monotonic()
         while time.monotonic() < deadline:
             now = boot_clock() - self.origin
-            if self.tasks:
-            out.append(f"tasks' CPU in all {sum(t.cpu for t in self.tasks.values()):.2f} s (against one process's: "
-                       "each task's start-up, and what sharing the caches and memory costs)")
-        if len(self.tasks) < self.ntasks:
+            if len(self.tasks) < self.ntasks:
                 self._scan()
             self._sample(now)
             if self.outputs_done is None and all(os.path.exists(p) for p in self.outputs):
@@ -130,6 +127,9 @@ class SlurmWatch:
             end = f"{t.end:6.2f}" if t.end is not None else "  ?   "
             run = t.end - t.start if t.end is not None else float("nan")
             out.append(f"task {i}: start {t.start:5.2f} s, end {end} s (ran {run:5.2f} s), CPU {t.cpu:5.2f} s")
+        if self.tasks:
+            out.append(f"tasks' CPU in all {sum(t.cpu for t in self.tasks.values()):.2f} s (against one process's: "
+                       "each task's start-up, and what sharing the caches and memory costs)")
         if self.tasks:
             out.append(f"tasks' CPU in all {sum(t.cpu for t in self.tasks.values()):.2f} s (against one process's: "
                        "each task's start-up, and what sharing the caches and memory costs)")
