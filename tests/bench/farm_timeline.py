@@ -130,9 +130,6 @@ class SlurmWatch:
         if self.tasks:
             out.append(f"tasks' CPU in all {sum(t.cpu for t in self.tasks.values()):.2f} s (against one process's: "
                        "each task's start-up, and what sharing the caches and memory costs)")
-        if self.tasks:
-            out.append(f"tasks' CPU in all {sum(t.cpu for t in self.tasks.values()):.2f} s (against one process's: "
-                       "each task's start-up, and what sharing the caches and memory costs)")
         if len(self.tasks) < self.ntasks:
             out.append(f"{self.ntasks - len(self.tasks)} task(s) never seen running")
         out.append(f"outputs complete at {self.outputs_done:.2f} s, job gone from squeue at {self.job_gone:.2f} s "
