@@ -11,12 +11,15 @@
 #include <OpenEXR/ImfPartType.h>
 #include <OpenEXR/ImfStdIO.h>
 #include <OpenEXR/ImfStringAttribute.h>
+#include <OpenEXR/ImfThreading.h>
 #include <Imath/half.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <thread>
 #include <unistd.h>
 
 namespace fs = std::filesystem;
@@ -627,4 +630,16 @@ TEST(ExrErrors, TruncatedFiles) {
     std::string head = tmp("room-head.exr");
     truncatedCopy(kRoom, head, 200);
     expectError([&] { readExrInfo(head); }, {"'" + head + "': truncated or corrupt", "header"});
+}
+
+// --threads 1 is the frame's own thread: no OpenEXR pool (count 0), which a threaded host's
+// concurrent frames would otherwise share, one read or write at a time.
+TEST(ExrThreads, OneThreadMeansTheCallersOwn) {
+    obscura::setExrThreads(1);
+    EXPECT_EQ(Imf::globalThreadCount(), 0);
+    obscura::setExrThreads(3);
+    EXPECT_EQ(Imf::globalThreadCount(), 3);
+    obscura::setExrThreads(0);  // back to every core, as the other tests expect
+    const int cores = (int)std::max(1u, std::thread::hardware_concurrency());
+    EXPECT_EQ(Imf::globalThreadCount(), cores == 1 ? 0 : cores);
 }
