@@ -11,6 +11,10 @@ throughput where two HBAO processes reach 2x, so rtao ratios show the cores, not
 chunk per CPU (--chunk); Dask runs one task per frame, on single-threaded workers and on one
 worker with as many threads (obscura releases the GIL while it computes). Each figure is the best of --repeat
 runs (the machine may be shared); the clusters are started once, on 127.0.0.1, and stopped.
+Under each figure: where that run's time went (farm_timeline.py): task start and end times after
+submission, CPU time of the tasks, workers and daemons, Slurm's submission and queue exit. The
+local slurmctld starts a batch job at its next one-second pass (--batch-sched-delay 3: Slurm's default
+of collecting submissions for 3 s).
 """
 import argparse
 import contextlib
@@ -99,7 +103,7 @@ def main():
             clean()
             daemons = {name: p.pid for name, p in cluster.procs.procs}
             before = cpu_seconds(daemons)
-            origin, t0 = boot_clock(), time.perf_counter()
+            origin, t0, own = boot_clock(), time.perf_counter(), time.process_time()
             proc, submit_wall, submit_cpu = run_measured(
                 [args.cli, "farm", "slurm", *run_args, "--chunk", str(chunk)], cwd=work, env=cluster.env,
                 capture_output=True, text=True, timeout=300)
@@ -108,14 +112,15 @@ def main():
             job = proc.stdout.split()[2].rstrip(":")
             reports = [str(work / "out" / f"ao.{f:04d}.json") for f in range(1, args.frames + 1)]
             watch = SlurmWatch(cluster, job, tasks, args.cli, reports, origin).run()
-            seconds = time.perf_counter() - t0
+            seconds, own = time.perf_counter() - t0, time.process_time() - own
             used = cpu_delta(before, cpu_seconds(daemons))
             done = subprocess.run([args.cli, "farm", "summary", "out"], cwd=work, capture_output=True)
             if done.returncode != 0:
                 raise RuntimeError(f"job {job} left frames undone: {done.stdout.decode()}")
             return seconds, [f"submit (obscura farm slurm + sbatch) {submit_wall:.2f} s, CPU {submit_cpu:.2f} s",
                              *watch.lines(),
-                             "daemon CPU: " + ", ".join(f"{k} {v:.2f} s" for k, v in used.items())]
+                             "daemon CPU: " + ", ".join(f"{k} {v:.2f} s" for k, v in used.items())
+                             + f"; this bench's watching {own:.2f} s"]
 
         def dask_run(client, cluster):
             from distributed import get_task_stream
