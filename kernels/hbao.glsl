@@ -88,6 +88,51 @@ luint bitsBelow(lint n) {
     return low | select(n >= 32, luint(0x80000000u), luint(0u));
 }
 
+// Marks the occupied interval of one sample, front (a, b) to back (backA, backB) in the slice's
+// axes: when its back is not above the horizon it joins the horizon's interval (and may raise
+// it), else it sets the sectors between its two ends.
+void occupyInterval(lfloat a, lfloat b, lfloat backA, lfloat backB, lbool counts, INOUT(lfloat) horizonA,
+                    INOUT(lfloat) horizonB, INOUT(luint) sectors) {
+    lbool joins = backB <= 0.0f || horizonA * backB - horizonB * backA <= 0.0f;
+    lbool higher = counts && joins && horizonA * b - horizonB * a > 0.0f;
+    horizonA = select(higher, a, horizonA);
+    horizonB = select(higher, b, horizonB);
+    // Only an interval apart from the horizon's sets sectors; in most registers none is.
+    lbool apart = counts && !joins;
+    if (anyLane(apart)) {
+        lint front = sectorBound(sectorPseudoAngle(a, b));
+        lint back = sectorBound(select(backB > 0.0f, sectorPseudoAngle(backA, backB), lfloat(0.0f)));
+        luint interval = bitsBelow(front) & ~bitsBelow(back);
+        sectors = sectors | select(apart, interval, luint(0u));
+    }
+}
+
+// Deep input (P.hbaoBitmask == 2, docs/deep.md): the backend's gatherDeepAtDisplay(corner, c, use)
+// reads channel c of P.deepLayers (front, back) depth pairs per texel, layer 0 the visible
+// surface, +inf fronts past a ray's last surface. Layer k (>= 1) at a sample texel is a hidden
+// surface on that texel's ray: tested like the visible one, with the same radius, tangent-plane
+// and side rules. Its back is the renderer's where it gave a span (back > front), else its
+// front pushed back by the thickness.
+void occupyDeepLayer(int k, lvec2 corner, lbool use, lvec3 ray, lfloat depth, lvec2 w, lvec3 T, lvec3 n, lfloat nE,
+                     lfloat nV, float radius2, lfloat backShiftA, lfloat backShiftB, INOUT(lfloat) horizonA,
+                     INOUT(lfloat) horizonB, INOUT(luint) sectors) {
+    lfloat front = gatherDeepAtDisplay(corner, 2 * k, use) * P.depthScale;
+    lbool counts = use && isSurfaceDepth(front);
+    front = select(counts, front, depth);
+    lvec3 X = viewOffset(ray, depth, w, front);
+    lfloat a = dot(T, X);
+    lfloat b = dot(n, X);
+    counts = counts && dot(X, X) <= radius2 && b > 0.0f && a * nV + b * nE > 0.0f;
+    if (anyLane(counts)) {
+        lfloat back = gatherDeepAtDisplay(corner, 2 * k + 1, counts) * P.depthScale;
+        lbool span = counts && back > front && isSurfaceDepth(back);
+        lvec3 backX = viewOffset(ray, depth, w, select(span, back, front));
+        lfloat backA = select(span, dot(T, backX), a + backShiftA);
+        lfloat backB = select(span, dot(n, backX), b + backShiftB);
+        occupyInterval(a, b, backA, backB, counts, horizonA, horizonB, sectors);
+    }
+}
+
 // Depth at which the ray through display texel `corner` meets the tangent plane of the buffer
 // texel at `edgeCorner` (its depth edgeDepth): the surface at the frame's edge continued past
 // it. Not finite or not positive where the plane does not meet the ray in front of the eye.
@@ -224,6 +269,11 @@ lfloat hbaoLanes(lint x, lint y) {
                                        clamp(corner.y, float(origin.y), float(origin.y + P.height - 1)));
                 }
             }
+            // Deep layers are read at texels inside the buffer only (not at clamped edge texels).
+            lbool deepUse = counts;
+            if (!interior && P.hbaoBitmask == 2) {
+                deepUse = deepUse && insideBuffer(corner - origin, 0.0f);
+            }
             lfloat sampleDepth = gatherDepthAtDisplay(loadCorner, counts) * P.depthScale;
             counts = counts && isSurfaceDepth(sampleDepth);
             if (!interior && P.hbaoBorder == 2) {
@@ -256,18 +306,20 @@ lfloat hbaoLanes(lint x, lint y) {
             } else if (P.hbaoBitmask != 0) {
                 lfloat backA = a + backShiftA;
                 lfloat backB = b + backShiftB;
-                // The interval joins the horizon's when its back is not above the horizon.
-                lbool joins = backB <= 0.0f || horizonA * backB - horizonB * backA <= 0.0f;
-                lbool higher = counts && joins && horizonA * b - horizonB * a > 0.0f;
-                horizonA = select(higher, a, horizonA);
-                horizonB = select(higher, b, horizonB);
-                // Only an interval apart from the horizon's sets sectors; in most registers none is.
-                lbool apart = counts && !joins;
-                if (anyLane(apart)) {
-                    lint front = sectorBound(sectorPseudoAngle(a, b));
-                    lint back = sectorBound(select(backB > 0.0f, sectorPseudoAngle(backA, backB), lfloat(0.0f)));
-                    luint interval = bitsBelow(front) & ~bitsBelow(back);
-                    sectors = sectors | select(apart, interval, luint(0u));
+                if (P.hbaoBitmask == 2) {
+                    // Deep input: where the renderer saw the ray leave the visible solid, that is its back.
+                    lfloat back = gatherDeepAtDisplay(corner, 1, deepUse && counts) * P.depthScale;
+                    lbool span = counts && back > sampleDepth && isSurfaceDepth(back);
+                    lvec3 backX = viewOffset(ray, depth, w, select(span, back, sampleDepth));
+                    backA = select(span, dot(T, backX), backA);
+                    backB = select(span, dot(n, backX), backB);
+                }
+                occupyInterval(a, b, backA, backB, counts, horizonA, horizonB, sectors);
+                if (P.hbaoBitmask == 2) {
+                    for (int k = 1; k < P.deepLayers; ++k) {
+                        occupyDeepLayer(k, corner, deepUse, ray, depth, w, T, n, nE, nV, radius2, backShiftA,
+                                        backShiftB, horizonA, horizonB, sectors);
+                    }
                 }
             } else {
                 // (a, b) lies above the horizon when it is counter-clockwise of it: no square
