@@ -31,6 +31,9 @@
 // mirrored for a < 0), which needs one division per sample instead of an arctangent; a
 // sector counts when the interval covers its centre. Linear falloff keeps the horizon alone.
 //
+// Deep input (P.hbaoBitmask 2, docs/deep.md): every surface on a sample texel's ray, with the
+// solid spans the renderer saw, is an interval of the same bitmask (occupyDeepLayer below).
+//
 // Samples snap to texel centres, which moves them slightly off the slice. Taking a and b
 // from the full 3D offset brings them back into the slice along the tangent plane (not
 // orthogonally): their height above the tangent plane is kept, so a plane stays exactly
