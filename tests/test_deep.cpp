@@ -289,4 +289,7 @@ TEST(DeepCli, PolesWithDeepInputBeatTheDepthPass) {
     const nlohmann::json report = nlohmann::json::parse(std::ifstream(dir / "report.json"));
     EXPECT_EQ(report["deep"]["layers"].get<int>(), 4);
     EXPECT_EQ(report["deep"]["dropped_samples"].get<long long>(), 0);
+    const CliResult inspect = runProgram(OBSCURA_CLI_PATH, {deep, "--flat", ref, "--inspect"});
+    EXPECT_EQ(inspect.exitCode, 0) << inspect.err;
+    EXPECT_NE(inspect.out.find("deep:    " + deep + " (Z, ZBack): 4 layer(s)"), std::string::npos) << inspect.out;
 }

@@ -601,6 +601,14 @@ std::string inspectFrame(const FrameJob& job) {
        << "   normals: " << toString(job.normalSpace.value_or(p.plan.normalSpace))
        << (p.plan.normalsLeftHanded ? " (left-handed, z flipped)" : "")
        << "   sky depth >= " << job.skyDepth.value_or(p.plan.skyDepth) << "\n";
+    if (!job.deepInput.empty()) {
+        const DeepLayers d = blameInput(job.deepInput, [&] {
+            return readDeepLayers(job.deepInput, job.settings.deepLayers, {p.plan.deepZ, p.plan.deepZBack});
+        });
+        os << "deep:    " << job.deepInput << " (" << p.plan.deepZ << ", " << p.plan.deepZBack << "): " << d.layers
+           << " layer(s) of at most " << job.settings.deepLayers << ", " << d.samples << " samples, " << d.emptyPixels
+           << " empty pixels, " << d.droppedSamples << " dropped samples, " << d.unsortedPixels << " unsorted pixels\n";
+    }
     try {
         const Camera c = resolveFrameCamera(job, p);
         os << "camera:  " << (c.projection == Projection::Perspective ? "perspective" : "orthographic");
