@@ -130,8 +130,9 @@ void occupySpan(lvec3 frontX, lvec3 backX, lbool span, lbool use, lvec3 T, lvec3
     lfloat c = dot(frontX, frontX) - radius2;
     lfloat disc = fd * fd - dd * c;
     lfloat root = sqrt(max(disc, 0.0f));
-    lfloat t0 = max((-fd - root) / dd, 0.0f);
-    lfloat t1 = min((-fd + root) / dd, 1.0f);
+    lfloat invDd = 1.0f / dd;
+    lfloat t0 = max((-fd - root) * invDd, 0.0f);
+    lfloat t1 = min((-fd + root) * invDd, 1.0f);
     lbool meets = (span && disc >= 0.0f && t0 <= t1) || (!span && c <= 0.0f);
     lvec3 front = select(span, frontX + d * t0, frontX);
     lvec3 back = frontX + d * t1;
