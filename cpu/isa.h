@@ -32,6 +32,9 @@ struct IsaKernels {
     void (*discsBaseTile)(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, float* base,
                           const Box2i& tile);
     void (*discsTile)(const glsl::KernelParams& p, const float* pyramid, MutablePlane ao, const Box2i& tile);
+    // HBAO with deep input: `deep` holds p.deepLayers (front, back) depth pairs per texel (kernels/hbao.glsl).
+    void (*hbaoDeepTile)(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep,
+                         MutablePlane ao, const Box2i& tile);
 };
 
 #define OBSCURA_DECLARE_ISA(isa) \

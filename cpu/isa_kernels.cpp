@@ -7,5 +7,5 @@
 #include "cpu/ssdo_tile_impl.h"
 
 namespace obscura::cpu::OBSCURA_ISA {
-const IsaKernels kernels{&hbaoTile, &ssaoTile, &ssdoTile, &blurTile, &discsBaseTile, &discsTile};
+const IsaKernels kernels{&hbaoTile, &ssaoTile, &ssdoTile, &blurTile, &discsBaseTile, &discsTile, &hbaoDeepTile};
 } // namespace obscura::cpu::OBSCURA_ISA

@@ -22,4 +22,11 @@ void runLaneKernel(LaneKernel kernel, const KernelParams& p, ConstPlane depth, C
                      [&](const Box2i& tile) { tileFn(p, depth, normal, ao, tile); });
 }
 
+void runHbaoDeep(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, MutablePlane ao,
+                 int threads, const std::string& isa) {
+    const IsaKernels& k = isa.empty() ? cpuKernelsFor({depth, normal, deep}) : cpuKernelsNamed(isa, {depth, normal, deep});
+    parallelForTiles(Box2i{0, 0, p.width, p.height}, kLaneTileWidth, kLaneTileHeight, threads,
+                     [&](const Box2i& tile) { k.hbaoDeepTile(p, depth, normal, deep, ao, tile); });
+}
+
 } // namespace obscura::cpu

@@ -32,6 +32,11 @@ LaneTileFn laneTileFor(LaneKernel kernel, const std::string& isa);
 void runLaneKernel(LaneKernel kernel, const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao,
                    int threads, const std::string& isa = "");
 
+// HBAO with deep input: `deep` holds p.deepLayers (front, back) depth pairs per texel over the
+// same buffer as depth, and p.hbaoBitmask is 2 (core/operator.cpp sets both).
+void runHbaoDeep(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, MutablePlane ao,
+                 int threads, const std::string& isa = "");
+
 inline void runHbao(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, int threads,
                     const std::string& isa = "") {
     runLaneKernel(LaneKernel::Hbao, p, depth, normal, ao, threads, isa);

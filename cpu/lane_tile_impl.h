@@ -54,6 +54,13 @@ struct LaneCpuKernel {
             return gather(depthAtDisplayOrigin, lint(corner.y * float(depthYStride) + corner.x * float(depthXStride)), use);
         return gatherDepth(lint(corner.x) - P.originX, lint(corner.y) - P.originY, use);
     }
+    // Deep input (kernels/hbao.glsl): channel c of the (front, back) layer pairs at a display corner.
+    const float* deepData = nullptr;
+    int deepXStride = 0, deepYStride = 0;
+    lfloat gatherDeepAtDisplay(lvec2 corner, int c, lbool use) const {
+        return gather(deepData + c, (lint(corner.y) - P.originY) * deepYStride + (lint(corner.x) - P.originX) * deepXStride,
+                      use);
+    }
     lvec3 gatherNormal(lint x, lint y, lbool use) const {
         const lint i = y * normalYStride + x * normalXStride;
         return lvec3(gather(normalData, i, use), gather(normalData + 1, i, use), gather(normalData + 2, i, use));
@@ -76,9 +83,13 @@ constexpr int kLanesHere = OBSCURA_LANES;
 enum class Entry { Hbao, Ssao };
 
 template <Entry E, class Params>
-void runTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile) {
+void runTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, MutablePlane ao,
+             const Box2i& tile) {
     glsl::LaneCpuKernel<Params> k;
     static_cast<KernelParams&>(k.P) = p;
+    k.deepData = deep.data;
+    k.deepXStride = (int)deep.xStride;
+    k.deepYStride = (int)deep.yStride;
     k.depthData = depth.data;
     k.depthXStride = (int)depth.xStride;
     k.depthYStride = (int)depth.yStride;
@@ -108,37 +119,50 @@ void runTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, Mutable
 }
 
 template <Entry E, int Cosine, int Linear, int Bitmask = 0>
-void runTileFor(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile) {
+void runTileFor(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, MutablePlane ao,
+                const Box2i& tile) {
     if (p.orthographic == 0 && p.radialDepth == 0)
-        runTile<E, glsl::ParamsPerspPlanar<Cosine, Linear, Bitmask>>(p, depth, normal, ao, tile);
+        runTile<E, glsl::ParamsPerspPlanar<Cosine, Linear, Bitmask>>(p, depth, normal, deep, ao, tile);
     else
-        runTile<E, glsl::ParamsAnyCamera<Cosine, Linear, Bitmask>>(p, depth, normal, ao, tile);
+        runTile<E, glsl::ParamsAnyCamera<Cosine, Linear, Bitmask>>(p, depth, normal, deep, ao, tile);
 }
 
 // The weighting and falloff switches as template arguments; HBAO's bitmask too (it only
-// changes binary visibility: linear falloff and SSAO never take it).
+// changes binary visibility: linear falloff and SSAO never take it), and with it the deep
+// layers (bitmask 2), so input without them runs no deep code at all.
 template <Entry E>
-void runEntry(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile) {
-    const bool bitmask = E == Entry::Hbao && p.hbaoBitmask != 0;
+void runEntry(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, MutablePlane ao,
+              const Box2i& tile) {
+    const int bitmask = E == Entry::Hbao ? p.hbaoBitmask : 0;
     if (p.cosineWeighting != 0) {
-        if (p.linearFalloff != 0) runTileFor<E, 1, 1>(p, depth, normal, ao, tile);
-        else if (bitmask) runTileFor<E, 1, 0, 1>(p, depth, normal, ao, tile);
-        else runTileFor<E, 1, 0>(p, depth, normal, ao, tile);
+        if (p.linearFalloff != 0) runTileFor<E, 1, 1>(p, depth, normal, deep, ao, tile);
+        else if (bitmask == 2) runTileFor<E, 1, 0, 2>(p, depth, normal, deep, ao, tile);
+        else if (bitmask == 1) runTileFor<E, 1, 0, 1>(p, depth, normal, deep, ao, tile);
+        else runTileFor<E, 1, 0>(p, depth, normal, deep, ao, tile);
     } else {
-        if (p.linearFalloff != 0) runTileFor<E, 0, 1>(p, depth, normal, ao, tile);
-        else if (bitmask) runTileFor<E, 0, 0, 1>(p, depth, normal, ao, tile);
-        else runTileFor<E, 0, 0>(p, depth, normal, ao, tile);
+        if (p.linearFalloff != 0) runTileFor<E, 0, 1>(p, depth, normal, deep, ao, tile);
+        else if (bitmask == 2) runTileFor<E, 0, 0, 2>(p, depth, normal, deep, ao, tile);
+        else if (bitmask == 1) runTileFor<E, 0, 0, 1>(p, depth, normal, deep, ao, tile);
+        else runTileFor<E, 0, 0>(p, depth, normal, deep, ao, tile);
     }
 }
 
 } // namespace
 
 void hbaoTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile) {
-    runEntry<Entry::Hbao>(p, depth, normal, ao, tile);
+    KernelParams flat = p;
+    flat.hbaoBitmask = p.hbaoBitmask != 0 ? 1 : 0;  // no deep plane here
+    flat.deepLayers = 0;
+    runEntry<Entry::Hbao>(flat, depth, normal, ConstPlane{}, ao, tile);
+}
+
+void hbaoDeepTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, MutablePlane ao,
+                  const Box2i& tile) {
+    runEntry<Entry::Hbao>(p, depth, normal, deep, ao, tile);
 }
 
 void ssaoTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile) {
-    runEntry<Entry::Ssao>(p, depth, normal, ao, tile);
+    runEntry<Entry::Ssao>(p, depth, normal, ConstPlane{}, ao, tile);
 }
 
 } // namespace obscura::cpu::OBSCURA_ISA

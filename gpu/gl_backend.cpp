@@ -222,12 +222,20 @@ void GlBackend::readInner(int binding, int channels, const Box2i& inner, const B
         }
 }
 
-void GlBackend::runAo(const char* program, const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal,
-                      MutablePlane ao, int blur, GlTimings* timings, long long maxTexels) {
+void GlBackend::runAoWith(const char* program, const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal,
+                          ConstPlane deep, MutablePlane ao, int blur, GlTimings* timings, long long maxTexels) {
     GlTimings t;
+    std::vector<float> packed;
+    // The deep pairs ride in the signal-in buffer (HBAO reads no signal), so a tile holds 2K floats a texel.
+    if (deep.valid() && maxTexels <= 0)
+        maxTexels = info().maxStorageBlockBytes / (std::max(3, 2 * p.deepLayers) * (long long)sizeof(float));
     runTiled(
         p, depth, normal, blur, maxTexels, t,
-        [&](const Box2i& buf, const glsl::KernelParams&) {
+        [&](const Box2i& buf, const glsl::KernelParams& q) {
+            if (deep.valid()) {
+                pack(deep, buf, 2 * q.deepLayers, packed);
+                uploadBuffer(kSignalIn, GL_SHADER_STORAGE_BUFFER, packed.data(), packed.size() * sizeof(float));
+            }
             uploadBuffer(kSignalOut, GL_SHADER_STORAGE_BUFFER, nullptr, (size_t)buf.width() * buf.height() * sizeof(float));
         },
         [&](const glsl::KernelParams& q) {

@@ -38,7 +38,14 @@ public:
     }
     // The same for any AO kernel reading depth and normals only ("hbao", "ssao").
     void runAo(const char* program, const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao,
-               int blur, GlTimings* timings = nullptr, long long maxTexels = 0);
+               int blur, GlTimings* timings = nullptr, long long maxTexels = 0) {
+        runAoWith(program, p, depth, normal, ConstPlane{}, ao, blur, timings, maxTexels);
+    }
+    // HBAO with deep input: `deep` holds p.deepLayers (front, back) depth pairs per texel.
+    void runHbaoDeep(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, MutablePlane ao,
+                     int blur, GlTimings* timings = nullptr, long long maxTexels = 0) {
+        runAoWith("hbao", p, depth, normal, deep, ao, blur, timings, maxTexels);
+    }
 
     // One pass of disc AO (kernels/discs.glsl) over the whole frame from the host's pyramid
     // (cpu/discs_cpu.h; p's disc fields describe it), then `blur` passes.
@@ -54,6 +61,8 @@ public:
                  MutablePlane ao, int blur, GlTimings* timings = nullptr);
 
 private:
+    void runAoWith(const char* program, const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal,
+                   ConstPlane deep, MutablePlane ao, int blur, GlTimings* timings, long long maxTexels);
     void runTiled(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, int blur, long long maxTexels,
                   GlTimings& t, const std::function<void(const Box2i& buf, const glsl::KernelParams& q)>& upload,
                   const std::function<void(const glsl::KernelParams& q)>& run,

@@ -60,6 +60,11 @@ vec3 gatherRadiance(int x, int y, bool use) { return use ? loadRadiance(ivec2(x,
 vec3 gatherAlbedo(int x, int y, bool use) { return use ? loadAlbedo(ivec2(x, y)) : vec3(1.0f); }
 vec3 gatherEnv(int x, int y, bool use) { return use ? loadEnv(ivec2(x, y)) : vec3(0.0f); }
 vec4 gatherSignal(int x, int y, bool use) { return use ? loadSignal(ivec2(x, y)) : vec4(0.0f); }
+// HBAO's deep layers (P.deepLayers (front, back) pairs per texel) come through the signal-in binding.
+float gatherDeepAtDisplay(vec2 corner, int c, bool use) {
+    int i = texelIndex(ivec2(int(corner.x) - P.originX, int(corner.y) - P.originY));
+    return use ? signalIn[i * 2 * P.deepLayers + c] : 0.0f;
+}
 // Disc AO reads the host's pyramid (8 floats a texel) through the signal-in binding.
 float gatherDisc(int index, int c, bool use) { return use ? signalIn[index * 8 + c] : 0.0f; }
 bool outsideDispatch(ivec2 t) { return t.x >= P.width || t.y >= P.height; }

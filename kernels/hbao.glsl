@@ -31,6 +31,9 @@
 // mirrored for a < 0), which needs one division per sample instead of an arctangent; a
 // sector counts when the interval covers its centre. Linear falloff keeps the horizon alone.
 //
+// Deep input (P.hbaoBitmask 2, docs/deep.md): every surface on a sample texel's ray, with the
+// solid spans the renderer saw, is an interval of the same bitmask (occupyDeepLayer below).
+//
 // Samples snap to texel centres, which moves them slightly off the slice. Taking a and b
 // from the full 3D offset brings them back into the slice along the tangent plane (not
 // orthogonally): their height above the tangent plane is kept, so a plane stays exactly
@@ -86,6 +89,76 @@ lint sectorBound(lfloat p) {
 luint bitsBelow(lint n) {
     luint low = (luint(1u) << luint(min(n, lint(31)))) - luint(1u);
     return low | select(n >= 32, luint(0x80000000u), luint(0u));
+}
+
+// Marks the occupied interval of one sample, front (a, b) to back (backA, backB) in the slice's
+// axes: when its back is not above the horizon it joins the horizon's interval (and may raise
+// it), else it sets the sectors between its two ends.
+void occupyInterval(lfloat a, lfloat b, lfloat backA, lfloat backB, lbool counts, INOUT(lfloat) horizonA,
+                    INOUT(lfloat) horizonB, INOUT(luint) sectors) {
+    lbool joins = backB <= 0.0f || horizonA * backB - horizonB * backA <= 0.0f;
+    lbool higher = counts && joins && horizonA * b - horizonB * a > 0.0f;
+    horizonA = select(higher, a, horizonA);
+    horizonB = select(higher, b, horizonB);
+    // Only an interval apart from the horizon's sets sectors; in most registers none is.
+    lbool apart = counts && !joins;
+    if (anyLane(apart)) {
+        lint front = sectorBound(sectorPseudoAngle(a, b));
+        lint back = sectorBound(select(backB > 0.0f, sectorPseudoAngle(backA, backB), lfloat(0.0f)));
+        luint interval = bitsBelow(front) & ~bitsBelow(back);
+        sectors = sectors | select(apart, interval, luint(0u));
+    }
+}
+
+// Deep input (P.hbaoBitmask == 2, docs/deep.md): the backend's gatherDeepAtDisplay(corner, c, use)
+// reads channel c of P.deepLayers (front, back) depth pairs per texel, layer 0 the visible
+// surface, +inf fronts past a ray's last surface. A back beyond its front is a solid the
+// renderer saw the ray cross (a span); else the surface's depth is unknown and the thickness
+// rule pushes its front back, as without deep input.
+//
+// One layer at a sample texel, front frontX and back backX (offsets from the receiver): a span
+// counts for its part inside the sphere of radius R (a long span whose front lies beyond R may
+// still pass close by), a point sample when its front is within R; then, as for the visible
+// layer, only when that front is above the tangent plane and on the E side.
+void occupySpan(lvec3 frontX, lvec3 backX, lbool span, lbool use, lvec3 T, lvec3 n, lfloat nE, lfloat nV,
+                float radius2, lfloat backShiftA, lfloat backShiftB, INOUT(lfloat) horizonA, INOUT(lfloat) horizonB,
+                INOUT(luint) sectors) {
+    // |frontX + t d|^2 = R^2: the chord of the ball along the span, t in [0, 1].
+    lvec3 d = backX - frontX;
+    lfloat dd = max(dot(d, d), 1e-30f);
+    lfloat fd = dot(frontX, d);
+    lfloat c = dot(frontX, frontX) - radius2;
+    lfloat disc = fd * fd - dd * c;
+    lfloat root = sqrt(max(disc, 0.0f));
+    lfloat invDd = 1.0f / dd;
+    lfloat t0 = max((-fd - root) * invDd, 0.0f);
+    lfloat t1 = min((-fd + root) * invDd, 1.0f);
+    lbool meets = (span && disc >= 0.0f && t0 <= t1) || (!span && c <= 0.0f);
+    lvec3 front = select(span, frontX + d * t0, frontX);
+    lvec3 back = frontX + d * t1;
+    lfloat a = dot(T, front);
+    lfloat b = dot(n, front);
+    lfloat backA = select(span, dot(T, back), a + backShiftA);
+    lfloat backB = select(span, dot(n, back), b + backShiftB);
+    lbool counts = use && meets && b > 0.0f && a * nV + b * nE > 0.0f;
+    occupyInterval(a, b, backA, backB, counts, horizonA, horizonB, sectors);
+}
+
+// Hidden layer k (>= 1) at a sample texel: a surface on that texel's ray behind the visible one.
+void occupyDeepLayer(int k, lvec2 corner, lbool use, lvec3 ray, lfloat depth, lvec2 w, lvec3 T, lvec3 n, lfloat nE,
+                     lfloat nV, float radius2, lfloat backShiftA, lfloat backShiftB, INOUT(lfloat) horizonA,
+                     INOUT(lfloat) horizonB, INOUT(luint) sectors) {
+    lfloat front = gatherDeepAtDisplay(corner, 2 * k, use) * P.depthScale;
+    lbool counts = use && isSurfaceDepth(front);
+    if (anyLane(counts)) {
+        lfloat back = gatherDeepAtDisplay(corner, 2 * k + 1, counts) * P.depthScale;
+        lbool span = counts && back > front && isSurfaceDepth(back);
+        front = select(counts, front, depth);
+        lvec3 frontX = viewOffset(ray, depth, w, front);
+        lvec3 backX = viewOffset(ray, depth, w, select(span, back, front));
+        occupySpan(frontX, backX, span, counts, T, n, nE, nV, radius2, backShiftA, backShiftB, horizonA, horizonB,
+                   sectors);
+    }
 }
 
 // Depth at which the ray through display texel `corner` meets the tangent plane of the buffer
@@ -224,6 +297,11 @@ lfloat hbaoLanes(lint x, lint y) {
                                        clamp(corner.y, float(origin.y), float(origin.y + P.height - 1)));
                 }
             }
+            // Deep layers are read at texels inside the buffer only (not at clamped edge texels).
+            lbool deepUse = counts;
+            if (!interior && P.hbaoBitmask == 2) {
+                deepUse = deepUse && insideBuffer(corner - origin, 0.0f);
+            }
             lfloat sampleDepth = gatherDepthAtDisplay(loadCorner, counts) * P.depthScale;
             counts = counts && isSurfaceDepth(sampleDepth);
             if (!interior && P.hbaoBorder == 2) {
@@ -245,6 +323,7 @@ lfloat hbaoLanes(lint x, lint y) {
             // cannot raise the horizon) and on the E side (snapping can push one across V). Then
             // theta is in (0, pi - b): F grows with theta, and two angles there compare exactly by
             // the sign of their cross product.
+            lbool surface = counts; // before the radius and tangent-plane tests: deep spans clip to R
             counts = counts && r2 <= radius2 && b > 0.0f && a * nV + b * nE > 0.0f;
             if (P.linearFalloff != 0) {
                 lfloat invLen = inversesqrt(max(a * a + b * b, 1e-30f));
@@ -253,22 +332,20 @@ lfloat hbaoLanes(lint x, lint y) {
                 lfloat weight = max(1.0f - sqrt(r2) * invRadius, 0.0f);
                 sliceOcclusion += weight * max(f - horizonF, 0.0f);
                 horizonF = max(horizonF, f);
-            } else if (P.hbaoBitmask != 0) {
-                lfloat backA = a + backShiftA;
-                lfloat backB = b + backShiftB;
-                // The interval joins the horizon's when its back is not above the horizon.
-                lbool joins = backB <= 0.0f || horizonA * backB - horizonB * backA <= 0.0f;
-                lbool higher = counts && joins && horizonA * b - horizonB * a > 0.0f;
-                horizonA = select(higher, a, horizonA);
-                horizonB = select(higher, b, horizonB);
-                // Only an interval apart from the horizon's sets sectors; in most registers none is.
-                lbool apart = counts && !joins;
-                if (anyLane(apart)) {
-                    lint front = sectorBound(sectorPseudoAngle(a, b));
-                    lint back = sectorBound(select(backB > 0.0f, sectorPseudoAngle(backA, backB), lfloat(0.0f)));
-                    luint interval = bitsBelow(front) & ~bitsBelow(back);
-                    sectors = sectors | select(apart, interval, luint(0u));
+            } else if (P.hbaoBitmask == 2) {
+                // Deep input: the visible layer's span where the renderer saw the ray leave its solid,
+                // then every hidden layer.
+                lfloat back = gatherDeepAtDisplay(corner, 1, deepUse && surface) * P.depthScale;
+                lbool span = deepUse && surface && back > sampleDepth && isSurfaceDepth(back);
+                lvec3 backX = viewOffset(ray, depth, w, select(span, back, sampleDepth));
+                occupySpan(X, backX, span, surface, T, n, nE, nV, radius2, backShiftA, backShiftB, horizonA, horizonB,
+                           sectors);
+                for (int k = 1; k < P.deepLayers; ++k) {
+                    occupyDeepLayer(k, corner, deepUse, ray, depth, w, T, n, nE, nV, radius2, backShiftA, backShiftB,
+                                    horizonA, horizonB, sectors);
                 }
+            } else if (P.hbaoBitmask != 0) {
+                occupyInterval(a, b, a + backShiftA, b + backShiftB, counts, horizonA, horizonB, sectors);
             } else {
                 // (a, b) lies above the horizon when it is counter-clockwise of it: no square
                 // root or division, one compare.

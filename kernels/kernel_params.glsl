@@ -57,7 +57,7 @@ struct KernelParams {
     ivec4 discLevelOffset[4];    // texel offset of level L's plane in the pyramid, at [L / 4][L % 4]
     int discTop;                 // T: the coarsest level stored (any pixel's top level at most)
     int discWindow;              // k: windows of (4k + 2)^2 nodes per level
-    int pad9;
+    int deepLayers;              // hbao: (front, back) layers per texel of the deep input, 0: none
     int discPolygon;             // 1: exact polygon form factor for the 8 pixels around the receiver
 
     int discBlend;               // 1: smooth open weights between levels; 0: hard windows

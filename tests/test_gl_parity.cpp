@@ -96,6 +96,45 @@ TEST(GlParity, ThicknessMatchesCpu) {
             }
 }
 
+// Deep input's layers reach the GL kernel through the signal-in buffer: the visible layer as a
+// slab, a point surface and a span behind it, both weightings, both cameras, and tiles.
+TEST(GlParity, DeepLayersMatchCpu) {
+    const std::vector<SceneBuffers> views = studioViews(160, 120);
+    for (const SceneBuffers* scene : {&views[0], &views[1]}) {
+        Image deep(160, 120, 6);
+        for (int y = 0; y < 120; ++y)
+            for (int x = 0; x < 160; ++x) {
+                const float z = *scene->depth.at(x, y);
+                float* d = deep.at(x, y);
+                d[0] = z, d[1] = z + 0.1f;
+                d[2] = d[3] = z + 0.4f;
+                d[4] = z + 0.8f, d[5] = z + 1.6f;
+            }
+        OperatorInputs in = scene->inputs();
+        in.deepLayers = deep.view();
+        for (Weighting w : {Weighting::Uniform, Weighting::Cosine}) {
+            const Settings s = makeSettings("cpu", w, Falloff::None, 0);
+            const OperatorOutputs cpu = runOperator(in, s);
+            EXPECT_GT(maxAbsDiff(cpu.ao, runOperator(scene->inputs(), s).ao), 0.05) << "the layers must change the result";
+            for (const char* device : kGlDevices) {
+                Settings g = s;
+                g.device = device;
+                const OperatorOutputs gl = runOperator(in, g);
+                ASSERT_EQ(gl.stats.device.rfind(device, 0), 0u) << "ran on " << gl.stats.device;
+                EXPECT_LE(maxAbsDiff(cpu.ao, gl.ao), 1e-3) << device << " " << toString(w);
+            }
+            // Several tiles, each with its apron, read the layers at the right offsets.
+            gpu::GlBackend& backend = gpu::glBackendFor("gl-osmesa");
+            const KernelParams p = makeKernelParams(in, s);
+            Image tiled(160, 120, 1);
+            gpu::GlTimings t;
+            backend.runHbaoDeep(p, in.depth, in.normal, in.deepLayers, tiled.view(), 0, &t, 110 * 110);
+            EXPECT_GT(t.tiles, 1);
+            EXPECT_LE(maxAbsDiff(cpu.ao, tiled), 1e-3) << "tiled " << toString(w);
+        }
+    }
+}
+
 // The border policies read the edge texel's depth and normal past the buffer on both devices.
 TEST(GlParity, BorderPoliciesMatchCpu) {
     const std::vector<SceneBuffers> views = studioViews(160, 120);

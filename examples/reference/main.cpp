@@ -3,6 +3,7 @@
 // direct and one-bounce indirect diffuse light, plus ground-truth AO layers for
 // the four definitions obscura offers, and a camera sidecar.
 #include "analytic_check.h"
+#include "deep_output.h"
 #include "exr_output.h"
 #include "render.h"
 #include "scene.h"
@@ -36,6 +37,8 @@ int usage(FILE* to) {
                  "  --env FILE.exr     lat-long environment: also write Reference.DO.R/G/B, the ground-truth\n"
                  "                     directional occlusion of obscura's SSDO (cosine AO rays, linear falloff)\n"
                  "  --env-rotate DEG   rotation of the environment about up, as obscura --env-rotate (0)\n"
+                 "  --deep FILE.exr    also write every surface along each primary ray as a deep EXR\n"
+                 "                     (one sample per solid: Z where the ray enters, ZBack where it leaves)\n"
                  "  --check            compare with closed forms (corner crease; open ground plane); exit 1 on failure\n"
                  "  --quiet            print nothing but errors\n");
     return to == stderr ? 2 : 0;
@@ -68,7 +71,7 @@ int main(int argc, char** argv) {
     std::string sceneName = "studio", outPath;
     RenderSettings settings;
     double radius = -1, envRotate = 0;
-    std::string envPath;
+    std::string envPath, deepPath;
     bool check = false, quiet = false;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -100,6 +103,7 @@ int main(int argc, char** argv) {
         else if (a == "--check") check = true;
         else if (a == "--quiet") quiet = true;
         else if (a == "--env") envPath = value();
+        else if (a == "--deep") deepPath = value();
         else if (a == "--env-rotate") {
             char* end = nullptr;
             const char* s = value();
@@ -139,6 +143,7 @@ int main(int argc, char** argv) {
         const Frame frame = render(integrator, settings);
         const Convergence convergence = summarise(frame);
         writeReference(outPath, frame, camera, {scene.name, settings, convergence});
+        if (!deepPath.empty()) writeDeep(deepPath, traceDeep(tracer, camera, settings.threads));
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         if (!quiet) {
             std::printf("reference_render: scene %s, %dx%d, AO radius %g -> %s\n", scene.name.c_str(), settings.width,

@@ -92,7 +92,10 @@ Hit Tracer::intersect(const glm::dvec3& origin, const glm::dvec3& direction, flo
         h.albedo = m.triangleAlbedo.empty() ? m.albedo : m.triangleAlbedo[rh.hit.primID];
     }
     n = glm::normalize(n);
-    if (glm::dot(n, direction) > 0) n = -n;  // two-sided surfaces
+    // Every shape is wound outwards (shapes.cpp: cross(v1 - v0, v2 - v0), which is Embree's Ng), and
+    // a sphere's normal points away from its centre, so the side the ray meets is known.
+    h.backFace = glm::dot(n, direction) > 0;
+    if (h.backFace) n = -n;  // two-sided surfaces
     h.normal = n;
     return h;
 }

@@ -11,6 +11,7 @@ struct Hit {
     float t = 0;
     glm::dvec3 normal{0.0};  // unit geometric normal, turned to face the ray
     glm::vec3 albedo{0.0f};
+    bool backFace = false;   // the ray leaves the solid here: its outward normal faces along the ray
 };
 
 class Tracer {

@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "core/methods.h"
 #include "core/settings.h"
+#include "io/deep_file.h"
 
 #include <cstdarg>
 #include <cstdio>
@@ -150,6 +151,19 @@ int main(int argc, char** argv) {
             }
 
             const obscura::OperatorInputs in = operatorInputs(frame);
+            // hbao+deep: the same inputs plus the deep reference's layers, read as the CLI's --flat reads them.
+            bool anyDeep = false;
+            for (const std::string& m : o.methods) anyDeep = anyDeep || usesDeep(m);
+            obscura::Image deepPlanes;
+            if (anyDeep) {
+                const std::string deepPath = ensureDeepReference(rig, rs, o.cacheDir);
+                const obscura::DeepLayers deep = obscura::readDeepLayers(deepPath, obscura::Settings().deepLayers);
+                deepPlanes = obscura::deepPlanesOver(deep, frame.passes.data);
+                progress("%s deep reference: %d layers, %lld empty pixels -> %s\n", tag, deep.layers, deep.emptyPixels,
+                         deepPath.c_str());
+            }
+            obscura::OperatorInputs deepIn = in;
+            if (anyDeep) deepIn.deepLayers = deepPlanes.view();
             obscura::Image sheetAo;
             const obscura::Image* sheetTruth = &truth;
             std::string sheetLabel;
@@ -167,7 +181,7 @@ int main(int argc, char** argv) {
                         s.falloff = def.falloff;
                         s.skyDepth = f.skyDepth;
                         s.device = device;
-                        TimedOperator t = timeOperator(ssdo ? operatorInputs(f, bounce) : in, s, rs.runs,
+                        TimedOperator t = timeOperator(ssdo ? operatorInputs(f, bounce) : usesDeep(method) ? deepIn : in, s, rs.runs,
                                                        rs.runBudgetSeconds);
                         ResultRow r = base;
                         r.method = method;

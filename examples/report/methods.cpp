@@ -11,7 +11,7 @@ const std::vector<std::string>& registeredMethods() {
         for (const obscura::MethodInfo& m : obscura::methods()) {
             if (obscura::methodOutputs(m.name, "do")) continue;  // SSDO's variants below
             v.push_back(m.name);
-            if (std::string(m.name) == "hbao") v.insert(v.end(), {"hbao+horizon", "hbao+open", "hbao+clamp"});
+            if (std::string(m.name) == "hbao") v.insert(v.end(), {"hbao+horizon", "hbao+open", "hbao+clamp", "hbao+deep"});
             if (std::string(m.name) == "rtao") v.insert(v.end(), {"rtao+sheet", "rtao+thick"});
             // Disc AO with one of its corrections switched (docs/discs.md).
             if (std::string(m.name) == "discs") v.insert(v.end(), {"discs+vis", "discs-hard", "discs-nopoly"});
@@ -44,6 +44,8 @@ bool parseDefinition(const std::string& name, AoDefinition& out) {
 bool isSsdoMethod(const std::string& method) { return method == "ssdo" || method == "ssdo+bounce" || method == "ssdo-noint"; }
 
 bool hasBounce(const std::string& method) { return method == "ssdo+bounce"; }
+
+bool usesDeep(const std::string& method) { return method == "hbao+deep"; }
 
 int ssdoSamplesForPreset(const std::string& preset) {
     if (preset == "low") return 16;

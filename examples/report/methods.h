@@ -42,6 +42,8 @@ bool parseDefinition(const std::string& name, AoDefinition& out);
 bool isSsdoMethod(const std::string& method);
 // True when the method computes the one-bounce GI (its rows also measure GI).
 bool hasBounce(const std::string& method);
+// hbao+deep: hbao with the scene's deep reference as extra layers (docs/deep.md).
+bool usesDeep(const std::string& method);
 // SSDO sample count N per preset: low 16, medium 64, high 256, ultra 1024 (0 for an unknown name).
 int ssdoSamplesForPreset(const std::string& preset);
 // The operator's method a report variant runs ("rtao+thick" -> "rtao", "hbao+clamp" -> "hbao").

@@ -1,5 +1,6 @@
 #include "reference_runs.h"
 
+#include "reference/deep_output.h"
 #include "reference/exr_output.h"
 #include "reference/render.h"
 #include "timing.h"
@@ -43,6 +44,14 @@ ConvergedReference ensureConvergedReference(const SceneRig& rig, const Reference
     out.seconds = secondsSince(t0);
     reference::writeReference(out.path, frame, rig.camera, {rig.scene.name, rs, reference::summarise(frame)});
     return out;
+}
+
+std::string ensureDeepReference(const SceneRig& rig, const ReferenceSettings& s, const std::string& cacheDir) {
+    const std::string path = (std::filesystem::path(cacheDir) / (rig.scene.name + "_" + std::to_string(s.width) + "x" +
+                                                                 std::to_string(s.height) + "_deep.exr"))
+                                 .string();
+    if (!std::filesystem::exists(path)) reference::writeDeep(path, reference::traceDeep(*rig.tracer, rig.camera, s.threads));
+    return path;
 }
 
 TracedAo traceAo(const SceneRig& rig, const ReferenceSettings& s, int rays) {

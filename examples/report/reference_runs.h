@@ -44,6 +44,10 @@ struct ConvergedReference {
 // The converged reference for this scene: reused when the cache holds it, rendered otherwise.
 ConvergedReference ensureConvergedReference(const SceneRig& rig, const ReferenceSettings& s, const std::string& cacheDir);
 
+// The deep reference (reference_render --deep): every solid along each primary ray; reused from
+// the cache like the converged one, traced otherwise (primary rays only: a fraction of a second).
+std::string ensureDeepReference(const SceneRig& rig, const ReferenceSettings& s, const std::string& cacheDir);
+
 struct TracedAo {
     int rays = 0;
     int runs = 0;              // timed renders (fewer than asked when over the run budget)

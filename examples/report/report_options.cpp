@@ -49,6 +49,7 @@ void usage(FILE* to) {
     for (const std::string& m : registeredMethods()) all += (all.empty() ? "" : ",") + m;
     std::fprintf(to, "methods registered: %s\n"
                      "  (hbao+horizon: --thickness inf --border open; hbao+open, hbao+clamp: --border open, clamp;\n"
+                     "   hbao+deep: hbao with the scene's deep render (every solid along each ray, cached) as --flat;\n"
                      "   rtao+sheet: rtao --thickness 0; rtao+thick: --thickness R/5; discs+vis: --disc-passes 2;\n"
                      "   discs-hard: --disc-hard-levels; discs-nopoly: --disc-no-polygon;\n"
                      "   a device a method does not run on, as rtao on GL, is skipped)\n", all.c_str());

@@ -32,6 +32,7 @@ struct Options {
     FrameJob job;
     bool inspect = false, quiet = false, help = false, version = false, resume = false;
     std::string reportPath, frames;
+    std::string flat;  // --flat: the input is deep, this file gives the passes
 };
 
 double toNumber(const std::string& flag, const std::string& v) {
@@ -187,6 +188,10 @@ std::vector<Flag> makeFlags() {
                  throw UsageError("--preset: unknown renderer '" + v + "' (auto, blender, arnold, renderman, vray, karma, generic)");
              o.job.preset = v;
          }},
+        {"--flat", "FILE.exr",
+         "the input is a deep EXR (hbao: its surfaces are occluders, up to --deep-layers); FILE gives the "
+         "passes and is what the output copies (a pattern with #### for sequences; docs/deep.md)",
+         [](Options& o, const std::string& v) { o.flat = v; }},
         {"--layer", "ROLE=NAME", "use layer NAME for ROLE (depth, normal, position, beauty, albedo, direct-diffuse)",
          [](Options& o, const std::string& v) {
              auto [role, name] = splitAssignment("--layer", v);
@@ -351,6 +356,11 @@ Options parseArgs(int argc, char** argv) {
         if (!o.job.input.empty()) throw UsageError("more than one input file given ('" + o.job.input + "', '" + arg + "')");
         o.job.input = arg;
     }
+    if (!o.flat.empty()) {
+        if (o.job.settings.method != "hbao") throw UsageError("--flat (deep input) works with --method hbao only");
+        o.job.deepInput = o.job.input;
+        o.job.input = o.flat;
+    }
     const MethodInfo& m = *findMethod(o.job.settings.method);
     const std::string& d = o.job.settings.device;
     if (!m.gl && d != "cpu" && d != "auto")
@@ -420,6 +430,7 @@ int runSequence(const Options& o) {
     for (size_t i = 0; i < frames.size(); ++i) {
         FrameJob job = o.job;
         job.input = framePath(o.job.input, frames[i]);
+        job.deepInput = framePath(o.job.deepInput, frames[i]);
         job.output = framePath(o.job.output, frames[i]);
         job.previewPath = framePath(o.job.previewPath, frames[i]);
         const std::string reportPath = framePath(o.reportPath, frames[i]);

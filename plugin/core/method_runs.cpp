@@ -25,14 +25,17 @@ void recordGl(OperatorStats& st, const gpu::GlTimings& t) {
 void runLaneAo(const MethodRun& r, cpu::LaneKernel kernel, const char* name) {
     OperatorStats& st = r.out.stats;
     const int blur = r.settings.blur;
+    const bool deep = kernel == cpu::LaneKernel::Hbao && r.params.deepLayers > 0;
     if (r.gl) {
         gpu::GlTimings t;
-        r.gl->runAo(name, r.params, r.in.depth, r.in.normal, r.out.ao.view(), blur, &t);
+        if (deep) r.gl->runHbaoDeep(r.params, r.in.depth, r.in.normal, r.in.deepLayers, r.out.ao.view(), blur, &t);
+        else r.gl->runAo(name, r.params, r.in.depth, r.in.normal, r.out.ao.view(), blur, &t);
         recordGl(st, t);
         return;
     }
     auto t0 = Clock::now();
-    cpu::runLaneKernel(kernel, r.params, r.in.depth, r.in.normal, r.out.ao.view(), r.threads);
+    if (deep) cpu::runHbaoDeep(r.params, r.in.depth, r.in.normal, r.in.deepLayers, r.out.ao.view(), r.threads);
+    else cpu::runLaneKernel(kernel, r.params, r.in.depth, r.in.normal, r.out.ao.view(), r.threads);
     st.timings.push_back({name, secondsSince(t0)});
     if (blur > 0) {
         t0 = Clock::now();

@@ -69,7 +69,11 @@ std::vector<MethodInfo> makeTable() {
                  {intParam("directions", "--directions", "hbao: directions (slices) per pixel (default 8)", 1, 256,
                            &Settings::directions),
                   intParam("steps", "--steps", "hbao: samples per direction (default 8)", 1, 256, &Settings::steps),
-                  thicknessParam(), borderParam()},
+                  thicknessParam(), borderParam(),
+                  intParam("deep_layers", "--deep-layers",
+                           "hbao with a deep EXR input: surfaces per pixel used as occluders, the visible one "
+                           "included (default 4; docs/deep.md)",
+                           1, 16, &Settings::deepLayers)},
                  [](const Settings& s) { return s.directions * s.steps; }, nullptr, &runHbaoMethod});
     t.push_back({"ssdo", "directional occlusion and one bounce (Ritschel et al. 2009): DO, AO and, with --bounce, GI",
                  "kernels/ssdo.glsl", true, true, {"depth", "normal", "beauty|direct-diffuse", "albedo"},

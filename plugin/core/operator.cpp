@@ -164,6 +164,13 @@ KernelParams makeKernelParams(const OperatorInputs& in, const Settings& s) {
     p.hbaoBorder = s.border;
     // A finite thickness changes binary visibility only; linear falloff keeps the horizon.
     p.hbaoBitmask = std::isfinite(p.thickness) && p.linearFalloff == 0 ? 1 : 0;
+    // Deep input: the bitmask with every layer's interval (2); linear falloff keeps the horizon alone.
+    p.deepLayers = in.deepLayers.valid() && p.linearFalloff == 0 ? std::min(s.deepLayers, in.deepLayers.channels / 2) : 0;
+    if (p.deepLayers > 0) {
+        p.hbaoBitmask = 2;
+        // An infinite thickness stays a height field for point samples, without inf * 0 in the kernel.
+        if (!std::isfinite(p.thickness)) p.thickness = 1e30f;
+    }
     fillSectorTerms(p);
     p.ssaoSamples = s.ssaoSamples;
     p.ssaoHemisphere = s.ssaoHemisphere ? 1 : 0;
@@ -182,6 +189,12 @@ OperatorOutputs runOperator(const OperatorInputs& in, const Settings& s) {
         throw Error("the data window is empty (0 pixels)");
     checkPlane(in.depth, 1, in.dataWindow, "depth");
     checkPlane(in.normal, 3, in.dataWindow, "normal");
+    if (in.deepLayers.valid()) {
+        checkPlane(in.deepLayers, 2, in.dataWindow, "deep layers");
+        if (in.deepLayers.channels % 2 != 0)
+            throw Error("the deep layers plane has " + std::to_string(in.deepLayers.channels) +
+                        " channels; it needs (front, back) pairs");
+    }
     const KernelParams params = makeKernelParams(in, s);
 
     OperatorOutputs out;

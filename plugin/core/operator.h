@@ -20,6 +20,10 @@ struct OperatorInputs {
     DepthKind depthKind = DepthKind::Planar;
     NormalSpace normalSpace = NormalSpace::World;
     Camera camera;
+    // HBAO, optional (docs/deep.md): 2L channels per texel, L surfaces along the texel's ray as
+    // (front, back) depths in the depth pass's units and kind, nearest first; layer 0 is the
+    // visible surface; front +inf past a ray's last surface; back == front where the span is unknown.
+    ConstPlane deepLayers;
 
     // ---- SSDO only ----
     ConstPlane radiance;            // bounce source, 3 channels (needed for GI)

@@ -57,6 +57,8 @@ struct Settings {
 
     // ---- method "hbao": samples past the buffer's edge (where there is no overscan) ----
     int border = kBorderTangent;
+    // ---- method "hbao" with deep input: at most this many surfaces per texel (docs/deep.md) ----
+    int deepLayers = 4;
 
     // ---- method "rtao" (rays against the mesh of the depth pass) ----
     int rtaoRays = 16;              // cosine-distributed rays per traced point

@@ -402,7 +402,7 @@ ExrInfo readExrInfo(const std::string& path, long long maxPixels) {
             std::string type = h.hasType() ? h.type() : Imf::SCANLINEIMAGE;
             if (type == Imf::DEEPSCANLINE || type == Imf::DEEPTILE)
                 throw FileError(path, "holds deep data (part " + std::to_string(p) +
-                            "), which obscura does not support");
+                            "); give the flat passes as --flat FILE and the deep file as the input (docs/deep.md)");
             // Again here: a header the core API refused was not checked before opening.
             checkWindow(path, "data", h.dataWindow(), maxPixels, 0, -1);
             checkWindow(path, "display", h.displayWindow(), maxPixels, 0, -1);

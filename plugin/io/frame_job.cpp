@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/methods.h"
 #include "io/colour.h"
+#include "io/deep_file.h"
 #include "io/preview.h"
 
 #include <OpenImageIO/imageio.h>
@@ -404,6 +405,32 @@ Camera resolveFrameCamera(const FrameJob& job, const FramePasses& p) {
 }
 
 namespace {
+// The deep file's surfaces over the flat passes' data window, or an empty image without one.
+Image readDeepInput(const FrameJob& job, const FramePasses& p, FrameReport& report) {
+    if (job.deepInput.empty()) return Image();
+    StageTimer timer{&report.stages, "deep"};
+    return blameInput(job.deepInput, [&] {
+        if (!methodOutputs(job.settings.method, "ao") || job.settings.method != "hbao")
+            throw Error("deep input is used by --method hbao only");
+        const DeepLayers deep = readDeepLayers(job.deepInput, job.settings.deepLayers, {p.plan.deepZ, p.plan.deepZBack});
+        if (deep.display != p.display)
+            throw Error("its display window (" + std::to_string(deep.display.width()) + "x" +
+                        std::to_string(deep.display.height()) + ") is not the flat passes' (" +
+                        std::to_string(p.display.width()) + "x" + std::to_string(p.display.height()) + ")");
+        report.deepLayers = deep.layers;
+        report.deepEmptyPixels = deep.emptyPixels;
+        report.deepDroppedSamples = deep.droppedSamples;
+        report.deepUnsortedPixels = deep.unsortedPixels;
+        report.deepTruncatedPixels = deep.truncatedPixels;
+        report.plan.push_back("deep: " + std::to_string(deep.layers) + " layer(s) from " + job.deepInput);
+        if (deep.droppedSamples)
+            report.warnings.push_back(std::to_string(deep.droppedSamples) + " deep samples with NaN, infinite or non-positive Z skipped");
+        if (deep.unsortedPixels)
+            report.warnings.push_back(std::to_string(deep.unsortedPixels) + " deep pixels with unsorted samples sorted by Z");
+        return deepPlanesOver(deep, p.data);
+    });
+}
+
 FrameReport runJob(const FrameJob& job) {
     if (job.output.empty()) throw Error("no output file: give -o OUTPUT.exr");
     if (!job.inPlace && sameFile(job.input, job.output))
@@ -441,6 +468,8 @@ FrameReport runJob(const FrameJob& job) {
     in.camera = report.camera;
     Settings settings = job.settings;
     settings.skyDepth = report.skyDepth;
+    const Image deepPlanes = readDeepInput(job, p, report);
+    if (!deepPlanes.empty()) in.deepLayers = deepPlanes.view();
     const bool ssdo = methodOutputs(settings.method, "do");
     Image environment;
     if (ssdo) {
@@ -573,6 +602,14 @@ std::string inspectFrame(const FrameJob& job) {
        << "   normals: " << toString(job.normalSpace.value_or(p.plan.normalSpace))
        << (p.plan.normalsLeftHanded ? " (left-handed, z flipped)" : "")
        << "   sky depth >= " << job.skyDepth.value_or(p.plan.skyDepth) << "\n";
+    if (!job.deepInput.empty()) {
+        const DeepLayers d = blameInput(job.deepInput, [&] {
+            return readDeepLayers(job.deepInput, job.settings.deepLayers, {p.plan.deepZ, p.plan.deepZBack});
+        });
+        os << "deep:    " << job.deepInput << " (" << p.plan.deepZ << ", " << p.plan.deepZBack << "): " << d.layers
+           << " layer(s) of at most " << job.settings.deepLayers << ", " << d.samples << " samples, " << d.emptyPixels
+           << " empty pixels, " << d.droppedSamples << " dropped samples, " << d.unsortedPixels << " unsorted pixels\n";
+    }
     try {
         const Camera c = resolveFrameCamera(job, p);
         os << "camera:  " << (c.projection == Projection::Perspective ? "perspective" : "orthographic");
@@ -662,6 +699,10 @@ std::string frameReportJson(const FrameJob& job, const FrameReport& r) {
                       {"invalid_depth_pixels", r.stats.invalidDepthPixels},
                       {"zero_normal_pixels", r.stats.zeroNormalPixels},
                       {"non_unit_normal_pixels", r.nonUnitNormalPixels}, {"device", r.stats.device}};
+        if (!job.deepInput.empty())
+            j["deep"] = {{"file", job.deepInput}, {"layers", r.deepLayers}, {"empty_pixels", r.deepEmptyPixels},
+                         {"dropped_samples", r.deepDroppedSamples}, {"unsorted_pixels", r.deepUnsortedPixels},
+                         {"truncated_pixels", r.deepTruncatedPixels}};
         if (r.reference) {
             const ErrorMetrics& m = *r.reference;
             j["reference"] = {{"layer", job.referenceLayer}, {"pixels", m.pixels}, {"mae", m.mae}, {"rmse", m.rmse},

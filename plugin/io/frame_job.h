@@ -29,6 +29,9 @@ const char* toString(WriteMode m);
 
 struct FrameJob {
     std::string input, output;
+    // A deep EXR whose surfaces hbao adds as occluders (docs/deep.md); `input` is then the
+    // flat file beside it that gives the passes and receives the AO.
+    std::string deepInput;
     bool inPlace = false;                 // allow output == input
     std::string preset = "auto";
     std::map<Role, std::string> layerOverrides;
@@ -83,6 +86,9 @@ struct FrameReport {
     float skyDepth = 1e9f;
     OperatorStats stats;
     long long nonUnitNormalPixels = 0;    // normalised on the fly; counted for the report
+    // Deep input (docs/deep.md): layers used, and what the reader skipped, sorted or merged.
+    int deepLayers = 0;
+    long long deepEmptyPixels = 0, deepDroppedSamples = 0, deepUnsortedPixels = 0, deepTruncatedPixels = 0;
     std::vector<StageTiming> stages;      // read, camera, compute, write, preview
     std::optional<ErrorMetrics> reference;
     std::vector<std::string> warnings;

@@ -31,6 +31,7 @@ struct LayerPlan {
     NormalSpace normalSpace = NormalSpace::World;
     float skyDepth = 1e9f;
     bool normalsLeftHanded = false;     // camera space looks down +z (RenderMan): caller flips z
+    std::string deepZ = "Z", deepZBack = "ZBack";  // the renderer's deep sample depths (--flat)
 
     const LayerBinding* find(Role) const;
 };

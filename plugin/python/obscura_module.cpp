@@ -369,10 +369,28 @@ OperatorInputs viewInputs(const py::object& depthObj, const py::object& normalOb
     return in;
 }
 
-py::array computeAo(const py::object& depthObj, const py::object& normalObj, const ViewArgs& v, const SettingArgs& sa) {
+// deep=: hbao's hidden layers (docs/deep.md), (H, W, 2K) float32 (front, back) depth pairs.
+ConstPlane deepArg(const py::object& obj, const OperatorInputs& in) {
+    if (!py::isinstance<py::array>(obj)) throw py::type_error("deep must be a numpy.ndarray of float32, got " + typeName(obj));
+    const py::array a = py::reinterpret_borrow<py::array>(obj);
+    const int channels = a.ndim() == 3 ? (int)a.shape(2) : 0;
+    if (channels < 2 || channels % 2 != 0)
+        valueError("deep must have shape (H, W, 2K): K (front, back) depth pairs per pixel, got " +
+                   std::to_string(a.ndim()) + " dimension(s)" + (a.ndim() == 3 ? " of " + std::to_string(channels) + " channels" : ""));
+    const ConstPlane p = planeArg(obj, "deep", channels);
+    if (p.width != in.depth.width || p.height != in.depth.height) valueError("deep must cover the same pixels as depth");
+    return p;
+}
+
+py::array computeAo(const py::object& depthObj, const py::object& normalObj, const ViewArgs& v, const SettingArgs& sa,
+                    const py::object& deep) {
     Settings settings = settingsFrom(sa);
     if (methodOutputs(settings.method, "do")) valueError("compute_ao computes AO methods; use compute_ssdo for SSDO");
     OperatorInputs in = viewInputs(depthObj, normalObj, v, settings);
+    if (!deep.is_none()) {
+        if (settings.method != "hbao") valueError("deep layers are used by method='hbao' only");
+        in.deepLayers = deepArg(deep, in);
+    }
     OperatorOutputs out;
     {
         // depthObj / normalObj stay referenced by the caller's frame for the whole call.
@@ -860,14 +878,15 @@ when the file is missing or invalid.)doc")
            py::object depthKind, py::object skyDepth, py::object dataWindow, py::object displayWindow,
            py::object quality, py::object method, py::object radius, py::object directions, py::object steps,
            py::object weighting, py::object falloff, py::object blur, py::object device, py::object threads,
-           const py::kwargs& own) {
+           py::object deep, const py::kwargs& own) {
             return computeAo(depth, normal, ViewArgs{camera, normals, depthKind, skyDepth, dataWindow, displayWindow},
                              SettingArgs{quality, method, radius, directions, steps, weighting, falloff, blur, device,
-                                         threads, own});
+                                         threads, own},
+                             deep);
         },
         py::arg("depth"), py::arg("normal"), py::kw_only(), py::arg("camera"), py::arg("normals") = "world",
         py::arg("depth_kind") = "planar", py::arg("sky_depth") = 1e9, py::arg("data_window") = py::none(),
-        py::arg("display_window") = py::none(), OBSCURA_SETTING_ARGS,
+        py::arg("display_window") = py::none(), OBSCURA_SETTING_ARGS, py::arg("deep") = py::none(),
         R"doc(Ambient occlusion of in-memory passes: a float32 array (H, W), 1 = unoccluded.
 
 depth: float32 (H, W), planar camera depth (or distance to the eye with depth_kind='radial').
@@ -878,6 +897,9 @@ as long as strides are whole float32 elements and a normal's 3 components are ad
 Anything else raises ValueError (no silent conversion: use .astype(numpy.float32) or
 numpy.ascontiguousarray). Pixels with depth 0, inf, >= sky_depth, NaN or negative are
 background (AO = 1).
+deep (hbao): float32 (H, W, 2K), the surfaces along each pixel's ray as (front, back) depths,
+nearest first, the visible one first; front inf past a ray's last; back == front where the
+span is unknown (docs/deep.md). deep_layers=K caps how many are used.
 
 camera: obscura.Camera. data_window: (x0, y0, x1, y1) the arrays cover in display-window
 pixels (default (0, 0, W, H); larger than the display window for overscan). display_window:
@@ -943,7 +965,8 @@ sky (r, g, b) (default white), env_rotate (degrees), env_intensity, up ('y' | 'z
                              ViewArgs{camera, get("normals"), get("depth_kind"), get("sky_depth"), get("data_window"),
                                       get("display_window")},
                              SettingArgs{quality, method, radius, directions, steps, weighting, falloff, blur, device,
-                                         threads, own});
+                                         threads, own},
+                             py::none());
         },
         py::arg("passes"), py::kw_only(), OBSCURA_SETTING_ARGS,
         R"doc(compute_ao over a read_passes() dict, with its camera, conventions (normals, depth_kind,

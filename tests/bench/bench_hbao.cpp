@@ -6,6 +6,8 @@
 //   sched:NAME  the widest kernel alone on all threads, scheduled by obscura's tile pool
 //               ("pool", what runHbao uses) or by oneTBB's parallel_for over the same tiles;
 //   PRESET      the quality presets, to show that time follows the sample count (ns/sample);
+//   PRESET/deep:K  the same with deep input of K layers (synthetic: the visible surface as a
+//               slab, then surfaces and slabs behind it), the cost of reading and testing them;
 //   METHOD_PRESET  the other AO methods of the method table at their quality levels;
 //   gl-*        every OpenGL device this machine can open, with the upload/compute/readback split.
 //
@@ -173,9 +175,29 @@ void BM_Scheduler(benchmark::State& state, Weighting w, Falloff f, int threads, 
     report(state, seconds / (double)state.iterations(), (double)s.directions * s.steps);
 }
 
-void BM_Hbao(benchmark::State& state, Settings s, std::string caseName) {
+// K (front, back) layers per texel: the visible surface 0.2 deep, then alternately a point
+// surface and a 0.5-deep slab, 0.4 apart (docs/deep.md).
+Image syntheticDeepLayers(int layers) {
     const SceneBuffers& sb = scene();
-    const OperatorInputs in = sb.inputs();
+    Image deep(sb.depth.width, sb.depth.height, 2 * layers);
+    for (int y = 0; y < deep.height; ++y)
+        for (int x = 0; x < deep.width; ++x) {
+            const float z = *sb.depth.at(x, y);
+            float* d = deep.at(x, y);
+            d[0] = z, d[1] = z + 0.2f;
+            for (int k = 1; k < layers; ++k) {
+                d[2 * k] = z + 0.4f * k;
+                d[2 * k + 1] = d[2 * k] + (k % 2 == 0 ? 0.5f : 0.0f);
+            }
+        }
+    return deep;
+}
+
+void runHbaoBench(benchmark::State& state, const Settings& s, const std::string& caseName, int deepLayers) {
+    const SceneBuffers& sb = scene();
+    OperatorInputs in = sb.inputs();
+    const Image deep = deepLayers > 0 ? syntheticDeepLayers(deepLayers) : Image();
+    if (deepLayers > 0) in.deepLayers = deep.view();
     double seconds = 0;
     std::map<std::string, double> stages;
     for (auto _ : state) {
@@ -196,6 +218,10 @@ void BM_Hbao(benchmark::State& state, Settings s, std::string caseName) {
         if (gCpuSeconds.count(caseName)) state.counters["xCpu"] = perFrame / gCpuSeconds[caseName];
     }
 }
+
+void BM_Hbao(benchmark::State& state, Settings s, std::string caseName) { runHbaoBench(state, s, caseName, 0); }
+
+void BM_HbaoDeep(benchmark::State& state, Settings s, int layers) { runHbaoBench(state, s, "preset", layers); }
 
 // The GL devices that can be opened here, each with its renderer, printed once.
 std::vector<std::string> glDevices() {
@@ -280,6 +306,9 @@ int main(int argc, char** argv) {
         Settings thin = s;
         thin.thickness = 0.1f;
         options(benchmark::RegisterBenchmark((name + "/thickness:0.1").c_str(), BM_Hbao, thin, std::string("preset")));
+        for (int layers : {1, 4})
+            options(benchmark::RegisterBenchmark((name + "/deep:" + std::to_string(layers)).c_str(), BM_HbaoDeep, s,
+                                                 layers));
     }
     // The other AO methods' levels on the same frame (ssao: Crytek's sphere form), to set
     // against HBAO's: the error-against-time report pairs these times with accuracy.

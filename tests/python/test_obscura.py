@@ -469,3 +469,46 @@ def test_inspect_and_metadata():
     assert issubclass(obscura.Error, RuntimeError)
     for f in (obscura.compute_ao, obscura.read_passes, obscura.process, obscura.ao_from_passes):
         assert f.__doc__ and len(f.__doc__) > 200
+
+
+def roof_over_block(width=320, height=96, pixels_per_unit=32.0):
+    """Top-down orthographic floor at depth 10; over the right half a roof 3 units up hides a
+    block 1.5 units high: the block is only in the deep layers (tests/test_deep.cpp's scene)."""
+    depth = np.full((height, width), 10.0, np.float32)
+    depth[:, width // 2:] = 7.0
+    normal = np.zeros((height, width, 3), np.float32)
+    normal[..., 2] = 1.0
+    deep = np.full((height, width, 4), np.inf, np.float32)
+    deep[..., 0] = deep[..., 1] = depth
+    deep[:, width // 2:, 2] = 8.5
+    deep[:, width // 2:, 3] = 10.0
+    cam = obscura.Camera.orthographic(width / pixels_per_unit, width, height)
+    return depth, normal, deep, cam
+
+
+def test_compute_ao_deep_layers_show_a_hidden_occluder():
+    depth, normal, deep, cam = roof_over_block()
+    kw = dict(camera=cam, normals="camera", radius=1.0, weighting="cosine", falloff="none", directions=16, steps=32)
+    flat = obscura.compute_ao(depth, normal, **kw)
+    with_deep = obscura.compute_ao(depth, normal, deep=deep, **kw)
+    column = 160 - 1 - 8  # 8.5 pixels (0.27 R) left of the hidden block's face
+    assert flat[40:56, column].min() > 0.999  # the roof is out of reach
+    # The corner's closed form at c = 0.2656: 1 - (2/pi)(pi/4 - (c sqrt(1-c^2) + asin c)/2)
+    c = 8.5 / 32
+    expected = 1 - (2 / np.pi) * (np.pi / 4 - 0.5 * (c * np.sqrt(1 - c * c) + np.arcsin(c)))
+    assert abs(with_deep[40:56, column].mean() - expected) < 0.02
+    # deep_layers=1 keeps the visible layer only: the block is gone again.
+    only_visible = obscura.compute_ao(depth, normal, deep=deep, deep_layers=1, **kw)
+    assert only_visible[40:56, column].min() > 0.999
+
+
+def test_compute_ao_deep_argument_checks():
+    depth, normal, deep, cam = roof_over_block(64, 32)
+    with pytest.raises(ValueError, match=r"\(H, W, 2K\)"):
+        obscura.compute_ao(depth, normal, camera=cam, normals="camera", deep=deep[..., :3])
+    with pytest.raises(ValueError, match="same pixels"):
+        obscura.compute_ao(depth, normal, camera=cam, normals="camera", deep=deep[:16])
+    with pytest.raises(ValueError, match="method='hbao' only"):
+        obscura.compute_ao(depth, normal, camera=cam, normals="camera", deep=deep, method="ssao")
+    with pytest.raises(ValueError, match="deep_layers"):
+        obscura.compute_ao(depth, normal, camera=cam, normals="camera", deep=deep, deep_layers=0)

@@ -1,0 +1,81 @@
+#include "deep_output.h"
+
+#include <OpenImageIO/deepdata.h>
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <atomic>
+#include <filesystem>
+#include <limits>
+#include <stdexcept>
+#include <thread>
+
+namespace reference {
+
+namespace {
+
+// Spans from the hits along one ray: a front face opens a solid (nesting counted, so
+// overlapping shapes make one span), the back face that closes the outermost ends it.
+std::vector<DeepSpan> raySpans(const Tracer& tracer, const glm::dvec3& eye, const glm::dvec3& ray, int maxHits) {
+    std::vector<DeepSpan> spans;
+    int inside = 0;
+    float tnear = 0;
+    for (int i = 0; i < maxHits; ++i) {
+        const Hit h = tracer.intersect(eye, ray, tnear, std::numeric_limits<float>::infinity());
+        if (!h.found) break;
+        if (!h.backFace) {
+            if (inside++ == 0) spans.push_back({h.t, h.t});
+        } else if (inside > 0 && --inside == 0) {
+            spans.back().back = h.t;
+        }
+        // Past this hit: float t carries about 7 digits, so step a few ulps of it.
+        tnear = h.t * (1.0f + 4e-6f) + 1e-7f;
+    }
+    return spans;
+}
+
+} // namespace
+
+DeepFrame traceDeep(const Tracer& tracer, const PinholeCamera& camera, int threads, int maxHits) {
+    DeepFrame f;
+    f.width = camera.width;
+    f.height = camera.height;
+    f.pixels.resize(size_t(f.width) * f.height);
+    const int n = threads > 0 ? threads : std::max(1u, std::thread::hardware_concurrency());
+    std::atomic<int> nextRow{0};
+    std::vector<std::thread> pool;
+    for (int t = 0; t < n; ++t)
+        pool.emplace_back([&] {
+            for (int y = nextRow++; y < f.height; y = nextRow++)
+                for (int x = 0; x < f.width; ++x)
+                    f.pixels[size_t(y) * f.width + x] = raySpans(tracer, camera.eye, camera.ray(x + 0.5, y + 0.5), maxHits);
+        });
+    for (std::thread& t : pool) t.join();
+    return f;
+}
+
+void writeDeep(const std::string& path, const DeepFrame& frame) {
+    OIIO::ImageSpec spec(frame.width, frame.height, 3, OIIO::TypeDesc::FLOAT);
+    spec.channelnames = {"A", "Z", "ZBack"};
+    spec.alpha_channel = 0;
+    spec.z_channel = 1;
+    spec.deep = true;
+    spec.attribute("compression", "zips");
+    OIIO::DeepData dd;
+    dd.init(spec);
+    for (size_t p = 0; p < frame.pixels.size(); ++p) dd.set_samples(int64_t(p), int(frame.pixels[p].size()));
+    for (size_t p = 0; p < frame.pixels.size(); ++p)
+        for (size_t s = 0; s < frame.pixels[p].size(); ++s) {
+            dd.set_deep_value(int64_t(p), 0, int(s), 1.0f);
+            dd.set_deep_value(int64_t(p), 1, int(s), frame.pixels[p][s].front);
+            dd.set_deep_value(int64_t(p), 2, int(s), frame.pixels[p][s].back);
+        }
+    const std::string temp = path + ".tmp";
+    auto out = OIIO::ImageOutput::create(path);
+    if (!out || !out->open(temp, spec) || !out->write_deep_image(dd) || !out->close())
+        throw std::runtime_error("cannot write the deep image '" + path + "': " +
+                                 (out ? out->geterror() : OIIO::geterror()));
+    std::filesystem::rename(temp, path);
+}
+
+} // namespace reference

@@ -1,0 +1,115 @@
+#include "io/deep_file.h"
+
+#include "core/error.h"
+
+#include <OpenImageIO/deepdata.h>
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace obscura {
+
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+std::unique_ptr<OIIO::ImageInput> openInput(const std::string& path) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) throw FileError(path, firstLineOf(OIIO::geterror()));
+    return in;
+}
+
+// Samples nearer than this fraction of their depth to the previous surface's back continue it:
+// a renderer's adjacent volume slices and float rounding make one surface, not two.
+constexpr float kTouching = 1e-6f;
+
+} // namespace
+
+bool isDeepFile(const std::string& path) { return openInput(path)->spec().deep; }
+
+DeepLayers readDeepLayers(const std::string& path, int maxLayers, const DeepChannelNames& names) {
+    auto in = openInput(path);
+    const OIIO::ImageSpec spec = in->spec();
+    if (!spec.deep) throw FileError(path, "not a deep image (a flat file gives the passes with --flat)");
+    const int zc = spec.channelindex(names.z);
+    const int zBackC = spec.channelindex(names.zBack);
+    if (zc < 0) throw FileError(path, "deep image without a " + names.z + " channel");
+    OIIO::DeepData dd;
+    if (!in->read_native_deep_image(0, 0, dd)) throw FileError(path, firstLineOf(in->geterror()));
+
+    DeepLayers out;
+    out.display = Box2i{0, 0, spec.full_width, spec.full_height};
+    out.data = Box2i{spec.x - spec.full_x, spec.y - spec.full_y, spec.x - spec.full_x + spec.width,
+                     spec.y - spec.full_y + spec.height};
+    const int W = spec.width, H = spec.height;
+    struct Span {
+        float front, back;
+    };
+    // Every pixel's surfaces first, so the plane gets as many layers as the deepest pixel needs.
+    std::vector<std::vector<Span>> surfaces((size_t)W * H);
+    std::vector<Span> samples;
+    for (int64_t p = 0; p < (int64_t)W * H; ++p) {
+        const int n = dd.samples(p);
+        out.samples += n;
+        samples.clear();
+        for (int s = 0; s < n; ++s) {
+            const float z = dd.deep_value(p, zc, s);
+            if (!std::isfinite(z) || z <= 0.0f) {
+                ++out.droppedSamples;
+                continue;
+            }
+            const float zb = zBackC >= 0 ? dd.deep_value(p, zBackC, s) : z;
+            samples.push_back({z, std::isfinite(zb) && zb > z ? zb : z});
+        }
+        if (samples.empty()) {
+            ++out.emptyPixels;
+            continue;
+        }
+        auto byFront = [](const Span& a, const Span& b) { return a.front < b.front; };
+        if (!std::is_sorted(samples.begin(), samples.end(), byFront)) {
+            ++out.unsortedPixels;
+            std::stable_sort(samples.begin(), samples.end(), byFront);
+        }
+        std::vector<Span>& kept = surfaces[(size_t)p];
+        for (const Span& s : samples) {
+            if (!kept.empty() && s.front <= kept.back().back * (1.0f + kTouching)) {
+                kept.back().back = std::max(kept.back().back, s.back);
+                continue;
+            }
+            if ((int)kept.size() == maxLayers) {
+                ++out.truncatedPixels;
+                break;
+            }
+            kept.push_back(s);
+        }
+        out.layers = std::max(out.layers, (int)kept.size());
+    }
+    out.planes = Image(W, H, 2 * std::max(out.layers, 1), kInf);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            float* v = out.planes.at(x, y);
+            const std::vector<Span>& kept = surfaces[(size_t)y * W + x];
+            for (size_t k = 0; k < kept.size(); ++k) {
+                v[2 * k] = kept[k].front;
+                v[2 * k + 1] = kept[k].back;
+            }
+        }
+    if (out.layers == 0) out.layers = 1;  // an all-sky file: one layer of +inf
+    return out;
+}
+
+Image deepPlanesOver(const DeepLayers& deep, const Box2i& data) {
+    if (data == deep.data) return deep.planes;
+    Image out(data.width(), data.height(), deep.planes.channels, kInf);
+    const Box2i common = intersect(data, deep.data);
+    for (int y = common.y0; y < common.y1; ++y)
+        for (int x = common.x0; x < common.x1; ++x)
+            std::copy_n(deep.planes.at(x - deep.data.x0, y - deep.data.y0), deep.planes.channels,
+                        out.at(x - data.x0, y - data.y0));
+    return out;
+}
+
+} // namespace obscura

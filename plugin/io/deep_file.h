@@ -1,0 +1,40 @@
+// Deep EXR input (docs/deep.md): the surfaces along each pixel's ray, as the (front, back)
+// depth planes the operator's HBAO reads (OperatorInputs::deepLayers). Scanline and tiled
+// deep files, through OpenImageIO's deep API.
+#pragma once
+#include "core/image.h"
+
+#include <string>
+
+namespace obscura {
+
+// Channel names of a deep file's sample depths. Every renderer obscura has a preset for
+// writes the OpenEXR standard names (io/layers.cpp's table says so per renderer).
+struct DeepChannelNames {
+    std::string z = "Z", zBack = "ZBack";  // zBack may be absent: point samples
+};
+
+struct DeepLayers {
+    Box2i display, data;     // the deep file's windows (display origin 0,0)
+    int layers = 0;          // L: the most surfaces any pixel kept, at most the maximum asked
+    Image planes;            // over `data`, 2L channels: (front, back) per layer, nearest first;
+                             // front +inf past a pixel's last surface; back == front: no span known
+    long long samples = 0;         // samples read
+    long long emptyPixels = 0;     // pixels without a sample: sky
+    long long droppedSamples = 0;  // NaN or infinite Z, or Z <= 0: not a surface
+    long long unsortedPixels = 0;  // samples not in increasing Z: sorted here
+    long long truncatedPixels = 0; // more surfaces than the maximum: the farthest dropped
+};
+
+// True when `path` is an image whose first subimage is deep (throws FileError when unreadable).
+bool isDeepFile(const std::string& path);
+
+// Reads up to maxLayers distinct surfaces per pixel: samples sorted by Z, overlapping or
+// touching samples (Z at or before the current surface's back) merged into one surface.
+// Throws FileError for a flat file, a missing Z channel or an unreadable file.
+DeepLayers readDeepLayers(const std::string& path, int maxLayers, const DeepChannelNames& names = {});
+
+// The layers over another data window (the flat passes'): pixels outside the deep file's get none.
+Image deepPlanesOver(const DeepLayers& deep, const Box2i& data);
+
+} // namespace obscura
