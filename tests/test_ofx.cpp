@@ -374,6 +374,8 @@ TEST(OfxDescribe, DeclaresContextsDepthsClipsAndParameters) {
     EXPECT_EQ(params.find("thickness")->props.doubles(kOfxParamPropDefault), (std::vector<double>{-1.0}));
     EXPECT_EQ(params.find("thickness")->props.string(kOfxParamPropParent), "hbao");
     EXPECT_EQ(params.find("disc_window")->props.ints(kOfxParamPropMax), (std::vector<int>{4}));
+    // Deep samples cannot reach an OpenFX node (its clips are flat images): no deep_layers there.
+    EXPECT_EQ(params.find("deep_layers"), nullptr);
     EXPECT_EQ(params.find("disc_no_polygon")->type, kOfxParamTypeBoolean);
     EXPECT_EQ(params.find("samples")->props.ints(kOfxParamPropDefault), (std::vector<int>{64}));
     EXPECT_EQ(params.find("interleave")->props.ints(kOfxParamPropDefault), (std::vector<int>{2}));

@@ -58,6 +58,16 @@ MethodParam borderParam() {
     return p;
 }
 
+// hbao with deep input. OpenFX images are flat, so the node does not offer it.
+MethodParam deepLayersParam() {
+    MethodParam p = intParam("deep_layers", "--deep-layers",
+                             "hbao with a deep EXR input: surfaces per pixel used as occluders, the visible one "
+                             "included (default 4; docs/deep.md)",
+                             1, 16, &Settings::deepLayers);
+    p.ofx = false;
+    return p;
+}
+
 std::vector<MethodInfo> makeTable() {
     std::vector<MethodInfo> t;
     t.push_back({"hbao", "horizon-based ambient occlusion (Bavoil et al. 2008): slices around the view vector",
@@ -70,10 +80,7 @@ std::vector<MethodInfo> makeTable() {
                            &Settings::directions),
                   intParam("steps", "--steps", "hbao: samples per direction (default 8)", 1, 256, &Settings::steps),
                   thicknessParam(), borderParam(),
-                  intParam("deep_layers", "--deep-layers",
-                           "hbao with a deep EXR input: surfaces per pixel used as occluders, the visible one "
-                           "included (default 4; docs/deep.md)",
-                           1, 16, &Settings::deepLayers)},
+                  deepLayersParam()},
                  [](const Settings& s) { return s.directions * s.steps; }, nullptr, &runHbaoMethod});
     t.push_back({"ssdo", "directional occlusion and one bounce (Ritschel et al. 2009): DO, AO and, with --bounce, GI",
                  "kernels/ssdo.glsl", true, true, {"depth", "normal", "beauty|direct-diffuse", "albedo"},

@@ -34,6 +34,7 @@ struct MethodParam {
     bool Settings::*boolField = nullptr;
     std::vector<NamedValue> named = {};     // words it accepts besides numbers in [min, max]
     const char* alsoFor = nullptr;          // another method that reads it (listed under this one only)
+    bool ofx = true;                        // false: it sets an input OpenFX clips cannot carry (deep samples)
 };
 
 // What a quality level sets for this method (applied with every other method's levels,

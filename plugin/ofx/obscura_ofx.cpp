@@ -306,6 +306,7 @@ Params readParams(const Instance& in, OfxTime t) {
     s.threads = intAt(in.threads, t);
     const std::vector<const MethodParam*> own = allMethodParams();
     for (size_t i = 0; i < own.size(); ++i) {
+        if (!own[i]->ofx) continue;  // not offered: the Settings default stands
         if (own[i]->boolField) s.*(own[i]->boolField) = intAt(in.methodParams[i], t) != 0;
         else if (own[i]->intField) s.*(own[i]->intField) = intAt(in.methodParams[i], t);
         else s.*(own[i]->floatField) = (float)fromHostValue(*own[i], doubleAt(in.methodParams[i], t));
@@ -823,7 +824,7 @@ OfxStatus onDescribeInContext(OfxImageEffectHandle effect, OfxPropertySetHandle 
     for (const MethodInfo& m : methods()) {
         bool grouped = false;
         for (const MethodParam& mp : m.params) {
-            if (std::find(d.defined.begin(), d.defined.end(), mp.key) != d.defined.end()) continue;
+            if (!mp.ofx || std::find(d.defined.begin(), d.defined.end(), mp.key) != d.defined.end()) continue;
             if (!grouped) d.group(m.name, m.name);
             grouped = true;
             if (mp.boolField) {
@@ -921,7 +922,7 @@ OfxStatus onCreateInstance(OfxImageEffectHandle effect) {
     in->envIntensity = param(set, kParamEnvIntensity);
     in->upAxis = param(set, kParamUpAxis);
     in->timesAlbedo = param(set, kParamTimesAlbedo);
-    for (const MethodParam* mp : allMethodParams()) in->methodParams.push_back(param(set, mp->key));
+    for (const MethodParam* mp : allMethodParams()) in->methodParams.push_back(mp->ofx ? param(set, mp->key) : nullptr);
     check(gProp->propSetPointer(effectProps(effect), kOfxPropInstanceData, 0, in.get()));
     updateEnabled(*in);
     in.release();
