@@ -129,17 +129,6 @@ ColourMetadata colourMetadata(const Imf::Header& header) {
     return m;
 }
 
-ColourMetadata colourMetadata(const OIIO::ImageSpec& spec) {
-    ColourMetadata m;
-    m.colorInteropID = spec.get_string_attribute("colorInteropID");
-    m.oiioColorSpace = spec.get_string_attribute("oiio:ColorSpace");
-    float c[8];
-    if (spec.getattribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8), c))
-        m.chromaticities = Imf::Chromaticities(Imath::V2f(c[0], c[1]), Imath::V2f(c[2], c[3]),
-                                               Imath::V2f(c[4], c[5]), Imath::V2f(c[6], c[7]));
-    return m;
-}
-
 struct ColourManager::Impl {
     OCIO::ConstConfigRcPtr config;
     std::string path, working, data;

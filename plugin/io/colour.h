@@ -30,7 +30,7 @@ struct ColourMetadata {
 ColourMetadata colourMetadata(const Imf::Header& header);
 // The same from a file OpenImageIO opened (environment maps: EXR, HDR, PNG, ...). Note that
 // OpenImageIO reports "Linear" for most float files and "sRGB" for 8-bit ones when they
-// carry nothing else.
+// carry nothing else. Defined in libobscura_oiio.so (io/oiio_module.h).
 ColourMetadata colourMetadata(const OIIO::ImageSpec& spec);
 
 struct ColourSpaceGuess {

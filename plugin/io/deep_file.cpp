@@ -2,8 +2,7 @@
 
 #include "core/error.h"
 
-#include <OpenImageIO/deepdata.h>
-#include <OpenImageIO/imageio.h>
+#include "io/oiio_module.h"
 
 #include <algorithm>
 #include <cmath>
@@ -16,54 +15,50 @@ namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-std::unique_ptr<OIIO::ImageInput> openInput(const std::string& path) {
-    auto in = OIIO::ImageInput::open(path);
-    if (!in) throw FileError(path, firstLineOf(OIIO::geterror()));
-    return in;
-}
-
 // Samples nearer than this fraction of their depth to the previous surface's back continue it:
 // a renderer's adjacent volume slices and float rounding make one surface, not two.
 constexpr float kTouching = 1e-6f;
 
 } // namespace
 
-bool isDeepFile(const std::string& path) { return openInput(path)->spec().deep; }
+bool isDeepFile(const std::string& path) {
+    int width = 0, height = 0, channels = 0;
+    bool deep = false;
+    const std::string failed = oiioModule().probe(path, width, height, channels, deep);
+    if (!failed.empty()) throw FileError(path, failed);
+    return deep;
+}
 
 DeepLayers readDeepLayers(const std::string& path, int maxLayers, const DeepChannelNames& names) {
-    auto in = openInput(path);
-    const OIIO::ImageSpec spec = in->spec();
-    if (!spec.deep) throw FileError(path, "not a deep image (a flat file gives the passes with --flat)");
-    const int zc = spec.channelindex(names.z);
-    const int zBackC = spec.channelindex(names.zBack);
-    if (zc < 0) throw FileError(path, "deep image without a " + names.z + " channel");
-    OIIO::DeepData dd;
-    if (!in->read_native_deep_image(0, 0, dd)) throw FileError(path, firstLineOf(in->geterror()));
+    DeepSamples dd;
+    const std::string failed = oiioModule().readDeep(path, names.z, names.zBack, dd);
+    if (!failed.empty()) throw FileError(path, failed);
 
     DeepLayers out;
-    out.display = Box2i{0, 0, spec.full_width, spec.full_height};
-    out.data = Box2i{spec.x - spec.full_x, spec.y - spec.full_y, spec.x - spec.full_x + spec.width,
-                     spec.y - spec.full_y + spec.height};
-    const int W = spec.width, H = spec.height;
+    out.display = Box2i{0, 0, dd.fullWidth, dd.fullHeight};
+    out.data = Box2i{dd.x, dd.y, dd.x + dd.width, dd.y + dd.height};
+    const int W = dd.width, H = dd.height;
     struct Span {
         float front, back;
     };
     // Every pixel's surfaces first, so the plane gets as many layers as the deepest pixel needs.
     std::vector<std::vector<Span>> surfaces((size_t)W * H);
     std::vector<Span> samples;
+    size_t first = 0;  // this pixel's first sample in dd.z
     for (int64_t p = 0; p < (int64_t)W * H; ++p) {
-        const int n = dd.samples(p);
+        const int n = dd.counts[(size_t)p];
         out.samples += n;
         samples.clear();
-        for (int s = 0; s < n; ++s) {
-            const float z = dd.deep_value(p, zc, s);
+        for (size_t i = first; i < first + (size_t)n; ++i) {
+            const float z = dd.z[i];
             if (!std::isfinite(z) || z <= 0.0f) {
                 ++out.droppedSamples;
                 continue;
             }
-            const float zb = zBackC >= 0 ? dd.deep_value(p, zBackC, s) : z;
+            const float zb = dd.hasZBack ? dd.zBack[i] : z;
             samples.push_back({z, std::isfinite(zb) && zb > z ? zb : z});
         }
+        first += (size_t)n;
         if (samples.empty()) {
             ++out.emptyPixels;
             continue;

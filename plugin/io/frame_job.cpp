@@ -4,9 +4,9 @@
 #include "core/methods.h"
 #include "io/colour.h"
 #include "io/deep_file.h"
+#include "io/oiio_module.h"
 #include "io/preview.h"
 
-#include <OpenImageIO/imageio.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -141,16 +141,19 @@ std::vector<std::string> roleRgb(const LayerPlan& plan, Role role) {
 // Lat-long environment map, any format OpenImageIO reads, as RGB floats in the working space.
 Image readEnvironmentMap(const std::string& path, const std::string& colourSpace, long long maxPixels,
                          FrameReport& report) {
-    auto in = OIIO::ImageInput::open(path);
-    if (!in) throw FileError(path, "cannot read the environment map: " + firstLineOf(OIIO::geterror()));
-    const OIIO::ImageSpec& spec = in->spec();
-    if (spec.nchannels < 3) throw FileError(path, "the environment map has fewer than 3 channels");
-    checkWindow(path, "image", Imath::Box2i(Imath::V2i(0, 0), Imath::V2i(spec.width - 1, spec.height - 1)), maxPixels);
-    Image rgb(spec.width, spec.height, 3);
-    if (!in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, rgb.pixels.data()))
-        throw FileError(path, "cannot read the environment map: " + firstLineOf(in->geterror()));
+    const OiioModule& oiio = oiioModule();
+    int width = 0, height = 0, channels = 0;
+    bool deep = false;
+    std::string failed = oiio.probe(path, width, height, channels, deep);
+    if (!failed.empty()) throw FileError(path, "cannot read the environment map: " + failed);
+    if (channels < 3) throw FileError(path, "the environment map has fewer than 3 channels");
+    checkWindow(path, "image", Imath::Box2i(Imath::V2i(0, 0), Imath::V2i(width - 1, height - 1)), maxPixels);
+    Image rgb;
+    ColourMetadata meta;
+    failed = oiio.readRgb(path, rgb, meta);
+    if (!failed.empty()) throw FileError(path, "cannot read the environment map: " + failed);
     const ColourManager& cm = colourManager();
-    const ColourSpaceGuess space = cm.detectColourSpace(colourMetadata(spec), colourSpace);
+    const ColourSpaceGuess space = cm.detectColourSpace(meta, colourSpace);
     if (!space.warning.empty()) report.warnings.push_back("environment: " + space.warning);
     cm.toWorkingSpace(rgb, space.name);
     report.plan.push_back("environment colour: " + space.name + " (" + space.source + ") -> " + cm.workingSpace());

@@ -2,7 +2,7 @@
 
 #include "core/error.h"
 
-#include <OpenImageIO/imageio.h>
+#include "io/oiio_module.h"
 
 #include <algorithm>
 #include <cmath>
@@ -13,8 +13,6 @@
 
 namespace obscura {
 namespace {
-
-std::string firstLine(const std::string& s) { return firstLineOf(s, "unknown OpenImageIO error"); }
 
 float clamp01(float v) { return std::isnan(v) ? 0.0f : std::min(1.0f, std::max(0.0f, v)); }
 
@@ -35,20 +33,10 @@ void writePngBytes(const std::string& path, const std::string& what, int width, 
 
     // The temp name keeps the .png extension so nothing guesses another format.
     const fs::path tmp = dir / ("." + target.filename().string() + ".tmp.png");
-    auto out = OIIO::ImageOutput::create("png");
-    if (!out) throw FileError(path, what + firstLine(OIIO::geterror()));
-
-    OIIO::ImageSpec spec(width, height, channels, OIIO::TypeDesc::UINT8);
-    if (!colourSpaceTag.empty()) spec.attribute("oiio:ColorSpace", colourSpaceTag);  // data previews stay untagged
-    spec.attribute("Software", "obscura");
-
-    bool ok = out->open(tmp.string(), spec) &&
-              out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
-    ok = out->close() && ok;
-    if (!ok) {
-        std::string msg = firstLine(out->geterror());
+    const std::string failed = oiioModule().writePng(tmp.string(), width, height, channels, bytes.data(), colourSpaceTag);
+    if (!failed.empty()) {
         fs::remove(tmp, ec);
-        throw FileError(path, what + msg);
+        throw FileError(path, what + failed);
     }
     fs::rename(tmp, target, ec);
     if (ec) {

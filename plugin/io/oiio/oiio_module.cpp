@@ -1,0 +1,98 @@
+// libobscura_oiio.so: everything obscura calls in OpenImageIO (io/oiio_module.h says why it
+// is a library of its own).
+#include "io/oiio_module.h"
+
+#include "core/error.h"
+
+#include <OpenImageIO/deepdata.h>
+#include <OpenImageIO/imageio.h>
+
+namespace obscura {
+
+// Visible: tests call it (io/colour.h declares it).
+__attribute__((visibility("default"))) ColourMetadata colourMetadata(const OIIO::ImageSpec& spec) {
+    ColourMetadata m;
+    m.colorInteropID = spec.get_string_attribute("colorInteropID");
+    m.oiioColorSpace = spec.get_string_attribute("oiio:ColorSpace");
+    float c[8];
+    if (spec.getattribute("chromaticities", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 8), c))
+        m.chromaticities = Imf::Chromaticities(Imath::V2f(c[0], c[1]), Imath::V2f(c[2], c[3]),
+                                               Imath::V2f(c[4], c[5]), Imath::V2f(c[6], c[7]));
+    return m;
+}
+
+namespace {
+
+std::string oiioError(const std::string& message) { return firstLineOf(message, "unknown OpenImageIO error"); }
+
+std::string probe(const std::string& path, int& width, int& height, int& channels, bool& deep) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) return oiioError(OIIO::geterror());
+    const OIIO::ImageSpec& spec = in->spec();
+    width = spec.width;
+    height = spec.height;
+    channels = spec.nchannels;
+    deep = spec.deep;
+    return {};
+}
+
+std::string readRgb(const std::string& path, Image& rgb, ColourMetadata& meta) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) return oiioError(OIIO::geterror());
+    const OIIO::ImageSpec& spec = in->spec();
+    if (spec.nchannels < 3) return "fewer than 3 channels";
+    rgb = Image(spec.width, spec.height, 3);
+    if (!in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, rgb.pixels.data())) return oiioError(in->geterror());
+    meta = colourMetadata(spec);
+    return {};
+}
+
+std::string writePng(const std::string& path, int width, int height, int channels, const std::uint8_t* bytes,
+                     const std::string& colourSpaceTag) {
+    auto out = OIIO::ImageOutput::create("png");
+    if (!out) return oiioError(OIIO::geterror());
+    OIIO::ImageSpec spec(width, height, channels, OIIO::TypeDesc::UINT8);
+    if (!colourSpaceTag.empty()) spec.attribute("oiio:ColorSpace", colourSpaceTag);  // data previews stay untagged
+    spec.attribute("Software", "obscura");
+    bool ok = out->open(path, spec) && out->write_image(OIIO::TypeDesc::UINT8, bytes);
+    ok = out->close() && ok;
+    return ok ? std::string() : oiioError(out->geterror());
+}
+
+std::string readDeep(const std::string& path, const std::string& z, const std::string& zBack, DeepSamples& out) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) return oiioError(OIIO::geterror());
+    const OIIO::ImageSpec spec = in->spec();
+    if (!spec.deep) return "not a deep image (a flat file gives the passes with --flat)";
+    const int zc = spec.channelindex(z), zBackC = spec.channelindex(zBack);
+    if (zc < 0) return "deep image without a " + z + " channel";
+    OIIO::DeepData dd;
+    if (!in->read_native_deep_image(0, 0, dd)) return oiioError(in->geterror());
+    out.fullWidth = spec.full_width;
+    out.fullHeight = spec.full_height;
+    out.x = spec.x - spec.full_x;
+    out.y = spec.y - spec.full_y;
+    out.width = spec.width;
+    out.height = spec.height;
+    out.hasZBack = zBackC >= 0;
+    const int64_t pixels = (int64_t)spec.width * spec.height;
+    out.counts.resize((size_t)pixels);
+    for (int64_t p = 0; p < pixels; ++p) {
+        const int n = dd.samples(p);
+        out.counts[(size_t)p] = n;
+        for (int s = 0; s < n; ++s) {
+            out.z.push_back(dd.deep_value(p, zc, s));
+            if (out.hasZBack) out.zBack.push_back(dd.deep_value(p, zBackC, s));
+        }
+    }
+    return {};
+}
+
+const OiioModule kModule{kOiioModuleAbi, &probe, &readRgb, &writePng, &readDeep};
+
+} // namespace
+} // namespace obscura
+
+extern "C" __attribute__((visibility("default"))) const obscura::OiioModule* obscuraOiioModule() {
+    return &obscura::kModule;
+}
