@@ -57,16 +57,43 @@ lvec3 discStep(lint x, lint y, lvec3 ray, lfloat depth, int sx, int sy, OUT(lboo
     return viewOffset(ray, depth, lvec2(lfloat(float(sx) * P.invFx), lfloat(-float(sy) * P.invFy)), depthS);
 }
 
-// The shorter of the steps to the two neighbours along one axis that are surfaces (across a
-// depth step, the far side is the longer); `found`: at least one is.
-lvec3 discShortStep(lvec3 back, lbool backOk, lvec3 ahead, lbool aheadOk, OUT(lbool) found) {
+// w: 1/z under perspective, z orthographic. On a plane it is affine in the pixel coordinates,
+// so its second difference along a row is 0 and grows only across a crease or a step.
+lfloat discW(lint x, lint y, lfloat depth) {
+    if (P.orthographic != 0) {
+        return depth;
+    }
+    lvec3 ray = viewRay(lvec2(lfloat(x + P.originX) + 0.5f, lfloat(y + P.originY) + 0.5f));
+    return -1.0f / positionOnRay(ray, depth).z;
+}
+
+// How far texel (x, y) and its neighbours at 1 and 2 steps (sx, sy) are from one plane: the
+// second difference of w; 1e30 where either neighbour is not a surface.
+lfloat discBend(lint x, lint y, lfloat w0, int sx, int sy) {
+    lbool ok1;
+    lbool ok2;
+    lfloat d1 = surfaceDepth(x + sx, y + sy, ok1);
+    lfloat d2 = surfaceDepth(x + 2 * sx, y + 2 * sy, ok2);
+    lfloat bend = abs(discW(x + 2 * sx, y + 2 * sy, d2) - 2.0f * discW(x + sx, y + sy, d1) + w0);
+    return select(ok1 && ok2, bend, lfloat(1e30f));
+}
+
+// Of the steps to the two neighbours along one axis that are surfaces, the one on the side
+// that continues the texel's plane (the smaller bend): next to a crease the step across it
+// would tilt the normal halfway to the other face. On equal bends (a plane, or no second
+// neighbours) the shorter (across a depth step, the far side is the longer). `found`: at
+// least one neighbour is a surface.
+lvec3 discPlaneStep(lvec3 back, lbool backOk, lfloat backBend, lvec3 ahead, lbool aheadOk, lfloat aheadBend,
+                    OUT(lbool) found) {
     found = backOk || aheadOk;
-    lbool takeAhead = aheadOk && (!backOk || dot(ahead, ahead) < dot(back, back));
+    lbool shorter = dot(ahead, ahead) < dot(back, back);
+    lbool flatter = aheadBend < backBend || (!(aheadBend > backBend) && shorter);
+    lbool takeAhead = aheadOk && (!backOk || flatter);
     return select(takeAhead, ahead, back * -1.0f);
 }
 
 // The level-0 element of buffer texel (x, y); area 0 where it is not a surface. Its normal is
-// the depth's own (the cross product of the shorter steps to its neighbours) wherever those
+// the depth's own (the cross product of the steps to its neighbours on the side that continues its plane) wherever those
 // steps are no longer than three footprints of the shading normal: elements must lie in each
 // other's tangent planes where the surface is smooth, and shading normals need not (a smooth-
 // shaded cylinder averages its caps into its sides; a facet bends them). Elsewhere (edges,
@@ -91,8 +118,9 @@ void discBase(lint x, lint y, OUT(lvec3) pos, OUT(lvec3) n, OUT(lfloat) area) {
     lvec3 down = discStep(x, y, ray, depth, 0, 1, downOk);
     lbool alongX;
     lbool alongY;
-    lvec3 sx = discShortStep(left, leftOk, right, rightOk, alongX);
-    lvec3 sy = discShortStep(up, upOk, down, downOk, alongY);
+    lfloat w0 = discW(x, y, depth);
+    lvec3 sx = discPlaneStep(left, leftOk, discBend(x, y, w0, -1, 0), right, rightOk, discBend(x, y, w0, 1, 0), alongX);
+    lvec3 sy = discPlaneStep(up, upOk, discBend(x, y, w0, 0, -1), down, downOk, discBend(x, y, w0, 0, 1), alongY);
     lvec3 g = cross(sy, sx);
     lfloat g2 = dot(g, g);
     lbool fromDepth = surface && alongX && alongY && g2 > 0.0f && dot(sx, sx) < 9.0f * dot(du, du) &&
