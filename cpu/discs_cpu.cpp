@@ -12,7 +12,7 @@ namespace obscura::cpu {
 
 namespace {
 
-constexpr int kChannels = 8;
+constexpr int kChannels = kDiscChannels;
 constexpr int kMaxLevels = 16;  // p.discLevelOffset holds 16
 
 int levelSize(int n, int level) { return (n + (1 << level) - 1) >> level; }
@@ -22,7 +22,8 @@ float* texel(DiscPyramid& pyr, int level, int x, int y) {
 }
 
 // Level `level` from the one below: area-weighted position, normal and visibility, summed
-// area. With `visibilityOnly`, only channel 7 (the rest is already merged).
+// area; the walls' likewise (centre, normal and length by wall area). With `visibilityOnly`,
+// only channel 7 (the rest is already merged).
 void mergeLevel(DiscPyramid& pyr, int level, bool visibilityOnly, int threads) {
     const int w = levelSize(pyr.width, level), h = levelSize(pyr.height, level);
     const int cw = levelSize(pyr.width, level - 1), ch = levelSize(pyr.height, level - 1);
@@ -37,6 +38,10 @@ void mergeLevel(DiscPyramid& pyr, int level, bool visibilityOnly, int threads) {
                     for (int k = 0; k < 3; ++k) sum[k] += a * c[k], sum[4 + k] += a * c[4 + k];
                     sum[3] += a;
                     sum[7] += a * c[7];
+                    const double aw = c[11];
+                    for (int k = 0; k < 3; ++k) sum[8 + k] += aw * c[8 + k], sum[12 + k] += aw * c[12 + k];
+                    sum[11] += aw;
+                    sum[15] += aw * c[15];
                 }
             float* t = texel(pyr, level, x, y);
             const double area = sum[3];
@@ -52,6 +57,15 @@ void mergeLevel(DiscPyramid& pyr, int level, bool visibilityOnly, int threads) {
             }
             t[3] = used ? (float)area : 0.0f;
             t[7] = used ? (float)(sum[7] / area) : 1.0f;
+            const double wallArea = sum[11];
+            const double wlen = std::sqrt(sum[12] * sum[12] + sum[13] * sum[13] + sum[14] * sum[14]);
+            const bool walled = wallArea > 0 && wlen > 0;
+            for (int k = 0; k < 3; ++k) {
+                t[8 + k] = walled ? (float)(sum[8 + k] / wallArea) : 0.0f;
+                t[12 + k] = walled ? (float)(sum[12 + k] / wlen) : 0.0f;
+            }
+            t[11] = walled ? (float)wallArea : 0.0f;
+            t[15] = walled ? (float)(sum[15] / wallArea) : 0.0f;
         }
     });
 }

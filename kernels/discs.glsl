@@ -13,9 +13,11 @@
 // the receiver's position: no seams where the level changes (correction a).
 //
 // Backend contract: gatherDisc(index, c, use) reads channel c of pyramid texel `index`.
-// Channels: 0-2 mean position, 3 area, 4-6 unit mean normal, 7 visibility (pass 2).
+// Channels: 0-2 mean position, 3 area, 4-6 unit mean normal, 7 visibility (pass 2); the
+// node's side walls (the hidden sides of what it occludes, see discWall): 8-10 centre,
+// 11 area, 12-14 unit normal, 15 length along the view ray.
 
-CONST_GLOBAL int DISC_CHANNELS = 8;
+CONST_GLOBAL int DISC_CHANNELS = 16;
 // A footprint is stretched at most as for n.V = 0.02 (88.9 degrees from the eye): beyond,
 // depth gives no usable extent and a pixel would stand for an unbounded strip.
 CONST_GLOBAL float DISC_MIN_NV = 0.02f;
@@ -92,13 +94,140 @@ lvec3 discPlaneStep(lvec3 back, lbool backOk, lfloat backBend, lvec3 ahead, lboo
     return select(takeAhead, ahead, back * -1.0f);
 }
 
+// How far the surface hidden behind texel (x, y)'s edge towards (sx, sy) reaches along -z:
+// the neighbour's z beyond the texel's plane continued from the other side (0 where the
+// surface runs on, 1e30 where the neighbour is sky, 0 past the buffer's edge: unknown).
+lfloat discDrop(lint x, lint y, lfloat z0, lfloat w0, int sx, int sy) {
+    lbool okQ;
+    lbool okB;
+    lfloat wq = discW(x + sx, y + sy, surfaceDepth(x + sx, y + sy, okQ));
+    lfloat wb = discW(x - sx, y - sy, surfaceDepth(x - sx, y - sy, okB));
+    lfloat wNext = select(okB, 2.0f * w0 - wb, w0);
+    lfloat zq = wq;
+    lfloat zNext = wNext;
+    if (P.orthographic == 0) {
+        zq = 1.0f / wq;
+        zNext = select(wNext > 0.0f, 1.0f / max(wNext, lfloat(1e-30f)), lfloat(1e30f));
+    }
+    lfloat drop = max(zq - max(zNext, z0), 0.0f);
+    lbool sky = insideBuffer(x + sx, y + sy) && !okQ;
+    return select(sky, lfloat(1e30f), select(okQ, drop, lfloat(0.0f)));
+}
+
+// A drop shorter than this many pixel sizes is a crease or float noise, not a hidden side.
+CONST_GLOBAL float DISC_MIN_DROP_PIXELS = 2.0f;
+// The scan across a silhouette looks this many texels away at most (discScanStep's last).
+CONST_GLOBAL int DISC_SCAN_SAMPLES = 14;
+
+// A closed shape's hidden part reaches this share of its visible width behind its silhouette:
+// half for a sphere or a pole (the back half of a circle of that diameter).
+CONST_GLOBAL float DISC_DEPTH_PER_WIDTH = 0.5f;
+
+// The i-th offset of the scan: 1, 2, 3, 4, 6, 8, 12, ... 128 texels.
+int discScanStep(int i) {
+    if (i == 0) {
+        return 1;
+    }
+    return (i & 1) == 1 ? 1 << ((i + 1) >> 1) : 3 << ((i - 2) >> 1);
+}
+
+// The width in texels of the surface in front of an edge whose neighbour (sx, sy) lies `drop`
+// farther in z: the scan away from the edge ends at the first texel that is sky or lies more
+// than half the drop behind (the far side of a pole, a sphere's other rim); 128 if none does
+// (nor past the buffer's edge, which says nothing).
+lfloat discWidthTexels(lint x, lint y, lfloat z0, lfloat drop, int sx, int sy) {
+    lfloat width = lfloat(float(discScanStep(DISC_SCAN_SAMPLES - 1)));
+    lbool found = width < 0.0f;
+    int previous = 0;
+    for (int i = 0; i < DISC_SCAN_SAMPLES; ++i) {
+        int k = discScanStep(i);
+        lint qx = x - k * sx;
+        lint qy = y - k * sy;
+        lbool ok;
+        lfloat w = discW(qx, qy, surfaceDepth(qx, qy, ok));
+        lfloat z = w;
+        if (P.orthographic == 0) {
+            z = 1.0f / w;
+        }
+        lbool off = insideBuffer(qx, qy) && (!ok || z > z0 + 0.5f * drop);
+        width = select(off && !found, lfloat(0.5f * float(previous + k)), width);
+        found = found || off;
+        previous = k;
+    }
+    return width;
+}
+
+// The length of the wall behind one edge (drop: in z, zLen: ray length per unit of z; pixel:
+// the pixel's size in the world): the drop along the ray, at most the thickness T, at most R
+// (beyond R nothing counts), and at most the width of the surface in front: a closed shape's
+// hidden back is about as deep as it is wide (a pole's is its diameter, not T). 0 below the
+// noise floor.
+lfloat discWallLength(lint x, lint y, lfloat z0, lfloat drop, lfloat zLen, lfloat pixel, int sx, int sy) {
+    float t = min(P.thickness, P.radius);
+    lfloat along = drop * zLen;
+    lbool edge = along > DISC_MIN_DROP_PIXELS * pixel;
+    lfloat wall = min(along, lfloat(t));
+    if (anyLane(edge)) {
+        wall = min(wall, discWidthTexels(x, y, z0, drop, sx, sy) * (DISC_DEPTH_PER_WIDTH * pixel));
+    }
+    return select(edge, wall, lfloat(0.0f));
+}
+
+// The texel's side wall: where a neighbour lies farther than the texel's surface continued
+// (a silhouette), the passes do not show what is behind the edge. As HBAO's thickness and
+// rtao's extrusion do, take the visible surface to be a solid T deep: its side is a wall
+// from the edge back along the view ray, T long or down to the farther surface. Walls of
+// the four edges are one element: areas add per axis and in quadrature across axes (a
+// diagonal silhouette's pixel stands for sqrt 2 pixels of edge), the normal lies across the
+// ray towards the drops, signed into one halfLength-space so walls facing apart still merge.
+void discWall(lint x, lint y, lvec3 ray, lvec3 pos, lfloat depth, lbool surface, OUT(lvec3) wallPos,
+              OUT(lvec3) wallN, OUT(lfloat) wallArea, OUT(lfloat) wallLen) {
+    lfloat z0 = -pos.z;
+    lfloat w0 = discW(x, y, depth);
+    // Pixel size in the world; the ray's length per unit of z (ray.z = -1 under perspective).
+    lfloat scale = lfloat(1.0f);
+    lfloat zLen = lfloat(1.0f);
+    lvec3 D = lvec3(lfloat(0.0f), lfloat(0.0f), lfloat(-1.0f));
+    if (P.orthographic == 0) {
+        scale = z0;
+        zLen = sqrt(dot(ray, ray));
+        D = viewVector(ray) * -1.0f;
+    }
+    lfloat px = scale * P.invFx;
+    lfloat py = scale * P.invFy;
+    lfloat lLeft = discWallLength(x, y, z0, discDrop(x, y, z0, w0, -1, 0), zLen, px, -1, 0);
+    lfloat lRight = discWallLength(x, y, z0, discDrop(x, y, z0, w0, 1, 0), zLen, px, 1, 0);
+    lfloat lUp = discWallLength(x, y, z0, discDrop(x, y, z0, w0, 0, -1), zLen, py, 0, -1);
+    lfloat lDown = discWallLength(x, y, z0, discDrop(x, y, z0, w0, 0, 1), zLen, py, 0, 1);
+    // Walls on the left and right run along the screen's y: a pixel's height wide.
+    lfloat aLeft = lLeft * py;
+    lfloat aRight = lRight * py;
+    lfloat aUp = lUp * px;
+    lfloat aDown = lDown * px;
+    lfloat ax = aLeft + aRight;
+    lfloat ay = aUp + aDown;
+    lfloat sum = ax + ay;
+    lfloat area = sqrt(ax * ax + ay * ay);
+    wallLen = (aLeft * lLeft + aRight * lRight + aUp * lUp + aDown * lDown) / max(sum, lfloat(1e-30f));
+    // Towards the drops (screen y is down); across the ray.
+    lvec3 g = lvec3(select(aRight < aLeft, ax * -1.0f, ax), select(aUp > aDown, ay, ay * -1.0f), lfloat(0.0f));
+    g = g - D * dot(g, D);
+    lfloat g2 = dot(g, g);
+    g = g * inversesqrt(max(g2, lfloat(1e-30f)));
+    wallN = select(g.x + 0.5f * g.y < 0.0f, g * -1.0f, g);
+    lbool used = surface && area > 0.0f && g2 > 0.0f;
+    wallArea = select(used, area, lfloat(0.0f));
+    wallPos = pos + D * (wallLen * 0.5f);
+}
+
 // The level-0 element of buffer texel (x, y); area 0 where it is not a surface. Its normal is
 // the depth's own (the cross product of the steps to its neighbours on the side that continues its plane) wherever those
 // steps are no longer than three footprints of the shading normal: elements must lie in each
 // other's tangent planes where the surface is smooth, and shading normals need not (a smooth-
 // shaded cylinder averages its caps into its sides; a facet bends them). Elsewhere (edges,
 // one-pixel features) the pass's normal stays.
-void discBase(lint x, lint y, OUT(lvec3) pos, OUT(lvec3) n, OUT(lfloat) area) {
+void discBase(lint x, lint y, OUT(lvec3) pos, OUT(lvec3) n, OUT(lfloat) area, OUT(lvec3) wallPos, OUT(lvec3) wallN,
+              OUT(lfloat) wallArea, OUT(lfloat) wallLen) {
     lbool surface;
     lfloat depth = surfaceDepth(x, y, surface);
     lvec3 ray = viewRay(lvec2(lfloat(x + P.originX) + 0.5f, lfloat(y + P.originY) + 0.5f));
@@ -131,6 +260,7 @@ void discBase(lint x, lint y, OUT(lvec3) pos, OUT(lvec3) n, OUT(lfloat) area) {
     discAxes(ray, pos, n, du, dv);
     lvec3 c = cross(du, dv);
     area = select(surface, sqrt(dot(c, c)), lfloat(0.0f));
+    discWall(x, y, ray, pos, depth, surface, wallPos, wallN, wallArea, wallLen);
 }
 
 // Open weight of a node `dist` node sizes from the receiver: smooth from 1 at k (where every
@@ -176,7 +306,7 @@ lfloat discEdgeTerm(lvec3 a, lvec3 b, lvec3 nr) {
 }
 
 // One edge a -> b (heights ha, hb above the clip plane) clipped to the part above it; adds
-// its term and records where the boundary leaves (exitP) and re-enters (entryP) the half-space.
+// its term and records where the boundary leaves (exitP) and re-enters (entryP) the halfLength-space.
 void discClipEdge(lvec3 a, lfloat ha, lvec3 b, lfloat hb, lvec3 nr, INOUT(lfloat) sum, INOUT(lvec3) exitP,
                   INOUT(lvec3) entryP) {
     lbool inA = ha > 0.0f;
@@ -191,22 +321,11 @@ void discClipEdge(lvec3 a, lfloat ha, lvec3 b, lfloat hb, lvec3 nr, INOUT(lfloat
     entryP = select(inB && !inA, crossing, entryP);
 }
 
-// Exact form factor of a node's footprint quad, clipped to the receiver's upper half-space
-// (correction b): Lambert's formula, |sum of edge terms| / 2 pi. The quad is the image on the
-// node's tangent plane of its screen block (node (ex, ey) of `level`), scaled to its area
-// (a block part sky keeps its shape, smaller). The clip plane is raised by DISC_HORIZON of
-// the distance, as the discs' horizon is.
-lfloat discPolygonFormFactor(lvec3 xr, lvec3 nr, lvec3 e, lvec3 ne, lfloat area, lint ex, lint ey, int level) {
-    float size = float(1 << level);
-    lvec3 ray = viewRay(lvec2((lfloat(ex) + 0.5f) * size + float(P.originX), (lfloat(ey) + 0.5f) * size + float(P.originY)));
-    lvec3 du;
-    lvec3 dv;
-    discAxes(ray, e, ne, du, dv);
-    lvec3 n = cross(du, dv);
-    lfloat scale = 0.5f * sqrt(area * inversesqrt(max(dot(n, n), 1e-36f)));
-    du = du * scale;
-    dv = dv * scale;
-    lvec3 c = e - xr;
+// Exact form factor of the parallelogram c +- du +- dv (c from the receiver, du and dv halfLength
+// its sides), clipped to the receiver's upper halfLength-space (correction b): Lambert's formula,
+// |sum of edge terms| / 2 pi. The clip plane is raised by DISC_HORIZON of the distance, as
+// the discs' horizon is.
+lfloat discQuadFormFactor(lvec3 nr, lvec3 c, lvec3 du, lvec3 dv) {
     lvec3 q0 = c - du - dv;
     lvec3 q1 = c + du - dv;
     lvec3 q2 = c + du + dv;
@@ -229,15 +348,56 @@ lfloat discPolygonFormFactor(lvec3 xr, lvec3 nr, lvec3 e, lvec3 ne, lfloat area,
     return abs(sum) * (1.0f / TWO_PI);
 }
 
+// The exact form factor of a node's footprint: the image on the node's tangent plane of its
+// screen block (node (ex, ey) of `level`), scaled to its area (a block part sky keeps its
+// shape, smaller).
+lfloat discPolygonFormFactor(lvec3 xr, lvec3 nr, lvec3 e, lvec3 ne, lfloat area, lint ex, lint ey, int level) {
+    float size = float(1 << level);
+    lvec3 ray = viewRay(lvec2((lfloat(ex) + 0.5f) * size + float(P.originX), (lfloat(ey) + 0.5f) * size + float(P.originY)));
+    lvec3 du;
+    lvec3 dv;
+    discAxes(ray, e, ne, du, dv);
+    lvec3 n = cross(du, dv);
+    lfloat scale = 0.5f * sqrt(area * inversesqrt(max(dot(n, n), 1e-36f)));
+    return discQuadFormFactor(nr, e - xr, du * scale, dv * scale);
+}
+
 // A disc closer than this many radii is replaced by its polygon: there the disc's form factor
 // saturates towards cos(receiver) whatever part of the hemisphere the element really covers
 // (a floor seen at a grazing angle, merged into nodes far larger in the world than on screen).
 CONST_GLOBAL float DISC_NEAR_RADII = 3.0f;
 
-// The element of pyramid texel `index` (node (ex, ey) of `level`): its occlusion of the
-// receiver (xr, nr), `weight` included; `polygon`: always the exact footprint form factor.
-lfloat discContribution(lvec3 xr, lvec3 nr, lint index, lbool use, lfloat weight, bool polygon, lint ex, lint ey,
-                        int level) {
+// The side wall of pyramid texel `index` (discWall): a rectangle `length` long along the view
+// ray through its centre, area / length wide. A disc as far as its halfLength length is a poor
+// stand-in for a long strip, so nearer than DISC_NEAR_RADII of that it is the rectangle's
+// exact form factor; its range ramp spans the halfLength length.
+lfloat discWallContribution(lvec3 xr, lvec3 nr, lint index, lbool use) {
+    lvec3 c = gatherDisc3(index, 8, use);
+    lfloat area = gatherDisc(index, 11, use);
+    lvec3 n = gatherDisc3(index, 12, use);
+    lfloat wallLength = gatherDisc(index, 15, use);
+    lvec3 v = c - xr;
+    lfloat d2 = dot(v, v);
+    lfloat ff = discFormFactor(v, d2, nr, n, area);
+    lfloat halfLength = 0.5f * wallLength;
+    lbool near = use && d2 < (DISC_NEAR_RADII * DISC_NEAR_RADII) * (halfLength * halfLength + area * (1.0f / PI));
+    if (anyLane(near)) {
+        lvec3 D = lvec3(lfloat(0.0f), lfloat(0.0f), lfloat(-1.0f));
+        if (P.orthographic == 0) {
+            D = c * inversesqrt(max(dot(c, c), 1e-30f));
+        }
+        lvec3 across = normalize(cross(n, D)) * (0.5f * area / max(wallLength, lfloat(1e-30f)));
+        ff = select(near, discQuadFormFactor(nr, v, D * halfLength, across), ff);
+    }
+    ff = ff * discRangeWeight(sqrt(d2), PI * halfLength * halfLength);
+    return select(use && area > 0.0f, ff, lfloat(0.0f));
+}
+
+// The element of pyramid texel `index` (node (ex, ey) of `level`) and its wall where `wall`:
+// their occlusion of the receiver (xr, nr), `weight` included; `polygon`: always the exact
+// footprint form factor.
+lfloat discContribution(lvec3 xr, lvec3 nr, lint index, lbool use, lbool wall, lfloat weight, bool polygon, lint ex,
+                        lint ey, int level) {
     lvec3 e = gatherDisc3(index, 0, use);
     lfloat area = gatherDisc(index, 3, use);
     lvec3 ne = gatherDisc3(index, 4, use);
@@ -251,11 +411,16 @@ lfloat discContribution(lvec3 xr, lvec3 nr, lint index, lbool use, lfloat weight
     if (P.discPolygon != 0 && anyLane(near)) {
         ff = select(near, discPolygonFormFactor(xr, nr, e, ne, area, ex, ey, level), ff);
     }
-    ff = ff * discRangeWeight(sqrt(d2), area) * weight;
+    ff = select(use && area > 0.0f, ff * discRangeWeight(sqrt(d2), area), lfloat(0.0f));
+    lbool walled = wall && gatherDisc(index, 11, wall) > 0.0f;
+    if (anyLane(walled)) {
+        ff += discWallContribution(xr, nr, index, walled);
+    }
+    ff = ff * weight;
     if (P.discVisibility != 0) {
         ff = ff * gatherDisc(index, 7, use);
     }
-    return select(use && area > 0.0f, ff, lfloat(0.0f));
+    return select(use, ff, lfloat(0.0f));
 }
 
 // How far, in pixels, the sphere of radius R around a receiver at view position xr reaches on
@@ -339,7 +504,13 @@ lfloat discsLanes(lint x, lint y) {
                 }
                 use = use && weight > 0.0f;
                 if (anyLane(use)) {
-                    occlusion += discContribution(xr, nr, levelOffset + nx + ny * levelW, use, weight, false, nx, ny, level);
+                    // A receiver's own wall is the solid behind it, under its horizon.
+                    lbool wall = use;
+                    if (level == 0) {
+                        wall = use && (nx < x || nx > x || ny < y || ny > y);
+                    }
+                    occlusion += discContribution(xr, nr, levelOffset + nx + ny * levelW, use, wall, weight, false, nx, ny,
+                                                  level);
                 }
             }
         }
@@ -351,7 +522,7 @@ lfloat discsLanes(lint x, lint y) {
                     lint ex = x + i;
                     lint ey = y + j;
                     lbool use = computing && insideBuffer(ex, ey);
-                    occlusion += discContribution(xr, nr, ex + ey * P.width, use, lfloat(1.0f), true, ex, ey, 0);
+                    occlusion += discContribution(xr, nr, ex + ey * P.width, use, use, lfloat(1.0f), true, ex, ey, 0);
                 }
             }
         }
