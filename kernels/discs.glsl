@@ -24,6 +24,9 @@ CONST_GLOBAL float DISC_MIN_NV = 0.02f;
 // Elements within this sine of the receiver's horizon do not occlude: a plane's own elements
 // lie on it up to float rounding of positions, and must give AO = 1 exactly.
 CONST_GLOBAL float DISC_HORIZON = 2e-3f;
+// The same for walls (0.6 degrees): a wall behind a plane seen at a grazing angle starts on
+// the plane, and its top edge is there up to the rounding of the plane's own positions.
+CONST_GLOBAL float DISC_WALL_HORIZON = 0.05f;
 
 int discLevelWidth(int level) { return (P.width + (1 << level) - 1) >> level; }
 int discLevelHeight(int level) { return (P.height + (1 << level) - 1) >> level; }
@@ -96,7 +99,8 @@ lvec3 discPlaneStep(lvec3 back, lbool backOk, lfloat backBend, lvec3 ahead, lboo
 
 // How far the surface hidden behind texel (x, y)'s edge towards (sx, sy) reaches along -z:
 // the neighbour's z beyond the texel's plane continued from the other side (0 where the
-// surface runs on, 1e30 where the neighbour is sky, 0 past the buffer's edge: unknown).
+// surface runs on, 1e30 where the neighbour is sky, 0 where either side is past the
+// buffer's edge: unknown).
 lfloat discDrop(lint x, lint y, lfloat z0, lfloat w0, int sx, int sy) {
     lbool okQ;
     lbool okB;
@@ -111,7 +115,9 @@ lfloat discDrop(lint x, lint y, lfloat z0, lfloat w0, int sx, int sy) {
     }
     lfloat drop = max(zq - max(zNext, z0), 0.0f);
     lbool sky = insideBuffer(x + sx, y + sy) && !okQ;
-    return select(sky, lfloat(1e30f), select(okQ, drop, lfloat(0.0f)));
+    // With the other side past the buffer's edge there is no slope to continue: unknown too.
+    lbool known = insideBuffer(x - sx, y - sy);
+    return select(known, select(sky, lfloat(1e30f), select(okQ, drop, lfloat(0.0f))), lfloat(0.0f));
 }
 
 // A drop shorter than this many pixel sizes is a crease or float noise, not a hidden side.
@@ -216,6 +222,9 @@ void discWall(lint x, lint y, lvec3 ray, lvec3 pos, lfloat depth, lbool surface,
     g = g * inversesqrt(max(g2, lfloat(1e-30f)));
     wallN = select(g.x + 0.5f * g.y < 0.0f, g * -1.0f, g);
     lbool used = surface && area > 0.0f && g2 > 0.0f;
+    // A wall shorter than 1e-4 of its distance would be lost in the rounding of its position,
+    // and could rise above a plane's horizon (DISC_HORIZON) on either side.
+    used = used && wallLen > 1e-4f * sqrt(dot(pos, pos));
     wallArea = select(used, area, lfloat(0.0f));
     wallPos = pos + D * (wallLen * 0.5f);
 }
@@ -288,9 +297,9 @@ lfloat discRangeWeight(lfloat d, lfloat area) {
 // Cosine-weighted form factor of a disc (area A, normal ne) at v from the receiver: exact
 // for a disc facing the receiver on its axis, A / (A + pi d^2), and A cos cos / (pi d^2) far
 // away. The emitter's side does not matter: a surface seen from behind stands for its solid.
-lfloat discFormFactor(lvec3 v, lfloat d2, lvec3 nr, lvec3 ne, lfloat area) {
+lfloat discFormFactor(lvec3 v, lfloat d2, lvec3 nr, lvec3 ne, lfloat area, float horizon) {
     lfloat invD = inversesqrt(max(d2, 1e-30f));
-    lfloat cosR = max(dot(nr, v) * invD - DISC_HORIZON, 0.0f);
+    lfloat cosR = max(dot(nr, v) * invD - horizon, 0.0f);
     lfloat cosE = abs(dot(ne, v)) * invD;
     lfloat projected = cosE * area;
     // The receiver's own pixel (d = 0, no polygon) has cosR = 0 and must not give 0 / 0.
@@ -323,14 +332,14 @@ void discClipEdge(lvec3 a, lfloat ha, lvec3 b, lfloat hb, lvec3 nr, INOUT(lfloat
 
 // Exact form factor of the parallelogram c +- du +- dv (c from the receiver, du and dv halfLength
 // its sides), clipped to the receiver's upper halfLength-space (correction b): Lambert's formula,
-// |sum of edge terms| / 2 pi. The clip plane is raised by DISC_HORIZON of the distance, as
+// |sum of edge terms| / 2 pi. The clip plane is raised by `horizon` of the distance, as
 // the discs' horizon is.
-lfloat discQuadFormFactor(lvec3 nr, lvec3 c, lvec3 du, lvec3 dv) {
+lfloat discQuadFormFactor(lvec3 nr, lvec3 c, lvec3 du, lvec3 dv, float horizon) {
     lvec3 q0 = c - du - dv;
     lvec3 q1 = c + du - dv;
     lvec3 q2 = c + du + dv;
     lvec3 q3 = c - du + dv;
-    lfloat lift = DISC_HORIZON * sqrt(dot(c, c));
+    lfloat lift = horizon * sqrt(dot(c, c));
     lfloat h0 = dot(nr, q0) - lift;
     lfloat h1 = dot(nr, q1) - lift;
     lfloat h2 = dot(nr, q2) - lift;
@@ -359,7 +368,7 @@ lfloat discPolygonFormFactor(lvec3 xr, lvec3 nr, lvec3 e, lvec3 ne, lfloat area,
     discAxes(ray, e, ne, du, dv);
     lvec3 n = cross(du, dv);
     lfloat scale = 0.5f * sqrt(area * inversesqrt(max(dot(n, n), 1e-36f)));
-    return discQuadFormFactor(nr, e - xr, du * scale, dv * scale);
+    return discQuadFormFactor(nr, e - xr, du * scale, dv * scale, DISC_HORIZON);
 }
 
 // A disc closer than this many radii is replaced by its polygon: there the disc's form factor
@@ -368,26 +377,30 @@ lfloat discPolygonFormFactor(lvec3 xr, lvec3 nr, lvec3 e, lvec3 ne, lfloat area,
 CONST_GLOBAL float DISC_NEAR_RADII = 3.0f;
 
 // The side wall of pyramid texel `index` (discWall): a rectangle `length` long along the view
-// ray through its centre, area / length wide. A disc as far as its halfLength length is a poor
-// stand-in for a long strip, so nearer than DISC_NEAR_RADII of that it is the rectangle's
-// exact form factor; its range ramp spans the halfLength length.
-lfloat discWallContribution(lvec3 xr, lvec3 nr, lint index, lbool use) {
+// ray through its centre, area / length wide. A disc as far as its half length is a poor
+// stand-in for a long strip, so a pixel's wall nearer than DISC_NEAR_RADII of that is the
+// rectangle's exact form factor. A merged wall is not a rectangle (a silhouette's walls fan
+// out along the rays through it, and a rectangle across them would lift a corner above the
+// surface they stand on): it is a disc, but nearer than DISC_NEAR_RADII of its radius. The
+// range ramp spans the half length.
+lfloat discWallContribution(lvec3 xr, lvec3 nr, lint index, lbool use, int level) {
     lvec3 c = gatherDisc3(index, 8, use);
     lfloat area = gatherDisc(index, 11, use);
     lvec3 n = gatherDisc3(index, 12, use);
     lfloat wallLength = gatherDisc(index, 15, use);
     lvec3 v = c - xr;
     lfloat d2 = dot(v, v);
-    lfloat ff = discFormFactor(v, d2, nr, n, area);
+    lfloat ff = discFormFactor(v, d2, nr, n, area, DISC_WALL_HORIZON);
     lfloat halfLength = 0.5f * wallLength;
-    lbool near = use && d2 < (DISC_NEAR_RADII * DISC_NEAR_RADII) * (halfLength * halfLength + area * (1.0f / PI));
+    lfloat reach2 = area * (1.0f / PI) + halfLength * halfLength;
+    lbool near = use && d2 < (DISC_NEAR_RADII * DISC_NEAR_RADII) * reach2;
     if (anyLane(near)) {
         lvec3 D = lvec3(lfloat(0.0f), lfloat(0.0f), lfloat(-1.0f));
         if (P.orthographic == 0) {
             D = c * inversesqrt(max(dot(c, c), 1e-30f));
         }
         lvec3 across = normalize(cross(n, D)) * (0.5f * area / max(wallLength, lfloat(1e-30f)));
-        ff = select(near, discQuadFormFactor(nr, v, D * halfLength, across), ff);
+        ff = select(near, discQuadFormFactor(nr, v, D * halfLength, across, DISC_WALL_HORIZON), ff);
     }
     ff = ff * discRangeWeight(sqrt(d2), PI * halfLength * halfLength);
     return select(use && area > 0.0f, ff, lfloat(0.0f));
@@ -403,7 +416,7 @@ lfloat discContribution(lvec3 xr, lvec3 nr, lint index, lbool use, lbool wall, l
     lvec3 ne = gatherDisc3(index, 4, use);
     lvec3 v = e - xr;
     lfloat d2 = dot(v, v);
-    lfloat ff = discFormFactor(v, d2, nr, ne, area);
+    lfloat ff = discFormFactor(v, d2, nr, ne, area, DISC_HORIZON);
     lbool near = use && d2 * PI < (DISC_NEAR_RADII * DISC_NEAR_RADII) * area;
     if (polygon) {
         near = use;
@@ -414,7 +427,7 @@ lfloat discContribution(lvec3 xr, lvec3 nr, lint index, lbool use, lbool wall, l
     ff = select(use && area > 0.0f, ff * discRangeWeight(sqrt(d2), area), lfloat(0.0f));
     lbool walled = wall && gatherDisc(index, 11, wall) > 0.0f;
     if (anyLane(walled)) {
-        ff += discWallContribution(xr, nr, index, walled);
+        ff += discWallContribution(xr, nr, index, walled, level);
     }
     ff = ff * weight;
     if (P.discVisibility != 0) {
