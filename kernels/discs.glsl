@@ -97,23 +97,31 @@ lvec3 discPlaneStep(lvec3 back, lbool backOk, lfloat backBend, lvec3 ahead, lboo
     return select(takeAhead, ahead, back * -1.0f);
 }
 
+// z of w (discW), 1e30 for w <= 0 under perspective (a plane continued past the horizon).
+lfloat discZ(lfloat w) {
+    if (P.orthographic != 0) {
+        return w;
+    }
+    return select(w > 0.0f, 1.0f / max(w, lfloat(1e-30f)), lfloat(1e30f));
+}
+
 // How far the surface hidden behind texel (x, y)'s edge towards (sx, sy) reaches along -z:
-// the neighbour's z beyond the texel's plane continued from the other side (0 where the
+// the neighbour lies behind the texel's plane continued from the other side, and the texel
+// lies in front of the neighbour's plane continued back to it, by the smaller of the two
+// (across a convex crease the second is 0: the faces meet, nothing is hidden). 0 where the
 // surface runs on, 1e30 where the neighbour is sky, 0 where either side is past the
-// buffer's edge: unknown).
+// buffer's edge: unknown.
 lfloat discDrop(lint x, lint y, lfloat z0, lfloat w0, int sx, int sy) {
     lbool okQ;
     lbool okB;
+    lbool okA;
     lfloat wq = discW(x + sx, y + sy, surfaceDepth(x + sx, y + sy, okQ));
     lfloat wb = discW(x - sx, y - sy, surfaceDepth(x - sx, y - sy, okB));
-    lfloat wNext = select(okB, 2.0f * w0 - wb, w0);
-    lfloat zq = wq;
-    lfloat zNext = wNext;
-    if (P.orthographic == 0) {
-        zq = 1.0f / wq;
-        zNext = select(wNext > 0.0f, 1.0f / max(wNext, lfloat(1e-30f)), lfloat(1e30f));
-    }
-    lfloat drop = max(zq - max(zNext, z0), 0.0f);
+    lfloat wa = discW(x + 2 * sx, y + 2 * sy, surfaceDepth(x + 2 * sx, y + 2 * sy, okA));
+    lfloat zq = discZ(wq);
+    lfloat zNext = discZ(select(okB, 2.0f * w0 - wb, w0));
+    lfloat zBack = discZ(select(okA, 2.0f * wq - wa, wq));
+    lfloat drop = max(min(zq - max(zNext, z0), zBack - z0), 0.0f);
     lbool sky = insideBuffer(x + sx, y + sy) && !okQ;
     // With the other side past the buffer's edge there is no slope to continue: unknown too.
     lbool known = insideBuffer(x - sx, y - sy);
