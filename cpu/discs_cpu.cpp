@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <mutex>
 
 namespace obscura::cpu {
 
@@ -70,27 +71,9 @@ void mergeLevel(DiscPyramid& pyr, int level, bool visibilityOnly, int threads) {
     });
 }
 
-// The coarsest top level any pixel takes: kernels/discs.glsl's discTopLevel, with its reach
-// bound discReachPixels written out in the same float arithmetic.
-int frameTopLevel(const KernelParams& p, const DiscPyramid& pyr, int levels) {
-    const float cap = p.maxRadiusPixels + 2.0f, f = std::max(p.fx, p.fy), R = p.radius;
-    float reach = 0.0f;
-    if (p.orthographic) {
-        reach = std::min(1.25f * R * f + 2.0f, cap);
-    } else {
-        for (size_t i = 0; i < (size_t)pyr.width * pyr.height; ++i) {
-            const float* t = pyr.data.get() + i * kChannels;
-            if (!(t[3] > 0.0f)) continue;
-            const float z = -t[2];
-            if (!(z > 1.01f * R)) {
-                reach = cap;
-                break;
-            }
-            const float tan2 = (t[0] * t[0] + t[1] * t[1]) / std::max(z * z, 1e-30f);
-            const float r = (1.25f * R * f) * (1.0f + tan2) / std::sqrt(std::max(z * z - R * R, 1e-30f)) + 2.0f;
-            reach = std::max(reach, std::min(r, cap));
-        }
-    }
+// The coarsest top level any pixel takes (kernels/discs.glsl's discTopLevel), from the
+// largest reach of any surface texel (discReachPixels, taken per tile by the base kernel).
+int frameTopLevel(const KernelParams& p, float reach, int levels) {
     int top = 0;
     while (top + 1 < levels && (float)(2 * p.discWindow) * (float)(1 << top) < reach) ++top;
     return top;
@@ -119,10 +102,16 @@ DiscPyramid buildDiscPyramid(KernelParams& p, ConstPlane depth, ConstPlane norma
     pyr.data.reset(new float[(size_t)texels * kChannels]);
     const IsaKernels& k = cpuKernelsFor({depth, normal});
     float* base = pyr.data.get();
+    std::mutex reachLock;
+    float reach = 0.0f;
     parallelForTiles(Box2i{0, 0, p.width, p.height}, kLaneTileWidth, kLaneTileHeight, threads,
-                     [&](const Box2i& tile) { k.discsBaseTile(p, depth, normal, base, tile); });
+                     [&](const Box2i& tile) {
+                         const float r = k.discsBaseTile(p, depth, normal, base, tile);
+                         std::lock_guard<std::mutex> hold(reachLock);
+                         reach = std::max(reach, r);
+                     });
 
-    const int top = frameTopLevel(p, pyr, allLevels);
+    const int top = frameTopLevel(p, reach, allLevels);
     p.discTop = top;
     pyr.offsets.resize(top + 1);
     pyr.floats = ((size_t)pyr.offsets[top] + (size_t)levelSize(p.width, top) * levelSize(p.height, top)) * kChannels;

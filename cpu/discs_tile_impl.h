@@ -53,18 +53,21 @@ constexpr int kDiscLanes = OBSCURA_LANES;
 // Lanes past the tile compute a neighbour (or nothing) and are not stored.
 int lanesToStore(int x, int x1) { return x1 - x < kDiscLanes ? x1 - x : kDiscLanes; }
 
-void discsBaseTile(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, float* base, const Box2i& tile) {
+float discsBaseTile(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, float* base, const Box2i& tile) {
     glsl::DiscsCpuKernel k;
     k.P = p;
     k.depth = glsl::LanePlane(depth);
     k.normal = glsl::LanePlane(normal);
     const auto lane = glsl::laneIndex();
+    float reach = 0.0f;
     for (int y = tile.y0; y < tile.y1; ++y)
         for (int x = tile.x0; x < tile.x1; x += kDiscLanes) {
             glsl::lvec3 pos, n, wallPos, wallN;
             glsl::lfloat area, wallArea, wallLen;
             k.discBase(lane + x, y, pos, n, area, wallPos, wallN, wallArea, wallLen);
+            const glsl::lfloat laneReach = k.discReachPixels(pos);
             for (int i = 0; i < lanesToStore(x, tile.x1); ++i) {
+                if (glsl::laneValue(area, i) > 0.0f) reach = std::max(reach, glsl::laneValue(laneReach, i));
                 float* t = base + ((size_t)y * p.width + x + i) * cpu::kDiscChannels;
                 const float v[cpu::kDiscChannels] = {
                     glsl::laneValue(pos.x, i),     glsl::laneValue(pos.y, i),     glsl::laneValue(pos.z, i),
@@ -76,6 +79,7 @@ void discsBaseTile(const glsl::KernelParams& p, ConstPlane depth, ConstPlane nor
                 for (int c = 0; c < cpu::kDiscChannels; ++c) t[c] = v[c];
             }
         }
+    return reach;
 }
 
 void discsTile(const glsl::KernelParams& p, const float* pyramid, MutablePlane ao, const Box2i& tile) {

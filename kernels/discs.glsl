@@ -223,13 +223,17 @@ void discWall(lint x, lint y, lvec3 ray, lvec3 pos, lfloat depth, lbool surface,
     lfloat sum = ax + ay;
     lfloat area = sqrt(ax * ax + ay * ay);
     wallLen = (aLeft * lLeft + aRight * lRight + aUp * lUp + aDown * lDown) / max(sum, lfloat(1e-30f));
-    // Towards the drops (screen y is down); across the ray.
+    // The edge runs across the drops (towards them: g, in view x and y) at constant z, as a
+    // pixel's side does; the wall is the parallelogram of the edge and the ray, and its
+    // normal, signed into one half-space, is theirs.
     lvec3 g = lvec3(select(aRight < aLeft, ax * -1.0f, ax), select(aUp > aDown, ay, ay * -1.0f), lfloat(0.0f));
-    g = g - D * dot(g, D);
-    lfloat g2 = dot(g, g);
-    g = g * inversesqrt(max(g2, lfloat(1e-30f)));
-    wallN = select(g.x + 0.5f * g.y < 0.0f, g * -1.0f, g);
-    lbool used = surface && area > 0.0f && g2 > 0.0f;
+    lvec3 edge = lvec3(g.y * -1.0f, g.x, lfloat(0.0f)) * inversesqrt(max(dot(g, g), lfloat(1e-30f)));
+    lvec3 m = cross(D, edge);
+    lfloat slant = sqrt(dot(m, m));
+    m = m * (1.0f / max(slant, lfloat(1e-30f)));
+    wallN = select(m.x + 0.5f * m.y < 0.0f, m * -1.0f, m);
+    area = area * slant;
+    lbool used = surface && area > 0.0f;
     // A wall shorter than 1e-4 of its distance would be lost in the rounding of its position,
     // and could rise above a plane's horizon (DISC_HORIZON) on either side.
     used = used && wallLen > 1e-4f * sqrt(dot(pos, pos));
@@ -384,14 +388,11 @@ lfloat discPolygonFormFactor(lvec3 xr, lvec3 nr, lvec3 e, lvec3 ne, lfloat area,
 // (a floor seen at a grazing angle, merged into nodes far larger in the world than on screen).
 CONST_GLOBAL float DISC_NEAR_RADII = 3.0f;
 
-// The side wall of pyramid texel `index` (discWall): a rectangle `length` long along the view
-// ray through its centre, area / length wide. A disc as far as its half length is a poor
-// stand-in for a long strip, so a pixel's wall nearer than DISC_NEAR_RADII of that is the
-// rectangle's exact form factor. A merged wall is not a rectangle (a silhouette's walls fan
-// out along the rays through it, and a rectangle across them would lift a corner above the
-// surface they stand on): it is a disc, but nearer than DISC_NEAR_RADII of its radius. The
-// range ramp spans the half length.
-lfloat discWallContribution(lvec3 xr, lvec3 nr, lint index, lbool use, int level) {
+// The side wall of pyramid texel `index` (discWall): a parallelogram `length` long along the
+// view ray through its centre, its other sides at constant z in its plane. A disc as far as its half length is a poor
+// stand-in for a long strip, so nearer than DISC_NEAR_RADII of that it is the parallelogram's
+// exact form factor. The range ramp spans the half length.
+lfloat discWallContribution(lvec3 xr, lvec3 nr, lint index, lbool use) {
     lvec3 c = gatherDisc3(index, 8, use);
     lfloat area = gatherDisc(index, 11, use);
     lvec3 n = gatherDisc3(index, 12, use);
@@ -407,7 +408,12 @@ lfloat discWallContribution(lvec3 xr, lvec3 nr, lint index, lbool use, int level
         if (P.orthographic == 0) {
             D = c * inversesqrt(max(dot(c, c), 1e-30f));
         }
-        lvec3 across = normalize(cross(n, D)) * (0.5f * area / max(wallLength, lfloat(1e-30f)));
+        // The edge: in the wall's plane at constant z (discWall); the sides are slanted.
+        lvec3 edge = lvec3(n.y, n.x * -1.0f, lfloat(0.0f));
+        edge = edge * inversesqrt(max(dot(edge, edge), lfloat(1e-30f)));
+        lvec3 m = cross(D, edge);
+        lfloat slant = max(sqrt(dot(m, m)), lfloat(1e-3f));
+        lvec3 across = edge * (0.5f * area / (max(wallLength, lfloat(1e-30f)) * slant));
         ff = select(near, discQuadFormFactor(nr, v, D * halfLength, across, DISC_WALL_HORIZON), ff);
     }
     ff = ff * discRangeWeight(sqrt(d2), PI * halfLength * halfLength);
@@ -435,7 +441,7 @@ lfloat discContribution(lvec3 xr, lvec3 nr, lint index, lbool use, lbool wall, l
     ff = select(use && area > 0.0f, ff * discRangeWeight(sqrt(d2), area), lfloat(0.0f));
     lbool walled = wall && gatherDisc(index, 11, wall) > 0.0f;
     if (anyLane(walled)) {
-        ff += discWallContribution(xr, nr, index, walled, level);
+        ff += discWallContribution(xr, nr, index, walled);
     }
     ff = ff * weight;
     if (P.discVisibility != 0) {
@@ -447,7 +453,7 @@ lfloat discContribution(lvec3 xr, lvec3 nr, lint index, lbool use, lbool wall, l
 // How far, in pixels, the sphere of radius R around a receiver at view position xr reaches on
 // the screen: R f / sqrt(z^2 - R^2) on the axis, stretched by up to 1 + tan^2 of the ray's
 // angle off it, with a quarter for the stretch across the sphere; capped by maxRadiusPixels.
-// The host bounds the frame's top level with the same expression (cpu/discs_cpu.cpp).
+// The base kernel takes its largest value over each tile, for the frame's top level (cpu/discs_cpu.cpp).
 lfloat discReachPixels(lvec3 xr) {
     float cap = P.maxRadiusPixels + 2.0f;
     float f = max(P.fx, P.fy);
