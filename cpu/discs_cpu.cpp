@@ -43,6 +43,7 @@ void mergeLevel(DiscPyramid& pyr, int level, bool visibilityOnly, int threads) {
                     for (int k = 0; k < 3; ++k) sum[8 + k] += aw * c[8 + k], sum[12 + k] += aw * c[12 + k];
                     sum[11] += aw;
                     sum[15] += aw * c[15];
+                    sum[16] += aw * c[16];
                 }
             float* t = texel(pyr, level, x, y);
             const double area = sum[3];
@@ -67,6 +68,7 @@ void mergeLevel(DiscPyramid& pyr, int level, bool visibilityOnly, int threads) {
             }
             t[11] = walled ? (float)wallArea : 0.0f;
             t[15] = walled ? (float)(sum[15] / wallArea) : 0.0f;
+            t[16] = walled ? (float)(sum[16] / wallArea) : 0.0f;
         }
     });
 }

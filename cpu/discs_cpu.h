@@ -13,8 +13,8 @@ namespace obscura::cpu {
 using glsl::KernelParams;
 
 // Floats a texel (kernels/discs.glsl's DISC_CHANNELS): mean position (3), area, unit mean
-// normal (3), visibility; the side wall's centre (3), area, unit normal (3), length.
-constexpr int kDiscChannels = 16;
+// normal (3), visibility; the side wall's centre (3), area, unit normal (3), length, facing.
+constexpr int kDiscChannels = 17;
 
 // Level 0: one texel per pixel; level L: one per 2^L x 2^L block, kDiscChannels floats each.
 struct DiscPyramid {

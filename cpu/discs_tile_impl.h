@@ -63,8 +63,8 @@ float discsBaseTile(const glsl::KernelParams& p, ConstPlane depth, ConstPlane no
     for (int y = tile.y0; y < tile.y1; ++y)
         for (int x = tile.x0; x < tile.x1; x += kDiscLanes) {
             glsl::lvec3 pos, n, wallPos, wallN;
-            glsl::lfloat area, wallArea, wallLen;
-            k.discBase(lane + x, y, pos, n, area, wallPos, wallN, wallArea, wallLen);
+            glsl::lfloat area, wallArea, wallLen, facing;
+            k.discBase(lane + x, y, pos, n, area, wallPos, wallN, wallArea, wallLen, facing);
             const glsl::lfloat laneReach = k.discReachPixels(pos);
             for (int i = 0; i < lanesToStore(x, tile.x1); ++i) {
                 if (glsl::laneValue(area, i) > 0.0f) reach = std::max(reach, glsl::laneValue(laneReach, i));
@@ -75,7 +75,7 @@ float discsBaseTile(const glsl::KernelParams& p, ConstPlane depth, ConstPlane no
                     glsl::laneValue(n.z, i),       1.0f,
                     glsl::laneValue(wallPos.x, i), glsl::laneValue(wallPos.y, i), glsl::laneValue(wallPos.z, i),
                     glsl::laneValue(wallArea, i),  glsl::laneValue(wallN.x, i),   glsl::laneValue(wallN.y, i),
-                    glsl::laneValue(wallN.z, i),   glsl::laneValue(wallLen, i)};
+                    glsl::laneValue(wallN.z, i),   glsl::laneValue(wallLen, i),   glsl::laneValue(facing, i)};
                 for (int c = 0; c < cpu::kDiscChannels; ++c) t[c] = v[c];
             }
         }

@@ -60,8 +60,8 @@ vec3 gatherRadiance(int x, int y, bool use) { return use ? loadRadiance(ivec2(x,
 vec3 gatherAlbedo(int x, int y, bool use) { return use ? loadAlbedo(ivec2(x, y)) : vec3(1.0f); }
 vec3 gatherEnv(int x, int y, bool use) { return use ? loadEnv(ivec2(x, y)) : vec3(0.0f); }
 vec4 gatherSignal(int x, int y, bool use) { return use ? loadSignal(ivec2(x, y)) : vec4(0.0f); }
-// Disc AO reads the host's pyramid (16 floats a texel, cpu/discs_cpu.h) through the signal-in binding.
-float gatherDisc(int index, int c, bool use) { return use ? signalIn[index * 16 + c] : 0.0f; }
+// Disc AO reads the host's pyramid (17 floats a texel, cpu/discs_cpu.h) through the signal-in binding.
+float gatherDisc(int index, int c, bool use) { return use ? signalIn[index * 17 + c] : 0.0f; }
 bool outsideDispatch(ivec2 t) { return t.x >= P.width || t.y >= P.height; }
 )glsl";
 

@@ -15,9 +15,10 @@
 // Backend contract: gatherDisc(index, c, use) reads channel c of pyramid texel `index`.
 // Channels: 0-2 mean position, 3 area, 4-6 unit mean normal, 7 visibility (pass 2); the
 // node's side walls (the hidden sides of what it occludes, see discWall): 8-10 centre,
-// 11 area, 12-14 unit normal, 15 length along the view ray.
+// 11 area, 12-14 unit normal, 15 length along the view ray, 16 facing (+1: the normal points
+// out of the solid, towards the drop; -1: into it; between: walls facing apart merged).
 
-CONST_GLOBAL int DISC_CHANNELS = 16;
+CONST_GLOBAL int DISC_CHANNELS = 17;
 // A footprint is stretched at most as for n.V = 0.02 (88.9 degrees from the eye): beyond,
 // depth gives no usable extent and a pixel would stand for an unbounded strip.
 CONST_GLOBAL float DISC_MIN_NV = 0.02f;
@@ -195,7 +196,7 @@ lfloat discWallLength(lint x, lint y, lfloat z0, lfloat drop, lfloat zLen, lfloa
 // diagonal silhouette's pixel stands for sqrt 2 pixels of edge), the normal lies across the
 // ray towards the drops, signed into one halfLength-space so walls facing apart still merge.
 void discWall(lint x, lint y, lvec3 ray, lvec3 pos, lfloat depth, lbool surface, OUT(lvec3) wallPos,
-              OUT(lvec3) wallN, OUT(lfloat) wallArea, OUT(lfloat) wallLen) {
+              OUT(lvec3) wallN, OUT(lfloat) wallArea, OUT(lfloat) wallLen, OUT(lfloat) facing) {
     lfloat z0 = -pos.z;
     lfloat w0 = discW(x, y, depth);
     // Pixel size in the world; the ray's length per unit of z (ray.z = -1 under perspective).
@@ -231,7 +232,13 @@ void discWall(lint x, lint y, lvec3 ray, lvec3 pos, lfloat depth, lbool surface,
     lvec3 m = cross(D, edge);
     lfloat slant = sqrt(dot(m, m));
     m = m * (1.0f / max(slant, lfloat(1e-30f)));
-    wallN = select(m.x + 0.5f * m.y < 0.0f, m * -1.0f, m);
+    // m points out of the solid when the edge turns left of the drop, as built from g.
+    lbool flip = m.x + 0.5f * m.y < 0.0f;
+    wallN = select(flip, m * -1.0f, m);
+    facing = select(flip, lfloat(-1.0f), lfloat(1.0f)) * select(dot(m, g) < 0.0f, lfloat(-1.0f), lfloat(1.0f));
+    // Drops on both sides of an axis (a pole one pixel wide): walls on both, no one outside.
+    lbool twoSided = (aLeft > 0.0f && aRight > 0.0f) || (aUp > 0.0f && aDown > 0.0f);
+    facing = select(twoSided, lfloat(0.0f), facing);
     area = area * slant;
     lbool used = surface && area > 0.0f;
     // A wall shorter than 1e-4 of its distance would be lost in the rounding of its position,
@@ -248,7 +255,7 @@ void discWall(lint x, lint y, lvec3 ray, lvec3 pos, lfloat depth, lbool surface,
 // shaded cylinder averages its caps into its sides; a facet bends them). Elsewhere (edges,
 // one-pixel features) the pass's normal stays.
 void discBase(lint x, lint y, OUT(lvec3) pos, OUT(lvec3) n, OUT(lfloat) area, OUT(lvec3) wallPos, OUT(lvec3) wallN,
-              OUT(lfloat) wallArea, OUT(lfloat) wallLen) {
+              OUT(lfloat) wallArea, OUT(lfloat) wallLen, OUT(lfloat) facing) {
     lbool surface;
     lfloat depth = surfaceDepth(x, y, surface);
     lvec3 ray = viewRay(lvec2(lfloat(x + P.originX) + 0.5f, lfloat(y + P.originY) + 0.5f));
@@ -281,7 +288,7 @@ void discBase(lint x, lint y, OUT(lvec3) pos, OUT(lvec3) n, OUT(lfloat) area, OU
     discAxes(ray, pos, n, du, dv);
     lvec3 c = cross(du, dv);
     area = select(surface, sqrt(dot(c, c)), lfloat(0.0f));
-    discWall(x, y, ray, pos, depth, surface, wallPos, wallN, wallArea, wallLen);
+    discWall(x, y, ray, pos, depth, surface, wallPos, wallN, wallArea, wallLen, facing);
 }
 
 // Open weight of a node `dist` node sizes from the receiver: smooth from 1 at k (where every
@@ -417,6 +424,12 @@ lfloat discWallContribution(lvec3 xr, lvec3 nr, lint index, lbool use) {
         ff = select(near, discQuadFormFactor(nr, v, D * halfLength, across, DISC_WALL_HORIZON), ff);
     }
     ff = ff * discRangeWeight(sqrt(d2), PI * halfLength * halfLength);
+    // A wall occludes only receivers on its outer side: from the inner side it lies behind
+    // the surface whose edge it hangs from (the ceiling's front edge, seen from the room),
+    // whose own elements already count. Walls facing apart (a pole's two sides) count whole.
+    lfloat facing = gatherDisc(index, 16, use);
+    lbool inner = abs(facing) > 0.5f && dot(n, xr - c) * facing < 0.0f;
+    ff = select(inner, lfloat(0.0f), ff);
     return select(use && area > 0.0f, ff, lfloat(0.0f));
 }
 
