@@ -156,9 +156,9 @@ TEST(Discs, CorrectionsAreSwitches) {
 
 // Side walls against ray-traced references (reference_render): behind the sphere of
 // `sphere-plane` the passes do not show its lower back, which shades the floor beside it, and
-// walls put it back (measured 22.0 -> 29.2 dB at 200 x 150); behind thin poles a wall T deep
+// walls put it back (measured 22.0 -> 28.5 dB at 200 x 150); behind thin poles a wall T deep
 // would darken the floor like a slab (-12 dB at 320 x 240), and walls capped at half the
-// pole's visible width cost little (measured 25.9 -> 25.3 dB).
+// pole's visible width, seen from their outer side only, cost nothing (25.9 -> 26.0 dB).
 TEST(Discs, SideWallsAgainstTheRayTracer) {
     namespace fs = std::filesystem;
     const fs::path dir = fs::path(OBSCURA_TEST_TMP) / ("discs-walls-" + std::to_string(::getpid()));
@@ -178,7 +178,7 @@ TEST(Discs, SideWallsAgainstTheRayTracer) {
         gain[i] = walls - none;
     }
     EXPECT_GT(gain[0], 4.0);
-    EXPECT_GT(gain[1], -2.5);
+    EXPECT_GT(gain[1], -1.0);
     fs::remove_all(dir);
 }
 
