@@ -73,15 +73,17 @@ lfloat discW(lint x, lint y, lfloat depth) {
     return -1.0f / positionOnRay(ray, depth).z;
 }
 
-// How far texel (x, y) and its neighbours at 1 and 2 steps (sx, sy) are from one plane: the
-// second difference of w; 1e30 where either neighbour is not a surface.
-lfloat discBend(lint x, lint y, lfloat w0, int sx, int sy) {
-    lbool ok1;
-    lbool ok2;
-    lfloat d1 = surfaceDepth(x + sx, y + sy, ok1);
-    lfloat d2 = surfaceDepth(x + 2 * sx, y + 2 * sy, ok2);
-    lfloat bend = abs(discW(x + 2 * sx, y + 2 * sy, d2) - 2.0f * discW(x + sx, y + sy, d1) + w0);
-    return select(ok1 && ok2, bend, lfloat(1e30f));
+// w of the texels 1 and 2 steps (sx, sy) from texel (x, y), and whether they are surfaces:
+// read once per side, for the normal's side (discBend) and the walls (discDrop).
+void discSide(lint x, lint y, int sx, int sy, OUT(lfloat) w1, OUT(lbool) ok1, OUT(lfloat) w2, OUT(lbool) ok2) {
+    w1 = discW(x + sx, y + sy, surfaceDepth(x + sx, y + sy, ok1));
+    w2 = discW(x + 2 * sx, y + 2 * sy, surfaceDepth(x + 2 * sx, y + 2 * sy, ok2));
+}
+
+// How far a texel (w0) and its neighbours at 1 and 2 steps on one side are from one plane:
+// the second difference of w; 1e30 where either neighbour is not a surface.
+lfloat discBend(lfloat w0, lfloat w1, lbool ok1, lfloat w2, lbool ok2) {
+    return select(ok1 && ok2, abs(w2 - 2.0f * w1 + w0), lfloat(1e30f));
 }
 
 // Of the steps to the two neighbours along one axis that are surfaces, the one on the side
@@ -111,14 +113,9 @@ lfloat discZ(lfloat w) {
 // lies in front of the neighbour's plane continued back to it, by the smaller of the two
 // (across a convex crease the second is 0: the faces meet, nothing is hidden). 0 where the
 // surface runs on, 1e30 where the neighbour is sky, 0 where either side is past the
-// buffer's edge: unknown.
-lfloat discDrop(lint x, lint y, lfloat z0, lfloat w0, int sx, int sy) {
-    lbool okQ;
-    lbool okB;
-    lbool okA;
-    lfloat wq = discW(x + sx, y + sy, surfaceDepth(x + sx, y + sy, okQ));
-    lfloat wb = discW(x - sx, y - sy, surfaceDepth(x - sx, y - sy, okB));
-    lfloat wa = discW(x + 2 * sx, y + 2 * sy, surfaceDepth(x + 2 * sx, y + 2 * sy, okA));
+// buffer's edge: unknown. wq, wa: w 1 and 2 steps towards (sx, sy); wb: 1 step back.
+lfloat discDrop(lint x, lint y, lfloat z0, lfloat w0, int sx, int sy, lfloat wq, lbool okQ, lfloat wa, lbool okA,
+                lfloat wb, lbool okB) {
     lfloat zq = discZ(wq);
     lfloat zNext = discZ(select(okB, 2.0f * w0 - wb, w0));
     lfloat zBack = discZ(select(okA, 2.0f * wq - wa, wq));
@@ -194,11 +191,13 @@ lfloat discWallLength(lint x, lint y, lfloat z0, lfloat drop, lfloat zLen, lfloa
 // from the edge back along the view ray, T long or down to the farther surface. Walls of
 // the four edges are one element: areas add per axis and in quadrature across axes (a
 // diagonal silhouette's pixel stands for sqrt 2 pixels of edge), the normal lies across the
-// ray towards the drops, signed into one halfLength-space so walls facing apart still merge.
-void discWall(lint x, lint y, lvec3 ray, lvec3 pos, lfloat depth, lbool surface, OUT(lvec3) wallPos,
-              OUT(lvec3) wallN, OUT(lfloat) wallArea, OUT(lfloat) wallLen, OUT(lfloat) facing) {
+// ray towards the drops, signed into one half-space so walls facing apart still merge.
+// The sides' w come from discSide (L: left, R: right, U: up, D: down; 1 and 2 steps).
+void discWall(lint x, lint y, lvec3 ray, lvec3 pos, lfloat w0, lbool surface, lfloat wL1, lbool okL1, lfloat wL2,
+              lbool okL2, lfloat wR1, lbool okR1, lfloat wR2, lbool okR2, lfloat wU1, lbool okU1, lfloat wU2, lbool okU2,
+              lfloat wD1, lbool okD1, lfloat wD2, lbool okD2, OUT(lvec3) wallPos, OUT(lvec3) wallN,
+              OUT(lfloat) wallArea, OUT(lfloat) wallLen, OUT(lfloat) facing) {
     lfloat z0 = -pos.z;
-    lfloat w0 = discW(x, y, depth);
     // Pixel size in the world; the ray's length per unit of z (ray.z = -1 under perspective).
     lfloat scale = lfloat(1.0f);
     lfloat zLen = lfloat(1.0f);
@@ -210,10 +209,14 @@ void discWall(lint x, lint y, lvec3 ray, lvec3 pos, lfloat depth, lbool surface,
     }
     lfloat px = scale * P.invFx;
     lfloat py = scale * P.invFy;
-    lfloat lLeft = discWallLength(x, y, z0, discDrop(x, y, z0, w0, -1, 0), zLen, px, -1, 0);
-    lfloat lRight = discWallLength(x, y, z0, discDrop(x, y, z0, w0, 1, 0), zLen, px, 1, 0);
-    lfloat lUp = discWallLength(x, y, z0, discDrop(x, y, z0, w0, 0, -1), zLen, py, 0, -1);
-    lfloat lDown = discWallLength(x, y, z0, discDrop(x, y, z0, w0, 0, 1), zLen, py, 0, 1);
+    lfloat dLeft = discDrop(x, y, z0, w0, -1, 0, wL1, okL1, wL2, okL2, wR1, okR1);
+    lfloat dRight = discDrop(x, y, z0, w0, 1, 0, wR1, okR1, wR2, okR2, wL1, okL1);
+    lfloat dUp = discDrop(x, y, z0, w0, 0, -1, wU1, okU1, wU2, okU2, wD1, okD1);
+    lfloat dDown = discDrop(x, y, z0, w0, 0, 1, wD1, okD1, wD2, okD2, wU1, okU1);
+    lfloat lLeft = discWallLength(x, y, z0, dLeft, zLen, px, -1, 0);
+    lfloat lRight = discWallLength(x, y, z0, dRight, zLen, px, 1, 0);
+    lfloat lUp = discWallLength(x, y, z0, dUp, zLen, py, 0, -1);
+    lfloat lDown = discWallLength(x, y, z0, dDown, zLen, py, 0, 1);
     // Walls on the left and right run along the screen's y: a pixel's height wide.
     lfloat aLeft = lLeft * py;
     lfloat aRight = lRight * py;
@@ -276,8 +279,30 @@ void discBase(lint x, lint y, OUT(lvec3) pos, OUT(lvec3) n, OUT(lfloat) area, OU
     lbool alongX;
     lbool alongY;
     lfloat w0 = discW(x, y, depth);
-    lvec3 sx = discPlaneStep(left, leftOk, discBend(x, y, w0, -1, 0), right, rightOk, discBend(x, y, w0, 1, 0), alongX);
-    lvec3 sy = discPlaneStep(up, upOk, discBend(x, y, w0, 0, -1), down, downOk, discBend(x, y, w0, 0, 1), alongY);
+    lfloat wL1;
+    lfloat wL2;
+    lfloat wR1;
+    lfloat wR2;
+    lfloat wU1;
+    lfloat wU2;
+    lfloat wD1;
+    lfloat wD2;
+    lbool okL1;
+    lbool okL2;
+    lbool okR1;
+    lbool okR2;
+    lbool okU1;
+    lbool okU2;
+    lbool okD1;
+    lbool okD2;
+    discSide(x, y, -1, 0, wL1, okL1, wL2, okL2);
+    discSide(x, y, 1, 0, wR1, okR1, wR2, okR2);
+    discSide(x, y, 0, -1, wU1, okU1, wU2, okU2);
+    discSide(x, y, 0, 1, wD1, okD1, wD2, okD2);
+    lvec3 sx = discPlaneStep(left, leftOk, discBend(w0, wL1, okL1, wL2, okL2), right, rightOk,
+                             discBend(w0, wR1, okR1, wR2, okR2), alongX);
+    lvec3 sy = discPlaneStep(up, upOk, discBend(w0, wU1, okU1, wU2, okU2), down, downOk,
+                             discBend(w0, wD1, okD1, wD2, okD2), alongY);
     lvec3 g = cross(sy, sx);
     lfloat g2 = dot(g, g);
     lbool fromDepth = surface && alongX && alongY && g2 > 0.0f && dot(sx, sx) < 9.0f * dot(du, du) &&
@@ -288,7 +313,8 @@ void discBase(lint x, lint y, OUT(lvec3) pos, OUT(lvec3) n, OUT(lfloat) area, OU
     discAxes(ray, pos, n, du, dv);
     lvec3 c = cross(du, dv);
     area = select(surface, sqrt(dot(c, c)), lfloat(0.0f));
-    discWall(x, y, ray, pos, depth, surface, wallPos, wallN, wallArea, wallLen, facing);
+    discWall(x, y, ray, pos, w0, surface, wL1, okL1, wL2, okL2, wR1, okR1, wR2, okR2, wU1, okU1, wU2, okU2, wD1, okD1,
+             wD2, okD2, wallPos, wallN, wallArea, wallLen, facing);
 }
 
 // Open weight of a node `dist` node sizes from the receiver: smooth from 1 at k (where every
@@ -334,7 +360,7 @@ lfloat discEdgeTerm(lvec3 a, lvec3 b, lvec3 nr) {
 }
 
 // One edge a -> b (heights ha, hb above the clip plane) clipped to the part above it; adds
-// its term and records where the boundary leaves (exitP) and re-enters (entryP) the halfLength-space.
+// its term and records where the boundary leaves (exitP) and re-enters (entryP) the half-space.
 void discClipEdge(lvec3 a, lfloat ha, lvec3 b, lfloat hb, lvec3 nr, INOUT(lfloat) sum, INOUT(lvec3) exitP,
                   INOUT(lvec3) entryP) {
     lbool inA = ha > 0.0f;
@@ -349,8 +375,8 @@ void discClipEdge(lvec3 a, lfloat ha, lvec3 b, lfloat hb, lvec3 nr, INOUT(lfloat
     entryP = select(inB && !inA, crossing, entryP);
 }
 
-// Exact form factor of the parallelogram c +- du +- dv (c from the receiver, du and dv halfLength
-// its sides), clipped to the receiver's upper halfLength-space (correction b): Lambert's formula,
+// Exact form factor of the parallelogram c +- du +- dv (c from the receiver, du and dv half
+// its sides), clipped to the receiver's upper half-space (correction b): Lambert's formula,
 // |sum of edge terms| / 2 pi. The clip plane is raised by `horizon` of the distance, as
 // the discs' horizon is.
 lfloat discQuadFormFactor(lvec3 nr, lvec3 c, lvec3 du, lvec3 dv, float horizon) {
