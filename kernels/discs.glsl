@@ -25,8 +25,9 @@ CONST_GLOBAL float DISC_MIN_NV = 0.02f;
 // Elements within this sine of the receiver's horizon do not occlude: a plane's own elements
 // lie on it up to float rounding of positions, and must give AO = 1 exactly.
 CONST_GLOBAL float DISC_HORIZON = 2e-3f;
-// The same for walls (0.6 degrees): a wall behind a plane seen at a grazing angle starts on
-// the plane, and its top edge is there up to the rounding of the plane's own positions.
+// The same for walls (2.9 degrees): a wall behind a plane seen at a grazing angle starts on
+// the plane, and its top edge is there up to the rounding of the plane's own positions (0.01
+// was not enough for the stiff suite's plane at depths 1e-3 to 1e6).
 CONST_GLOBAL float DISC_WALL_HORIZON = 0.05f;
 
 int discLevelWidth(int level) { return (P.width + (1 << level) - 1) >> level; }
@@ -171,9 +172,9 @@ lfloat discWidthTexels(lint x, lint y, lfloat z0, lfloat drop, int sx, int sy) {
 
 // The length of the wall behind one edge (drop: in z, zLen: ray length per unit of z; pixel:
 // the pixel's size in the world): the drop along the ray, at most the thickness T, at most R
-// (beyond R nothing counts), and at most the width of the surface in front: a closed shape's
-// hidden back is about as deep as it is wide (a pole's is its diameter, not T). 0 below the
-// noise floor.
+// (beyond R nothing counts), and at most DISC_DEPTH_PER_WIDTH of the width of the surface in
+// front: a closed shape's hidden back is about half as deep as it is wide (a pole's is its
+// radius, not T). 0 below the noise floor.
 lfloat discWallLength(lint x, lint y, lfloat z0, lfloat drop, lfloat zLen, lfloat pixel, int sx, int sy) {
     float t = min(P.thickness, P.radius);
     lfloat along = drop * zLen;
@@ -235,7 +236,7 @@ void discWall(lint x, lint y, lvec3 ray, lvec3 pos, lfloat w0, lbool surface, lf
     lvec3 m = cross(D, edge);
     lfloat slant = sqrt(dot(m, m));
     m = m * (1.0f / max(slant, lfloat(1e-30f)));
-    // m points out of the solid when the edge turns left of the drop, as built from g.
+    // facing: +1 where the stored normal points towards the drops, out of the solid.
     lbool flip = m.x + 0.5f * m.y < 0.0f;
     wallN = select(flip, m * -1.0f, m);
     facing = select(flip, lfloat(-1.0f), lfloat(1.0f)) * select(dot(m, g) < 0.0f, lfloat(-1.0f), lfloat(1.0f));
@@ -251,12 +252,12 @@ void discWall(lint x, lint y, lvec3 ray, lvec3 pos, lfloat w0, lbool surface, lf
     wallPos = pos + D * (wallLen * 0.5f);
 }
 
-// The level-0 element of buffer texel (x, y); area 0 where it is not a surface. Its normal is
-// the depth's own (the cross product of the steps to its neighbours on the side that continues its plane) wherever those
-// steps are no longer than three footprints of the shading normal: elements must lie in each
-// other's tangent planes where the surface is smooth, and shading normals need not (a smooth-
-// shaded cylinder averages its caps into its sides; a facet bends them). Elsewhere (edges,
-// one-pixel features) the pass's normal stays.
+// The level-0 element of buffer texel (x, y) and its wall; area 0 where it is not a surface.
+// Its normal is the depth's own (the cross product of the steps to its neighbours on the
+// sides that continue its plane) wherever those steps are no longer than three footprints of
+// the shading normal: elements must lie in each other's tangent planes where the surface is
+// smooth, and shading normals need not (a smooth-shaded cylinder averages its caps into its
+// sides; a facet bends them). Elsewhere (edges, one-pixel features) the pass's normal stays.
 void discBase(lint x, lint y, OUT(lvec3) pos, OUT(lvec3) n, OUT(lfloat) area, OUT(lvec3) wallPos, OUT(lvec3) wallN,
               OUT(lfloat) wallArea, OUT(lfloat) wallLen, OUT(lfloat) facing) {
     lbool surface;
