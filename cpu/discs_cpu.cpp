@@ -7,12 +7,13 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <mutex>
 
 namespace obscura::cpu {
 
 namespace {
 
-constexpr int kChannels = 8;
+constexpr int kChannels = kDiscChannels;
 constexpr int kMaxLevels = 16;  // p.discLevelOffset holds 16
 
 int levelSize(int n, int level) { return (n + (1 << level) - 1) >> level; }
@@ -22,7 +23,8 @@ float* texel(DiscPyramid& pyr, int level, int x, int y) {
 }
 
 // Level `level` from the one below: area-weighted position, normal and visibility, summed
-// area. With `visibilityOnly`, only channel 7 (the rest is already merged).
+// area; the walls' likewise (centre, normal and length by wall area). With `visibilityOnly`,
+// only channel 7 (the rest is already merged).
 void mergeLevel(DiscPyramid& pyr, int level, bool visibilityOnly, int threads) {
     const int w = levelSize(pyr.width, level), h = levelSize(pyr.height, level);
     const int cw = levelSize(pyr.width, level - 1), ch = levelSize(pyr.height, level - 1);
@@ -37,6 +39,11 @@ void mergeLevel(DiscPyramid& pyr, int level, bool visibilityOnly, int threads) {
                     for (int k = 0; k < 3; ++k) sum[k] += a * c[k], sum[4 + k] += a * c[4 + k];
                     sum[3] += a;
                     sum[7] += a * c[7];
+                    const double aw = c[11];
+                    for (int k = 0; k < 3; ++k) sum[8 + k] += aw * c[8 + k], sum[12 + k] += aw * c[12 + k];
+                    sum[11] += aw;
+                    sum[15] += aw * c[15];
+                    sum[16] += aw * c[16];
                 }
             float* t = texel(pyr, level, x, y);
             const double area = sum[3];
@@ -52,31 +59,23 @@ void mergeLevel(DiscPyramid& pyr, int level, bool visibilityOnly, int threads) {
             }
             t[3] = used ? (float)area : 0.0f;
             t[7] = used ? (float)(sum[7] / area) : 1.0f;
+            const double wallArea = sum[11];
+            const double wlen = std::sqrt(sum[12] * sum[12] + sum[13] * sum[13] + sum[14] * sum[14]);
+            const bool walled = wallArea > 0 && wlen > 0;
+            for (int k = 0; k < 3; ++k) {
+                t[8 + k] = walled ? (float)(sum[8 + k] / wallArea) : 0.0f;
+                t[12 + k] = walled ? (float)(sum[12 + k] / wlen) : 0.0f;
+            }
+            t[11] = walled ? (float)wallArea : 0.0f;
+            t[15] = walled ? (float)(sum[15] / wallArea) : 0.0f;
+            t[16] = walled ? (float)(sum[16] / wallArea) : 0.0f;
         }
     });
 }
 
-// The coarsest top level any pixel takes: kernels/discs.glsl's discTopLevel, with its reach
-// bound discReachPixels written out in the same float arithmetic.
-int frameTopLevel(const KernelParams& p, const DiscPyramid& pyr, int levels) {
-    const float cap = p.maxRadiusPixels + 2.0f, f = std::max(p.fx, p.fy), R = p.radius;
-    float reach = 0.0f;
-    if (p.orthographic) {
-        reach = std::min(1.25f * R * f + 2.0f, cap);
-    } else {
-        for (size_t i = 0; i < (size_t)pyr.width * pyr.height; ++i) {
-            const float* t = pyr.data.get() + i * kChannels;
-            if (!(t[3] > 0.0f)) continue;
-            const float z = -t[2];
-            if (!(z > 1.01f * R)) {
-                reach = cap;
-                break;
-            }
-            const float tan2 = (t[0] * t[0] + t[1] * t[1]) / std::max(z * z, 1e-30f);
-            const float r = (1.25f * R * f) * (1.0f + tan2) / std::sqrt(std::max(z * z - R * R, 1e-30f)) + 2.0f;
-            reach = std::max(reach, std::min(r, cap));
-        }
-    }
+// The coarsest top level any pixel takes (kernels/discs.glsl's discTopLevel), from the
+// largest reach of any surface texel (discReachPixels, taken per tile by the base kernel).
+int frameTopLevel(const KernelParams& p, float reach, int levels) {
     int top = 0;
     while (top + 1 < levels && (float)(2 * p.discWindow) * (float)(1 << top) < reach) ++top;
     return top;
@@ -105,10 +104,16 @@ DiscPyramid buildDiscPyramid(KernelParams& p, ConstPlane depth, ConstPlane norma
     pyr.data.reset(new float[(size_t)texels * kChannels]);
     const IsaKernels& k = cpuKernelsFor({depth, normal});
     float* base = pyr.data.get();
+    std::mutex reachLock;
+    float reach = 0.0f;
     parallelForTiles(Box2i{0, 0, p.width, p.height}, kLaneTileWidth, kLaneTileHeight, threads,
-                     [&](const Box2i& tile) { k.discsBaseTile(p, depth, normal, base, tile); });
+                     [&](const Box2i& tile) {
+                         const float r = k.discsBaseTile(p, depth, normal, base, tile);
+                         std::lock_guard<std::mutex> hold(reachLock);
+                         reach = std::max(reach, r);
+                     });
 
-    const int top = frameTopLevel(p, pyr, allLevels);
+    const int top = frameTopLevel(p, reach, allLevels);
     p.discTop = top;
     pyr.offsets.resize(top + 1);
     pyr.floats = ((size_t)pyr.offsets[top] + (size_t)levelSize(p.width, top) * levelSize(p.height, top)) * kChannels;

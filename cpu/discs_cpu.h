@@ -12,8 +12,11 @@ namespace obscura::cpu {
 
 using glsl::KernelParams;
 
-// Level 0: one texel per pixel; level L: one per 2^L x 2^L block. Each texel is 8 floats
-// (kernels/discs.glsl): mean position (3), area, unit mean normal (3), visibility.
+// Floats a texel (kernels/discs.glsl's DISC_CHANNELS): mean position (3), area, unit mean
+// normal (3), visibility; the side wall's centre (3), area, unit normal (3), length, facing.
+constexpr int kDiscChannels = 17;
+
+// Level 0: one texel per pixel; level L: one per 2^L x 2^L block, kDiscChannels floats each.
 struct DiscPyramid {
     std::unique_ptr<float[]> data;  // not zeroed first: every texel of the stored levels is written
     size_t floats = 0;

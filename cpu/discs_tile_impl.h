@@ -3,6 +3,7 @@
 // text is kernels/discs.glsl, the one the GPU compiles; the pyramid it reads is
 // cpu/discs_cpu.cpp's (texels of DISC_CHANNELS floats, levels at P.discLevelOffset).
 
+#include "cpu/discs_cpu.h"
 #include "cpu/lane_kernel.h"
 
 namespace obscura::glsl {
@@ -19,9 +20,9 @@ struct DiscsCpuKernel {
     // up a row of 16 lanes usually visits one node: then one broadcast load, not a gather.
     lfloat gatherDisc(lint index, int c, lbool use) const {
 #if OBSCURA_LANES > 1
-        if (sameNode(index, use)) return lfloat(pyramid[c + index[0] * 8]);
+        if (sameNode(index, use)) return lfloat(pyramid[c + index[0] * cpu::kDiscChannels]);
 #endif
-        return gather(pyramid + c, index * 8, use);
+        return gather(pyramid + c, index * cpu::kDiscChannels, use);
     }
 #if OBSCURA_LANES > 1
     static bool sameNode(lint index, lbool use) {
@@ -52,25 +53,33 @@ constexpr int kDiscLanes = OBSCURA_LANES;
 // Lanes past the tile compute a neighbour (or nothing) and are not stored.
 int lanesToStore(int x, int x1) { return x1 - x < kDiscLanes ? x1 - x : kDiscLanes; }
 
-void discsBaseTile(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, float* base, const Box2i& tile) {
+float discsBaseTile(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, float* base, const Box2i& tile) {
     glsl::DiscsCpuKernel k;
     k.P = p;
     k.depth = glsl::LanePlane(depth);
     k.normal = glsl::LanePlane(normal);
     const auto lane = glsl::laneIndex();
+    float reach = 0.0f;
     for (int y = tile.y0; y < tile.y1; ++y)
         for (int x = tile.x0; x < tile.x1; x += kDiscLanes) {
-            glsl::lvec3 pos, n;
-            glsl::lfloat area;
-            k.discBase(lane + x, y, pos, n, area);
+            glsl::lvec3 pos, n, wallPos, wallN;
+            glsl::lfloat area, wallArea, wallLen, facing;
+            k.discBase(lane + x, y, pos, n, area, wallPos, wallN, wallArea, wallLen, facing);
+            const glsl::lfloat laneReach = k.discReachPixels(pos);
             for (int i = 0; i < lanesToStore(x, tile.x1); ++i) {
-                float* t = base + ((size_t)y * p.width + x + i) * 8;
-                const float v[8] = {glsl::laneValue(pos.x, i), glsl::laneValue(pos.y, i), glsl::laneValue(pos.z, i),
-                                    glsl::laneValue(area, i),  glsl::laneValue(n.x, i),   glsl::laneValue(n.y, i),
-                                    glsl::laneValue(n.z, i),   1.0f};
-                for (int c = 0; c < 8; ++c) t[c] = v[c];
+                if (glsl::laneValue(area, i) > 0.0f) reach = std::max(reach, glsl::laneValue(laneReach, i));
+                float* t = base + ((size_t)y * p.width + x + i) * cpu::kDiscChannels;
+                const float v[cpu::kDiscChannels] = {
+                    glsl::laneValue(pos.x, i),     glsl::laneValue(pos.y, i),     glsl::laneValue(pos.z, i),
+                    glsl::laneValue(area, i),      glsl::laneValue(n.x, i),       glsl::laneValue(n.y, i),
+                    glsl::laneValue(n.z, i),       1.0f,
+                    glsl::laneValue(wallPos.x, i), glsl::laneValue(wallPos.y, i), glsl::laneValue(wallPos.z, i),
+                    glsl::laneValue(wallArea, i),  glsl::laneValue(wallN.x, i),   glsl::laneValue(wallN.y, i),
+                    glsl::laneValue(wallN.z, i),   glsl::laneValue(wallLen, i),   glsl::laneValue(facing, i)};
+                for (int c = 0; c < cpu::kDiscChannels; ++c) t[c] = v[c];
             }
         }
+    return reach;
 }
 
 void discsTile(const glsl::KernelParams& p, const float* pyramid, MutablePlane ao, const Box2i& tile) {

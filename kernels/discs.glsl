@@ -13,15 +13,22 @@
 // the receiver's position: no seams where the level changes (correction a).
 //
 // Backend contract: gatherDisc(index, c, use) reads channel c of pyramid texel `index`.
-// Channels: 0-2 mean position, 3 area, 4-6 unit mean normal, 7 visibility (pass 2).
+// Channels: 0-2 mean position, 3 area, 4-6 unit mean normal, 7 visibility (pass 2); the
+// node's side walls (the hidden sides of what it occludes, see discWall): 8-10 centre,
+// 11 area, 12-14 unit normal, 15 length along the view ray, 16 facing (+1: the normal points
+// out of the solid, towards the drop; -1: into it; between: walls facing apart merged).
 
-CONST_GLOBAL int DISC_CHANNELS = 8;
+CONST_GLOBAL int DISC_CHANNELS = 17;
 // A footprint is stretched at most as for n.V = 0.02 (88.9 degrees from the eye): beyond,
 // depth gives no usable extent and a pixel would stand for an unbounded strip.
 CONST_GLOBAL float DISC_MIN_NV = 0.02f;
 // Elements within this sine of the receiver's horizon do not occlude: a plane's own elements
 // lie on it up to float rounding of positions, and must give AO = 1 exactly.
 CONST_GLOBAL float DISC_HORIZON = 2e-3f;
+// The same for walls (2.9 degrees): a wall behind a plane seen at a grazing angle starts on
+// the plane, and its top edge is there up to the rounding of the plane's own positions (0.01
+// was not enough for the stiff suite's plane at depths 1e-3 to 1e6).
+CONST_GLOBAL float DISC_WALL_HORIZON = 0.05f;
 
 int discLevelWidth(int level) { return (P.width + (1 << level) - 1) >> level; }
 int discLevelHeight(int level) { return (P.height + (1 << level) - 1) >> level; }
@@ -57,21 +64,202 @@ lvec3 discStep(lint x, lint y, lvec3 ray, lfloat depth, int sx, int sy, OUT(lboo
     return viewOffset(ray, depth, lvec2(lfloat(float(sx) * P.invFx), lfloat(-float(sy) * P.invFy)), depthS);
 }
 
-// The shorter of the steps to the two neighbours along one axis that are surfaces (across a
-// depth step, the far side is the longer); `found`: at least one is.
-lvec3 discShortStep(lvec3 back, lbool backOk, lvec3 ahead, lbool aheadOk, OUT(lbool) found) {
+// w: 1/z under perspective, z orthographic. On a plane it is affine in the pixel coordinates,
+// so its second difference along a row is 0 and grows only across a crease or a step.
+lfloat discW(lint x, lint y, lfloat depth) {
+    if (P.orthographic != 0) {
+        return depth;
+    }
+    lvec3 ray = viewRay(lvec2(lfloat(x + P.originX) + 0.5f, lfloat(y + P.originY) + 0.5f));
+    return -1.0f / positionOnRay(ray, depth).z;
+}
+
+// w of the texels 1 and 2 steps (sx, sy) from texel (x, y), and whether they are surfaces:
+// read once per side, for the normal's side (discBend) and the walls (discDrop).
+void discSide(lint x, lint y, int sx, int sy, OUT(lfloat) w1, OUT(lbool) ok1, OUT(lfloat) w2, OUT(lbool) ok2) {
+    w1 = discW(x + sx, y + sy, surfaceDepth(x + sx, y + sy, ok1));
+    w2 = discW(x + 2 * sx, y + 2 * sy, surfaceDepth(x + 2 * sx, y + 2 * sy, ok2));
+}
+
+// How far a texel (w0) and its neighbours at 1 and 2 steps on one side are from one plane:
+// the second difference of w; 1e30 where either neighbour is not a surface.
+lfloat discBend(lfloat w0, lfloat w1, lbool ok1, lfloat w2, lbool ok2) {
+    return select(ok1 && ok2, abs(w2 - 2.0f * w1 + w0), lfloat(1e30f));
+}
+
+// Of the steps to the two neighbours along one axis that are surfaces, the one on the side
+// that continues the texel's plane (the smaller bend): next to a crease the step across it
+// would tilt the normal halfway to the other face. On equal bends (a plane, or no second
+// neighbours) the shorter (across a depth step, the far side is the longer). `found`: at
+// least one neighbour is a surface.
+lvec3 discPlaneStep(lvec3 back, lbool backOk, lfloat backBend, lvec3 ahead, lbool aheadOk, lfloat aheadBend,
+                    OUT(lbool) found) {
     found = backOk || aheadOk;
-    lbool takeAhead = aheadOk && (!backOk || dot(ahead, ahead) < dot(back, back));
+    lbool shorter = dot(ahead, ahead) < dot(back, back);
+    lbool flatter = aheadBend < backBend || (!(aheadBend > backBend) && shorter);
+    lbool takeAhead = aheadOk && (!backOk || flatter);
     return select(takeAhead, ahead, back * -1.0f);
 }
 
-// The level-0 element of buffer texel (x, y); area 0 where it is not a surface. Its normal is
-// the depth's own (the cross product of the shorter steps to its neighbours) wherever those
-// steps are no longer than three footprints of the shading normal: elements must lie in each
-// other's tangent planes where the surface is smooth, and shading normals need not (a smooth-
-// shaded cylinder averages its caps into its sides; a facet bends them). Elsewhere (edges,
-// one-pixel features) the pass's normal stays.
-void discBase(lint x, lint y, OUT(lvec3) pos, OUT(lvec3) n, OUT(lfloat) area) {
+// z of w (discW), 1e30 for w <= 0 under perspective (a plane continued past the horizon).
+lfloat discZ(lfloat w) {
+    if (P.orthographic != 0) {
+        return w;
+    }
+    return select(w > 0.0f, 1.0f / max(w, lfloat(1e-30f)), lfloat(1e30f));
+}
+
+// How far the surface hidden behind texel (x, y)'s edge towards (sx, sy) reaches along -z:
+// the neighbour lies behind the texel's plane continued from the other side, and the texel
+// lies in front of the neighbour's plane continued back to it, by the smaller of the two
+// (across a convex crease the second is 0: the faces meet, nothing is hidden). 0 where the
+// surface runs on, 1e30 where the neighbour is sky, 0 where either side is past the
+// buffer's edge: unknown. wq, wa: w 1 and 2 steps towards (sx, sy); wb: 1 step back.
+lfloat discDrop(lint x, lint y, lfloat z0, lfloat w0, int sx, int sy, lfloat wq, lbool okQ, lfloat wa, lbool okA,
+                lfloat wb, lbool okB) {
+    lfloat zq = discZ(wq);
+    lfloat zNext = discZ(select(okB, 2.0f * w0 - wb, w0));
+    lfloat zBack = discZ(select(okA, 2.0f * wq - wa, wq));
+    lfloat drop = max(min(zq - max(zNext, z0), zBack - z0), 0.0f);
+    lbool sky = insideBuffer(x + sx, y + sy) && !okQ;
+    // With the other side past the buffer's edge there is no slope to continue: unknown too.
+    lbool known = insideBuffer(x - sx, y - sy);
+    return select(known, select(sky, lfloat(1e30f), select(okQ, drop, lfloat(0.0f))), lfloat(0.0f));
+}
+
+// A drop shorter than this many pixel sizes is a crease or float noise, not a hidden side.
+CONST_GLOBAL float DISC_MIN_DROP_PIXELS = 2.0f;
+// The scan across a silhouette looks this many texels away at most (discScanStep's last).
+CONST_GLOBAL int DISC_SCAN_SAMPLES = 14;
+
+// A closed shape's hidden part reaches this share of its visible width behind its silhouette:
+// half for a sphere or a pole (the back half of a circle of that diameter).
+CONST_GLOBAL float DISC_DEPTH_PER_WIDTH = 0.5f;
+
+// The i-th offset of the scan: 1, 2, 3, 4, 6, 8, 12, ... 128 texels.
+int discScanStep(int i) {
+    if (i == 0) {
+        return 1;
+    }
+    return (i & 1) == 1 ? 1 << ((i + 1) >> 1) : 3 << ((i - 2) >> 1);
+}
+
+// The width in texels of the surface in front of an edge whose neighbour (sx, sy) lies `drop`
+// farther in z: the scan away from the edge ends at the first texel that is sky or lies more
+// than half the drop behind (the far side of a pole, a sphere's other rim); 128 if none does
+// (nor past the buffer's edge, which says nothing).
+lfloat discWidthTexels(lint x, lint y, lfloat z0, lfloat drop, int sx, int sy) {
+    lfloat width = lfloat(float(discScanStep(DISC_SCAN_SAMPLES - 1)));
+    lbool found = width < 0.0f;
+    int previous = 0;
+    for (int i = 0; i < DISC_SCAN_SAMPLES; ++i) {
+        int k = discScanStep(i);
+        lint qx = x - k * sx;
+        lint qy = y - k * sy;
+        lbool ok;
+        lfloat w = discW(qx, qy, surfaceDepth(qx, qy, ok));
+        lfloat z = w;
+        if (P.orthographic == 0) {
+            z = 1.0f / w;
+        }
+        lbool off = insideBuffer(qx, qy) && (!ok || z > z0 + 0.5f * drop);
+        width = select(off && !found, lfloat(0.5f * float(previous + k)), width);
+        found = found || off;
+        previous = k;
+    }
+    return width;
+}
+
+// The length of the wall behind one edge (drop: in z, zLen: ray length per unit of z; pixel:
+// the pixel's size in the world): the drop along the ray, at most the thickness T, at most R
+// (beyond R nothing counts), and at most DISC_DEPTH_PER_WIDTH of the width of the surface in
+// front: a closed shape's hidden back is about half as deep as it is wide (a pole's is its
+// radius, not T). 0 below the noise floor.
+lfloat discWallLength(lint x, lint y, lfloat z0, lfloat drop, lfloat zLen, lfloat pixel, int sx, int sy) {
+    float t = min(P.thickness, P.radius);
+    lfloat along = drop * zLen;
+    lbool edge = along > DISC_MIN_DROP_PIXELS * pixel;
+    lfloat wall = min(along, lfloat(t));
+    if (anyLane(edge)) {
+        wall = min(wall, discWidthTexels(x, y, z0, drop, sx, sy) * (DISC_DEPTH_PER_WIDTH * pixel));
+    }
+    return select(edge, wall, lfloat(0.0f));
+}
+
+// The texel's side wall: where a neighbour lies farther than the texel's surface continued
+// (a silhouette), the passes do not show what is behind the edge. As HBAO's thickness and
+// rtao's extrusion do, take the visible surface to be a solid T deep: its side is a wall
+// from the edge back along the view ray, T long or down to the farther surface. Walls of
+// the four edges are one element: areas add per axis and in quadrature across axes (a
+// diagonal silhouette's pixel stands for sqrt 2 pixels of edge), the normal lies across the
+// ray towards the drops, signed into one half-space so walls facing apart still merge.
+// The sides' w come from discSide (L: left, R: right, U: up, D: down; 1 and 2 steps).
+void discWall(lint x, lint y, lvec3 ray, lvec3 pos, lfloat w0, lbool surface, lfloat wL1, lbool okL1, lfloat wL2,
+              lbool okL2, lfloat wR1, lbool okR1, lfloat wR2, lbool okR2, lfloat wU1, lbool okU1, lfloat wU2, lbool okU2,
+              lfloat wD1, lbool okD1, lfloat wD2, lbool okD2, OUT(lvec3) wallPos, OUT(lvec3) wallN,
+              OUT(lfloat) wallArea, OUT(lfloat) wallLen, OUT(lfloat) facing) {
+    lfloat z0 = -pos.z;
+    // Pixel size in the world; the ray's length per unit of z (ray.z = -1 under perspective).
+    lfloat scale = lfloat(1.0f);
+    lfloat zLen = lfloat(1.0f);
+    lvec3 D = lvec3(lfloat(0.0f), lfloat(0.0f), lfloat(-1.0f));
+    if (P.orthographic == 0) {
+        scale = z0;
+        zLen = sqrt(dot(ray, ray));
+        D = viewVector(ray) * -1.0f;
+    }
+    lfloat px = scale * P.invFx;
+    lfloat py = scale * P.invFy;
+    lfloat dLeft = discDrop(x, y, z0, w0, -1, 0, wL1, okL1, wL2, okL2, wR1, okR1);
+    lfloat dRight = discDrop(x, y, z0, w0, 1, 0, wR1, okR1, wR2, okR2, wL1, okL1);
+    lfloat dUp = discDrop(x, y, z0, w0, 0, -1, wU1, okU1, wU2, okU2, wD1, okD1);
+    lfloat dDown = discDrop(x, y, z0, w0, 0, 1, wD1, okD1, wD2, okD2, wU1, okU1);
+    lfloat lLeft = discWallLength(x, y, z0, dLeft, zLen, px, -1, 0);
+    lfloat lRight = discWallLength(x, y, z0, dRight, zLen, px, 1, 0);
+    lfloat lUp = discWallLength(x, y, z0, dUp, zLen, py, 0, -1);
+    lfloat lDown = discWallLength(x, y, z0, dDown, zLen, py, 0, 1);
+    // Walls on the left and right run along the screen's y: a pixel's height wide.
+    lfloat aLeft = lLeft * py;
+    lfloat aRight = lRight * py;
+    lfloat aUp = lUp * px;
+    lfloat aDown = lDown * px;
+    lfloat ax = aLeft + aRight;
+    lfloat ay = aUp + aDown;
+    lfloat sum = ax + ay;
+    lfloat area = sqrt(ax * ax + ay * ay);
+    wallLen = (aLeft * lLeft + aRight * lRight + aUp * lUp + aDown * lDown) / max(sum, lfloat(1e-30f));
+    // The edge runs across the drops (towards them: g, in view x and y) at constant z, as a
+    // pixel's side does; the wall is the parallelogram of the edge and the ray, and its
+    // normal, signed into one half-space, is theirs.
+    lvec3 g = lvec3(select(aRight < aLeft, ax * -1.0f, ax), select(aUp > aDown, ay, ay * -1.0f), lfloat(0.0f));
+    lvec3 edge = lvec3(g.y * -1.0f, g.x, lfloat(0.0f)) * inversesqrt(max(dot(g, g), lfloat(1e-30f)));
+    lvec3 m = cross(D, edge);
+    lfloat slant = sqrt(dot(m, m));
+    m = m * (1.0f / max(slant, lfloat(1e-30f)));
+    // facing: +1 where the stored normal points towards the drops, out of the solid.
+    lbool flip = m.x + 0.5f * m.y < 0.0f;
+    wallN = select(flip, m * -1.0f, m);
+    facing = select(flip, lfloat(-1.0f), lfloat(1.0f)) * select(dot(m, g) < 0.0f, lfloat(-1.0f), lfloat(1.0f));
+    // Drops on both sides of an axis (a pole one pixel wide): walls on both, no one outside.
+    lbool twoSided = (aLeft > 0.0f && aRight > 0.0f) || (aUp > 0.0f && aDown > 0.0f);
+    facing = select(twoSided, lfloat(0.0f), facing);
+    area = area * slant;
+    lbool used = surface && area > 0.0f;
+    // A wall shorter than 1e-4 of its distance would be lost in the rounding of its position,
+    // and could rise above a plane's horizon (DISC_HORIZON) on either side.
+    used = used && wallLen > 1e-4f * sqrt(dot(pos, pos));
+    wallArea = select(used, area, lfloat(0.0f));
+    wallPos = pos + D * (wallLen * 0.5f);
+}
+
+// The level-0 element of buffer texel (x, y) and its wall; area 0 where it is not a surface.
+// Its normal is the depth's own (the cross product of the steps to its neighbours on the
+// sides that continue its plane) wherever those steps are no longer than three footprints of
+// the shading normal: elements must lie in each other's tangent planes where the surface is
+// smooth, and shading normals need not (a smooth-shaded cylinder averages its caps into its
+// sides; a facet bends them). Elsewhere (edges, one-pixel features) the pass's normal stays.
+void discBase(lint x, lint y, OUT(lvec3) pos, OUT(lvec3) n, OUT(lfloat) area, OUT(lvec3) wallPos, OUT(lvec3) wallN,
+              OUT(lfloat) wallArea, OUT(lfloat) wallLen, OUT(lfloat) facing) {
     lbool surface;
     lfloat depth = surfaceDepth(x, y, surface);
     lvec3 ray = viewRay(lvec2(lfloat(x + P.originX) + 0.5f, lfloat(y + P.originY) + 0.5f));
@@ -91,8 +279,31 @@ void discBase(lint x, lint y, OUT(lvec3) pos, OUT(lvec3) n, OUT(lfloat) area) {
     lvec3 down = discStep(x, y, ray, depth, 0, 1, downOk);
     lbool alongX;
     lbool alongY;
-    lvec3 sx = discShortStep(left, leftOk, right, rightOk, alongX);
-    lvec3 sy = discShortStep(up, upOk, down, downOk, alongY);
+    lfloat w0 = discW(x, y, depth);
+    lfloat wL1;
+    lfloat wL2;
+    lfloat wR1;
+    lfloat wR2;
+    lfloat wU1;
+    lfloat wU2;
+    lfloat wD1;
+    lfloat wD2;
+    lbool okL1;
+    lbool okL2;
+    lbool okR1;
+    lbool okR2;
+    lbool okU1;
+    lbool okU2;
+    lbool okD1;
+    lbool okD2;
+    discSide(x, y, -1, 0, wL1, okL1, wL2, okL2);
+    discSide(x, y, 1, 0, wR1, okR1, wR2, okR2);
+    discSide(x, y, 0, -1, wU1, okU1, wU2, okU2);
+    discSide(x, y, 0, 1, wD1, okD1, wD2, okD2);
+    lvec3 sx = discPlaneStep(left, leftOk, discBend(w0, wL1, okL1, wL2, okL2), right, rightOk,
+                             discBend(w0, wR1, okR1, wR2, okR2), alongX);
+    lvec3 sy = discPlaneStep(up, upOk, discBend(w0, wU1, okU1, wU2, okU2), down, downOk,
+                             discBend(w0, wD1, okD1, wD2, okD2), alongY);
     lvec3 g = cross(sy, sx);
     lfloat g2 = dot(g, g);
     lbool fromDepth = surface && alongX && alongY && g2 > 0.0f && dot(sx, sx) < 9.0f * dot(du, du) &&
@@ -103,6 +314,8 @@ void discBase(lint x, lint y, OUT(lvec3) pos, OUT(lvec3) n, OUT(lfloat) area) {
     discAxes(ray, pos, n, du, dv);
     lvec3 c = cross(du, dv);
     area = select(surface, sqrt(dot(c, c)), lfloat(0.0f));
+    discWall(x, y, ray, pos, w0, surface, wL1, okL1, wL2, okL2, wR1, okR1, wR2, okR2, wU1, okU1, wU2, okU2, wD1, okD1,
+             wD2, okD2, wallPos, wallN, wallArea, wallLen, facing);
 }
 
 // Open weight of a node `dist` node sizes from the receiver: smooth from 1 at k (where every
@@ -130,9 +343,9 @@ lfloat discRangeWeight(lfloat d, lfloat area) {
 // Cosine-weighted form factor of a disc (area A, normal ne) at v from the receiver: exact
 // for a disc facing the receiver on its axis, A / (A + pi d^2), and A cos cos / (pi d^2) far
 // away. The emitter's side does not matter: a surface seen from behind stands for its solid.
-lfloat discFormFactor(lvec3 v, lfloat d2, lvec3 nr, lvec3 ne, lfloat area) {
+lfloat discFormFactor(lvec3 v, lfloat d2, lvec3 nr, lvec3 ne, lfloat area, float horizon) {
     lfloat invD = inversesqrt(max(d2, 1e-30f));
-    lfloat cosR = max(dot(nr, v) * invD - DISC_HORIZON, 0.0f);
+    lfloat cosR = max(dot(nr, v) * invD - horizon, 0.0f);
     lfloat cosE = abs(dot(ne, v)) * invD;
     lfloat projected = cosE * area;
     // The receiver's own pixel (d = 0, no polygon) has cosR = 0 and must not give 0 / 0.
@@ -163,27 +376,16 @@ void discClipEdge(lvec3 a, lfloat ha, lvec3 b, lfloat hb, lvec3 nr, INOUT(lfloat
     entryP = select(inB && !inA, crossing, entryP);
 }
 
-// Exact form factor of a node's footprint quad, clipped to the receiver's upper half-space
-// (correction b): Lambert's formula, |sum of edge terms| / 2 pi. The quad is the image on the
-// node's tangent plane of its screen block (node (ex, ey) of `level`), scaled to its area
-// (a block part sky keeps its shape, smaller). The clip plane is raised by DISC_HORIZON of
-// the distance, as the discs' horizon is.
-lfloat discPolygonFormFactor(lvec3 xr, lvec3 nr, lvec3 e, lvec3 ne, lfloat area, lint ex, lint ey, int level) {
-    float size = float(1 << level);
-    lvec3 ray = viewRay(lvec2((lfloat(ex) + 0.5f) * size + float(P.originX), (lfloat(ey) + 0.5f) * size + float(P.originY)));
-    lvec3 du;
-    lvec3 dv;
-    discAxes(ray, e, ne, du, dv);
-    lvec3 n = cross(du, dv);
-    lfloat scale = 0.5f * sqrt(area * inversesqrt(max(dot(n, n), 1e-36f)));
-    du = du * scale;
-    dv = dv * scale;
-    lvec3 c = e - xr;
+// Exact form factor of the parallelogram c +- du +- dv (c from the receiver, du and dv half
+// its sides), clipped to the receiver's upper half-space (correction b): Lambert's formula,
+// |sum of edge terms| / 2 pi. The clip plane is raised by `horizon` of the distance, as
+// the discs' horizon is.
+lfloat discQuadFormFactor(lvec3 nr, lvec3 c, lvec3 du, lvec3 dv, float horizon) {
     lvec3 q0 = c - du - dv;
     lvec3 q1 = c + du - dv;
     lvec3 q2 = c + du + dv;
     lvec3 q3 = c - du + dv;
-    lfloat lift = DISC_HORIZON * sqrt(dot(c, c));
+    lfloat lift = horizon * sqrt(dot(c, c));
     lfloat h0 = dot(nr, q0) - lift;
     lfloat h1 = dot(nr, q1) - lift;
     lfloat h2 = dot(nr, q2) - lift;
@@ -201,21 +403,74 @@ lfloat discPolygonFormFactor(lvec3 xr, lvec3 nr, lvec3 e, lvec3 ne, lfloat area,
     return abs(sum) * (1.0f / TWO_PI);
 }
 
+// The exact form factor of a node's footprint: the image on the node's tangent plane of its
+// screen block (node (ex, ey) of `level`), scaled to its area (a block part sky keeps its
+// shape, smaller).
+lfloat discPolygonFormFactor(lvec3 xr, lvec3 nr, lvec3 e, lvec3 ne, lfloat area, lint ex, lint ey, int level) {
+    float size = float(1 << level);
+    lvec3 ray = viewRay(lvec2((lfloat(ex) + 0.5f) * size + float(P.originX), (lfloat(ey) + 0.5f) * size + float(P.originY)));
+    lvec3 du;
+    lvec3 dv;
+    discAxes(ray, e, ne, du, dv);
+    lvec3 n = cross(du, dv);
+    lfloat scale = 0.5f * sqrt(area * inversesqrt(max(dot(n, n), 1e-36f)));
+    return discQuadFormFactor(nr, e - xr, du * scale, dv * scale, DISC_HORIZON);
+}
+
 // A disc closer than this many radii is replaced by its polygon: there the disc's form factor
 // saturates towards cos(receiver) whatever part of the hemisphere the element really covers
 // (a floor seen at a grazing angle, merged into nodes far larger in the world than on screen).
 CONST_GLOBAL float DISC_NEAR_RADII = 3.0f;
 
-// The element of pyramid texel `index` (node (ex, ey) of `level`): its occlusion of the
-// receiver (xr, nr), `weight` included; `polygon`: always the exact footprint form factor.
-lfloat discContribution(lvec3 xr, lvec3 nr, lint index, lbool use, lfloat weight, bool polygon, lint ex, lint ey,
-                        int level) {
+// The side wall of pyramid texel `index` (discWall): a parallelogram `length` long along the
+// view ray through its centre, its other sides at constant z in its plane. A disc as far as its half length is a poor
+// stand-in for a long strip, so nearer than DISC_NEAR_RADII of that it is the parallelogram's
+// exact form factor. The range ramp spans the half length.
+lfloat discWallContribution(lvec3 xr, lvec3 nr, lint index, lbool use) {
+    lvec3 c = gatherDisc3(index, 8, use);
+    lfloat area = gatherDisc(index, 11, use);
+    lvec3 n = gatherDisc3(index, 12, use);
+    lfloat wallLength = gatherDisc(index, 15, use);
+    lvec3 v = c - xr;
+    lfloat d2 = dot(v, v);
+    lfloat ff = discFormFactor(v, d2, nr, n, area, DISC_WALL_HORIZON);
+    lfloat halfLength = 0.5f * wallLength;
+    lfloat reach2 = area * (1.0f / PI) + halfLength * halfLength;
+    lbool near = use && d2 < (DISC_NEAR_RADII * DISC_NEAR_RADII) * reach2;
+    if (anyLane(near)) {
+        lvec3 D = lvec3(lfloat(0.0f), lfloat(0.0f), lfloat(-1.0f));
+        if (P.orthographic == 0) {
+            D = c * inversesqrt(max(dot(c, c), 1e-30f));
+        }
+        // The edge: in the wall's plane at constant z (discWall); the sides are slanted.
+        lvec3 edge = lvec3(n.y, n.x * -1.0f, lfloat(0.0f));
+        edge = edge * inversesqrt(max(dot(edge, edge), lfloat(1e-30f)));
+        lvec3 m = cross(D, edge);
+        lfloat slant = max(sqrt(dot(m, m)), lfloat(1e-3f));
+        lvec3 across = edge * (0.5f * area / (max(wallLength, lfloat(1e-30f)) * slant));
+        ff = select(near, discQuadFormFactor(nr, v, D * halfLength, across, DISC_WALL_HORIZON), ff);
+    }
+    ff = ff * discRangeWeight(sqrt(d2), PI * halfLength * halfLength);
+    // A wall occludes only receivers on its outer side: from the inner side it lies behind
+    // the surface whose edge it hangs from (the ceiling's front edge, seen from the room),
+    // whose own elements already count. Walls facing apart (a pole's two sides) count whole.
+    lfloat facing = gatherDisc(index, 16, use);
+    lbool inner = abs(facing) > 0.5f && dot(n, xr - c) * facing < 0.0f;
+    ff = select(inner, lfloat(0.0f), ff);
+    return select(use && area > 0.0f, ff, lfloat(0.0f));
+}
+
+// The element of pyramid texel `index` (node (ex, ey) of `level`) and its wall where `wall`:
+// their occlusion of the receiver (xr, nr), `weight` included; `polygon`: always the exact
+// footprint form factor.
+lfloat discContribution(lvec3 xr, lvec3 nr, lint index, lbool use, lbool wall, lfloat weight, bool polygon, lint ex,
+                        lint ey, int level) {
     lvec3 e = gatherDisc3(index, 0, use);
     lfloat area = gatherDisc(index, 3, use);
     lvec3 ne = gatherDisc3(index, 4, use);
     lvec3 v = e - xr;
     lfloat d2 = dot(v, v);
-    lfloat ff = discFormFactor(v, d2, nr, ne, area);
+    lfloat ff = discFormFactor(v, d2, nr, ne, area, DISC_HORIZON);
     lbool near = use && d2 * PI < (DISC_NEAR_RADII * DISC_NEAR_RADII) * area;
     if (polygon) {
         near = use;
@@ -223,17 +478,22 @@ lfloat discContribution(lvec3 xr, lvec3 nr, lint index, lbool use, lfloat weight
     if (P.discPolygon != 0 && anyLane(near)) {
         ff = select(near, discPolygonFormFactor(xr, nr, e, ne, area, ex, ey, level), ff);
     }
-    ff = ff * discRangeWeight(sqrt(d2), area) * weight;
+    ff = select(use && area > 0.0f, ff * discRangeWeight(sqrt(d2), area), lfloat(0.0f));
+    lbool walled = wall && gatherDisc(index, 11, wall) > 0.0f;
+    if (anyLane(walled)) {
+        ff += discWallContribution(xr, nr, index, walled);
+    }
+    ff = ff * weight;
     if (P.discVisibility != 0) {
         ff = ff * gatherDisc(index, 7, use);
     }
-    return select(use && area > 0.0f, ff, lfloat(0.0f));
+    return select(use, ff, lfloat(0.0f));
 }
 
 // How far, in pixels, the sphere of radius R around a receiver at view position xr reaches on
 // the screen: R f / sqrt(z^2 - R^2) on the axis, stretched by up to 1 + tan^2 of the ray's
 // angle off it, with a quarter for the stretch across the sphere; capped by maxRadiusPixels.
-// The host bounds the frame's top level with the same expression (cpu/discs_cpu.cpp).
+// The base kernel takes its largest value over each tile, for the frame's top level (cpu/discs_cpu.cpp).
 lfloat discReachPixels(lvec3 xr) {
     float cap = P.maxRadiusPixels + 2.0f;
     float f = max(P.fx, P.fy);
@@ -311,7 +571,13 @@ lfloat discsLanes(lint x, lint y) {
                 }
                 use = use && weight > 0.0f;
                 if (anyLane(use)) {
-                    occlusion += discContribution(xr, nr, levelOffset + nx + ny * levelW, use, weight, false, nx, ny, level);
+                    // A receiver's own wall is the solid behind it, under its horizon.
+                    lbool wall = use;
+                    if (level == 0) {
+                        wall = use && (nx < x || nx > x || ny < y || ny > y);
+                    }
+                    occlusion += discContribution(xr, nr, levelOffset + nx + ny * levelW, use, wall, weight, false, nx, ny,
+                                                  level);
                 }
             }
         }
@@ -323,7 +589,7 @@ lfloat discsLanes(lint x, lint y) {
                     lint ex = x + i;
                     lint ey = y + j;
                     lbool use = computing && insideBuffer(ex, ey);
-                    occlusion += discContribution(xr, nr, ex + ey * P.width, use, lfloat(1.0f), true, ex, ey, 0);
+                    occlusion += discContribution(xr, nr, ex + ey * P.width, use, use, lfloat(1.0f), true, ex, ey, 0);
                 }
             }
         }

@@ -34,15 +34,15 @@ MethodParam switchParam(const char* key, const char* flag, const char* help, boo
     return p;
 }
 
-// hbao and rtao: one thickness, the world-units depth of the solid behind each visible point.
+// hbao, rtao and discs: one thickness, the world-units depth of the solid behind each visible point.
 MethodParam thicknessParam() {
     MethodParam p = floatParam("thickness", "--thickness", "T|auto|inf",
-                               "hbao, rtao: the solid behind each visible point is T world units deep; "
+                               "hbao, rtao, discs: the solid behind each visible point is T world units deep; "
                                "auto: 0.85 R; inf: the depth buffer is a height field (hbao's horizon) "
                                "(default auto)",
                                0.0, 1e30, &Settings::thickness);
     p.named = {{"auto", kThicknessAuto, -1.0}, {"inf", kThicknessInfinite, 1e9}};
-    p.alsoFor = "rtao";
+    p.alsoFor = {"rtao", "discs"};
     return p;
 }
 
@@ -178,7 +178,8 @@ std::vector<const MethodParam*> paramsOf(const std::string& method) {
     if (const MethodInfo* m = findMethod(method))
         for (const MethodParam& p : m->params) out.push_back(&p);
     for (const MethodParam* p : allMethodParams())
-        if (p->alsoFor && method == p->alsoFor) out.push_back(p);
+        for (const char* other : p->alsoFor)
+            if (method == other) out.push_back(p);
     return out;
 }
 

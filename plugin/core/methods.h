@@ -33,7 +33,7 @@ struct MethodParam {
     float Settings::*floatField = nullptr;
     bool Settings::*boolField = nullptr;
     std::vector<NamedValue> named = {};     // words it accepts besides numbers in [min, max]
-    const char* alsoFor = nullptr;          // another method that reads it (listed under this one only)
+    std::vector<const char*> alsoFor = {};  // other methods that read it (listed under this one only)
     bool ofx = true;                        // false: it sets an input OpenFX clips cannot carry (deep samples)
 };
 
