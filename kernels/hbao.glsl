@@ -88,42 +88,41 @@ luint bitsBelow(lint n) {
     return low | select(n >= 32, luint(0x80000000u), luint(0u));
 }
 
-// Adaptive thickness (P.thicknessPerExtent > 0, `--thickness auto`): a fixed T cannot suit
-// both a pole (about as deep as it is wide) and a sphere or wall (deep behind its silhouette).
-// Consecutive samples above the tangent plane whose depth varies smoothly along the slice
-// form a run, one occluder as seen across this slice. A run that ends inside the search
-// (the next sample drops below the tangent, is sky, or jumps in depth) is an object the slice
-// crosses whole: its depth is taken as its width across the slice, times
-// P.thicknessPerExtent, at most P.thickness. A run cut off by the search's end or the
-// buffer's edge may be any depth: it gets P.thickness. Its samples share that thickness, so
-// the run's interval is applied when it ends: from its lowest sample pushed back to its
-// highest (within R).
+// Adaptive thickness (`--thickness auto`, P.thicknessPerExtent > 0). One T cannot suit both a
+// pole (about as deep as it is wide) and a sphere or a wall (deep behind its silhouette), so
+// the thickness is measured per occluder. Along a slice, consecutive samples above the tangent
+// plane whose depth (along V) changes by at most P.runJump form a run: one occluder as this
+// slice crosses it. A run that ends inside the search (the next sample is on or below the
+// tangent plane, sky, or jumps in depth) was crossed whole, and its depth is taken as
+// P.thicknessPerExtent times its width (first to last sample, plus one step), at most
+// P.thickness; a run cut off by the search's end or the buffer's edge may be any depth and
+// gets P.thickness. Its samples share that thickness, so a run is applied when it ends, as
+// one interval: from its lowest back (the sample whose back lies lowest) to its top.
 struct OccluderRun {
-    lfloat firstA, firstB; // its first sample (extent)
-    lfloat lastA, lastB;   // its last sample so far (extent, continuity)
-    lfloat lastFoot;       // world width one step covers at the last sample
-    lfloat stepAcross, stepToEye; // the last step (previous sample to the last), in E and V
-    lfloat topA, topB;     // its highest sample within R (tangent when none)
-    lfloat lowA, lowB;     // its sample within R whose back (pushed P.thickness) is lowest (V when none)
-    lfloat lowBackA, lowBackB; // that back: the order of backs for the run's own thickness
+    lfloat firstA, firstB;     // its first sample
+    lfloat lastA, lastB;       // its last sample so far
+    lfloat topA, topB;         // its highest sample within R (the tangent when none)
+    lfloat lowBackA, lowBackB; // the lowest of its samples' backs pushed P.thickness (V when none)
 };
 
-// The thickness of a run that ended inside the search: k times its width across the slice
-// (first to last sample, plus the step each stands for), in world units.
-lfloat runThickness(OccluderRun run, lfloat nLen) {
+// The thickness of a run crossed whole: k times its width across the slice (first to last
+// sample plus the step one sample stands for, `foot`), in world units, at most P.thickness.
+lfloat runThickness(OccluderRun run, lfloat invNLen, lfloat foot) {
     lfloat dA = run.lastA - run.firstA;
     lfloat dB = run.lastB - run.firstB;
-    lfloat extent = sqrt(dA * dA + dB * dB) / nLen + run.lastFoot;
-    return clamp(P.thicknessPerExtent * extent, lfloat(P.thicknessMin), lfloat(P.thickness));
+    lfloat width = sqrt(dA * dA + dB * dB) * invNLen + foot;
+    return min(P.thicknessPerExtent * width, lfloat(P.thickness));
 }
 
-// Applies the runs that end in lanes `ends`, with thickness t: when the run's lowest sample
-// pushed back by t is not above the horizon, its interval joins the horizon's (which rises to
-// the run's top); else it sets the sectors between the two.
+// Applies the runs ending in lanes `ends`, each with its thickness t: the lowest back moves
+// up to thickness t (P.thickness - t less far along -V). When it is not above the horizon the
+// run's interval joins the horizon's, which rises to the run's top; else it sets the sectors
+// between the two.
 void closeRuns(lbool ends, lfloat t, OccluderRun run, lfloat nE, lfloat nV, INOUT(lfloat) horizonA,
                INOUT(lfloat) horizonB, INOUT(luint) sectors) {
-    lfloat backA = run.lowA + t * nE;
-    lfloat backB = run.lowB - t * nV;
+    lfloat less = P.thickness - t;
+    lfloat backA = run.lowBackA - less * nE;
+    lfloat backB = run.lowBackB + less * nV;
     lbool joins = backB <= 0.0f || horizonA * backB - horizonB * backA <= 0.0f;
     lbool higher = ends && joins && horizonA * run.topB - horizonB * run.topA > 0.0f;
     horizonA = select(higher, run.topA, horizonA);
@@ -193,6 +192,8 @@ lfloat hbaoLanes(lint x, lint y) {
     bool discInside = !anyLane(computing && !(insideBuffer(floor(centre - reach) - origin, 1.0f) &&
                                                insideBuffer(floor(centre + reach) - origin, 1.0f)));
     float radius2 = P.radius * P.radius;
+    // World width one step stands for at the pixel's depth (thickness auto's run widths).
+    lfloat footprint = max(stepPixels, lfloat(1.0f)) * P.invFx * (P.orthographic != 0 ? lfloat(1.0f) : planarDepth);
     float invRadius = 1.0f / P.radius;
 
     luint h = hashPixel(displayX, displayY);
@@ -247,17 +248,12 @@ lfloat hbaoLanes(lint x, lint y) {
         run.firstB = lfloat(0.0f);
         run.lastA = lfloat(0.0f);
         run.lastB = lfloat(0.0f);
-        run.lastFoot = lfloat(0.0f);
-        run.stepAcross = lfloat(0.0f);
-        run.stepToEye = lfloat(0.0f);
         run.topA = lfloat(1.0f);
         run.topB = lfloat(0.0f);
-        run.lowA = -nE;
-        run.lowB = nV;
         run.lowBackA = -nE;
         run.lowBackB = nV;
-        // World width of one step per unit of planar depth (orthographic: per unit).
-        lfloat footPerDepth = max(stepPixels, lfloat(1.0f)) * P.invFx;
+        // A depth change along V, in the slice's axes (scaled by |n_p|^2 like a and b).
+        lfloat runJump = P.runJump * nLen * nLen;
         // March along the image line in display coordinates (so any tiling rounds alike): the
         // first sample one pixel out, then evenly to the radius.
         lvec2 step = dir * stepPixels;
@@ -314,24 +310,15 @@ lfloat hbaoLanes(lint x, lint y) {
             // cannot raise the horizon) and on the E side (snapping can push one across V). Then
             // theta is in (0, pi - b): F grows with theta, and two angles there compare exactly by
             // the sign of their cross product.
-            lbool above = counts && b > 0.0f;
+            // Above the tangent by more than rounding: samples of the receiver's own plane start no run.
+            lbool above = counts && b * b > 1e-6f * r2 && b > 0.0f;
             counts = above && r2 <= radius2 && a * nV + b * nE > 0.0f;
             if (adaptive) {
-                // Continuity: the depth change towards the eye (along V) between this sample and the
-                // last is at most P.runSlope times the change across (along E); both in the slice's
-                // axes, scaled alike by |n_p|^2.
-                lfloat across = (a - run.lastA) * nV + (b - run.lastB) * nE;
                 lfloat toEye = (b - run.lastB) * nV - (a - run.lastA) * nE;
-                // A surface seen edge-on changes depth steeply but steadily: a step in line with the last one
-                // continues too.
-                lfloat turn = across * run.stepToEye - toEye * run.stepAcross;
-                lfloat lengths = (across * across + toEye * toEye) * (run.stepAcross * run.stepAcross + run.stepToEye * run.stepToEye);
-                lbool inLine = turn * turn <= P.runTurn * lengths && across * run.stepAcross + toEye * run.stepToEye > 0.0f;
-                lbool small = abs(toEye) <= P.runJump * nLen * nLen;
-                lbool continues = inRun && above && (abs(toEye) <= P.runSlope * abs(across) || inLine || small);
+                lbool continues = inRun && above && abs(toEye) <= runJump;
                 lbool ends = inRun && !continues;
                 if (anyLane(ends)) {
-                    lfloat t = select(leftBuffer, lfloat(P.thickness), runThickness(run, nLen));
+                    lfloat t = select(leftBuffer, lfloat(P.thickness), runThickness(run, invNLen, footprint));
                     closeRuns(ends, t, run, nE, nV, horizonA, horizonB, sectors);
                 }
                 lbool starts = above && !continues;
@@ -339,27 +326,20 @@ lfloat hbaoLanes(lint x, lint y) {
                 run.firstB = select(starts, b, run.firstB);
                 run.topA = select(starts, lfloat(1.0f), run.topA);
                 run.topB = select(starts, lfloat(0.0f), run.topB);
-                run.lowA = select(starts, -nE, run.lowA);
-                run.lowB = select(starts, nV, run.lowB);
                 run.lowBackA = select(starts, -nE, run.lowBackA);
                 run.lowBackB = select(starts, nV, run.lowBackB);
                 lbool higher = counts && run.topA * b - run.topB * a > 0.0f;
                 run.topA = select(higher, a, run.topA);
                 run.topB = select(higher, b, run.topB);
-                // Samples and their backs share the half-plane on the E side (pushing along -V keeps
+                // Samples and their backs share the half-plane on the E side (a push along -V keeps
                 // the E coordinate), where angles compare by the sign of a cross product.
                 lfloat backA = a + backShiftA;
                 lfloat backB = b + backShiftB;
                 lbool lower = counts && run.lowBackA * backB - run.lowBackB * backA < 0.0f;
-                run.lowA = select(lower, a, run.lowA);
-                run.lowB = select(lower, b, run.lowB);
                 run.lowBackA = select(lower, backA, run.lowBackA);
                 run.lowBackB = select(lower, backB, run.lowBackB);
-                run.stepAcross = across;
-                run.stepToEye = toEye;
                 run.lastA = a;
                 run.lastB = b;
-                run.lastFoot = P.orthographic != 0 ? footPerDepth : footPerDepth * (planarDepth - X.z);
                 inRun = above;
             } else if (P.linearFalloff != 0) {
                 lfloat invLen = inversesqrt(max(a * a + b * b, 1e-30f));

@@ -47,11 +47,7 @@ struct KernelParams {
     float envIntensity;          // multiplies the environment (map or sky)
     float sampleArea;            // A_s = pi r_max^2 / N: the disc area one bounce sample stands for
     float thicknessPerExtent;    // hbao, thickness auto: a run's thickness per unit of its width (0: fixed P.thickness)
-    float runSlope;              // hbao, thickness auto: largest |depth change| per unit across that continues a run
-    float runTurn;               // hbao, thickness auto: largest sin^2 of the turn between steps that continues a run
-    float runJump;                // hbao, thickness auto: depth changes (world units) up to this continue a run
-    float thicknessMin;          // hbao, thickness auto: the least thickness of a run
-    float pad5;
+    float runJump;               // hbao, thickness auto: the largest depth change (world units) within one occluder
 
     // ---- HBAO's visibility bitmask (kernels/hbao.glsl) ----
     // Per bound k = 0..32 of the 32 sectors (pseudo-angle k/16, angle theta_k above the tangent),

@@ -166,16 +166,9 @@ KernelParams makeKernelParams(const OperatorInputs& in, const Settings& s) {
     // A finite thickness changes binary visibility only; linear falloff keeps the horizon.
     p.hbaoBitmask = std::isfinite(p.thickness) && p.linearFalloff == 0 ? 1 : 0;
     p.thicknessPerExtent = s.thickness == kThicknessAuto && p.hbaoBitmask ? 1.0f : 0.0f;
-    p.runSlope = 4.0f;
+    p.runJump = 1.5f * s.radius;
     if (const char* e = std::getenv("TUNE_K")) p.thicknessPerExtent = s.thickness == kThicknessAuto ? std::atof(e) : 0.0f;
-    if (const char* e = std::getenv("TUNE_C")) p.runSlope = std::atof(e);
-    p.runTurn = 0.2f;
-    if (const char* e = std::getenv("TUNE_TURN")) p.runTurn = std::atof(e);
-    p.runJump = s.radius;
-    p.thicknessMin = 0.0f;
-    if (const char* e = std::getenv("TUNE_TMIN")) p.thicknessMin = std::atof(e) * s.radius;
     if (const char* e = std::getenv("TUNE_JUMP")) p.runJump = std::atof(e) * s.radius;
-    if (const char* e = std::getenv("TUNE_TMAX")) if (s.thickness == kThicknessAuto && p.hbaoBitmask) p.thickness = std::atof(e) * s.radius;
     fillSectorTerms(p);
     p.ssaoSamples = s.ssaoSamples;
     p.ssaoHemisphere = s.ssaoHemisphere ? 1 : 0;
