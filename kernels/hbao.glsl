@@ -102,7 +102,6 @@ struct OccluderRun {
     lfloat firstA, firstB;     // its first sample
     lfloat lastA, lastB;       // its last sample so far
     lfloat topA, topB;         // its highest sample within R (the tangent when none)
-    lfloat lowBackA, lowBackB; // the lowest of its samples' backs pushed P.thickness (V when none)
 };
 
 // The thickness of a run crossed whole: k times its width across the slice (first to last
@@ -114,15 +113,21 @@ lfloat runThickness(OccluderRun run, lfloat invNLen, lfloat foot) {
     return min(P.thicknessPerExtent * width, lfloat(P.thickness));
 }
 
-// Applies the runs ending in lanes `ends`, each with its thickness t: the lowest back moves
-// up to thickness t (P.thickness - t less far along -V). When it is not above the horizon the
-// run's interval joins the horizon's, which rises to the run's top; else it sets the sectors
-// between the two.
-void closeRuns(lbool ends, lfloat t, OccluderRun run, lfloat nE, lfloat nV, INOUT(lfloat) horizonA,
+// Applies the runs ending in lanes `ends`, each with its thickness t, and clears them. The
+// lower of its ends' backs (its first and last samples pushed t along -V) stands for the
+// lowest back. When that is not above the horizon the run's interval joins the horizon's,
+// which rises to the run's top; else it sets the sectors between the two.
+void closeRuns(lbool ends, lfloat t, INOUT(OccluderRun) run, lfloat nE, lfloat nV, INOUT(lfloat) horizonA,
                INOUT(lfloat) horizonB, INOUT(luint) sectors) {
-    lfloat less = P.thickness - t;
-    lfloat backA = run.lowBackA - less * nE;
-    lfloat backB = run.lowBackB + less * nV;
+    lfloat firstBackA = run.firstA + t * nE;
+    lfloat firstBackB = run.firstB - t * nV;
+    lfloat lastBackA = run.lastA + t * nE;
+    lfloat lastBackB = run.lastB - t * nV;
+    // Both lie on the E side (a push along -V keeps the E coordinate): their angles compare by
+    // the sign of a cross product.
+    lbool firstLower = firstBackA * lastBackB - firstBackB * lastBackA > 0.0f;
+    lfloat backA = select(firstLower, firstBackA, lastBackA);
+    lfloat backB = select(firstLower, firstBackB, lastBackB);
     lbool joins = backB <= 0.0f || horizonA * backB - horizonB * backA <= 0.0f;
     lbool higher = ends && joins && horizonA * run.topB - horizonB * run.topA > 0.0f;
     horizonA = select(higher, run.topA, horizonA);
@@ -134,6 +139,8 @@ void closeRuns(lbool ends, lfloat t, OccluderRun run, lfloat nE, lfloat nV, INOU
         luint interval = bitsBelow(front) & ~bitsBelow(back);
         sectors = sectors | select(apart, interval, luint(0u));
     }
+    run.topA = select(ends, lfloat(1.0f), run.topA);
+    run.topB = select(ends, lfloat(0.0f), run.topB);
 }
 
 // Depth at which the ray through display texel `corner` meets the tangent plane of the buffer
@@ -250,8 +257,6 @@ lfloat hbaoLanes(lint x, lint y) {
         run.lastB = lfloat(0.0f);
         run.topA = lfloat(1.0f);
         run.topB = lfloat(0.0f);
-        run.lowBackA = -nE;
-        run.lowBackB = nV;
         // A depth change along V, in the slice's axes (scaled by |n_p|^2 like a and b).
         lfloat runJump = P.runJump * nLen * nLen;
         // March along the image line in display coordinates (so any tiling rounds alike): the
@@ -324,20 +329,9 @@ lfloat hbaoLanes(lint x, lint y) {
                 lbool starts = above && !continues;
                 run.firstA = select(starts, a, run.firstA);
                 run.firstB = select(starts, b, run.firstB);
-                run.topA = select(starts, lfloat(1.0f), run.topA);
-                run.topB = select(starts, lfloat(0.0f), run.topB);
-                run.lowBackA = select(starts, -nE, run.lowBackA);
-                run.lowBackB = select(starts, nV, run.lowBackB);
                 lbool higher = counts && run.topA * b - run.topB * a > 0.0f;
                 run.topA = select(higher, a, run.topA);
                 run.topB = select(higher, b, run.topB);
-                // Samples and their backs share the half-plane on the E side (a push along -V keeps
-                // the E coordinate), where angles compare by the sign of a cross product.
-                lfloat backA = a + backShiftA;
-                lfloat backB = b + backShiftB;
-                lbool lower = counts && run.lowBackA * backB - run.lowBackB * backA < 0.0f;
-                run.lowBackA = select(lower, backA, run.lowBackA);
-                run.lowBackB = select(lower, backB, run.lowBackB);
                 run.lastA = a;
                 run.lastB = b;
                 inRun = above;
