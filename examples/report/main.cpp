@@ -81,6 +81,15 @@ nlohmann::json presetTable() {
     return t;
 }
 
+// The display window's part of an image of the data window `overscan` pixels larger each way.
+obscura::Image displayWindowOf(const obscura::Image& data, int overscan, int width, int height) {
+    obscura::Image out(width, height, data.channels);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+            for (int c = 0; c < data.channels; ++c) out.at(x, y)[c] = data.at(x + overscan, y + overscan)[c];
+    return out;
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -149,7 +158,15 @@ int main(int argc, char** argv) {
                 }
             }
 
-            const obscura::OperatorInputs in = operatorInputs(frame);
+            // --overscan: the same frame's passes with a margin past the display window; obscura's AO
+            // is cropped back to the display window, so the reference and the non-sky mask are the frame's.
+            LoadedFrame overscanFrame;
+            if (o.overscan > 0) {
+                const std::string path = ensureOverscanPasses(rig, rs, o.overscan, o.cacheDir);
+                progress("%s   passes with %d px overscan: %s\n", tag, o.overscan, path.c_str());
+                overscanFrame = loadFrame(path, o.definition.exrLayer());
+            }
+            const obscura::OperatorInputs in = operatorInputs(o.overscan > 0 ? overscanFrame : frame);
             obscura::Image sheetAo;
             const obscura::Image* sheetTruth = &truth;
             std::string sheetLabel;
@@ -186,6 +203,10 @@ int main(int argc, char** argv) {
                         } else {
                             r.samples = obscura::findMethod(s.method)->samplesPerPixel(s);  // points or rays
                             r.blur = s.blur;
+                        }
+                        if (o.overscan > 0 && !ssdo) {
+                            t.ao = displayWindowOf(t.ao, o.overscan, rs.width, rs.height);
+                            r.overscan = o.overscan;
                         }
                         r.runs = t.runs;
                         r.timeMs = 1e3 * t.medianSeconds;

@@ -9,7 +9,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdlib>
 #include <string>
 
 namespace obscura {
@@ -165,10 +164,11 @@ KernelParams makeKernelParams(const OperatorInputs& in, const Settings& s) {
     p.hbaoBorder = s.border;
     // A finite thickness changes binary visibility only; linear falloff keeps the horizon.
     p.hbaoBitmask = std::isfinite(p.thickness) && p.linearFalloff == 0 ? 1 : 0;
+    // thickness auto: each occluder's depth is its width across the slice (k = 1; a cylinder's
+    // depth is its width), at most 0.85 R; a depth change above 1.5 R between samples ends an
+    // occluder (docs/hbao.md has the sweeps on the report's scenes).
     p.thicknessPerExtent = s.thickness == kThicknessAuto && p.hbaoBitmask ? 1.0f : 0.0f;
     p.runJump = 1.5f * s.radius;
-    if (const char* e = std::getenv("TUNE_K")) p.thicknessPerExtent = s.thickness == kThicknessAuto ? std::atof(e) : 0.0f;
-    if (const char* e = std::getenv("TUNE_JUMP")) p.runJump = std::atof(e) * s.radius;
     fillSectorTerms(p);
     p.ssaoSamples = s.ssaoSamples;
     p.ssaoHemisphere = s.ssaoHemisphere ? 1 : 0;
