@@ -115,17 +115,19 @@ void runTileFor(const KernelParams& p, ConstPlane depth, ConstPlane normal, Muta
         runTile<E, glsl::ParamsAnyCamera<Cosine, Linear, Bitmask>>(p, depth, normal, ao, tile);
 }
 
-// The weighting and falloff switches as template arguments; HBAO's bitmask too (it only
-// changes binary visibility: linear falloff and SSAO never take it).
+// The weighting and falloff switches as template arguments; HBAO's bitmask too (SSAO never
+// takes it).
 template <Entry E>
 void runEntry(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile) {
     const bool bitmask = E == Entry::Hbao && p.hbaoBitmask != 0;
     if (p.cosineWeighting != 0) {
-        if (p.linearFalloff != 0) runTileFor<E, 1, 1>(p, depth, normal, ao, tile);
+        if (p.linearFalloff != 0 && bitmask) runTileFor<E, 1, 1, 1>(p, depth, normal, ao, tile);
+        else if (p.linearFalloff != 0) runTileFor<E, 1, 1>(p, depth, normal, ao, tile);
         else if (bitmask) runTileFor<E, 1, 0, 1>(p, depth, normal, ao, tile);
         else runTileFor<E, 1, 0>(p, depth, normal, ao, tile);
     } else {
-        if (p.linearFalloff != 0) runTileFor<E, 0, 1>(p, depth, normal, ao, tile);
+        if (p.linearFalloff != 0 && bitmask) runTileFor<E, 0, 1, 1>(p, depth, normal, ao, tile);
+        else if (p.linearFalloff != 0) runTileFor<E, 0, 1>(p, depth, normal, ao, tile);
         else if (bitmask) runTileFor<E, 0, 0, 1>(p, depth, normal, ao, tile);
         else runTileFor<E, 0, 0>(p, depth, normal, ao, tile);
     }

@@ -102,6 +102,9 @@ struct OccluderRun {
     lfloat firstA, firstB;     // its first sample
     lfloat lastA, lastB;       // its last sample so far
     lfloat topA, topB;         // its highest sample within R (the tangent when none)
+    lfloat topF;               // linear falloff: F at its top
+    lfloat rise;               // linear falloff: sum of W(r) times each sample's rise of F above
+                               // the horizon and the run's earlier samples
 };
 
 // The thickness of a run crossed whole: k times its width across the slice (first to last
@@ -117,8 +120,13 @@ lfloat runThickness(OccluderRun run, lfloat invNLen, lfloat foot) {
 // lower of its ends' backs (its first and last samples pushed t along -V) stands for the
 // lowest back. When that is not above the horizon the run's interval joins the horizon's,
 // which rises to the run's top; else it sets the sectors between the two.
-void closeRuns(lbool ends, lfloat t, INOUT(OccluderRun) run, lfloat nE, lfloat nV, INOUT(lfloat) horizonA,
-               INOUT(lfloat) horizonB, INOUT(luint) sectors) {
+//
+// Linear falloff: a run that joins adds its weighted rises, scaled down by the share of its
+// rise that sectors set earlier already count (each angle is weighted once, by the first
+// occluder over it, as the horizon does); an apart run adds its new sectors at its mean weight.
+void closeRuns(lbool ends, lfloat t, INOUT(OccluderRun) run, lfloat nE, lfloat nV, lfloat cosB, lfloat sinB,
+               lfloat nLen, INOUT(lfloat) horizonA, INOUT(lfloat) horizonB, INOUT(lfloat) horizonF,
+               INOUT(luint) sectors, INOUT(lfloat) sliceOcclusion) {
     lfloat firstBackA = run.firstA + t * nE;
     lfloat firstBackB = run.firstB - t * nV;
     lfloat lastBackA = run.lastA + t * nE;
@@ -132,15 +140,33 @@ void closeRuns(lbool ends, lfloat t, INOUT(OccluderRun) run, lfloat nE, lfloat n
     lbool higher = ends && joins && horizonA * run.topB - horizonB * run.topA > 0.0f;
     horizonA = select(higher, run.topA, horizonA);
     horizonB = select(higher, run.topB, horizonB);
+    lfloat runRange = max(run.topF - horizonF, 1e-30f);
+    if (P.linearFalloff != 0) {
+        lfloat counted = lfloat(0.0f);
+        if (anyLane(higher && lfloat(sectors) > 0.0f)) {
+            counted = sectorOcclusion(sectors, horizonF, cosB, sinB, nLen) -
+                      sectorOcclusion(sectors, max(run.topF, horizonF), cosB, sinB, nLen);
+        }
+        sliceOcclusion += select(higher, run.rise * max(1.0f - counted / runRange, 0.0f), lfloat(0.0f));
+        horizonF = select(higher, max(run.topF, horizonF), horizonF);
+    }
     lbool apart = ends && !joins;
     if (anyLane(apart)) {
         lint front = sectorBound(sectorPseudoAngle(run.topA, run.topB));
         lint back = sectorBound(sectorPseudoAngle(backA, backB));
-        luint interval = bitsBelow(front) & ~bitsBelow(back);
-        sectors = sectors | select(apart, interval, luint(0u));
+        luint interval = select(apart, bitsBelow(front) & ~bitsBelow(back), luint(0u));
+        if (P.linearFalloff != 0) {
+            luint added = interval & ~sectors;
+            if (anyLane(lfloat(added) > 0.0f)) {
+                sliceOcclusion += (run.rise / runRange) * sectorOcclusion(added, horizonF, cosB, sinB, nLen);
+            }
+        }
+        sectors = sectors | interval;
     }
     run.topA = select(ends, lfloat(1.0f), run.topA);
     run.topB = select(ends, lfloat(0.0f), run.topB);
+    run.topF = select(ends, lfloat(0.0f), run.topF);
+    run.rise = select(ends, lfloat(0.0f), run.rise);
 }
 
 // Depth at which the ray through display texel `corner` meets the tangent plane of the buffer
@@ -257,6 +283,8 @@ lfloat hbaoLanes(lint x, lint y) {
         run.lastB = lfloat(0.0f);
         run.topA = lfloat(1.0f);
         run.topB = lfloat(0.0f);
+        run.topF = lfloat(0.0f);
+        run.rise = lfloat(0.0f);
         // A depth change along V, in the slice's axes (scaled by |n_p|^2 like a and b).
         lfloat runJump = P.runJump * nLen * nLen;
         // March along the image line in display coordinates (so any tiling rounds alike): the
@@ -324,7 +352,8 @@ lfloat hbaoLanes(lint x, lint y) {
                 lbool ends = inRun && !continues;
                 if (anyLane(ends)) {
                     lfloat t = select(leftBuffer, lfloat(P.thickness), runThickness(run, invNLen, footprint));
-                    closeRuns(ends, t, run, nE, nV, horizonA, horizonB, sectors);
+                    closeRuns(ends, t, run, nE, nV, cosB, sinB, nLen, horizonA, horizonB, horizonF, sectors,
+                              sliceOcclusion);
                 }
                 lbool starts = above && !continues;
                 run.firstA = select(starts, a, run.firstA);
@@ -332,6 +361,13 @@ lfloat hbaoLanes(lint x, lint y) {
                 lbool higher = counts && run.topA * b - run.topB * a > 0.0f;
                 run.topA = select(higher, a, run.topA);
                 run.topB = select(higher, b, run.topB);
+                if (P.linearFalloff != 0) {
+                    lfloat invLen = inversesqrt(max(a * a + b * b, 1e-30f));
+                    lfloat f = select(counts, sliceOcclusionAt(a * invLen, b * invLen, cosB, sinB, nLen), lfloat(0.0f));
+                    lfloat weight = max(1.0f - sqrt(r2) * invRadius, 0.0f);
+                    run.rise += weight * max(f - max(horizonF, run.topF), 0.0f);
+                    run.topF = max(run.topF, f);
+                }
                 run.lastA = a;
                 run.lastB = b;
                 inRun = above;
@@ -368,7 +404,8 @@ lfloat hbaoLanes(lint x, lint y) {
         }
         if (adaptive && anyLane(inRun)) {
             // Runs still going when the search ends (or leaves the buffer) may be any depth.
-            closeRuns(inRun, lfloat(P.thickness), run, nE, nV, horizonA, horizonB, sectors);
+            closeRuns(inRun, lfloat(P.thickness), run, nE, nV, cosB, sinB, nLen, horizonA, horizonB, horizonF, sectors,
+                      sliceOcclusion);
         }
         if (P.linearFalloff == 0) {
             lfloat invLen = inversesqrt(horizonA * horizonA + horizonB * horizonB);

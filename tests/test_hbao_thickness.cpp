@@ -21,8 +21,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-Settings binarySettings(Weighting w, float radius, float thickness, int dirs = 8, int steps = 8) {
-    Settings s = hbaoSettings(w, Falloff::None, radius, dirs, steps);
+Settings binarySettings(Weighting w, float radius, float thickness, int dirs = 8, int steps = 8,
+                        Falloff f = Falloff::None) {
+    Settings s = hbaoSettings(w, f, radius, dirs, steps);
     s.thickness = thickness;
     return s;
 }
@@ -49,19 +50,22 @@ TEST(HbaoThickness, PlaneIsUnoccludedAtEveryPixel) {
 
 // Pushed back far enough, every sample's back lies below the tangent plane, its interval joins
 // the horizon's, and the bitmask path computes what the horizon path computes (to float
-// rounding: the two are separate instantiations, contracted into FMAs differently).
+// rounding: the two are separate instantiations, contracted into FMAs differently); with linear
+// falloff too, where each run's weighted rises add up to the horizon's.
 TEST(HbaoThickness, LargeThicknessIsTheHorizonExactly) {
     const int W = 160, H = 120;
     for (bool ortho : {false, true}) {
         const Camera cam = ortho ? lookAtOrthographic(dvec3(4, 5, 9), dvec3(-1, 0.6, -3), 12.0, W, H)
                                  : studioCamera(W, H);
         const SceneBuffers sb = renderScene(studioScene(), cam, W, H);
-        for (Weighting w : {Weighting::Uniform, Weighting::Cosine}) {
-            const OperatorOutputs horizon = runOperator(sb.inputs(), binarySettings(w, 1.0f, kThicknessInfinite));
-            const OperatorOutputs bitmask = runOperator(sb.inputs(), binarySettings(w, 1.0f, 1e6f));
+        for (Weighting w : {Weighting::Uniform, Weighting::Cosine})
+          for (Falloff f : {Falloff::None, Falloff::Linear}) {
+            const OperatorOutputs horizon = runOperator(sb.inputs(), binarySettings(w, 1.0f, kThicknessInfinite, 8, 8, f));
+            const OperatorOutputs bitmask = runOperator(sb.inputs(), binarySettings(w, 1.0f, 1e6f, 8, 8, f));
             float minAo = 1.0f;
             for (size_t i = 0; i < horizon.ao.pixels.size(); ++i) {
-                ASSERT_NEAR(horizon.ao.pixels[i], bitmask.ao.pixels[i], 1e-6f) << "pixel " << i << " ortho " << ortho;
+                ASSERT_NEAR(horizon.ao.pixels[i], bitmask.ao.pixels[i], 1e-6f)
+                    << "pixel " << i << " ortho " << ortho << " " << toString(f);
                 minAo = std::min(minAo, horizon.ao.pixels[i]);
             }
             EXPECT_LT(minAo, 0.8f) << "the scene must have occlusion to compare";
