@@ -29,7 +29,8 @@
 // each set sector adds its exact share of F above that horizon (F's closed forms at the
 // sector's bounds). Sectors are uniform in a pseudo-angle p in [0, 2] (p = b / (|a| + b),
 // mirrored for a < 0), which needs one division per sample instead of an arctangent; a
-// sector counts when the interval covers its centre. Linear falloff keeps the horizon alone.
+// sector counts when the interval covers its centre. `--thickness auto` and linear falloff take
+// samples by runs (OccluderRun below).
 //
 // Samples snap to texel centres, which moves them slightly off the slice. Taking a and b
 // from the full 3D offset brings them back into the slice along the tangent plane (not
