@@ -98,7 +98,8 @@ luint bitsBelow(lint n) {
 // P.thicknessPerExtent times its width (first to last sample, plus one step), at most
 // P.thickness; a run cut off by the search's end or the buffer's edge may be any depth and
 // gets P.thickness. Its samples share that thickness, so a run is applied when it ends, as
-// one interval: from its lowest back (the sample whose back lies lowest) to its top.
+// one interval: from the lower of its ends' backs to its top. Linear falloff with a fixed T
+// takes this path too, with P.thicknessPerExtent so large that every run gets P.thickness.
 struct OccluderRun {
     lfloat firstA, firstB;     // its first sample
     lfloat lastA, lastB;       // its last sample so far
@@ -344,9 +345,10 @@ lfloat hbaoLanes(lint x, lint y) {
             // cannot raise the horizon) and on the E side (snapping can push one across V). Then
             // theta is in (0, pi - b): F grows with theta, and two angles there compare exactly by
             // the sign of their cross product.
-            // Above the tangent by more than rounding: samples of the receiver's own plane start no run.
-            lbool above = counts && b * b > 1e-6f * r2 && b > 0.0f;
-            counts = above && r2 <= radius2 && a * nV + b * nE > 0.0f;
+            // Runs take samples above the tangent by more than rounding: the receiver's own plane
+            // starts none.
+            lbool above = counts && b > 0.0f && b * b > 1e-6f * r2;
+            counts = counts && r2 <= radius2 && b > 0.0f && a * nV + b * nE > 0.0f;
             if (adaptive) {
                 lfloat toEye = (b - run.lastB) * nV - (a - run.lastA) * nE;
                 lbool continues = inRun && above && abs(toEye) <= runJump;
@@ -359,12 +361,13 @@ lfloat hbaoLanes(lint x, lint y) {
                 lbool starts = above && !continues;
                 run.firstA = select(starts, a, run.firstA);
                 run.firstB = select(starts, b, run.firstB);
-                lbool higher = counts && run.topA * b - run.topB * a > 0.0f;
+                lbool inside = counts && above; // can occlude
+                lbool higher = inside && run.topA * b - run.topB * a > 0.0f;
                 run.topA = select(higher, a, run.topA);
                 run.topB = select(higher, b, run.topB);
                 if (P.linearFalloff != 0) {
                     lfloat invLen = inversesqrt(max(a * a + b * b, 1e-30f));
-                    lfloat f = select(counts, sliceOcclusionAt(a * invLen, b * invLen, cosB, sinB, nLen), lfloat(0.0f));
+                    lfloat f = select(inside, sliceOcclusionAt(a * invLen, b * invLen, cosB, sinB, nLen), lfloat(0.0f));
                     lfloat weight = max(1.0f - sqrt(r2) * invRadius, 0.0f);
                     run.rise += weight * max(f - max(horizonF, run.topF), 0.0f);
                     run.topF = max(run.topF, f);
