@@ -345,9 +345,9 @@ lfloat hbaoLanes(lint x, lint y) {
             // cannot raise the horizon) and on the E side (snapping can push one across V). Then
             // theta is in (0, pi - b): F grows with theta, and two angles there compare exactly by
             // the sign of their cross product.
-            // Runs take samples above the tangent by more than rounding: the receiver's own plane
-            // starts none.
-            lbool above = counts && b > 0.0f && b * b > 1e-6f * r2;
+            // Runs take samples above the tangent by more than rounding (0.57 degrees): the
+            // receiver's own plane, stored at half precision too, starts none.
+            lbool above = counts && b > 0.0f && b * b > 1e-4f * r2;
             counts = counts && r2 <= radius2 && b > 0.0f && a * nV + b * nE > 0.0f;
             if (adaptive) {
                 lfloat toEye = (b - run.lastB) * nV - (a - run.lastA) * nE;
@@ -365,12 +365,22 @@ lfloat hbaoLanes(lint x, lint y) {
                 lbool higher = inside && run.topA * b - run.topB * a > 0.0f;
                 run.topA = select(higher, a, run.topA);
                 run.topB = select(higher, b, run.topB);
+                // A sample within rounding of the tangent raises the horizon as it would without
+                // runs (its back lies below the tangent for any thickness that matters).
+                lbool onTangent = counts && !above;
+                lbool tangentHigher = onTangent && horizonA * b - horizonB * a > 0.0f;
+                horizonA = select(tangentHigher, a, horizonA);
+                horizonB = select(tangentHigher, b, horizonB);
                 if (P.linearFalloff != 0) {
                     lfloat invLen = inversesqrt(max(a * a + b * b, 1e-30f));
-                    lfloat f = select(inside, sliceOcclusionAt(a * invLen, b * invLen, cosB, sinB, nLen), lfloat(0.0f));
+                    lfloat f = select(counts, sliceOcclusionAt(a * invLen, b * invLen, cosB, sinB, nLen), lfloat(0.0f));
                     lfloat weight = max(1.0f - sqrt(r2) * invRadius, 0.0f);
-                    run.rise += weight * max(f - max(horizonF, run.topF), 0.0f);
-                    run.topF = max(run.topF, f);
+                    lfloat insideF = select(inside, f, lfloat(0.0f));
+                    run.rise += weight * max(insideF - max(horizonF, run.topF), 0.0f);
+                    run.topF = max(run.topF, insideF);
+                    lfloat tangentF = select(onTangent, f, lfloat(0.0f));
+                    sliceOcclusion += weight * max(tangentF - horizonF, 0.0f);
+                    horizonF = max(horizonF, tangentF);
                 }
                 run.lastA = a;
                 run.lastB = b;
