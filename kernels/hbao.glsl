@@ -365,13 +365,15 @@ lfloat hbaoLanes(lint x, lint y) {
                 lbool higher = inside && run.topA * b - run.topB * a > 0.0f;
                 run.topA = select(higher, a, run.topA);
                 run.topB = select(higher, b, run.topB);
-                // A sample within rounding of the tangent raises the horizon as it would without
-                // runs (its back lies below the tangent for any thickness that matters).
-                lbool onTangent = counts && !above;
-                lbool tangentHigher = onTangent && horizonA * b - horizonB * a > 0.0f;
-                horizonA = select(tangentHigher, a, horizonA);
-                horizonB = select(tangentHigher, b, horizonB);
                 if (P.linearFalloff != 0) {
+                    // Linear falloff: a sample within rounding of the tangent raises the horizon as
+                    // it would without runs (its back lies below the tangent for any thickness that
+                    // matters), so a large T is the linear horizon. Binary visibility drops it: it
+                    // adds at most F at 0.57 degrees, and nothing on the receiver's own plane.
+                    lbool onTangent = counts && !above;
+                    lbool tangentHigher = onTangent && horizonA * b - horizonB * a > 0.0f;
+                    horizonA = select(tangentHigher, a, horizonA);
+                    horizonB = select(tangentHigher, b, horizonB);
                     lfloat invLen = inversesqrt(max(a * a + b * b, 1e-30f));
                     lfloat f = select(counts, sliceOcclusionAt(a * invLen, b * invLen, cosB, sinB, nLen), lfloat(0.0f));
                     lfloat weight = max(1.0f - sqrt(r2) * invRadius, 0.0f);
