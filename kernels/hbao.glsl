@@ -118,7 +118,7 @@ lfloat runThickness(OccluderRun run, lfloat invNLen, lfloat foot) {
     return min(P.thicknessPerExtent * width, lfloat(P.thickness));
 }
 
-// Applies the runs ending in lanes `ends`, each with its thickness t, and clears them. The
+// Applies the runs ending in lanes `ends`, each with its thickness t. The
 // lower of its ends' backs (its first and last samples pushed t along -V) stands for the
 // lowest back. When that is not above the horizon the run's interval joins the horizon's,
 // which rises to the run's top; else it sets the sectors between the two.
@@ -126,7 +126,7 @@ lfloat runThickness(OccluderRun run, lfloat invNLen, lfloat foot) {
 // Linear falloff: a run that joins adds its weighted rises, scaled down by the share of its
 // rise that sectors set earlier already count (each angle is weighted once, by the first
 // occluder over it, as the horizon does); an apart run adds its new sectors at its mean weight.
-void closeRuns(lbool ends, lfloat t, INOUT(OccluderRun) run, lfloat nE, lfloat nV, lfloat cosB, lfloat sinB,
+void closeRuns(lbool ends, lfloat t, OccluderRun run, lfloat nE, lfloat nV, lfloat cosB, lfloat sinB,
                lfloat nLen, INOUT(lfloat) horizonA, INOUT(lfloat) horizonB, INOUT(lfloat) horizonF,
                INOUT(luint) sectors, INOUT(lfloat) sliceOcclusion) {
     lfloat firstBackA = run.firstA + t * nE;
@@ -165,10 +165,6 @@ void closeRuns(lbool ends, lfloat t, INOUT(OccluderRun) run, lfloat nE, lfloat n
         }
         sectors = sectors | interval;
     }
-    run.topA = select(ends, lfloat(1.0f), run.topA);
-    run.topB = select(ends, lfloat(0.0f), run.topB);
-    run.topF = select(ends, lfloat(0.0f), run.topF);
-    run.rise = select(ends, lfloat(0.0f), run.rise);
 }
 
 // Depth at which the ray through display texel `corner` meets the tangent plane of the buffer
@@ -349,14 +345,36 @@ lfloat hbaoLanes(lint x, lint y) {
             // receiver's own plane, stored at half precision too, starts none.
             lbool above = counts && b > 0.0f && b * b > 1e-4f * r2;
             counts = counts && r2 <= radius2 && b > 0.0f && a * nV + b * nE > 0.0f;
-            if (adaptive) {
+            if (adaptive && !anyLane(above || inRun)) {
+                // No run goes on and none starts (a receiver on open ground): only the linear
+                // falloff's on-tangent samples below need this step.
+                if (P.linearFalloff != 0) {
+                    lfloat invLen = inversesqrt(max(a * a + b * b, 1e-30f));
+                    lfloat f = select(counts, sliceOcclusionAt(a * invLen, b * invLen, cosB, sinB, nLen), lfloat(0.0f));
+                    lfloat weight = max(1.0f - sqrt(r2) * invRadius, 0.0f);
+                    sliceOcclusion += weight * max(f - horizonF, 0.0f);
+                    horizonF = max(horizonF, f);
+                    lbool tangentHigher = counts && horizonA * b - horizonB * a > 0.0f;
+                    horizonA = select(tangentHigher, a, horizonA);
+                    horizonB = select(tangentHigher, b, horizonB);
+                }
+            } else if (adaptive) {
                 lfloat toEye = (b - run.lastB) * nV - (a - run.lastA) * nE;
                 lbool continues = inRun && above && abs(toEye) <= runJump;
                 lbool ends = inRun && !continues;
-                if (anyLane(ends)) {
+                // A run whose top is not above the horizon adds nothing (its sectors would lie under
+                // the horizon, its rises are none): most runs end so, and skip the close.
+                lbool matters = ends && horizonA * run.topB - horizonB * run.topA > 0.0f;
+                if (anyLane(matters)) {
                     lfloat t = select(leftBuffer, lfloat(P.thickness), runThickness(run, invNLen, footprint));
-                    closeRuns(ends, t, run, nE, nV, cosB, sinB, nLen, horizonA, horizonB, horizonF, sectors,
+                    closeRuns(matters, t, run, nE, nV, cosB, sinB, nLen, horizonA, horizonB, horizonF, sectors,
                               sliceOcclusion);
+                }
+                run.topA = select(ends, lfloat(1.0f), run.topA);
+                run.topB = select(ends, lfloat(0.0f), run.topB);
+                if (P.linearFalloff != 0) {
+                    run.topF = select(ends, lfloat(0.0f), run.topF);
+                    run.rise = select(ends, lfloat(0.0f), run.rise);
                 }
                 lbool starts = above && !continues;
                 run.firstA = select(starts, a, run.firstA);
