@@ -127,20 +127,21 @@ void runTileFor(const KernelParams& p, ConstPlane depth, ConstPlane normal, Cons
         runTile<E, glsl::ParamsAnyCamera<Cosine, Linear, Bitmask>>(p, depth, normal, deep, ao, tile);
 }
 
-// The weighting and falloff switches as template arguments; HBAO's bitmask too (it only
-// changes binary visibility: linear falloff and SSAO never take it), and with it the deep
-// layers (bitmask 2), so input without them runs no deep code at all.
+// The weighting and falloff switches as template arguments; HBAO's bitmask too (SSAO never
+// takes it), and with it the deep layers (bitmask 2), so input without them runs no deep code.
 template <Entry E>
 void runEntry(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, MutablePlane ao,
               const Box2i& tile) {
     const int bitmask = E == Entry::Hbao ? p.hbaoBitmask : 0;
     if (p.cosineWeighting != 0) {
-        if (p.linearFalloff != 0) runTileFor<E, 1, 1>(p, depth, normal, deep, ao, tile);
+        if (p.linearFalloff != 0 && bitmask == 1) runTileFor<E, 1, 1, 1>(p, depth, normal, deep, ao, tile);
+        else if (p.linearFalloff != 0) runTileFor<E, 1, 1>(p, depth, normal, deep, ao, tile);
         else if (bitmask == 2) runTileFor<E, 1, 0, 2>(p, depth, normal, deep, ao, tile);
         else if (bitmask == 1) runTileFor<E, 1, 0, 1>(p, depth, normal, deep, ao, tile);
         else runTileFor<E, 1, 0>(p, depth, normal, deep, ao, tile);
     } else {
-        if (p.linearFalloff != 0) runTileFor<E, 0, 1>(p, depth, normal, deep, ao, tile);
+        if (p.linearFalloff != 0 && bitmask == 1) runTileFor<E, 0, 1, 1>(p, depth, normal, deep, ao, tile);
+        else if (p.linearFalloff != 0) runTileFor<E, 0, 1>(p, depth, normal, deep, ao, tile);
         else if (bitmask == 2) runTileFor<E, 0, 0, 2>(p, depth, normal, deep, ao, tile);
         else if (bitmask == 1) runTileFor<E, 0, 0, 1>(p, depth, normal, deep, ao, tile);
         else runTileFor<E, 0, 0>(p, depth, normal, deep, ao, tile);

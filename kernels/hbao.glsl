@@ -29,7 +29,8 @@
 // each set sector adds its exact share of F above that horizon (F's closed forms at the
 // sector's bounds). Sectors are uniform in a pseudo-angle p in [0, 2] (p = b / (|a| + b),
 // mirrored for a < 0), which needs one division per sample instead of an arctangent; a
-// sector counts when the interval covers its centre. Linear falloff keeps the horizon alone.
+// sector counts when the interval covers its centre. `--thickness auto` and linear falloff take
+// samples by runs (OccluderRun below).
 //
 // Deep input (P.hbaoBitmask 2, docs/deep.md): every surface on a sample texel's ray, with the
 // solid spans the renderer saw, is an interval of the same bitmask (occupyDeepLayer below).
@@ -161,6 +162,84 @@ void occupyDeepLayer(int k, lvec2 corner, lbool use, lvec3 ray, lfloat depth, lv
     }
 }
 
+// Adaptive thickness (`--thickness auto`, P.thicknessPerExtent > 0). One T cannot suit both a
+// pole (about as deep as it is wide) and a sphere or a wall (deep behind its silhouette), so
+// the thickness is measured per occluder. Along a slice, consecutive samples above the tangent
+// plane whose depth (along V) changes by at most P.runJump form a run: one occluder as this
+// slice crosses it. A run that ends inside the search (the next sample is on or below the
+// tangent plane, sky, or jumps in depth) was crossed whole, and its depth is taken as
+// P.thicknessPerExtent times its width (first to last sample, plus one step), at most
+// P.thickness; a run cut off by the search's end or the buffer's edge may be any depth and
+// gets P.thickness. Its samples share that thickness, so a run is applied when it ends, as
+// one interval: from the lower of its ends' backs to its top. Linear falloff with a fixed T
+// takes this path too, with P.thicknessPerExtent so large that every run gets P.thickness.
+struct OccluderRun {
+    lfloat firstA, firstB;     // its first sample
+    lfloat lastA, lastB;       // its last sample so far
+    lfloat topA, topB;         // its highest sample within R (the tangent when none)
+    lfloat topF;               // linear falloff: F at its top
+    lfloat rise;               // linear falloff: sum of W(r) times each sample's rise of F above
+                               // the horizon and the run's earlier samples
+};
+
+// The thickness of a run crossed whole: k times its width across the slice (first to last
+// sample plus the step one sample stands for, `foot`), in world units, at most P.thickness.
+lfloat runThickness(OccluderRun run, lfloat invNLen, lfloat foot) {
+    lfloat dA = run.lastA - run.firstA;
+    lfloat dB = run.lastB - run.firstB;
+    lfloat width = sqrt(dA * dA + dB * dB) * invNLen + foot;
+    return min(P.thicknessPerExtent * width, lfloat(P.thickness));
+}
+
+// Applies the runs ending in lanes `ends`, each with its thickness t. The
+// lower of its ends' backs (its first and last samples pushed t along -V) stands for the
+// lowest back. When that is not above the horizon the run's interval joins the horizon's,
+// which rises to the run's top; else it sets the sectors between the two.
+//
+// Linear falloff: a run that joins adds its weighted rises, scaled down by the share of its
+// rise that sectors set earlier already count (each angle is weighted once, by the first
+// occluder over it, as the horizon does); an apart run adds its new sectors at its mean weight.
+void closeRuns(lbool ends, lfloat t, OccluderRun run, lfloat nE, lfloat nV, lfloat cosB, lfloat sinB,
+               lfloat nLen, INOUT(lfloat) horizonA, INOUT(lfloat) horizonB, INOUT(lfloat) horizonF,
+               INOUT(luint) sectors, INOUT(lfloat) sliceOcclusion) {
+    lfloat firstBackA = run.firstA + t * nE;
+    lfloat firstBackB = run.firstB - t * nV;
+    lfloat lastBackA = run.lastA + t * nE;
+    lfloat lastBackB = run.lastB - t * nV;
+    // Both lie on the E side (a push along -V keeps the E coordinate): their angles compare by
+    // the sign of a cross product.
+    lbool firstLower = firstBackA * lastBackB - firstBackB * lastBackA > 0.0f;
+    lfloat backA = select(firstLower, firstBackA, lastBackA);
+    lfloat backB = select(firstLower, firstBackB, lastBackB);
+    lbool joins = backB <= 0.0f || horizonA * backB - horizonB * backA <= 0.0f;
+    lbool higher = ends && joins && horizonA * run.topB - horizonB * run.topA > 0.0f;
+    horizonA = select(higher, run.topA, horizonA);
+    horizonB = select(higher, run.topB, horizonB);
+    lfloat runRange = max(run.topF - horizonF, 1e-30f);
+    if (P.linearFalloff != 0) {
+        lfloat counted = lfloat(0.0f);
+        if (anyLane(higher && lfloat(sectors) > 0.0f)) {
+            counted = sectorOcclusion(sectors, horizonF, cosB, sinB, nLen) -
+                      sectorOcclusion(sectors, max(run.topF, horizonF), cosB, sinB, nLen);
+        }
+        sliceOcclusion += select(higher, run.rise * max(1.0f - counted / runRange, 0.0f), lfloat(0.0f));
+        horizonF = select(higher, max(run.topF, horizonF), horizonF);
+    }
+    lbool apart = ends && !joins;
+    if (anyLane(apart)) {
+        lint front = sectorBound(sectorPseudoAngle(run.topA, run.topB));
+        lint back = sectorBound(sectorPseudoAngle(backA, backB));
+        luint interval = select(apart, bitsBelow(front) & ~bitsBelow(back), luint(0u));
+        if (P.linearFalloff != 0) {
+            luint added = interval & ~sectors;
+            if (anyLane(lfloat(added) > 0.0f)) {
+                sliceOcclusion += (run.rise / runRange) * sectorOcclusion(added, horizonF, cosB, sinB, nLen);
+            }
+        }
+        sectors = sectors | interval;
+    }
+}
+
 // Depth at which the ray through display texel `corner` meets the tangent plane of the buffer
 // texel at `edgeCorner` (its depth edgeDepth): the surface at the frame's edge continued past
 // it. Not finite or not positive where the plane does not meet the ray in front of the eye.
@@ -217,6 +296,8 @@ lfloat hbaoLanes(lint x, lint y) {
     bool discInside = !anyLane(computing && !(insideBuffer(floor(centre - reach) - origin, 1.0f) &&
                                                insideBuffer(floor(centre + reach) - origin, 1.0f)));
     float radius2 = P.radius * P.radius;
+    // World width one step stands for at the pixel's depth (thickness auto's run widths).
+    lfloat footprint = max(stepPixels, lfloat(1.0f)) * P.invFx * (P.orthographic != 0 ? lfloat(1.0f) : planarDepth);
     float invRadius = 1.0f / P.radius;
 
     luint h = hashPixel(displayX, displayY);
@@ -264,6 +345,20 @@ lfloat hbaoLanes(lint x, lint y) {
         lfloat backShiftA = P.thickness * nE;
         lfloat backShiftB = -P.thickness * nV;
         luint sectors = luint(0u); // occluded sectors above the horizon's interval
+        // Deep input (bitmask 2) measures its solids; runs estimate them for flat input only.
+        bool adaptive = P.hbaoBitmask == 1 && P.thicknessPerExtent > 0.0f;
+        lbool inRun = lfloat(0.0f) > 0.0f; // false in every lane
+        OccluderRun run;
+        run.firstA = lfloat(0.0f);
+        run.firstB = lfloat(0.0f);
+        run.lastA = lfloat(0.0f);
+        run.lastB = lfloat(0.0f);
+        run.topA = lfloat(1.0f);
+        run.topB = lfloat(0.0f);
+        run.topF = lfloat(0.0f);
+        run.rise = lfloat(0.0f);
+        // A depth change along V, in the slice's axes (scaled by |n_p|^2 like a and b).
+        lfloat runJump = P.runJump * nLen * nLen;
         // March along the image line in display coordinates (so any tiling rounds alike): the
         // first sample one pixel out, then evenly to the radius.
         lvec2 step = dir * stepPixels;
@@ -282,9 +377,11 @@ lfloat hbaoLanes(lint x, lint y) {
             position = position + step;
             lbool counts = computing;
             lvec2 loadCorner = corner;
+            lbool leftBuffer = lfloat(0.0f) > 0.0f; // past the edge: a run's end there is not seen
             if (!interior) {
+                leftBuffer = !insideBuffer(corner - origin, 0.0f);
                 if (P.hbaoBorder == 0) {
-                    counts = counts && insideBuffer(corner - origin, 0.0f);
+                    counts = counts && !leftBuffer;
                     // The image line is straight and the buffer convex: once every lane has left
                     // it, every later step is outside too.
                     if (!anyLane(counts)) {
@@ -324,8 +421,71 @@ lfloat hbaoLanes(lint x, lint y) {
             // theta is in (0, pi - b): F grows with theta, and two angles there compare exactly by
             // the sign of their cross product.
             lbool surface = counts; // before the radius and tangent-plane tests: deep spans clip to R
+            // Runs take samples above the tangent by more than rounding (0.57 degrees): the
+            // receiver's own plane, stored at half precision too, starts none.
+            lbool above = counts && b > 0.0f && b * b > 1e-4f * r2;
             counts = counts && r2 <= radius2 && b > 0.0f && a * nV + b * nE > 0.0f;
-            if (P.linearFalloff != 0) {
+            if (adaptive && !anyLane(above || inRun)) {
+                // No run goes on and none starts (a receiver on open ground): only the linear
+                // falloff's on-tangent samples below need this step.
+                if (P.linearFalloff != 0) {
+                    lfloat invLen = inversesqrt(max(a * a + b * b, 1e-30f));
+                    lfloat f = select(counts, sliceOcclusionAt(a * invLen, b * invLen, cosB, sinB, nLen), lfloat(0.0f));
+                    lfloat weight = max(1.0f - sqrt(r2) * invRadius, 0.0f);
+                    sliceOcclusion += weight * max(f - horizonF, 0.0f);
+                    horizonF = max(horizonF, f);
+                    lbool tangentHigher = counts && horizonA * b - horizonB * a > 0.0f;
+                    horizonA = select(tangentHigher, a, horizonA);
+                    horizonB = select(tangentHigher, b, horizonB);
+                }
+            } else if (adaptive) {
+                lfloat toEye = (b - run.lastB) * nV - (a - run.lastA) * nE;
+                lbool continues = inRun && above && abs(toEye) <= runJump;
+                lbool ends = inRun && !continues;
+                // A run whose top is not above the horizon adds nothing (its sectors would lie under
+                // the horizon, its rises are none): most runs end so, and skip the close.
+                lbool matters = ends && horizonA * run.topB - horizonB * run.topA > 0.0f;
+                if (anyLane(matters)) {
+                    lfloat t = select(leftBuffer, lfloat(P.thickness), runThickness(run, invNLen, footprint));
+                    closeRuns(matters, t, run, nE, nV, cosB, sinB, nLen, horizonA, horizonB, horizonF, sectors,
+                              sliceOcclusion);
+                }
+                run.topA = select(ends, lfloat(1.0f), run.topA);
+                run.topB = select(ends, lfloat(0.0f), run.topB);
+                if (P.linearFalloff != 0) {
+                    run.topF = select(ends, lfloat(0.0f), run.topF);
+                    run.rise = select(ends, lfloat(0.0f), run.rise);
+                }
+                lbool starts = above && !continues;
+                run.firstA = select(starts, a, run.firstA);
+                run.firstB = select(starts, b, run.firstB);
+                lbool inside = counts && above; // can occlude
+                lbool higher = inside && run.topA * b - run.topB * a > 0.0f;
+                run.topA = select(higher, a, run.topA);
+                run.topB = select(higher, b, run.topB);
+                if (P.linearFalloff != 0) {
+                    // Linear falloff: a sample within rounding of the tangent raises the horizon as
+                    // it would without runs (its back lies below the tangent for any thickness that
+                    // matters), so a large T is the linear horizon. Binary visibility drops it: it
+                    // adds at most F at 0.57 degrees, and nothing on the receiver's own plane.
+                    lbool onTangent = counts && !above;
+                    lbool tangentHigher = onTangent && horizonA * b - horizonB * a > 0.0f;
+                    horizonA = select(tangentHigher, a, horizonA);
+                    horizonB = select(tangentHigher, b, horizonB);
+                    lfloat invLen = inversesqrt(max(a * a + b * b, 1e-30f));
+                    lfloat f = select(counts, sliceOcclusionAt(a * invLen, b * invLen, cosB, sinB, nLen), lfloat(0.0f));
+                    lfloat weight = max(1.0f - sqrt(r2) * invRadius, 0.0f);
+                    lfloat insideF = select(inside, f, lfloat(0.0f));
+                    run.rise += weight * max(insideF - max(horizonF, run.topF), 0.0f);
+                    run.topF = max(run.topF, insideF);
+                    lfloat tangentF = select(onTangent, f, lfloat(0.0f));
+                    sliceOcclusion += weight * max(tangentF - horizonF, 0.0f);
+                    horizonF = max(horizonF, tangentF);
+                }
+                run.lastA = a;
+                run.lastB = b;
+                inRun = above;
+            } else if (P.linearFalloff != 0) {
                 lfloat invLen = inversesqrt(max(a * a + b * b, 1e-30f));
                 lfloat f = sliceOcclusionAt(a * invLen, b * invLen, cosB, sinB, nLen);
                 f = select(counts, f, 0.0f);
@@ -353,6 +513,11 @@ lfloat hbaoLanes(lint x, lint y) {
                 horizonA = select(higher, a, horizonA);
                 horizonB = select(higher, b, horizonB);
             }
+        }
+        if (adaptive && anyLane(inRun)) {
+            // Runs still going when the search ends (or leaves the buffer) may be any depth.
+            closeRuns(inRun, lfloat(P.thickness), run, nE, nV, cosB, sinB, nLen, horizonA, horizonB, horizonF, sectors,
+                      sliceOcclusion);
         }
         if (P.linearFalloff == 0) {
             lfloat invLen = inversesqrt(horizonA * horizonA + horizonB * horizonB);

@@ -46,7 +46,8 @@ struct KernelParams {
 
     float envIntensity;          // multiplies the environment (map or sky)
     float sampleArea;            // A_s = pi r_max^2 / N: the disc area one bounce sample stands for
-    float pad4, pad5;
+    float thicknessPerExtent;    // hbao, thickness auto: a run's thickness per unit of its width (0: fixed P.thickness)
+    float runJump;               // hbao, thickness auto: the largest depth change (world units) within one occluder
 
     // ---- HBAO's visibility bitmask (kernels/hbao.glsl) ----
     // Per bound k = 0..32 of the 32 sectors (pseudo-angle k/16, angle theta_k above the tangent),

@@ -74,16 +74,17 @@ TEST(GlParity, AnalyticScenesMatchCpu) {
 }
 
 // The visibility bitmask (a finite thickness) is the same kernel text on both devices: a fixed
-// thickness and the automatic one (which adds pixel footprints), both weightings, both cameras.
+// thickness and the automatic one (runs of samples), both weightings, both falloffs, both cameras.
 TEST(GlParity, ThicknessMatchesCpu) {
     const std::vector<SceneBuffers> views = studioViews(160, 120);
     for (const SceneBuffers* scene : {&views[0], &views[1]})
         for (Weighting w : {Weighting::Uniform, Weighting::Cosine})
+            for (Falloff f : {Falloff::None, Falloff::Linear})
             for (float thickness : {0.15f, kThicknessAuto}) {
-                Settings s = makeSettings("cpu", w, Falloff::None, 0);
+                Settings s = makeSettings("cpu", w, f, 0);
                 s.thickness = thickness;
                 const OperatorOutputs cpu = runOperator(scene->inputs(), s);
-                Settings h = makeSettings("cpu", w, Falloff::None, 0);
+                Settings h = makeSettings("cpu", w, f, 0);
                 h.thickness = kThicknessInfinite;
                 const OperatorOutputs horizon = runOperator(scene->inputs(), h);
                 EXPECT_GT(maxAbsDiff(cpu.ao, horizon.ao), 0.05) << "the thickness must change the result to compare";
@@ -91,7 +92,8 @@ TEST(GlParity, ThicknessMatchesCpu) {
                     s.device = device;
                     const OperatorOutputs gl = runOperator(scene->inputs(), s);
                     ASSERT_EQ(gl.stats.device.rfind(device, 0), 0u) << "ran on " << gl.stats.device;
-                    EXPECT_LE(maxAbsDiff(cpu.ao, gl.ao), 1e-3) << device << " " << toString(w) << " T " << thickness;
+                    EXPECT_LE(maxAbsDiff(cpu.ao, gl.ao), 1e-3)
+                        << device << " " << toString(w) << " " << toString(f) << " T " << thickness;
                 }
             }
 }

@@ -1,13 +1,20 @@
 // HBAO's samples past the buffer's edge (--border): open sky, the edge texel's depth (clamp)
-// or its tangent plane continued (tangent), against what an overscan of the same frame shows.
+// or its tangent plane continued (tangent), against what an overscan of the same frame shows;
+// and the reference renderer's overscan, which the report measures the policies against.
 #include "core/operator.h"
+#include "io/frame_job.h"
 #include "support/cli_runner.h"
+#include "support/reference_runs.h"
 #include "support/scenes.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
 
 using namespace obscura;
 using namespace obscura::test;
@@ -106,4 +113,43 @@ TEST(HbaoBorder, FlagValues) {
     }
     const CliResult word = runProgram(OBSCURA_CLI_PATH, {in, "-o", out, "--border", "wide"});
     EXPECT_NE(word.err.find("open|clamp|tangent"), std::string::npos) << word.err;
+}
+
+// reference_render --overscan N renders a data window N pixels larger each way around the same
+// display window: the display window's pixels (each seeded by its display coordinates) are
+// those of the render without overscan, bit for bit, and the margin is real geometry.
+TEST(HbaoBorder, ReferenceOverscanWidensTheDataWindowOnly) {
+    const fs::path dir = fs::path(OBSCURA_TEST_TMP) / ("ref-overscan-" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    const int W = 48, H = 36, N = 6;
+    auto render = [&](const std::string& name, int overscan) {
+        const std::string path = (dir / name).string();
+        const CliResult r = runProgram(referenceRenderPath(),
+                                       {"--scene", "corner", "-o", path, "--width", std::to_string(W), "--height",
+                                        std::to_string(H), "--ao-rays", "8", "--gi-rays", "1", "--overscan",
+                                        std::to_string(overscan), "--quiet"});
+        EXPECT_EQ(r.exitCode, 0) << r.err;
+        FrameJob job;
+        job.input = path;
+        job.preset = "blender";
+        job.referenceLayer = "Reference.AO_cosine_none";
+        return loadFramePasses(job, false);
+    };
+    const FramePasses plain = render("plain.exr", 0), wide = render("wide.exr", N);
+    EXPECT_EQ(wide.display, plain.display);
+    EXPECT_EQ(plain.data, plain.display);
+    EXPECT_EQ(wide.data, (Box2i{-N, -N, W + N, H + N}));
+    int surfaceInMargin = 0;
+    for (int y = -N; y < H + N; ++y)
+        for (int x = -N; x < W + N; ++x) {
+            const float d = *wide.depth.at(x + N, y + N);
+            if (x < 0 || y < 0 || x >= W || y >= H) {
+                surfaceInMargin += d > 0.0f && d < 1e9f;
+                continue;
+            }
+            ASSERT_EQ(d, *plain.depth.at(x, y)) << x << "," << y;
+            ASSERT_EQ(*wide.reference.at(x + N, y + N), *plain.reference.at(x, y)) << x << "," << y;
+        }
+    EXPECT_GT(surfaceInMargin, N * (W + H)) << "the margin must see the floor and the wall";
+    fs::remove_all(dir);
 }

@@ -113,17 +113,18 @@ TEST(LaneKernels, EveryInstructionSetMatchesThePixelAtATimeBuild) {
                                      : studioCamera(W, H);
             const SceneBuffers sb = renderScene(studioScene(), cam, Box2i{0, 0, W, H}, Box2i{0, 0, W, H}, kind);
             for (Weighting w : {Weighting::Uniform, Weighting::Cosine}) {
-                for (int variant = 0; variant < 3; ++variant) {
-                    // Linear falloff, binary, and binary with a finite thickness (the visibility bitmask);
-                    // each with another border policy.
-                    const Falloff f = variant == 0 ? Falloff::Linear : Falloff::None;
-                    if (variant == 2 && kernel != cpu::LaneKernel::Hbao) continue;
+                for (int variant = 0; variant < 5; ++variant) {
+                    // Linear falloff, binary, binary with a fixed thickness (the visibility bitmask),
+                    // with the automatic one (runs), and linear with it; each with another border
+                    // policy (auto: open, where runs leaving the buffer are cut).
+                    const Falloff f = variant == 0 || variant == 4 ? Falloff::Linear : Falloff::None;
+                    if (variant >= 2 && kernel != cpu::LaneKernel::Hbao) continue;
                     Settings s;
                     s.radius = 1.0f;
                     s.weighting = w;
                     s.falloff = f;
-                    s.thickness = variant == 2 ? 0.2f : kThicknessInfinite;
-                    s.border = variant == 0 ? kBorderOpen : variant == 1 ? kBorderClamp : kBorderTangent;
+                    s.thickness = variant == 2 ? 0.2f : variant >= 3 ? kThicknessAuto : kThicknessInfinite;
+                    s.border = variant == 0 || variant == 3 ? kBorderOpen : variant == 1 ? kBorderClamp : kBorderTangent;
                     s.ssaoHemisphere = w == Weighting::Cosine;  // both SSAO forms, without doubling the cases
                     const KernelParams p = makeKernelParams(sb.inputs(), s);
                     Image reference(W, H, 1);

@@ -74,7 +74,11 @@ std::vector<Plane> makePlanes(const Frame& f, bool directionalOcclusion) {
 
 void writeExr(const std::string& path, const Frame& f, const PinholeCamera& camera, const OutputInfo& info) {
     std::vector<Plane> planes = makePlanes(f, info.settings.environment != nullptr);
-    Imf::Header header(f.width, f.height);
+    // The camera and the display window are the width x height frame; overscan widens the data window.
+    const Imath::Box2i display(Imath::V2i(0, 0), Imath::V2i(camera.width - 1, camera.height - 1));
+    const Imath::Box2i data(Imath::V2i(f.originX, f.originY),
+                            Imath::V2i(f.originX + f.width - 1, f.originY + f.height - 1));
+    Imf::Header header(display, data);
     header.compression() = Imf::ZIP_COMPRESSION;
     header.insert("Software", Imf::StringAttribute("obscura reference_render"));
     Imf::addWorldToCamera(header, toImath(exrWorldToCamera(camera)));
@@ -86,6 +90,7 @@ void writeExr(const std::string& path, const Frame& f, const PinholeCamera& came
     text("reference/aoRaysPerPixel", std::to_string(s.aoRays) + " per weighting (uniform, cosine); falloffs share hits");
     text("reference/giRaysPerPixel", std::to_string(s.giRays));
     text("reference/seed", std::to_string(s.seed));
+    if (s.overscan > 0) text("reference/overscan", std::to_string(s.overscan) + " pixels past each edge of the display window");
     text("reference/stdErr", stdErrSummary(info.convergence));
     text("reference/definition",
          "AO = 1 - E[W(t)] over the hemisphere of the shading normal; t = first hit distance; W = 1 - t/R (linear) "
@@ -101,12 +106,14 @@ void writeExr(const std::string& path, const Frame& f, const PinholeCamera& came
     Imf::FrameBuffer fb;
     for (Plane& p : planes) {
         header.channels().insert(p.name, Imf::Channel(Imf::FLOAT));
-        fb.insert(p.name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(p.data.data()), sizeof(float),
-                                     sizeof(float) * f.width));
+        // The slice's base is where pixel (0, 0) of the display would be.
+        char* origin = reinterpret_cast<char*>(p.data.data()) -
+                       (ptrdiff_t(f.originY) * f.width + f.originX) * ptrdiff_t(sizeof(float));
+        fb.insert(p.name, Imf::Slice(Imf::FLOAT, origin, sizeof(float), sizeof(float) * f.width));
     }
     Imf::OutputFile file(path.c_str(), header);
     file.setFrameBuffer(fb);
-    file.writePixels(f.height);
+    file.writePixels(f.height);  // from data.min.y
 }
 
 void writeSidecar(const std::string& path, const PinholeCamera& camera, const OutputInfo& info) {

@@ -21,6 +21,9 @@ struct RenderSettings {
     int giRays = 64;   // cosine-weighted rays per pixel for the sky light and one bounce
     uint32_t seed = 1;
     int threads = 0;   // 0: all cores
+    // Pixels rendered past each edge of the width x height display window (a data window
+    // 2 overscan larger each way), as renderers write overscan; AO is traced there too.
+    int overscan = 0;
     // --env: a lat-long map; when set, each pixel also gets the ground-truth directional
     // occlusion (Reference.DO), from the cosine-weighted AO rays.
     std::shared_ptr<const EnvironmentMap> environment;

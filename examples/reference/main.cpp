@@ -34,6 +34,8 @@ int usage(FILE* to) {
                  "  --gi-rays N        cosine rays per pixel for sky light and one bounce (64)\n"
                  "  --seed S           sampling seed (1)\n"
                  "  --threads N        threads, 0 = all cores (0)\n"
+                 "  --overscan N       also render N pixels past each edge: a data window larger than the\n"
+                 "                     W x H display window, as renderers write overscan (0)\n"
                  "  --env FILE.exr     lat-long environment: also write Reference.DO.R/G/B, the ground-truth\n"
                  "                     directional occlusion of obscura's SSDO (cosine AO rays, linear falloff)\n"
                  "  --env-rotate DEG   rotation of the environment about up, as obscura --env-rotate (0)\n"
@@ -100,6 +102,7 @@ int main(int argc, char** argv) {
         else if (a == "--gi-rays") settings.giRays = int(integer(1, 1 << 20));
         else if (a == "--seed") settings.seed = uint32_t(integer(0, 4294967295L));
         else if (a == "--threads") settings.threads = int(integer(0, 1024));
+        else if (a == "--overscan") settings.overscan = int(integer(0, 16384));
         else if (a == "--check") check = true;
         else if (a == "--quiet") quiet = true;
         else if (a == "--env") envPath = value();

@@ -8,13 +8,14 @@ namespace reference {
 
 Frame render(const Integrator& integrator, const RenderSettings& settings) {
     Frame f;
-    f.width = settings.width;
-    f.height = settings.height;
+    f.width = settings.width + 2 * settings.overscan;
+    f.height = settings.height + 2 * settings.overscan;
+    f.originX = f.originY = -settings.overscan;
     f.pixels.resize(size_t(f.width) * f.height);
     std::atomic<int> nextRow{0};
     auto work = [&] {
         for (int y; (y = nextRow.fetch_add(1)) < f.height;)
-            for (int x = 0; x < f.width; ++x) f.pixels[size_t(y) * f.width + x] = integrator.shade(x, y);
+            for (int x = 0; x < f.width; ++x) f.pixels[size_t(y) * f.width + x] = integrator.shade(x + f.originX, y + f.originY);
     };
     const int threads = settings.threads > 0 ? settings.threads : int(std::max(1u, std::thread::hardware_concurrency()));
     std::vector<std::thread> pool;

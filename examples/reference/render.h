@@ -8,7 +8,8 @@
 namespace reference {
 
 struct Frame {
-    int width = 0, height = 0;
+    int width = 0, height = 0;        // of the data window
+    int originX = 0, originY = 0;     // display coordinates of pixel (0, 0): -overscan
     std::vector<PixelResult> pixels;  // row-major, y down
     const PixelResult& at(int x, int y) const { return pixels[size_t(y) * width + x]; }
 };

@@ -82,6 +82,15 @@ nlohmann::json presetTable() {
     return t;
 }
 
+// The display window's part of an image of the data window `overscan` pixels larger each way.
+obscura::Image displayWindowOf(const obscura::Image& data, int overscan, int width, int height) {
+    obscura::Image out(width, height, data.channels);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+            for (int c = 0; c < data.channels; ++c) out.at(x, y)[c] = data.at(x + overscan, y + overscan)[c];
+    return out;
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -150,7 +159,16 @@ int main(int argc, char** argv) {
                 }
             }
 
-            const obscura::OperatorInputs in = operatorInputs(frame);
+            // --overscan: the same frame's passes with a margin past the display window; obscura's AO
+            // is cropped back to the display window, so the reference and the non-sky mask are the frame's.
+            LoadedFrame overscanFrame;
+            if (o.overscan > 0) {
+                const std::string path = ensureOverscanPasses(rig, rs, o.overscan, o.cacheDir);
+                progress("%s   passes with %d px overscan: %s\n", tag, o.overscan, path.c_str());
+                overscanFrame = loadFrame(path, o.definition.exrLayer());
+            }
+            const LoadedFrame& used = o.overscan > 0 ? overscanFrame : frame;
+            const obscura::OperatorInputs in = operatorInputs(used);
             // hbao+deep: the same inputs plus the deep reference's layers, read as the CLI's --flat reads them.
             bool anyDeep = false;
             for (const std::string& m : o.methods) anyDeep = anyDeep || usesDeep(m);
@@ -158,7 +176,7 @@ int main(int argc, char** argv) {
             if (anyDeep) {
                 const std::string deepPath = ensureDeepReference(rig, rs, o.cacheDir);
                 const obscura::DeepLayers deep = obscura::readDeepLayers(deepPath, obscura::Settings().deepLayers);
-                deepPlanes = obscura::deepPlanesOver(deep, frame.passes.data);
+                deepPlanes = obscura::deepPlanesOver(deep, used.passes.data);
                 progress("%s deep reference: %d layers, %lld empty pixels -> %s\n", tag, deep.layers, deep.emptyPixels,
                          deepPath.c_str());
             }
@@ -200,6 +218,10 @@ int main(int argc, char** argv) {
                         } else {
                             r.samples = obscura::findMethod(s.method)->samplesPerPixel(s);  // points or rays
                             r.blur = s.blur;
+                        }
+                        if (o.overscan > 0 && !ssdo) {
+                            t.ao = displayWindowOf(t.ao, o.overscan, rs.width, rs.height);
+                            r.overscan = o.overscan;
                         }
                         r.runs = t.runs;
                         r.timeMs = 1e3 * t.medianSeconds;

@@ -54,6 +54,28 @@ std::string ensureDeepReference(const SceneRig& rig, const ReferenceSettings& s,
     return path;
 }
 
+std::string ensureOverscanPasses(const SceneRig& rig, const ReferenceSettings& s, int overscan,
+                                 const std::string& cacheDir) {
+    const std::string path = (std::filesystem::path(cacheDir) / (rig.scene.name + "_" + std::to_string(s.width) + "x" +
+                                                                 std::to_string(s.height) + "_overscan" +
+                                                                 std::to_string(overscan) + ".exr"))
+                                 .string();
+    if (std::filesystem::exists(path) && std::filesystem::exists(path.substr(0, path.size() - 4) + ".json")) return path;
+    reference::RenderSettings rs;
+    rs.width = s.width;
+    rs.height = s.height;
+    rs.radius = rig.scene.defaultRadius;
+    rs.aoRays = 1;
+    rs.giRays = 0;
+    rs.seed = kConvergedSeed;
+    rs.threads = s.threads;
+    rs.overscan = overscan;
+    const reference::Integrator integrator(rig.scene, *rig.tracer, rig.camera, rs);
+    const reference::Frame frame = reference::render(integrator, rs);
+    reference::writeReference(path, frame, rig.camera, {rig.scene.name, rs, reference::summarise(frame)});
+    return path;
+}
+
 TracedAo traceAo(const SceneRig& rig, const ReferenceSettings& s, int rays) {
     reference::RenderSettings rs;
     rs.width = s.width;

@@ -48,6 +48,12 @@ ConvergedReference ensureConvergedReference(const SceneRig& rig, const Reference
 // the cache like the converged one, traced otherwise (primary rays only: a fraction of a second).
 std::string ensureDeepReference(const SceneRig& rig, const ReferenceSettings& s, const std::string& cacheDir);
 
+// Passes with overscan: the scene rendered `overscan` pixels past each edge of the display
+// window (1 AO ray, no GI: only the passes are used), cached as
+// <cacheDir>/<scene>_<W>x<H>_overscan<N>.exr. Returns its path.
+std::string ensureOverscanPasses(const SceneRig& rig, const ReferenceSettings& s, int overscan,
+                                 const std::string& cacheDir);
+
 struct TracedAo {
     int rays = 0;
     int runs = 0;              // timed renders (fewer than asked when over the run budget)

@@ -43,6 +43,9 @@ void usage(FILE* to) {
         "  --plot-script PATH     the matplotlib script (the source tree's plot_report.py)\n"
         "  --python EXE           interpreter for it (/usr/bin/python3 if present, else python3)\n"
         "  --no-plot              skip error_vs_time.png\n"
+        "  --overscan N           obscura reads passes rendered N pixels past each edge of the frame\n"
+        "                         (cached, 1 AO ray: passes only) and its AO is compared over the\n"
+        "                         display window; SSDO keeps the frame alone (0)\n"
         "  --quick                tiny run: corner at 64x48, 64 converged rays, curve 1,4,\n"
         "                         preset low, cpu, 1 run (flags after it override it)\n");
     std::string all;
@@ -147,6 +150,7 @@ ReportOptions parseReportOptions(int argc, char** argv) {
         } else if (a == "--plot-script") o.plotScript = value();
         else if (a == "--python") o.python = value();
         else if (a == "--no-plot") o.plot = false;
+        else if (a == "--overscan") o.overscan = toInt(a, value(), 0, 4096);
         else if (a == "--quick") {
             o.scenes = {"corner"};
             o.presets = {"low"};

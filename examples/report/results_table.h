@@ -21,6 +21,7 @@ struct ResultRow {
     int samples = 0, interleave = 0;           // SSDO: N and the M x M block; ssao: points; rtao: rays; blur = the applied one
     int rays = 0;                              // AO rays per pixel (ray tracer rows; 0 for obscura)
     int runs = 0;                              // timed runs after the warm-up
+    int overscan = 0;                          // obscura ran on passes this many pixels past each display edge
     double timeMs = 0;                         // median time per frame (obscura: runOperator; ray tracer: render)
     std::vector<std::pair<std::string, double>> stageMs;  // median of each stage, ms
     obscura::ErrorMetrics metrics;             // against the converged reference, non-sky pixels

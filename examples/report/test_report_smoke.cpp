@@ -45,7 +45,8 @@ TEST(ReportSmoke, QuickRunWritesTableSheetAndChart) {
     const std::vector<std::string> expected = {"scene", "method", "preset", "device", "quantity", "definition", "width",
                                                "height", "radius", "directions", "steps", "samples", "interleave",
                                                "blur", "rays", "runs", "time_ms",
-                                               "stage_ms", "pixels", "mae", "rmse", "psnr_db", "p99", "max_abs"};
+                                               "stage_ms", "pixels", "mae", "rmse", "psnr_db", "p99", "max_abs",
+                                               "overscan"};
     const std::vector<std::string> header = splitCsvLine(line);
     ASSERT_EQ(header, expected);
 

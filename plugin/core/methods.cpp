@@ -38,7 +38,8 @@ MethodParam switchParam(const char* key, const char* flag, const char* help, boo
 MethodParam thicknessParam() {
     MethodParam p = floatParam("thickness", "--thickness", "T|auto|inf",
                                "hbao, rtao, discs: the solid behind each visible point is T world units deep; "
-                               "auto: 0.85 R; inf: the depth buffer is a height field (hbao's horizon) "
+                               "auto: hbao takes each occluder as deep as it is wide across the slice, at most "
+                               "0.85 R; rtao and discs 0.85 R; inf: the depth buffer is a height field (hbao's horizon) "
                                "(default auto)",
                                0.0, 1e30, &Settings::thickness);
     p.named = {{"auto", kThicknessAuto, -1.0}, {"inf", kThicknessInfinite, 1e9}};

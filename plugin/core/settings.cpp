@@ -19,8 +19,8 @@ const std::vector<QualityPreset>& qualityPresets() {
 
 bool applyQualityPreset(const std::string& name, Settings& s) { return applyMethodPresets(name, s); }
 
-// auto: docs/hbao.md gives the reference scenes the share of R was chosen on (and the
-// footprint and occluder-width rules measured against it).
+// auto: docs/hbao.md gives the reference scenes the share of R was chosen on (and hbao's
+// per-occluder rule, whose cap it is).
 float resolvedThickness(const Settings& s) {
     return s.thickness == kThicknessAuto ? kAutoThicknessPerRadius * s.radius : s.thickness;
 }

@@ -52,7 +52,8 @@ struct Settings {
 
     // ---- methods "hbao" and "rtao": how deep the surfaces the depth pass shows are ----
     // World units behind each visible point that are solid; kThicknessInfinite: the depth
-    // buffer is a height field (HBAO's classic horizon); kThicknessAuto: resolvedThickness().
+    // buffer is a height field (HBAO's classic horizon); kThicknessAuto: rtao resolvedThickness(),
+    // hbao each occluder's width across the slice, at most resolvedThickness().
     float thickness = kThicknessAuto;
 
     // ---- method "hbao": samples past the buffer's edge (where there is no overscan) ----
@@ -81,7 +82,8 @@ const std::vector<QualityPreset>& qualityPresets();  // low, medium, high, ultra
 bool applyQualityPreset(const std::string& name, Settings& s);
 
 // The thickness in world units that `s` asks for: s.thickness, or for kThicknessAuto
-// kAutoThicknessPerRadius times R; +inf for kThicknessInfinite.
+// kAutoThicknessPerRadius times R (hbao: the most a measured occluder gets); +inf for
+// kThicknessInfinite.
 constexpr float kAutoThicknessPerRadius = 0.85f;
 float resolvedThickness(const Settings& s);
 
