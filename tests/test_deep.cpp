@@ -208,7 +208,10 @@ TEST(DeepHbao, PointSamplesOfTheVisibleLayerAreTheFlatResult) {
         for (int x = 0; x < W; ++x) deep.at(x, y)[0] = deep.at(x, y)[1] = *sb.depth.at(x, y);
     OperatorInputs in = sb.inputs();
     for (Weighting w : {Weighting::Uniform, Weighting::Cosine}) {
-        const Settings s = hbaoSettings(w, Falloff::None, 1.0f);
+        Settings s = hbaoSettings(w, Falloff::None, 1.0f);
+        // A fixed T: for flat input `auto` measures each occluder by runs, which deep input does not
+        // take (its layers say how deep things are; a point sample gets 0.85 R).
+        s.thickness = 0.85f * s.radius;
         const OperatorOutputs flat = runOperator(in, s);
         in.deepLayers = deep.view();
         const OperatorOutputs withDeep = runOperator(in, s);
