@@ -52,6 +52,17 @@ Settings makeSettings(const char* device, Weighting w, Falloff f, int blur) {
     return s;
 }
 
+// Runs `s` on every GL device and expects each one's AO within 1e-3 of the CPU's; `label` says
+// which case failed.
+void expectGlAoMatchesCpu(const OperatorInputs& in, Settings s, const OperatorOutputs& cpu, const std::string& label) {
+    for (const char* device : kGlDevices) {
+        s.device = device;
+        const OperatorOutputs gl = runOperator(in, s);
+        ASSERT_EQ(gl.stats.device.rfind(device, 0), 0u) << "ran on " << gl.stats.device;
+        EXPECT_LE(maxAbsDiff(cpu.ao, gl.ao), 1e-3) << device << " " << label;
+    }
+}
+
 } // namespace
 
 TEST(GlParity, AnalyticScenesMatchCpu) {
@@ -60,13 +71,10 @@ TEST(GlParity, AnalyticScenesMatchCpu) {
         for (Weighting w : {Weighting::Uniform, Weighting::Cosine}) {
             for (Falloff f : {Falloff::Linear, Falloff::None}) {
                 for (int blur : {0, 3}) {
-                    const OperatorOutputs cpu = runOperator(scene->inputs(), makeSettings("cpu", w, f, blur));
-                    for (const char* device : kGlDevices) {
-                        const OperatorOutputs gl = runOperator(scene->inputs(), makeSettings(device, w, f, blur));
-                        ASSERT_EQ(gl.stats.device.rfind(device, 0), 0u) << "ran on " << gl.stats.device;
-                        EXPECT_LE(maxAbsDiff(cpu.ao, gl.ao), 1e-3)
-                            << device << " " << toString(w) << " " << toString(f) << " blur " << blur;
-                    }
+                    const Settings s = makeSettings("cpu", w, f, blur);
+                    const OperatorOutputs cpu = runOperator(scene->inputs(), s);
+                    expectGlAoMatchesCpu(scene->inputs(), s, cpu,
+                                         std::string(toString(w)) + " " + toString(f) + " blur " + std::to_string(blur));
                 }
             }
         }
@@ -88,13 +96,8 @@ TEST(GlParity, ThicknessMatchesCpu) {
                 h.thickness = kThicknessInfinite;
                 const OperatorOutputs horizon = runOperator(scene->inputs(), h);
                 EXPECT_GT(maxAbsDiff(cpu.ao, horizon.ao), 0.05) << "the thickness must change the result to compare";
-                for (const char* device : kGlDevices) {
-                    s.device = device;
-                    const OperatorOutputs gl = runOperator(scene->inputs(), s);
-                    ASSERT_EQ(gl.stats.device.rfind(device, 0), 0u) << "ran on " << gl.stats.device;
-                    EXPECT_LE(maxAbsDiff(cpu.ao, gl.ao), 1e-3)
-                        << device << " " << toString(w) << " " << toString(f) << " T " << thickness;
-                }
+                expectGlAoMatchesCpu(scene->inputs(), s, cpu,
+                                     std::string(toString(w)) + " " + toString(f) + " T " + std::to_string(thickness));
             }
 }
 
@@ -118,13 +121,7 @@ TEST(GlParity, DeepLayersMatchCpu) {
             const Settings s = makeSettings("cpu", w, Falloff::None, 0);
             const OperatorOutputs cpu = runOperator(in, s);
             EXPECT_GT(maxAbsDiff(cpu.ao, runOperator(scene->inputs(), s).ao), 0.05) << "the layers must change the result";
-            for (const char* device : kGlDevices) {
-                Settings g = s;
-                g.device = device;
-                const OperatorOutputs gl = runOperator(in, g);
-                ASSERT_EQ(gl.stats.device.rfind(device, 0), 0u) << "ran on " << gl.stats.device;
-                EXPECT_LE(maxAbsDiff(cpu.ao, gl.ao), 1e-3) << device << " " << toString(w);
-            }
+            expectGlAoMatchesCpu(in, s, cpu, toString(w));
             // Several tiles, each with its apron, read the layers at the right offsets.
             gpu::GlBackend& backend = gpu::glBackendFor("gl-osmesa");
             const KernelParams p = makeKernelParams(in, s);
@@ -145,12 +142,7 @@ TEST(GlParity, BorderPoliciesMatchCpu) {
             Settings s = makeSettings("cpu", Weighting::Cosine, Falloff::None, 0);
             s.border = border;
             const OperatorOutputs cpu = runOperator(scene->inputs(), s);
-            for (const char* device : kGlDevices) {
-                s.device = device;
-                const OperatorOutputs gl = runOperator(scene->inputs(), s);
-                ASSERT_EQ(gl.stats.device.rfind(device, 0), 0u) << "ran on " << gl.stats.device;
-                EXPECT_LE(maxAbsDiff(cpu.ao, gl.ao), 1e-3) << device << " border " << border;
-            }
+            expectGlAoMatchesCpu(scene->inputs(), s, cpu, "border " + std::to_string(border));
         }
 }
 
@@ -312,13 +304,9 @@ TEST(GlParity, SsaoMatchesCpu) {
                     const OperatorOutputs cpu = runOperator(scene->inputs(), s);
                     ASSERT_LT(*std::min_element(cpu.ao.pixels.begin(), cpu.ao.pixels.end()), 0.9f)
                         << "the scene must have occlusion to compare";
-                    for (const char* device : kGlDevices) {
-                        s.device = device;
-                        const OperatorOutputs gl = runOperator(scene->inputs(), s);
-                        ASSERT_EQ(gl.stats.device.rfind(device, 0), 0u) << gl.stats.device;
-                        EXPECT_LE(maxAbsDiff(cpu.ao, gl.ao), 1e-3)
-                            << device << (hemisphere ? " hemisphere " : " sphere ") << toString(w) << " " << toString(f);
-                    }
+                    expectGlAoMatchesCpu(scene->inputs(), s, cpu,
+                                         std::string(hemisphere ? "hemisphere " : "sphere ") + toString(w) + " " +
+                                             toString(f));
                 }
 }
 
@@ -338,11 +326,6 @@ TEST(GlParity, DiscsMatchCpu) {
             const OperatorOutputs cpu = runOperator(scene->inputs(), s);
             ASSERT_LT(*std::min_element(cpu.ao.pixels.begin(), cpu.ao.pixels.end()), 0.9f)
                 << "the scene must have occlusion to compare";
-            for (const char* device : kGlDevices) {
-                s.device = device;
-                const OperatorOutputs gl = runOperator(scene->inputs(), s);
-                ASSERT_EQ(gl.stats.device.rfind(device, 0), 0u) << gl.stats.device;
-                EXPECT_LE(maxAbsDiff(cpu.ao, gl.ao), 1e-3) << device << " variant " << variant;
-            }
+            expectGlAoMatchesCpu(scene->inputs(), s, cpu, "variant " + std::to_string(variant));
         }
 }
