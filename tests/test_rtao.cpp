@@ -20,14 +20,12 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// The shared test settings (radius, weighting, falloff, 2 threads) with rtao's rays; rtao reads
+// no directions or steps.
 Settings rtaoSettings(Weighting w, Falloff f, float radius, int rays) {
-    Settings s;
+    Settings s = hbaoSettings(w, f, radius);
     s.method = "rtao";
-    s.radius = radius;
-    s.weighting = w;
-    s.falloff = f;
     s.rtaoRays = rays;
-    s.threads = 2;
     return s;
 }
 
