@@ -450,15 +450,16 @@ lfloat hbaoLanes(lint x, lint y) {
                     closeRuns(matters, t, run, nE, nV, cosB, sinB, nLen, horizonA, horizonB, horizonF, sectors,
                               sliceOcclusion);
                 }
-                run.topA = select(ends, lfloat(1.0f), run.topA);
-                run.topB = select(ends, lfloat(0.0f), run.topB);
+                // A sample that does not continue a run starts one, or lies in none: either way the
+                // run's state restarts from it (outside a run the top stays at the tangent).
+                run.topA = select(continues, run.topA, lfloat(1.0f));
+                run.topB = select(continues, run.topB, lfloat(0.0f));
                 if (P.linearFalloff != 0) {
                     run.topF = select(ends, lfloat(0.0f), run.topF);
                     run.rise = select(ends, lfloat(0.0f), run.rise);
                 }
-                lbool starts = above && !continues;
-                run.firstA = select(starts, a, run.firstA);
-                run.firstB = select(starts, b, run.firstB);
+                run.firstA = select(continues, run.firstA, a);
+                run.firstB = select(continues, run.firstB, b);
                 lbool inside = counts && above; // can occlude
                 lbool higher = inside && run.topA * b - run.topB * a > 0.0f;
                 run.topA = select(higher, a, run.topA);

@@ -6,6 +6,8 @@
 //   sched:NAME  the widest kernel alone on all threads, scheduled by obscura's tile pool
 //               ("pool", what runHbao uses) or by oneTBB's parallel_for over the same tiles;
 //   PRESET      the quality presets, to show that time follows the sample count (ns/sample);
+//               each as the horizon (--thickness inf --border open), the defaults, and the
+//               defaults with one option back at the horizon's (border:open, thickness:inf);
 //   PRESET/deep:K  the same with deep input of K layers (synthetic: the visible surface as a
 //               slab, then surfaces and slabs behind it), the cost of reading and testing them;
 //   METHOD_PRESET  the other AO methods of the method table at their quality levels;
@@ -20,7 +22,8 @@
 // Environment: OBSCURA_BENCH_EXR=FILE.exr runs on a render instead (its passes and camera
 // found as the CLI finds them); OBSCURA_BENCH_WIDTH / OBSCURA_BENCH_HEIGHT set the size of
 // the built-in frame; OBSCURA_BENCH_DIRECTIONS / OBSCURA_BENCH_STEPS the sample counts (8 x 8),
-// OBSCURA_BENCH_RADIUS the radius (0.5).
+// OBSCURA_BENCH_RADIUS the radius (0.5), OBSCURA_BENCH_THREADS the "all threads" count (the cores;
+// 1 keeps a shared machine's other load out of the ratios).
 #include "bench_env.h"
 #include "core/methods.h"
 #include "core/operator.h"
@@ -242,7 +245,7 @@ std::vector<std::string> glDevices() {
 } // namespace
 
 int main(int argc, char** argv) {
-    const int all = (int)std::max(1u, std::thread::hardware_concurrency());
+    const int all = envInt("OBSCURA_BENCH_THREADS", (int)std::max(1u, std::thread::hardware_concurrency()));
     const SceneBuffers& sb = scene();
     long long sky = 0;
     for (float d : sb.depth.pixels) sky += d >= 1e9f;
@@ -303,6 +306,15 @@ int main(int argc, char** argv) {
         horizon.border = kBorderOpen;
         options(benchmark::RegisterBenchmark((name + "/horizon").c_str(), BM_Hbao, horizon, std::string("preset")));
         options(benchmark::RegisterBenchmark((name + "/defaults").c_str(), BM_Hbao, s, std::string("preset")));
+        // The defaults' cost split: each of its two options alone over the horizon.
+        Settings openBorder = s;
+        openBorder.border = kBorderOpen;
+        options(benchmark::RegisterBenchmark((name + "/border:open").c_str(), BM_Hbao, openBorder,
+                                             std::string("preset")));
+        Settings tangentOnly = horizon;
+        tangentOnly.border = s.border;
+        options(benchmark::RegisterBenchmark((name + "/thickness:inf").c_str(), BM_Hbao, tangentOnly,
+                                             std::string("preset")));
         Settings thin = s;
         thin.thickness = 0.1f;
         options(benchmark::RegisterBenchmark((name + "/thickness:0.1").c_str(), BM_Hbao, thin, std::string("preset")));
