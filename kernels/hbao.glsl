@@ -186,6 +186,15 @@ lvec3 cutAtNeighbour(lvec3 step, lbool surface, lvec3 mn, lvec3 D) {
     return step * select(surface && s >= 0.0f && s < 1.0f, s, lfloat(1.0f));
 }
 
+// The sample before the current one along a slice (the receiver itself before the first):
+// its offset X from the receiver, its view-space normal, its image offset w (viewOffset's units).
+struct FootprintPrevious {
+    lvec3 X;
+    lvec3 m;
+    lvec2 w;
+    lbool surface;
+};
+
 // A sample texel's visible surface is not a point but its pixel's footprint: on the texel's
 // tangent plane (view-space normal m), the segment between the rays through the pixel's two
 // edges along the slice's image direction `dir`. Seen at a grazing angle one pixel holds metres
@@ -195,9 +204,14 @@ lvec3 cutAtNeighbour(lvec3 step, lbool surface, lvec3 mn, lvec3 D) {
 // plane (a silhouette's tangent plane runs along the eye's ray and would stand for a wall there),
 // is cut at the run jump (P.runJump), and the whole is clipped to the ball of radius R. It adds
 // the angles between its ends (none below the tangent); the sample's own interval is set as before.
-void occupyFootprint(lvec3 X, lvec2 corner, lvec3 sampleRay, lfloat sampleDepth, lvec3 m, lvec2 dir, lbool use,
-                     lvec3 T, lvec3 n, lfloat nE, lfloat nV, float radius2, INOUT(lfloat) horizonA,
-                     INOUT(lfloat) horizonB, INOUT(luint) sectors) {
+void occupyFootprint(lvec3 X, lvec2 corner, lvec3 sampleRay, lfloat sampleDepth, lvec3 m, lvec2 dir, lvec2 w,
+                     lbool use, INOUT(FootprintPrevious) previous, lvec3 T, lvec3 n, lfloat nE, lfloat nV,
+                     float radius2, INOUT(lfloat) horizonA, INOUT(lfloat) horizonB, INOUT(luint) sectors) {
+    FootprintPrevious before = previous;
+    previous.X = X;
+    previous.m = m;
+    previous.w = w;
+    previous.surface = use;
     // From the pixel's centre to its border along dir: in pixels, and in viewOffset's image units.
     lfloat toEdge = 0.5f / max(max(abs(dir.x), abs(dir.y)), 1e-6f);
     lvec2 delta = lvec2(dir.x * (toEdge * P.invFx), dir.y * (toEdge * -P.invFy));
@@ -218,6 +232,13 @@ void occupyFootprint(lvec3 X, lvec2 corner, lvec3 sampleRay, lfloat sampleDepth,
     }
     lvec3 step0 = cutAtNeighbour(planeStep(sampleRay, sampleDepth, m, delta * -1.0f, P.runJump), behindSurface,
                                  behindNormal, behindD);
+    // Back across the gap to the previous sample, cut where the plane meets that sample's plane.
+    lvec3 gap = planeStep(sampleRay, sampleDepth, m, before.w - w, 4.0f * P.radius);
+    lfloat across0 = dot(before.m, gap);
+    lfloat cut = dot(before.m, before.X - X) / select(abs(across0) > 1e-30f, across0, lfloat(1e-30f));
+    lbool crosses = before.surface && cut >= 0.0f && cut <= 1.0f;
+    lbool gapPlane = crosses || continuesPlane(before.surface, before.m, m);
+    step0 = select(gapPlane, gap * select(crosses, cut, lfloat(1.0f)), step0);
     lvec3 step1 = cutAtNeighbour(planeStep(sampleRay, sampleDepth, m, delta, P.runJump), aheadSurface, aheadNormal,
                                  aheadD);
     lvec3 X0 = X + step0 * select(back, lfloat(1.0f), lfloat(0.0f));
@@ -233,6 +254,11 @@ void occupyFootprint(lvec3 X, lvec2 corner, lvec3 sampleRay, lfloat sampleDepth,
     lfloat b0 = dot(n, P0);
     lfloat a1 = dot(T, P1);
     lfloat b1 = dot(n, P1);
+    // An end within rounding of the tangent (0.57 degrees as seen at the sample's distance, as
+    // runs) is on it: near the receiver (a footprint reaching back to it) its angle is rounding alone.
+    lfloat near2 = 1e-4f * dot(X, X);
+    b0 = select(b0 * b0 > 1e-4f * (a0 * a0 + b0 * b0) + near2, b0, lfloat(0.0f));
+    b1 = select(b1 * b1 > 1e-4f * (a1 * a1 + b1 * b1) + near2, b1, lfloat(0.0f));
     // The higher end (by angle; an end under the tangent is the lower) bounds the interval.
     lbool firstHigher = b1 <= 0.0f || (b0 > 0.0f && a1 * b0 - b1 * a0 > 0.0f);
     lfloat topA = select(firstHigher, a0, a1);
@@ -446,6 +472,11 @@ lfloat hbaoLanes(lint x, lint y) {
         // Deep input (bitmask 2) measures its solids; runs estimate them for flat input only.
         bool adaptive = P.hbaoBitmask == 1 && P.thicknessPerExtent > 0.0f;
         lbool inRun = lfloat(0.0f) > 0.0f; // false in every lane
+        FootprintPrevious previous; // deep input's footprints: the receiver before the first sample
+        previous.X = lvec3(lfloat(0.0f), lfloat(0.0f), lfloat(0.0f));
+        previous.m = n;
+        previous.w = lvec2(lfloat(0.0f), lfloat(0.0f));
+        previous.surface = computing;
         OccluderRun run;
         run.firstA = lfloat(0.0f);
         run.firstB = lfloat(0.0f);
@@ -602,8 +633,8 @@ lfloat hbaoLanes(lint x, lint y) {
                 lvec3 sampleRay = lvec3(ray.x + w.x, ray.y + w.y, ray.z);
                 lvec3 m = viewNormal(gatherNormal(lint(loadCorner.x - origin.x), lint(loadCorner.y - origin.y), surface),
                                      viewVector(sampleRay));
-                occupyFootprint(X, loadCorner, sampleRay, sampleDepth, m, dir, surface, T, n, nE, nV, radius2, horizonA, horizonB,
-                                sectors);
+                occupyFootprint(X, loadCorner, sampleRay, sampleDepth, m, dir, w, surface, previous, T, n, nE, nV, radius2,
+                                horizonA, horizonB, sectors);
                 for (int k = 1; k < P.deepLayers; ++k) {
                     occupyDeepLayer(k, corner, deepUse, ray, depth, w, T, n, nE, nV, radius2, backShiftA, backShiftB,
                                     horizonA, horizonB, sectors);
