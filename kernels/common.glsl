@@ -101,7 +101,7 @@ lvec3 viewOffset(lvec3 rayP, lfloat depthP, lvec2 w, lfloat depthS) {
 // positions, so it lies in the plane up to rounding of its own size (a plane's footprints stay
 // on it). Where the plane meets that ray behind the eye or farther than maxLength away, the
 // offset is cut to maxLength in the plane's direction of escape.
-lvec3 planeStep(lvec3 ray, lfloat depth, lvec3 m, lvec2 delta, float maxLength) {
+lvec3 planeStep(lvec3 ray, lfloat depth, lvec3 m, lvec2 delta, lfloat maxLength) {
     lvec3 d = lvec3(delta.x, delta.y, lfloat(0.0f));
     lfloat md = dot(m, d);
     lvec3 away;   // direction of the offset, up to a positive factor

@@ -230,16 +230,17 @@ void occupyFootprint(lvec3 X, lvec2 corner, lvec3 sampleRay, lfloat sampleDepth,
     if (!anyLane(back || ahead)) {
         return;
     }
-    lvec3 step0 = cutAtNeighbour(planeStep(sampleRay, sampleDepth, m, delta * -1.0f, P.runJump), behindSurface,
+    lvec3 step0 = cutAtNeighbour(planeStep(sampleRay, sampleDepth, m, delta * -1.0f, lfloat(P.runJump)), behindSurface,
                                  behindNormal, behindD);
     // Back across the gap to the previous sample, cut where the plane meets that sample's plane.
-    lvec3 gap = planeStep(sampleRay, sampleDepth, m, before.w - w, 4.0f * P.radius);
+    // As far as it can still reach the ball of radius R around the receiver.
+    lvec3 gap = planeStep(sampleRay, sampleDepth, m, before.w - w, sqrt(dot(X, X)) + P.radius);
     lfloat across0 = dot(before.m, gap);
     lfloat cut = dot(before.m, before.X - X) / select(abs(across0) > 1e-30f, across0, lfloat(1e-30f));
     lbool crosses = before.surface && cut >= 0.0f && cut <= 1.0f;
     lbool gapPlane = crosses || continuesPlane(before.surface, before.m, m);
     step0 = select(gapPlane, gap * select(crosses, cut, lfloat(1.0f)), step0);
-    lvec3 step1 = cutAtNeighbour(planeStep(sampleRay, sampleDepth, m, delta, P.runJump), aheadSurface, aheadNormal,
+    lvec3 step1 = cutAtNeighbour(planeStep(sampleRay, sampleDepth, m, delta, lfloat(P.runJump)), aheadSurface, aheadNormal,
                                  aheadD);
     lvec3 X0 = X + step0 * select(back, lfloat(1.0f), lfloat(0.0f));
     lvec3 X1 = X + step1 * select(ahead, lfloat(1.0f), lfloat(0.0f));
