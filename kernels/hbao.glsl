@@ -237,8 +237,16 @@ void occupyFootprint(lvec3 X, lvec2 corner, lvec3 sampleRay, lfloat sampleDepth,
     lvec3 gap = planeStep(sampleRay, sampleDepth, m, before.w - w, sqrt(dot(X, X)) + P.radius);
     lfloat across0 = dot(before.m, gap);
     lfloat cut = dot(before.m, before.X - X) / select(abs(across0) > 1e-30f, across0, lfloat(1e-30f));
-    lbool crosses = before.surface && cut >= 0.0f && cut <= 1.0f;
-    lbool gapPlane = crosses || continuesPlane(before.surface, before.m, m);
+    // On one plane with the previous sample (parallel, and its point within 3.6 degrees of this
+    // plane as seen from the sample) the cut is rounding over rounding: the whole gap is that
+    // plane. Not with the receiver: its own plane occludes nothing, and a plane curving away from
+    // it would meet its ray in front of it, the direction of the eye.
+    lvec3 toBefore = before.X - X;
+    lfloat offPlane = dot(m, toBefore);
+    lbool samePlane = continuesPlane(before.surface, before.m, m) && dot(before.w, before.w) > 0.0f &&
+                      offPlane * offPlane <= 0.004f * dot(toBefore, toBefore);
+    lbool crosses = before.surface && !samePlane && cut >= 0.0f && cut <= 1.0f;
+    lbool gapPlane = crosses || samePlane;
     step0 = select(gapPlane, gap * select(crosses, cut, lfloat(1.0f)), step0);
     lvec3 step1 = cutAtNeighbour(planeStep(sampleRay, sampleDepth, m, delta, lfloat(P.runJump)), aheadSurface, aheadNormal,
                                  aheadD);
