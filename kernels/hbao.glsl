@@ -230,8 +230,9 @@ void occupyFootprint(lvec3 X, lvec2 corner, lvec3 sampleRay, lfloat sampleDepth,
     if (!anyLane(back || ahead)) {
         return;
     }
-    lvec3 step0 = cutAtNeighbour(planeStep(sampleRay, sampleDepth, m, delta * -1.0f, lfloat(P.runJump)), behindSurface,
-                                 behindNormal, behindD);
+    // A neighbour on this plane cuts nothing (its crossing would be rounding over rounding).
+    lvec3 step0 = cutAtNeighbour(planeStep(sampleRay, sampleDepth, m, delta * -1.0f, lfloat(P.runJump)),
+                                 behindSurface && !ahead, behindNormal, behindD);
     // Back across the gap to the previous sample, cut where the plane meets that sample's plane.
     // As far as it can still reach the ball of radius R around the receiver.
     lvec3 gap = planeStep(sampleRay, sampleDepth, m, before.w - w, sqrt(dot(X, X)) + P.radius);
@@ -247,9 +248,11 @@ void occupyFootprint(lvec3 X, lvec2 corner, lvec3 sampleRay, lfloat sampleDepth,
                       offPlane * offPlane <= 0.004f * dot(toBefore, toBefore);
     lbool crosses = before.surface && !samePlane && cut >= 0.0f && cut <= 1.0f;
     lbool gapPlane = crosses || samePlane;
-    step0 = select(gapPlane, gap * select(crosses, cut, lfloat(1.0f)), step0);
-    lvec3 step1 = cutAtNeighbour(planeStep(sampleRay, sampleDepth, m, delta, lfloat(P.runJump)), aheadSurface, aheadNormal,
-                                 aheadD);
+    // The pixel's own half is the least it reaches (so a crease next to the sample changes nothing abruptly).
+    lvec3 toPrevious = gap * select(crosses, cut, lfloat(1.0f));
+    step0 = select(gapPlane && dot(toPrevious, toPrevious) > dot(step0, step0), toPrevious, step0);
+    lvec3 step1 = cutAtNeighbour(planeStep(sampleRay, sampleDepth, m, delta, lfloat(P.runJump)), aheadSurface && !back,
+                                 aheadNormal, aheadD);
     lvec3 X0 = X + step0 * select(back, lfloat(1.0f), lfloat(0.0f));
     lvec3 X1 = X + step1 * select(ahead, lfloat(1.0f), lfloat(0.0f));
     lfloat t0;
