@@ -277,6 +277,12 @@ void occupyFootprint(lvec3 X, lvec2 corner, lvec3 sampleRay, lfloat sampleDepth,
     lfloat topB = select(firstHigher, b0, b1);
     lfloat lowA = select(firstHigher, a1, a0);
     lfloat lowB = select(firstHigher, b1, b0);
+    // A low end within 10^-4 rad above the horizon (often the previous sample's own point, which
+    // raised it) joins it: whether it lies just above or on it is rounding.
+    lbool nearHorizon = horizonA * lowB - horizonB * lowA <=
+                        1e-4f * sqrt((horizonA * horizonA + horizonB * horizonB) * (lowA * lowA + lowB * lowB));
+    lowA = select(nearHorizon, lfloat(1.0f), lowA);
+    lowB = select(nearHorizon, lfloat(0.0f), lowB);
     lbool counts = (back || ahead) && meets && topB > 0.0f && topA * nV + topB * nE > 0.0f;
     occupyInterval(topA, topB, lowA, lowB, counts, horizonA, horizonB, sectors);
 }
