@@ -33,7 +33,8 @@
 // samples by runs (OccluderRun below).
 //
 // Deep input (P.hbaoBitmask 2, docs/deep.md): every surface on a sample texel's ray, with the
-// solid spans the renderer saw, is an interval of the same bitmask (occupyDeepLayer below).
+// solid spans the renderer saw, is an interval of the same bitmask (occupyDeepLayer below), and
+// so is each sample's footprint on its tangent plane (occupyFootprint below).
 //
 // Samples snap to texel centres, which moves them slightly off the slice. Taking a and b
 // from the full 3D offset brings them back into the slice along the tangent plane (not
