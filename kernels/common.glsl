@@ -94,6 +94,36 @@ lvec3 viewOffset(lvec3 rayP, lfloat depthP, lvec2 w, lfloat depthS) {
     return lvec3(dd * rayP.x + depthS * w.x, dd * rayP.y + depthS * w.y, dd * rayP.z);
 }
 
+// Where the plane through a texel's surface point (on `ray` at `depth`) with unit normal m meets
+// the ray through image offset `delta` from that texel's centre (display pixels times
+// (1/fx, -1/fy), as viewOffset's w), as an offset from the surface point: the finite form of
+// discAxes' footprint derivative. Formed from the offset alone, never by subtracting two
+// positions, so it lies in the plane up to rounding of its own size (a plane's footprints stay
+// on it). Where the plane meets that ray behind the eye or farther than maxLength away, the
+// offset is cut to maxLength in the plane's direction of escape.
+lvec3 planeStep(lvec3 ray, lfloat depth, lvec3 m, lvec2 delta, lfloat maxLength) {
+    lvec3 d = lvec3(delta.x, delta.y, lfloat(0.0f));
+    lfloat md = dot(m, d);
+    lvec3 away;   // direction of the offset, up to a positive factor
+    lfloat scale; // its length over |away| where the plane meets the ray
+    if (P.orthographic != 0) {
+        // Rays run along -z: the point d + s (0, 0, -1) on the plane.
+        away = lvec3(d.x, d.y, -md / select(abs(m.z) > 1e-30f, m.z, lfloat(1e-30f)));
+        scale = lfloat(1.0f);
+    } else {
+        // The point t' (ray + d) with m . (t' (ray + d) - t ray) = 0, t the ray's parameter at the
+        // point: offset t ((m.ray) d - (m.d) ray) / (m.ray + m.d).
+        lfloat t = P.radialDepth != 0 ? depth * inversesqrt(dot(ray, ray)) : depth;
+        lfloat mr = dot(m, ray);
+        away = ray * md - d * mr; // the numerator negated: the denominator is negative where the ray meets it
+        lfloat den = -(mr + md);
+        scale = select(den > 0.0f, t / max(den, 1e-30f), lfloat(1e30f));
+    }
+    lfloat len2 = dot(away, away);
+    lfloat inv = inversesqrt(max(len2, 1e-36f));
+    return away * min(scale, maxLength * inv);
+}
+
 // Unit vector towards the eye. Taken from the pixel's ray, not its position, so
 // it stays exact at any depth (tiny depths would underflow a normalisation).
 lvec3 viewVector(lvec3 ray) {

@@ -33,7 +33,8 @@
 // samples by runs (OccluderRun below).
 //
 // Deep input (P.hbaoBitmask 2, docs/deep.md): every surface on a sample texel's ray, with the
-// solid spans the renderer saw, is an interval of the same bitmask (occupyDeepLayer below).
+// solid spans the renderer saw, is an interval of the same bitmask (occupyDeepLayer below), and
+// so is each sample's footprint on its tangent plane (occupyFootprint below).
 //
 // Samples snap to texel centres, which moves them slightly off the slice. Taking a and b
 // from the full 3D offset brings them back into the slice along the tangent plane (not
@@ -117,6 +118,22 @@ void occupyInterval(lfloat a, lfloat b, lfloat backA, lfloat backB, lbool counts
 // renderer saw the ray cross (a span); else the surface's depth is unknown and the thickness
 // rule pushes its front back, as without deep input.
 //
+// The part [t0, t1] of the segment from X0 to X1 (offsets from the receiver) inside the ball of
+// radius R around the receiver; `meets` when there is one.
+void clipToBall(lvec3 X0, lvec3 X1, float radius2, OUT(lfloat) t0, OUT(lfloat) t1, OUT(lbool) meets) {
+    // |X0 + t d|^2 = R^2: the chord of the ball along the segment, t in [0, 1].
+    lvec3 d = X1 - X0;
+    lfloat dd = max(dot(d, d), 1e-30f);
+    lfloat fd = dot(X0, d);
+    lfloat c = dot(X0, X0) - radius2;
+    lfloat disc = fd * fd - dd * c;
+    lfloat root = sqrt(max(disc, 0.0f));
+    lfloat invDd = 1.0f / dd;
+    t0 = max((-fd - root) * invDd, 0.0f);
+    t1 = min((-fd + root) * invDd, 1.0f);
+    meets = disc >= 0.0f && t0 <= t1;
+}
+
 // One layer at a sample texel, front frontX and back backX (offsets from the receiver): a span
 // counts for its part inside the sphere of radius R (a long span whose front lies beyond R may
 // still pass close by), a point sample when its front is within R; then, as for the visible
@@ -124,17 +141,12 @@ void occupyInterval(lfloat a, lfloat b, lfloat backA, lfloat backB, lbool counts
 void occupySpan(lvec3 frontX, lvec3 backX, lbool span, lbool use, lvec3 T, lvec3 n, lfloat nE, lfloat nV,
                 float radius2, lfloat backShiftA, lfloat backShiftB, INOUT(lfloat) horizonA, INOUT(lfloat) horizonB,
                 INOUT(luint) sectors) {
-    // |frontX + t d|^2 = R^2: the chord of the ball along the span, t in [0, 1].
+    lfloat t0;
+    lfloat t1;
+    lbool chord;
+    clipToBall(frontX, backX, radius2, t0, t1, chord);
     lvec3 d = backX - frontX;
-    lfloat dd = max(dot(d, d), 1e-30f);
-    lfloat fd = dot(frontX, d);
-    lfloat c = dot(frontX, frontX) - radius2;
-    lfloat disc = fd * fd - dd * c;
-    lfloat root = sqrt(max(disc, 0.0f));
-    lfloat invDd = 1.0f / dd;
-    lfloat t0 = max((-fd - root) * invDd, 0.0f);
-    lfloat t1 = min((-fd + root) * invDd, 1.0f);
-    lbool meets = (span && disc >= 0.0f && t0 <= t1) || (!span && c <= 0.0f);
+    lbool meets = (span && chord) || (!span && dot(frontX, frontX) <= radius2);
     lvec3 front = select(span, frontX + d * t0, frontX);
     lvec3 back = frontX + d * t1;
     lfloat a = dot(T, front);
@@ -143,6 +155,137 @@ void occupySpan(lvec3 frontX, lvec3 backX, lbool span, lbool use, lvec3 T, lvec3
     lfloat backB = select(span, dot(n, back), b + backShiftB);
     lbool counts = use && meets && b > 0.0f && a * nV + b * nE > 0.0f;
     occupyInterval(a, b, backA, backB, counts, horizonA, horizonB, sectors);
+}
+
+// The texel one pixel from a sample texel (display corner `corner`, surface point on sampleRay at
+// sampleDepth) along `offset`: whether it is a surface, its view-space normal (not normalised)
+// and its surface point's offset D from the sample's.
+void neighbourTexel(lvec2 corner, lvec2 offset, lvec3 sampleRay, lfloat sampleDepth, lbool use, OUT(lbool) surface,
+                    OUT(lvec3) normal, OUT(lvec3) D) {
+    vec2 origin = vec2(bufferOrigin());
+    lvec2 texel = floor(corner + lvec2(0.5f, 0.5f) + offset);
+    surface = use && insideBuffer(texel - origin, 0.0f);
+    lfloat depth = gatherDepthAtDisplay(texel, surface) * P.depthScale;
+    surface = surface && isSurfaceDepth(depth);
+    normal = mat3(P.normalToView) * gatherNormal(lint(texel.x - origin.x), lint(texel.y - origin.y), surface);
+    lvec2 w = lvec2((texel.x - corner.x) * P.invFx, (texel.y - corner.y) * -P.invFy);
+    D = viewOffset(sampleRay, sampleDepth, w, select(surface, depth, sampleDepth));
+}
+
+// Whether a neighbour (normal mn) continues the plane of normal m: its normal within 3.6 degrees.
+lbool continuesPlane(lbool surface, lvec3 mn, lvec3 m) {
+    lfloat c = dot(m, mn);
+    return surface && c > 0.0f && c * c > 0.996f * dot(mn, mn);
+}
+
+// A footprint half `step` from the sample, cut where it crosses the tangent plane of the
+// neighbour on its side (normal mn, point D from the sample): a crease inside the pixel, such as
+// a box's convex edge, ends the plane there.
+lvec3 cutAtNeighbour(lvec3 step, lbool surface, lvec3 mn, lvec3 D) {
+    lfloat across = dot(mn, step);
+    lfloat s = dot(mn, D) / select(abs(across) > 1e-30f, across, lfloat(1e-30f));
+    return step * select(surface && s >= 0.0f && s < 1.0f, s, lfloat(1.0f));
+}
+
+// The sample before the current one along a slice (the receiver itself before the first):
+// its offset X from the receiver, its view-space normal, its image offset w (viewOffset's units).
+struct FootprintPrevious {
+    lvec3 X;
+    lvec3 m;
+    lvec2 w;
+    lbool surface;
+};
+
+// A sample texel's visible surface is not a point but its pixel's footprint: on the texel's
+// tangent plane (view-space normal m), the segment between the rays through the pixel's two
+// edges along the slice's image direction `dir`. Seen at a grazing angle one pixel holds metres
+// of depth (a floor in front of a wall's foot), which the centre's depth alone steps over. The
+// segment lies in the texel's plane, so on the receiver's own plane it stays on the tangent and
+// occludes nothing. A half of it is kept only where the texel on the other side continues the
+// plane (a silhouette's tangent plane runs along the eye's ray and would stand for a wall there),
+// is cut at the run jump (P.runJump), and the whole is clipped to the ball of radius R. It adds
+// the angles between its ends (none below the tangent); the sample's own interval is set as before.
+void occupyFootprint(lvec3 X, lvec2 corner, lvec3 sampleRay, lfloat sampleDepth, lvec3 m, lvec2 dir, lvec2 w,
+                     lbool use, INOUT(FootprintPrevious) previous, lvec3 T, lvec3 n, lfloat nE, lfloat nV,
+                     float radius2, INOUT(lfloat) horizonA, INOUT(lfloat) horizonB, INOUT(luint) sectors) {
+    FootprintPrevious before = previous;
+    previous.X = X;
+    previous.m = m;
+    previous.w = w;
+    previous.surface = use;
+    // From the pixel's centre to its border along dir: in pixels, and in viewOffset's image units.
+    lfloat toEdge = 0.5f / max(max(abs(dir.x), abs(dir.y)), 1e-6f);
+    lvec2 delta = lvec2(dir.x * (toEdge * P.invFx), dir.y * (toEdge * -P.invFy));
+    lvec2 across = dir * (2.0f * toEdge);
+    lbool behindSurface;
+    lvec3 behindNormal;
+    lvec3 behindD;
+    neighbourTexel(corner, across * -1.0f, sampleRay, sampleDepth, use, behindSurface, behindNormal, behindD);
+    lbool aheadSurface;
+    lvec3 aheadNormal;
+    lvec3 aheadD;
+    neighbourTexel(corner, across, sampleRay, sampleDepth, use, aheadSurface, aheadNormal, aheadD);
+    // The half towards -dir needs the plane to go on at +dir, and the other way round.
+    lbool back = use && continuesPlane(aheadSurface, aheadNormal, m);
+    lbool ahead = use && continuesPlane(behindSurface, behindNormal, m);
+    if (!anyLane(back || ahead)) {
+        return;
+    }
+    // A neighbour on this plane cuts nothing (its crossing would be rounding over rounding).
+    lvec3 step0 = cutAtNeighbour(planeStep(sampleRay, sampleDepth, m, delta * -1.0f, lfloat(P.runJump)),
+                                 behindSurface && !ahead, behindNormal, behindD);
+    // Back across the gap to the previous sample, cut where the plane meets that sample's plane.
+    // As far as it can still reach the ball of radius R around the receiver.
+    lvec3 gap = planeStep(sampleRay, sampleDepth, m, before.w - w, sqrt(dot(X, X)) + P.radius);
+    lfloat across0 = dot(before.m, gap);
+    lfloat cut = dot(before.m, before.X - X) / select(abs(across0) > 1e-30f, across0, lfloat(1e-30f));
+    // On one plane with the previous sample (parallel, and its point within 3.6 degrees of this
+    // plane as seen from the sample) the cut is rounding over rounding: the whole gap is that
+    // plane. Not with the receiver: its own plane occludes nothing, and a plane curving away from
+    // it would meet its ray in front of it, the direction of the eye.
+    lvec3 toBefore = before.X - X;
+    lfloat offPlane = dot(m, toBefore);
+    lbool samePlane = continuesPlane(before.surface, before.m, m) && dot(before.w, before.w) > 0.0f &&
+                      offPlane * offPlane <= 0.004f * dot(toBefore, toBefore);
+    lbool crosses = before.surface && !samePlane && cut >= 0.0f && cut <= 1.0f;
+    lbool gapPlane = crosses || samePlane;
+    // The pixel's own half is the least it reaches (so a crease next to the sample changes nothing abruptly).
+    lvec3 toPrevious = gap * select(crosses, cut, lfloat(1.0f));
+    step0 = select(gapPlane && dot(toPrevious, toPrevious) > dot(step0, step0), toPrevious, step0);
+    lvec3 step1 = cutAtNeighbour(planeStep(sampleRay, sampleDepth, m, delta, lfloat(P.runJump)), aheadSurface && !back,
+                                 aheadNormal, aheadD);
+    lvec3 X0 = X + step0 * select(back, lfloat(1.0f), lfloat(0.0f));
+    lvec3 X1 = X + step1 * select(ahead, lfloat(1.0f), lfloat(0.0f));
+    lfloat t0;
+    lfloat t1;
+    lbool meets;
+    clipToBall(X0, X1, radius2, t0, t1, meets);
+    lvec3 d = X1 - X0;
+    lvec3 P0 = X0 + d * t0;
+    lvec3 P1 = X0 + d * t1;
+    lfloat a0 = dot(T, P0);
+    lfloat b0 = dot(n, P0);
+    lfloat a1 = dot(T, P1);
+    lfloat b1 = dot(n, P1);
+    // An end within rounding of the tangent (0.57 degrees as seen at the sample's distance, as
+    // runs) is on it: near the receiver (a footprint reaching back to it) its angle is rounding alone.
+    lfloat near2 = 1e-4f * dot(X, X);
+    b0 = select(b0 * b0 > 1e-4f * (a0 * a0 + b0 * b0) + near2, b0, lfloat(0.0f));
+    b1 = select(b1 * b1 > 1e-4f * (a1 * a1 + b1 * b1) + near2, b1, lfloat(0.0f));
+    // The higher end (by angle; an end under the tangent is the lower) bounds the interval.
+    lbool firstHigher = b1 <= 0.0f || (b0 > 0.0f && a1 * b0 - b1 * a0 > 0.0f);
+    lfloat topA = select(firstHigher, a0, a1);
+    lfloat topB = select(firstHigher, b0, b1);
+    lfloat lowA = select(firstHigher, a1, a0);
+    lfloat lowB = select(firstHigher, b1, b0);
+    // A low end within 10^-4 rad above the horizon (often the previous sample's own point, which
+    // raised it) joins it: whether it lies just above or on it is rounding.
+    lbool nearHorizon = horizonA * lowB - horizonB * lowA <=
+                        1e-4f * sqrt((horizonA * horizonA + horizonB * horizonB) * (lowA * lowA + lowB * lowB));
+    lowA = select(nearHorizon, lfloat(1.0f), lowA);
+    lowB = select(nearHorizon, lfloat(0.0f), lowB);
+    lbool counts = (back || ahead) && meets && topB > 0.0f && topA * nV + topB * nE > 0.0f;
+    occupyInterval(topA, topB, lowA, lowB, counts, horizonA, horizonB, sectors);
 }
 
 // Hidden layer k (>= 1) at a sample texel: a surface on that texel's ray behind the visible one.
@@ -348,6 +491,11 @@ lfloat hbaoLanes(lint x, lint y) {
         // Deep input (bitmask 2) measures its solids; runs estimate them for flat input only.
         bool adaptive = P.hbaoBitmask == 1 && P.thicknessPerExtent > 0.0f;
         lbool inRun = lfloat(0.0f) > 0.0f; // false in every lane
+        FootprintPrevious previous; // deep input's footprints: the receiver before the first sample
+        previous.X = lvec3(lfloat(0.0f), lfloat(0.0f), lfloat(0.0f));
+        previous.m = n;
+        previous.w = lvec2(lfloat(0.0f), lfloat(0.0f));
+        previous.surface = computing;
         OccluderRun run;
         run.firstA = lfloat(0.0f);
         run.firstB = lfloat(0.0f);
@@ -501,6 +649,12 @@ lfloat hbaoLanes(lint x, lint y) {
                 lvec3 backX = viewOffset(ray, depth, w, select(span, back, sampleDepth));
                 occupySpan(X, backX, span, surface, T, n, nE, nV, radius2, backShiftA, backShiftB, horizonA, horizonB,
                            sectors);
+                // The texel's footprint on its tangent plane (its normal at the texel read, also past the edge).
+                lvec3 sampleRay = lvec3(ray.x + w.x, ray.y + w.y, ray.z);
+                lvec3 m = viewNormal(gatherNormal(lint(loadCorner.x - origin.x), lint(loadCorner.y - origin.y), surface),
+                                     viewVector(sampleRay));
+                occupyFootprint(X, loadCorner, sampleRay, sampleDepth, m, dir, w, surface, previous, T, n, nE, nV, radius2,
+                                horizonA, horizonB, sectors);
                 for (int k = 1; k < P.deepLayers; ++k) {
                     occupyDeepLayer(k, corner, deepUse, ray, depth, w, T, n, nE, nV, radius2, backShiftA, backShiftB,
                                     horizonA, horizonB, sectors);
