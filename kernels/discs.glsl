@@ -417,6 +417,107 @@ lfloat discPolygonFormFactor(lvec3 xr, lvec3 nr, lvec3 e, lvec3 ne, lfloat area,
     return discQuadFormFactor(nr, e - xr, du * scale, dv * scale, DISC_HORIZON);
 }
 
+// Occluders behind occluders (the stairs: each riser hides the next tread) must not count
+// twice, as a plain sum of form factors does. The receiver's hemisphere is split into
+// DISC_AZIMUTHS slices by DISC_RINGS rings of equal cosine weight (ring edges at sin^2 of the
+// elevation i / DISC_RINGS); each form factor is spread over the bins its direction falls in
+// (a tent as wide as the element's angular radius, at least one bin, so a uniformly covered
+// region fills every bin exactly), and a bin counts at most its weight. Where no bin
+// overflows this is the sum; a plane's elements have form factor 0 and cover nothing.
+CONST_GLOBAL int DISC_AZIMUTHS = 8;
+CONST_GLOBAL int DISC_RINGS = 4;
+CONST_GLOBAL int DISC_BINS = 32;
+
+struct DiscBins {
+    lfloat cover[DISC_BINS];  // occlusion gathered in each bin (azimuth-major)
+    lfloat sum;               // the plain sum (P.discUnion == 0)
+    lvec3 t1;                 // the receiver's tangent frame: azimuth 0 ...
+    lvec3 t2;                 // ... and a quarter turn on
+};
+
+void discStartBins(OUT(DiscBins) bins, lvec3 nr) {
+    for (int i = 0; i < DISC_BINS; ++i) {
+        bins.cover[i] = lfloat(0.0f);
+    }
+    bins.sum = lfloat(0.0f);
+    lvec3 a = select(abs(nr.y) < 0.9f, lvec3(lfloat(0.0f), lfloat(1.0f), lfloat(0.0f)),
+                     lvec3(lfloat(1.0f), lfloat(0.0f), lfloat(0.0f)));
+    lvec3 t = cross(a, nr);
+    bins.t1 = t * inversesqrt(max(dot(t, t), lfloat(1e-30f)));
+    bins.t2 = cross(nr, bins.t1);
+}
+
+// Adds form factor ff of an element at v from the receiver (normal nr), reach2 its radius
+// squared (its angular radius spreads it over more bins).
+void discAdd(INOUT(DiscBins) bins, lvec3 nr, lvec3 v, lfloat d2, lfloat reach2, lfloat ff) {
+    if (P.discUnion == 0) {
+        bins.sum += ff;
+        return;
+    }
+    float slices = float(DISC_AZIMUTHS);
+    float rings = float(DISC_RINGS);
+    lfloat invD = inversesqrt(max(d2, lfloat(1e-30f)));
+    lfloat s = clamp(dot(nr, v) * invD, 0.0f, 1.0f);
+    lfloat c = sqrt(max(1.0f - s * s, lfloat(1e-6f)));
+    lfloat rho = sqrt(reach2) * invD;
+    lfloat u = atan(dot(bins.t2, v), dot(bins.t1, v)) * (slices / TWO_PI);
+    u = select(u < 0.0f, u + slices, u);
+    // Tent half-widths in bins: the angular radius across the slices (wider near the pole)
+    // and across the rings (d(s^2 rings)/dh = 2 s c rings).
+    // A form factor is the share of the weight the element covers, so it covers at least
+    // ff * DISC_BINS bins: a near element is widened to that (its shape from the angular radius).
+    lfloat wa = max(rho / c * (slices / TWO_PI), 1.0f);
+    lfloat we = max(2.0f * s * c * rho * rings, 1.0f);
+    lfloat widen = sqrt(max(ff * float(DISC_BINS) / (wa * we), 1.0f));
+    lfloat invWa = 1.0f / min(wa * widen, lfloat(0.5f * slices));
+    lfloat invWe = 1.0f / min(we * widen, lfloat(rings));
+    lfloat e = clamp(s * s * rings - 0.5f, 0.0f, rings - 1.0f);
+    lfloat ta[DISC_AZIMUTHS];
+    lfloat te[DISC_RINGS];
+    lfloat sa = lfloat(0.0f);
+    lfloat se = lfloat(0.0f);
+    for (int j = 0; j < DISC_AZIMUTHS; ++j) {
+        lfloat dist = abs(u - float(j));
+        dist = min(dist, slices - dist);
+        ta[j] = max(1.0f - dist * invWa, 0.0f);
+        sa += ta[j];
+    }
+    for (int i = 0; i < DISC_RINGS; ++i) {
+        te[i] = max(1.0f - abs(e - float(i)) * invWe, 0.0f);
+        se += te[i];
+    }
+    lfloat scale = ff / (sa * se);
+    for (int j = 0; j < DISC_AZIMUTHS; ++j) {
+        lfloat fj = ta[j] * scale;
+        for (int i = 0; i < DISC_RINGS; ++i) {
+            bins.cover[j * DISC_RINGS + i] += fj * te[i];
+        }
+    }
+}
+
+lfloat discOcclusion(DiscBins bins) {
+    if (P.discUnion == 0) {
+        return bins.sum;
+    }
+    lfloat occlusion = lfloat(0.0f);
+    for (int i = 0; i < DISC_BINS; ++i) {
+        occlusion += min(bins.cover[i], lfloat(1.0f / float(DISC_BINS)));
+    }
+    return occlusion;
+}
+
+// Node `index`'s element (channels first..first+6: centre, area, normal; first = 8: its wall)
+// seen from the receiver (xr, nr): the disc form factor, and what the exact forms need.
+lfloat discGatherFormFactor(lvec3 xr, lvec3 nr, lint index, int first, lbool use, float horizon, OUT(lvec3) c,
+                            OUT(lfloat) area, OUT(lvec3) n, OUT(lvec3) v, OUT(lfloat) d2) {
+    c = gatherDisc3(index, first, use);
+    area = gatherDisc(index, first + 3, use);
+    n = gatherDisc3(index, first + 4, use);
+    v = c - xr;
+    d2 = dot(v, v);
+    return discFormFactor(v, d2, nr, n, area, horizon);
+}
+
 // A disc closer than this many radii is replaced by its polygon: there the disc's form factor
 // saturates towards cos(receiver) whatever part of the hemisphere the element really covers
 // (a floor seen at a grazing angle, merged into nodes far larger in the world than on screen).
@@ -426,14 +527,14 @@ CONST_GLOBAL float DISC_NEAR_RADII = 3.0f;
 // view ray through its centre, its other sides at constant z in its plane. A disc as far as its half length is a poor
 // stand-in for a long strip, so nearer than DISC_NEAR_RADII of that it is the parallelogram's
 // exact form factor. The range ramp spans the half length.
-lfloat discWallContribution(lvec3 xr, lvec3 nr, lint index, lbool use) {
-    lvec3 c = gatherDisc3(index, 8, use);
-    lfloat area = gatherDisc(index, 11, use);
-    lvec3 n = gatherDisc3(index, 12, use);
+void discWallContribution(lvec3 xr, lvec3 nr, lint index, lbool use, lfloat weight, INOUT(DiscBins) bins) {
+    lvec3 c;
+    lfloat area;
+    lvec3 n;
+    lvec3 v;
+    lfloat d2;
+    lfloat ff = discGatherFormFactor(xr, nr, index, 8, use, DISC_WALL_HORIZON, c, area, n, v, d2);
     lfloat wallLength = gatherDisc(index, 15, use);
-    lvec3 v = c - xr;
-    lfloat d2 = dot(v, v);
-    lfloat ff = discFormFactor(v, d2, nr, n, area, DISC_WALL_HORIZON);
     lfloat halfLength = 0.5f * wallLength;
     lfloat reach2 = area * (1.0f / PI) + halfLength * halfLength;
     lbool near = use && d2 < (DISC_NEAR_RADII * DISC_NEAR_RADII) * reach2;
@@ -456,21 +557,21 @@ lfloat discWallContribution(lvec3 xr, lvec3 nr, lint index, lbool use) {
     // whose own elements already count. Walls facing apart (a pole's two sides) count whole.
     lfloat facing = gatherDisc(index, 16, use);
     lbool inner = abs(facing) > 0.5f && dot(n, xr - c) * facing < 0.0f;
-    ff = select(inner, lfloat(0.0f), ff);
-    return select(use && area > 0.0f, ff, lfloat(0.0f));
+    ff = select(inner || !(use && area > 0.0f), lfloat(0.0f), ff * weight);
+    discAdd(bins, nr, v, d2, area * (1.0f / PI) + halfLength * halfLength, ff);
 }
 
 // The element of pyramid texel `index` (node (ex, ey) of `level`) and its wall where `wall`:
 // their occlusion of the receiver (xr, nr), `weight` included; `polygon`: always the exact
 // footprint form factor.
-lfloat discContribution(lvec3 xr, lvec3 nr, lint index, lbool use, lbool wall, lfloat weight, bool polygon, lint ex,
-                        lint ey, int level) {
-    lvec3 e = gatherDisc3(index, 0, use);
-    lfloat area = gatherDisc(index, 3, use);
-    lvec3 ne = gatherDisc3(index, 4, use);
-    lvec3 v = e - xr;
-    lfloat d2 = dot(v, v);
-    lfloat ff = discFormFactor(v, d2, nr, ne, area, DISC_HORIZON);
+void discContribution(lvec3 xr, lvec3 nr, lint index, lbool use, lbool wall, lfloat weight, bool polygon, lint ex,
+                      lint ey, int level, INOUT(DiscBins) bins) {
+    lvec3 e;
+    lfloat area;
+    lvec3 ne;
+    lvec3 v;
+    lfloat d2;
+    lfloat ff = discGatherFormFactor(xr, nr, index, 0, use, DISC_HORIZON, e, area, ne, v, d2);
     lbool near = use && d2 * PI < (DISC_NEAR_RADII * DISC_NEAR_RADII) * area;
     if (polygon) {
         near = use;
@@ -479,15 +580,14 @@ lfloat discContribution(lvec3 xr, lvec3 nr, lint index, lbool use, lbool wall, l
         ff = select(near, discPolygonFormFactor(xr, nr, e, ne, area, ex, ey, level), ff);
     }
     ff = select(use && area > 0.0f, ff * discRangeWeight(sqrt(d2), area), lfloat(0.0f));
+    if (P.discVisibility != 0) {
+        weight = weight * gatherDisc(index, 7, use);
+    }
+    discAdd(bins, nr, v, d2, area * (1.0f / PI), ff * weight);
     lbool walled = wall && gatherDisc(index, 11, wall) > 0.0f;
     if (anyLane(walled)) {
-        ff += discWallContribution(xr, nr, index, walled);
+        discWallContribution(xr, nr, index, walled, weight, bins);
     }
-    ff = ff * weight;
-    if (P.discVisibility != 0) {
-        ff = ff * gatherDisc(index, 7, use);
-    }
-    return select(use, ff, lfloat(0.0f));
 }
 
 // How far, in pixels, the sphere of radius R around a receiver at view position xr reaches on
@@ -532,7 +632,8 @@ lfloat discsLanes(lint x, lint y) {
     lfloat py = lfloat(y) + 0.5f;
     int k = P.discWindow;
     int span = 4 * k + 2;
-    lfloat occlusion = lfloat(0.0f);
+    DiscBins bins;
+    discStartBins(bins, nr);
     for (int level = P.discTop; level >= 0; --level) {
         // Lanes whose top is coarser go on; at its top a lane takes its nodes whole.
         lbool visiting = computing && !(topLevel < lint(level));
@@ -576,8 +677,8 @@ lfloat discsLanes(lint x, lint y) {
                     if (level == 0) {
                         wall = use && (nx < x || nx > x || ny < y || ny > y);
                     }
-                    occlusion += discContribution(xr, nr, levelOffset + nx + ny * levelW, use, wall, weight, false, nx, ny,
-                                                  level);
+                    discContribution(xr, nr, levelOffset + nx + ny * levelW, use, wall, weight, false, nx, ny, level,
+                                     bins);
                 }
             }
         }
@@ -589,10 +690,10 @@ lfloat discsLanes(lint x, lint y) {
                     lint ex = x + i;
                     lint ey = y + j;
                     lbool use = computing && insideBuffer(ex, ey);
-                    occlusion += discContribution(xr, nr, ex + ey * P.width, use, use, lfloat(1.0f), true, ex, ey, 0);
+                    discContribution(xr, nr, ex + ey * P.width, use, use, lfloat(1.0f), true, ex, ey, 0, bins);
                 }
             }
         }
     }
-    return select(computing, clamp(1.0f - occlusion, 0.0f, 1.0f), 1.0f);
+    return select(computing, clamp(1.0f - discOcclusion(bins), 0.0f, 1.0f), 1.0f);
 }

@@ -133,7 +133,10 @@ std::vector<MethodInfo> makeTable() {
                               "discs: change level at window edges, without blending", &Settings::discsHardLevels),
                   switchParam("disc_no_polygon", "--disc-no-polygon",
                               "discs: discs for the 8 nearest pixels too, not their exact polygons",
-                              &Settings::discsNoPolygon)},
+                              &Settings::discsNoPolygon),
+                  switchParam("disc_sum", "--disc-sum",
+                              "discs: sum the form factors (occluders behind occluders count twice), not their union over hemisphere bins",
+                              &Settings::discsSum)},
                  // Nodes visited per pass: about seven levels of (4k + 2)^2 for a typical reach.
                  [](const Settings& s) { return 7 * (4 * s.discsWindow + 2) * (4 * s.discsWindow + 2) * s.discsPasses; },
                  nullptr, &runDiscsMethod});
