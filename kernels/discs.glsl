@@ -418,26 +418,28 @@ lfloat discPolygonFormFactor(lvec3 xr, lvec3 nr, lvec3 e, lvec3 ne, lfloat area,
 }
 
 // Occluders behind occluders (the stairs: each riser hides the next tread) must not count
-// twice, as a plain sum of form factors does. The receiver's hemisphere is split into
-// DISC_AZIMUTHS slices by DISC_RINGS rings of equal cosine weight (ring edges at sin^2 of the
-// elevation i / DISC_RINGS); each form factor is spread over the bins its direction falls in
-// (a tent as wide as the element's angular radius, at least one bin, so a uniformly covered
-// region fills every bin exactly), and a bin counts at most its weight. Where no bin
-// overflows this is the sum; a plane's elements have form factor 0 and cover nothing.
-CONST_GLOBAL int DISC_AZIMUTHS = 8;
-CONST_GLOBAL int DISC_RINGS = 4;
-CONST_GLOBAL int DISC_BINS = 32;
+// twice, as a plain sum of form factors does. The receiver's hemisphere is cut into
+// DISC_SLICES azimuth slices; each keeps the sum of the form factors that fall in it and the
+// highest elevation any of them reaches. Within a slice nothing can occlude more than all
+// directions below that elevation, (1 / DISC_SLICES) sin^2(h), so the slice counts at most
+// that: a riser in front caps the treads and risers it hides. A thin pole covers a small part
+// of its slice and is never capped; a plane's elements have form factor 0. Each form factor is
+// spread over the slices its direction falls in (a tent at least one slice wide, so the
+// result moves smoothly with the receiver).
+CONST_GLOBAL int DISC_SLICES = 8;
 
 struct DiscBins {
-    lfloat cover[DISC_BINS];  // occlusion gathered in each bin (azimuth-major)
-    lfloat sum;               // the plain sum (P.discUnion == 0)
-    lvec3 t1;                 // the receiver's tangent frame: azimuth 0 ...
-    lvec3 t2;                 // ... and a quarter turn on
+    lfloat cover[DISC_SLICES];  // form factors gathered in each slice
+    lfloat top[DISC_SLICES];    // sin^2 of the highest elevation reached in each slice
+    lfloat sum;                 // the plain sum (P.discUnion == 0)
+    lvec3 t1;                   // the receiver's tangent frame: azimuth 0 ...
+    lvec3 t2;                   // ... and a quarter turn on
 };
 
 void discStartBins(OUT(DiscBins) bins, lvec3 nr) {
-    for (int i = 0; i < DISC_BINS; ++i) {
+    for (int i = 0; i < DISC_SLICES; ++i) {
         bins.cover[i] = lfloat(0.0f);
+        bins.top[i] = lfloat(0.0f);
     }
     bins.sum = lfloat(0.0f);
     lvec3 a = select(abs(nr.y) < 0.9f, lvec3(lfloat(0.0f), lfloat(1.0f), lfloat(0.0f)),
@@ -447,51 +449,41 @@ void discStartBins(OUT(DiscBins) bins, lvec3 nr) {
     bins.t2 = cross(nr, bins.t1);
 }
 
-// Adds form factor ff of an element at v from the receiver (normal nr), reach2 its radius
-// squared (its angular radius spreads it over more bins).
+// Adds form factor ff of an element at v from the receiver (normal nr); reach2: its radius
+// squared, which widens its tent and raises its top.
 void discAdd(INOUT(DiscBins) bins, lvec3 nr, lvec3 v, lfloat d2, lfloat reach2, lfloat ff) {
     if (P.discUnion == 0) {
         bins.sum += ff;
         return;
     }
-    float slices = float(DISC_AZIMUTHS);
-    float rings = float(DISC_RINGS);
+    float slices = float(DISC_SLICES);
     lfloat invD = inversesqrt(max(d2, lfloat(1e-30f)));
     lfloat s = clamp(dot(nr, v) * invD, 0.0f, 1.0f);
     lfloat c = sqrt(max(1.0f - s * s, lfloat(1e-6f)));
-    lfloat rho = sqrt(reach2) * invD;
-    lfloat u = atan(dot(bins.t2, v), dot(bins.t1, v)) * (slices / TWO_PI);
-    u = select(u < 0.0f, u + slices, u);
-    // Tent half-widths in bins: the angular radius across the slices (wider near the pole)
-    // and across the rings (d(s^2 rings)/dh = 2 s c rings).
-    // A form factor is the share of the weight the element covers, so it covers at least
-    // ff * DISC_BINS bins: a near element is widened to that (its shape from the angular radius).
-    lfloat wa = max(rho / c * (slices / TWO_PI), 1.0f);
-    lfloat we = max(2.0f * s * c * rho * rings, 1.0f);
-    lfloat widen = sqrt(max(ff * float(DISC_BINS) / (wa * we), 1.0f));
-    lfloat invWa = 1.0f / min(wa * widen, lfloat(0.5f * slices));
-    lfloat invWe = 1.0f / min(we * widen, lfloat(rings));
-    lfloat e = clamp(s * s * rings - 0.5f, 0.0f, rings - 1.0f);
-    lfloat ta[DISC_AZIMUTHS];
-    lfloat te[DISC_RINGS];
+    lfloat rho = min(sqrt(reach2) * invD, lfloat(1.5f));
+    // Top: the elevation h + rho, to first order; as sin^2.
+    lfloat top = min(s + c * rho, 1.0f);
+    top = top * top;
+    // Azimuth as a diamond angle (0..4 round the circle, octant edges at multiples of 1/2):
+    // eight slices of equal weight without an arc tangent.
+    lfloat x = dot(bins.t1, v);
+    lfloat y = dot(bins.t2, v);
+    lfloat q = y / max(abs(x) + abs(y), lfloat(1e-30f));
+    lfloat u = select(x < 0.0f, 2.0f - q, select(y < 0.0f, 4.0f + q, q)) * (slices * 0.25f);
+    lfloat invW = 1.0f / clamp(rho / c * (slices / TWO_PI), 1.0f, 0.5f * slices);
+    lfloat ta[DISC_SLICES];
     lfloat sa = lfloat(0.0f);
-    lfloat se = lfloat(0.0f);
-    for (int j = 0; j < DISC_AZIMUTHS; ++j) {
+    for (int j = 0; j < DISC_SLICES; ++j) {
         lfloat dist = abs(u - float(j));
         dist = min(dist, slices - dist);
-        ta[j] = max(1.0f - dist * invWa, 0.0f);
+        ta[j] = max(1.0f - dist * invW, 0.0f);
         sa += ta[j];
     }
-    for (int i = 0; i < DISC_RINGS; ++i) {
-        te[i] = max(1.0f - abs(e - float(i)) * invWe, 0.0f);
-        se += te[i];
-    }
-    lfloat scale = ff / (sa * se);
-    for (int j = 0; j < DISC_AZIMUTHS; ++j) {
-        lfloat fj = ta[j] * scale;
-        for (int i = 0; i < DISC_RINGS; ++i) {
-            bins.cover[j * DISC_RINGS + i] += fj * te[i];
-        }
+    lfloat scale = ff / sa;
+    lbool covering = ff > 0.0f;
+    for (int j = 0; j < DISC_SLICES; ++j) {
+        bins.cover[j] += ta[j] * scale;
+        bins.top[j] = max(bins.top[j], select(covering && ta[j] > 0.0f, top, lfloat(0.0f)));
     }
 }
 
@@ -500,8 +492,8 @@ lfloat discOcclusion(DiscBins bins) {
         return bins.sum;
     }
     lfloat occlusion = lfloat(0.0f);
-    for (int i = 0; i < DISC_BINS; ++i) {
-        occlusion += min(bins.cover[i], lfloat(1.0f / float(DISC_BINS)));
+    for (int j = 0; j < DISC_SLICES; ++j) {
+        occlusion += min(bins.cover[j], bins.top[j] * (1.0f / float(DISC_SLICES)));
     }
     return occlusion;
 }

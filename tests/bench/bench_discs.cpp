@@ -89,6 +89,9 @@ int main(int argc, char** argv) {
     s = base("discs", "medium");
     s.discsHardLevels = true;
     add("discs_medium/hard-levels", s);
+    s = base("discs", "medium");
+    s.discsSum = true;
+    add("discs_medium/sum", s);
     if (std::getenv("OBSCURA_BENCH_GL")) {
         s = base("discs", "medium");
         s.device = "gl-osmesa";
