@@ -464,12 +464,10 @@ void discAdd(INOUT(DiscBins) bins, lvec3 nr, lvec3 v, lfloat d2, lfloat reach2, 
     // Top: the elevation h + rho, to first order; as sin^2.
     lfloat top = min(s + c * rho, 1.0f);
     top = top * top;
-    // Azimuth as a diamond angle (0..4 round the circle, octant edges at multiples of 1/2):
-    // eight slices of equal weight without an arc tangent.
-    lfloat x = dot(bins.t1, v);
-    lfloat y = dot(bins.t2, v);
-    lfloat q = y / max(abs(x) + abs(y), lfloat(1e-30f));
-    lfloat u = select(x < 0.0f, 2.0f - q, select(y < 0.0f, 4.0f + q, q)) * (slices * 0.25f);
+    // Azimuth in slices; the true angle, so that a uniformly covered region fills its slices
+    // exactly (a tent's integral over them).
+    lfloat u = atan(dot(bins.t2, v), dot(bins.t1, v)) * (slices / TWO_PI);
+    u = select(u < 0.0f, u + slices, u);
     lfloat invW = 1.0f / clamp(rho / c * (slices / TWO_PI), 1.0f, 0.5f * slices);
     lfloat ta[DISC_SLICES];
     lfloat sa = lfloat(0.0f);
