@@ -496,16 +496,47 @@ lfloat discOcclusion(DiscBins bins) {
     return occlusion;
 }
 
-// Node `index`'s element (channels first..first+6: centre, area, normal; first = 8: its wall)
-// seen from the receiver (xr, nr): the disc form factor, and what the exact forms need.
-lfloat discGatherFormFactor(lvec3 xr, lvec3 nr, lint index, int first, lbool use, float horizon, OUT(lvec3) c,
-                            OUT(lfloat) area, OUT(lvec3) n, OUT(lvec3) v, OUT(lfloat) d2) {
+// Node `index`'s element (channels first..first+6: centre, area, normal; first = 8: its wall).
+void discGather(lint index, int first, lbool use, OUT(lvec3) c, OUT(lfloat) area, OUT(lvec3) n) {
     c = gatherDisc3(index, first, use);
     area = gatherDisc(index, first + 3, use);
     n = gatherDisc3(index, first + 4, use);
-    v = c - xr;
-    d2 = dot(v, v);
-    return discFormFactor(v, d2, nr, n, area, horizon);
+}
+
+// Past the buffer's edge (--border tangent, as HBAO's): node (ex, ey) of `level` is the edge
+// node's element (already in e, ne, area) continued along its tangent plane to the node's own
+// ray, with the area of that ray's footprint: a floor or wall running out of the frame goes on
+// occluding, and a plane stays a plane (its continuation lies in every receiver's tangent
+// plane). A plane seen edge-on or continued past the horizon gives nothing (use is cleared).
+void discContinue(lbool continued, lint ex, lint ey, int level, INOUT(lvec3) e, lvec3 ne, INOUT(lfloat) area,
+                  INOUT(lbool) use) {
+    float size = float(1 << level);
+    lint cx = clamp(ex, lint(0), lint(discLevelWidth(level) - 1));
+    lint cy = clamp(ey, lint(0), lint(discLevelHeight(level) - 1));
+    lvec3 rayE = viewRay(lvec2((lfloat(cx) + 0.5f) * size + float(P.originX), (lfloat(cy) + 0.5f) * size + float(P.originY)));
+    lvec3 ray = viewRay(lvec2((lfloat(ex) + 0.5f) * size + float(P.originX), (lfloat(ey) + 0.5f) * size + float(P.originY)));
+    lvec3 p;
+    lbool ok = continued;
+    if (P.orthographic != 0) {
+        ok = ok && abs(ne.z) > 1e-3f;
+        lfloat nz = select(ok, ne.z, lfloat(1.0f));
+        p = lvec3(ray.x, ray.y, e.z - (ne.x * (ray.x - e.x) + ne.y * (ray.y - e.y)) / nz);
+    } else {
+        lfloat facing = dot(ne, ray);
+        lfloat t = dot(ne, e) / select(abs(facing) > 1e-30f, facing, lfloat(1.0f));
+        ok = ok && abs(facing) > 1e-30f && t > 0.0f && t < 1e30f;
+        p = ray * select(ok, t, lfloat(1.0f));
+    }
+    lvec3 du;
+    lvec3 dv;
+    discAxes(rayE, e, ne, du, dv);
+    lvec3 c0 = cross(du, dv);
+    discAxes(ray, p, ne, du, dv);
+    lvec3 c1 = cross(du, dv);
+    lfloat ratio = sqrt(dot(c1, c1) / max(dot(c0, c0), lfloat(1e-36f)));
+    area = select(ok, area * ratio, area);
+    e = select(ok, p, e);
+    use = use && (ok || !continued);
 }
 
 // A disc closer than this many radii is replaced by its polygon: there the disc's form factor
@@ -521,9 +552,10 @@ void discWallContribution(lvec3 xr, lvec3 nr, lint index, lbool use, lfloat weig
     lvec3 c;
     lfloat area;
     lvec3 n;
-    lvec3 v;
-    lfloat d2;
-    lfloat ff = discGatherFormFactor(xr, nr, index, 8, use, DISC_WALL_HORIZON, c, area, n, v, d2);
+    discGather(index, 8, use, c, area, n);
+    lvec3 v = c - xr;
+    lfloat d2 = dot(v, v);
+    lfloat ff = discFormFactor(v, d2, nr, n, area, DISC_WALL_HORIZON);
     lfloat wallLength = gatherDisc(index, 15, use);
     lfloat halfLength = 0.5f * wallLength;
     lfloat reach2 = area * (1.0f / PI) + halfLength * halfLength;
@@ -555,13 +587,17 @@ void discWallContribution(lvec3 xr, lvec3 nr, lint index, lbool use, lfloat weig
 // their occlusion of the receiver (xr, nr), `weight` included; `polygon`: always the exact
 // footprint form factor.
 void discContribution(lvec3 xr, lvec3 nr, lint index, lbool use, lbool wall, lfloat weight, bool polygon, lint ex,
-                      lint ey, int level, INOUT(DiscBins) bins) {
+                      lint ey, int level, lbool continued, INOUT(DiscBins) bins) {
     lvec3 e;
     lfloat area;
     lvec3 ne;
-    lvec3 v;
-    lfloat d2;
-    lfloat ff = discGatherFormFactor(xr, nr, index, 0, use, DISC_HORIZON, e, area, ne, v, d2);
+    discGather(index, 0, use, e, area, ne);
+    if (anyLane(continued && use)) {
+        discContinue(continued, ex, ey, level, e, ne, area, use);
+    }
+    lvec3 v = e - xr;
+    lfloat d2 = dot(v, v);
+    lfloat ff = discFormFactor(v, d2, nr, ne, area, DISC_HORIZON);
     lbool near = use && d2 * PI < (DISC_NEAR_RADII * DISC_NEAR_RADII) * area;
     if (polygon) {
         near = use;
@@ -574,7 +610,7 @@ void discContribution(lvec3 xr, lvec3 nr, lint index, lbool use, lbool wall, lfl
         weight = weight * gatherDisc(index, 7, use);
     }
     discAdd(bins, nr, v, d2, area * (1.0f / PI), ff * weight);
-    lbool walled = wall && gatherDisc(index, 11, wall) > 0.0f;
+    lbool walled = wall && !continued && gatherDisc(index, 11, wall) > 0.0f;
     if (anyLane(walled)) {
         discWallContribution(xr, nr, index, walled, weight, bins);
     }
@@ -646,7 +682,11 @@ lfloat discsLanes(lint x, lint y) {
             lfloat pidy = abs(lfloat((ny >> 1) - (y >> (level + 1))));
             for (int i = 0; i < span; ++i) {
                 lint nx = bx + i;
-                lbool use = visiting && nx >= 0 && ny >= 0 && nx < levelW && ny < levelH;
+                lbool inside = nx >= 0 && ny >= 0 && nx < levelW && ny < levelH;
+                lbool use = visiting && inside;
+                if (P.hbaoBorder == 2) {
+                    use = visiting;
+                }
                 lfloat weight = lfloat(1.0f);
                 if (level > 0) {
                     lfloat dist = max(abs((lfloat(nx) + 0.5f) * size - px), dy) * (1.0f / size);
@@ -667,8 +707,8 @@ lfloat discsLanes(lint x, lint y) {
                     if (level == 0) {
                         wall = use && (nx < x || nx > x || ny < y || ny > y);
                     }
-                    discContribution(xr, nr, levelOffset + nx + ny * levelW, use, wall, weight, false, nx, ny, level,
-                                     bins);
+                    lint index = levelOffset + clamp(nx, lint(0), lint(levelW - 1)) + clamp(ny, lint(0), lint(levelH - 1)) * levelW;
+                    discContribution(xr, nr, index, use, wall, weight, false, nx, ny, level, !inside, bins);
                 }
             }
         }
@@ -679,8 +719,13 @@ lfloat discsLanes(lint x, lint y) {
                 if (i != 0 || j != 0) {
                     lint ex = x + i;
                     lint ey = y + j;
-                    lbool use = computing && insideBuffer(ex, ey);
-                    discContribution(xr, nr, ex + ey * P.width, use, use, lfloat(1.0f), true, ex, ey, 0, bins);
+                    lbool inside = insideBuffer(ex, ey);
+                    lbool use = computing && inside;
+                    if (P.hbaoBorder == 2) {
+                        use = computing;
+                    }
+                    lint index = clamp(ex, lint(0), lint(P.width - 1)) + clamp(ey, lint(0), lint(P.height - 1)) * P.width;
+                    discContribution(xr, nr, index, use, use, lfloat(1.0f), true, ex, ey, 0, !inside, bins);
                 }
             }
         }
