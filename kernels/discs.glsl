@@ -421,7 +421,7 @@ lfloat discPolygonFormFactor(lvec3 xr, lvec3 nr, lvec3 e, lvec3 ne, lfloat area,
 // twice, as a plain sum of form factors does. The receiver's hemisphere is cut into
 // DISC_SLICES azimuth slices; each keeps the sum of the form factors that fall in it and the
 // highest elevation any of them reaches. Within a slice nothing can occlude more than all
-// directions below that elevation, (1 / DISC_SLICES) sin^2(h), so the slice counts at most
+// directions below that elevation, (1 / DISC_SLICES) sin^2(h) (uniform weighting: sin(h)), so the slice counts at most
 // that: a riser in front caps the treads and risers it hides. A thin pole covers a small part
 // of its slice and is never capped; a plane's elements have form factor 0. Each form factor is
 // spread over the slices its direction falls in (a tent at least one slice wide, so the
@@ -430,7 +430,7 @@ CONST_GLOBAL int DISC_SLICES = 8;
 
 struct DiscBins {
     lfloat cover[DISC_SLICES];  // form factors gathered in each slice
-    lfloat top[DISC_SLICES];    // sin^2 of the highest elevation reached in each slice
+    lfloat top[DISC_SLICES];    // share of the slice below the highest elevation reached in it
     lfloat sum;                 // the plain sum (P.discUnion == 0)
     lvec3 t1;                   // the receiver's tangent frame: azimuth 0 ...
     lvec3 t2;                   // ... and a quarter turn on
@@ -452,18 +452,28 @@ void discStartBins(OUT(DiscBins) bins, lvec3 nr) {
 // Adds form factor ff of an element at v from the receiver (normal nr); reach2: its radius
 // squared, which widens its tent and raises its top.
 void discAdd(INOUT(DiscBins) bins, lvec3 nr, lvec3 v, lfloat d2, lfloat reach2, lfloat ff) {
+    lfloat invD = inversesqrt(max(d2, lfloat(1e-30f)));
+    lfloat s = clamp(dot(nr, v) * invD, 0.0f, 1.0f);
+    lfloat rho = min(sqrt(reach2) * invD, lfloat(1.5f));
+    if (P.cosineWeighting == 0) {
+        // Uniform weighting (--weighting uniform): the share of the hemisphere's solid angle,
+        // d(omega) / 2 pi = (d(omega) cos / pi) / (2 cos) with cos = sin(elevation) at the
+        // element's centre; near the horizon at least half its angular radius up (the slice
+        // caps the rest).
+        ff = ff / (2.0f * max(s, max(0.5f * rho, lfloat(0.05f))));
+    }
     if (P.discUnion == 0) {
         bins.sum += ff;
         return;
     }
     float slices = float(DISC_SLICES);
-    lfloat invD = inversesqrt(max(d2, lfloat(1e-30f)));
-    lfloat s = clamp(dot(nr, v) * invD, 0.0f, 1.0f);
     lfloat c = sqrt(max(1.0f - s * s, lfloat(1e-6f)));
-    lfloat rho = min(sqrt(reach2) * invD, lfloat(1.5f));
-    // Top: the elevation h + rho, to first order; as sin^2.
+    // Top: the elevation h + rho, to first order; as the slice's share below it: sin^2 for
+    // cosine weighting, sin for uniform.
     lfloat top = min(s + c * rho, 1.0f);
-    top = top * top;
+    if (P.cosineWeighting != 0) {
+        top = top * top;
+    }
     // Azimuth in slices; the true angle, so that a uniformly covered region fills its slices
     // exactly (a tent's integral over them).
     lfloat u = atan(dot(bins.t2, v), dot(bins.t1, v)) * (slices / TWO_PI);
