@@ -474,10 +474,13 @@ void discAdd(INOUT(DiscBins) bins, lvec3 nr, lvec3 v, lfloat d2, lfloat reach2, 
     if (P.cosineWeighting != 0) {
         top = top * top;
     }
-    // Azimuth in slices; the true angle, so that a uniformly covered region fills its slices
-    // exactly (a tent's integral over them).
-    lfloat u = atan(dot(bins.t2, v), dot(bins.t1, v)) * (slices / TWO_PI);
-    u = select(u < 0.0f, u + slices, u);
+    // Azimuth in slices, as a diamond angle (0..4 round the circle, octant edges at multiples
+    // of 1/2): eight slices of equal weight without an arc tangent (the true angle gained
+    // 0.03 dB on the report's mean).
+    lfloat ax = dot(bins.t1, v);
+    lfloat ay = dot(bins.t2, v);
+    lfloat q = ay / max(abs(ax) + abs(ay), lfloat(1e-30f));
+    lfloat u = select(ax < 0.0f, 2.0f - q, select(ay < 0.0f, 4.0f + q, q)) * (slices * 0.25f);
     lfloat invW = 1.0f / clamp(rho / c * (slices / TWO_PI), 1.0f, 0.5f * slices);
     lfloat ta[DISC_SLICES];
     lfloat sa = lfloat(0.0f);

@@ -92,6 +92,9 @@ int main(int argc, char** argv) {
     s = base("discs", "medium");
     s.discsSum = true;
     add("discs_medium/sum", s);
+    s = base("discs", "medium");
+    s.border = kBorderOpen;
+    add("discs_medium/border-open", s);
     if (std::getenv("OBSCURA_BENCH_GL")) {
         s = base("discs", "medium");
         s.device = "gl-osmesa";
