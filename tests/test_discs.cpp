@@ -177,16 +177,7 @@ TEST(Discs, TangentBorderRecoversWhatOverscanShows) {
     for (int border : {kBorderOpen, kBorderTangent}) {
         Settings s = discsSettings("cpu", 1.0f);
         s.border = border;
-        const Image cropped = runOperator(part.inputs(), s).ao;
-        pixels = 0;
-        for (int y = crop.y0; y < crop.y1; ++y)
-            for (int x = crop.x0; x < crop.x1; ++x) {
-                const int edge = std::min(std::min(x - crop.x0, crop.x1 - 1 - x), std::min(y - crop.y0, crop.y1 - 1 - y));
-                if (edge >= 12 || *full.depth.at(x, y) >= 1e9f) continue;
-                error[border] += std::abs(*cropped.at(x - crop.x0, y - crop.y0) - *whole.at(x, y));
-                ++pixels;
-            }
-        error[border] /= pixels;
+        error[border] = meanEdgeBandError(full, whole, crop, runOperator(part.inputs(), s).ao, 12, &pixels);
     }
     std::printf("mean |AO - full-frame AO| within 12 px of the edge: open %.4f, tangent %.4f (%d px)\n",
                 error[kBorderOpen], error[kBorderTangent], pixels);
