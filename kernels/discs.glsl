@@ -420,9 +420,9 @@ lfloat discPolygonFormFactor(lvec3 xr, lvec3 nr, lvec3 e, lvec3 ne, lfloat area,
 // Occluders behind occluders (the stairs: each riser hides the next tread) must not count
 // twice, as a plain sum of form factors does. The receiver's hemisphere is cut into
 // DISC_SLICES azimuth slices; each keeps the sum of the form factors that fall in it and the
-// highest elevation any of them reaches. Within a slice nothing can occlude more than all
-// directions below that elevation, (1 / DISC_SLICES) sin^2(h) (uniform weighting: sin(h)), so the slice counts at most
-// that: a riser in front caps the treads and risers it hides. A thin pole covers a small part
+// highest elevation h any of them reaches. Within a slice nothing can occlude more than all
+// directions below h, (1 / DISC_SLICES) sin^2(h) (uniform weighting: sin(h)), so the slice
+// counts at most that: a riser in front caps the treads and risers it hides. A thin pole covers a small part
 // of its slice and is never capped; a plane's elements have form factor 0. Each form factor is
 // spread over the slices its direction falls in (a tent at least one slice wide, so the
 // result moves smoothly with the receiver).
