@@ -95,12 +95,14 @@ TEST(Discs, OpenPlaneIsExactlyUnoccluded) {
 }
 
 // Floor next to a wall: along lines at distance d the AO approaches the closed form as the
-// window grows. Measured errors (all too light): 0.026-0.041 two pixels from the crease
-// (d = 0.05, a pixel being 0.025 here), then for d >= 0.2 at most 0.024 (k 1), 0.013 (k 2),
-// 0.0075 (k 3), 0.0056 (k 4). Bounds add margin; a lost or double-counted level costs > 0.1.
+// window grows. Measured errors (all too light): 0.017-0.031 two pixels from the crease
+// (d = 0.05, a pixel being 0.025 here), then for d >= 0.2 at most 0.027 (k 1), 0.015 (k 2),
+// 0.012 (k 3), 0.011 (k 4); with the plain sum (--disc-sum) 0.024, 0.013, 0.0075, 0.0056:
+// the union per slice loses up to 0.005 where its tents overfill a slice beside the wall's
+// edge. Bounds add margin; a lost or double-counted level costs > 0.1.
 TEST(Discs, CornerApproachesTheClosedForm) {
     const SceneBuffers sb = cornerView(320, 240);
-    const double bound[] = {0.03, 0.02, 0.012, 0.01};
+    const double bound[] = {0.035, 0.02, 0.015, 0.015};
     for (int k = 1; k <= 4; ++k) {
         Settings s = discsSettings("cpu", 1.0f);
         s.discsWindow = k;
