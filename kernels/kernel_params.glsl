@@ -63,5 +63,6 @@ struct KernelParams {
 
     int discBlend;               // 1: smooth open weights between levels; 0: hard windows
     int discVisibility;          // 1: weight each element by channel 7, its first-pass AO
-    int pad7, pad8;
+    int discUnion;               // 1: occlusion as a union over hemisphere bins; 0: the plain sum
+    int pad8;
 };

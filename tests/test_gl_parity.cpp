@@ -312,17 +312,18 @@ TEST(GlParity, SsaoMatchesCpu) {
 
 // Disc AO: the GL program reads the CPU's pyramid and runs the same kernels/discs.glsl, so it
 // equals the CPU within 1e-3 with every correction switched off in turn, the second pass and
-// the blur, through a pinhole and an orthographic camera.
+// the blur, the plain sum and uniform weighting, through a pinhole and an orthographic camera.
 TEST(GlParity, DiscsMatchCpu) {
     const std::vector<SceneBuffers> views = studioViews(128, 96);
     for (const SceneBuffers* scene : {&views[0], &views[1]})
-        for (int variant = 0; variant < 5; ++variant) {
-            Settings s = makeSettings("cpu", Weighting::Cosine, variant == 4 ? Falloff::Linear : Falloff::None,
-                                      variant == 4 ? 2 : 0);
+        for (int variant = 0; variant < 7; ++variant) {
+            Settings s = makeSettings("cpu", variant == 6 ? Weighting::Uniform : Weighting::Cosine,
+                                      variant == 4 ? Falloff::Linear : Falloff::None, variant == 4 ? 2 : 0);
             s.method = "discs";
             s.discsPasses = variant == 1 ? 2 : 1;
             s.discsNoPolygon = variant == 2;
             s.discsHardLevels = variant == 3;
+            s.discsSum = variant == 5;
             const OperatorOutputs cpu = runOperator(scene->inputs(), s);
             ASSERT_LT(*std::min_element(cpu.ao.pixels.begin(), cpu.ao.pixels.end()), 0.9f)
                 << "the scene must have occlusion to compare";

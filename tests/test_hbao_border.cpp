@@ -64,15 +64,8 @@ TEST(HbaoBorder, TangentRecoversMostOfWhatOverscanShows) {
     int pixels = 0;
     for (int border : {kBorderOpen, kBorderClamp, kBorderTangent}) {
         const OperatorOutputs cropped = runOperator(part.inputs(), borderSettings(border));
-        pixels = 0;
-        for (int y = crop.y0; y < crop.y1; ++y)
-            for (int x = crop.x0; x < crop.x1; ++x) {
-                const int edge = std::min(std::min(x - crop.x0, crop.x1 - 1 - x), std::min(y - crop.y0, crop.y1 - 1 - y));
-                if (edge >= 12 || *full.depth.at(x, y) >= 1e9f) continue;  // the band the edge's policy reaches
-                error[border] += std::abs(*cropped.ao.at(x - crop.x0, y - crop.y0) - *whole.ao.at(x, y));
-                ++pixels;
-            }
-        error[border] /= pixels;
+        // 12 px: the band the edge's policy reaches
+        error[border] = meanEdgeBandError(full, whole.ao, crop, cropped.ao, 12, &pixels);
     }
     std::printf("mean |AO - overscan AO| within 12 px of the edge: open %.4f, clamp %.4f, tangent %.4f (%d px)\n",
                 error[kBorderOpen], error[kBorderClamp], error[kBorderTangent], pixels);

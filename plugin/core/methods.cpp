@@ -51,8 +51,10 @@ MethodParam thicknessParam() {
 MethodParam borderParam() {
     MethodParam p = intParam("border", "--border",
                              "hbao: samples past the buffer's edge see open sky (open), the edge texel's depth "
-                             "(clamp) or its tangent plane continued (tangent) (default tangent)",
+                             "(clamp) or its tangent plane continued (tangent); discs: tangent continues the edge "
+                             "nodes' planes, open and clamp leave nothing there (default tangent)",
                              kBorderOpen, kBorderTangent, &Settings::border);
+    p.alsoFor = {"discs"};
     p.value = "open|clamp|tangent";
     p.named = {{"open", kBorderOpen, kBorderOpen}, {"clamp", kBorderClamp, kBorderClamp},
                {"tangent", kBorderTangent, kBorderTangent}};
@@ -133,7 +135,10 @@ std::vector<MethodInfo> makeTable() {
                               "discs: change level at window edges, without blending", &Settings::discsHardLevels),
                   switchParam("disc_no_polygon", "--disc-no-polygon",
                               "discs: discs for the 8 nearest pixels too, not their exact polygons",
-                              &Settings::discsNoPolygon)},
+                              &Settings::discsNoPolygon),
+                  switchParam("disc_sum", "--disc-sum",
+                              "discs: sum the form factors (occluders behind occluders count twice), not their union per azimuth slice",
+                              &Settings::discsSum)},
                  // Nodes visited per pass: about seven levels of (4k + 2)^2 for a typical reach.
                  [](const Settings& s) { return 7 * (4 * s.discsWindow + 2) * (4 * s.discsWindow + 2) * s.discsPasses; },
                  nullptr, &runDiscsMethod});

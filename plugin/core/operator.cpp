@@ -186,6 +186,7 @@ KernelParams makeKernelParams(const OperatorInputs& in, const Settings& s) {
     p.discPolygon = s.discsNoPolygon ? 0 : 1;
     p.discBlend = s.discsHardLevels ? 0 : 1;
     p.discVisibility = 0;
+    p.discUnion = s.discsSum ? 0 : 1;
     return p;
 }
 

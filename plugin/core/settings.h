@@ -70,6 +70,7 @@ struct Settings {
     int discsPasses = 1;            // 2: weight each element by its own first-pass AO (correction c)
     bool discsHardLevels = false;   // switch levels at window edges, no blending (correction a off)
     bool discsNoPolygon = false;    // discs for the nearest pixels too (correction b off)
+    bool discsSum = false;          // sum the form factors, without the hemisphere bins' union
 };
 
 // Named quality levels: directions x steps (and blur), from a preview to near-converged.

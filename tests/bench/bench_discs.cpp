@@ -5,7 +5,8 @@
 //   "xHbaoHighCpu" the same for the process's CPU time (all threads), steadier than the
 //                frame time when other jobs share the cores;
 //   "pyramid_ms" (discs) the part spent building the pyramid on the host.
-// Then discs at each preset, and the default preset with each correction switched.
+// Then discs at each preset, and the default preset with each correction or option switched
+// (sum: without the union per slice; border-open: without the continuation past the edge).
 // Environment: OBSCURA_BENCH_WIDTH / OBSCURA_BENCH_HEIGHT, OBSCURA_BENCH_RADIUS (0.5),
 // OBSCURA_BENCH_GL=1 adds the discs default preset on gl-osmesa.
 #include "bench_env.h"
@@ -20,6 +21,7 @@
 #include <cstdlib>
 #include <map>
 #include <string>
+#include <utility>
 
 using namespace obscura;
 using namespace obscura::test;
@@ -80,17 +82,20 @@ int main(int argc, char** argv) {
     };
     add("hbao_high", base("hbao", "high"));  // first: the reference of xHbaoHigh
     for (const char* q : {"low", "medium", "high", "ultra"}) add(std::string("discs_") + q, base("discs", q));
-    Settings s = base("discs", "medium");
-    s.discsPasses = 2;
-    add("discs_medium/passes:2", s);
-    s = base("discs", "medium");
-    s.discsNoPolygon = true;
-    add("discs_medium/no-polygon", s);
-    s = base("discs", "medium");
-    s.discsHardLevels = true;
-    add("discs_medium/hard-levels", s);
+    // The default preset with one correction or option switched.
+    const std::pair<const char*, void (*)(Settings&)> variants[] = {
+        {"passes:2", [](Settings& s) { s.discsPasses = 2; }},
+        {"no-polygon", [](Settings& s) { s.discsNoPolygon = true; }},
+        {"hard-levels", [](Settings& s) { s.discsHardLevels = true; }},
+        {"sum", [](Settings& s) { s.discsSum = true; }},
+        {"border-open", [](Settings& s) { s.border = kBorderOpen; }}};
+    for (const auto& [name, set] : variants) {
+        Settings v = base("discs", "medium");
+        set(v);
+        add(std::string("discs_medium/") + name, v);
+    }
     if (std::getenv("OBSCURA_BENCH_GL")) {
-        s = base("discs", "medium");
+        Settings s = base("discs", "medium");
         s.device = "gl-osmesa";
         add("discs_medium/gl-osmesa", s);
     }

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -214,6 +215,21 @@ Settings hbaoSettings(Weighting w, Falloff f, float radius, int dirs, int steps)
     s.falloff = f;
     s.threads = 2;
     return s;
+}
+
+double meanEdgeBandError(const SceneBuffers& full, const Image& whole, const Box2i& crop, const Image& cropped, int band,
+                         int* pixels) {
+    double sum = 0;
+    int n = 0;
+    for (int y = crop.y0; y < crop.y1; ++y)
+        for (int x = crop.x0; x < crop.x1; ++x) {
+            const int edge = std::min(std::min(x - crop.x0, crop.x1 - 1 - x), std::min(y - crop.y0, crop.y1 - 1 - y));
+            if (edge >= band || *full.depth.at(x, y) >= 1e9f) continue;
+            sum += std::abs(*cropped.at(x - crop.x0, y - crop.y0) - *whole.at(x, y));
+            ++n;
+        }
+    *pixels = n;
+    return sum / std::max(n, 1);
 }
 
 } // namespace obscura::test

@@ -62,6 +62,11 @@ Camera cornerCamera(int width, int height);
 // (x = -d, z in [-1, 1] every 0.05); a point outside the frame fails the running test.
 double meanOnCornerLine(const SceneBuffers& sb, const Image& ao, double d);
 
+// Mean |cropped - whole| over the surface pixels of `full` within `band` pixels of the edge of
+// `crop` (cropped: the AO of the frame cut there; whole: of the full frame); *pixels: how many.
+double meanEdgeBandError(const SceneBuffers& full, const Image& whole, const Box2i& crop, const Image& cropped, int band,
+                         int* pixels);
+
 // A plane through the origin, its normal tilted `tiltDeg` from the view axis, seen from `dist`
 // along +Z (70 degree pinhole, or an orthographic view `dist` wide).
 SceneBuffers tiltedPlaneView(double tiltDeg, double dist, bool ortho, int width, int height);
