@@ -32,6 +32,8 @@ Settings discsSettings(const char* device, float radius) {
     s.radius = radius;
     s.weighting = Weighting::Cosine;
     s.falloff = Falloff::None;
+    s.discsWindow = 2; // the bounds below were measured at k 2; the default k 1 runs in the plane
+                       // test (k 1 and 2), the stiff suite and the CLI tests
     return s;
 }
 
@@ -152,6 +154,8 @@ TEST(Discs, AWallHiddenBehindAWallAddsLittle) {
     double darkening[2];
     for (bool sum : {false, true}) {
         Settings s = discsSettings("cpu", 1.0f);
+        // At k 1 (the default) the coarse nodes straddle both walls and the union does not
+        // help here (0.055 against the sum's 0.049): docs/discs.md.
         s.thickness = 0.0f;
         s.discsSum = sum;
         const Image a = runOperator(one.inputs(), s).ao, b = runOperator(two.inputs(), s).ao;
@@ -173,11 +177,14 @@ TEST(Discs, TangentBorderRecoversWhatOverscanShows) {
     const SceneBuffers full = renderScene(cornerScene(), cam, W, H);
     const Box2i crop{30, 20, 170, 130};
     const SceneBuffers part = renderScene(cornerScene(), cam, Box2i{0, 0, W, H}, crop);
-    const Image whole = runOperator(full.inputs(), discsSettings("cpu", 1.0f)).ao;
+    // k 2: a wider window reaches more nodes past the edge, so the edge matters more (at the
+    // default k 1 the continuation removes 45% of the open border's error here).
+    const Settings base = discsSettings("cpu", 1.0f);
+    const Image whole = runOperator(full.inputs(), base).ao;
     double error[3] = {0, 0, 0};
     int pixels = 0;
     for (int border : {kBorderOpen, kBorderTangent}) {
-        Settings s = discsSettings("cpu", 1.0f);
+        Settings s = base;
         s.border = border;
         error[border] = meanEdgeBandError(full, whole, crop, runOperator(part.inputs(), s).ao, 12, &pixels);
     }

@@ -126,7 +126,7 @@ std::vector<MethodInfo> makeTable() {
                   {"high", "k 3", [](Settings& s) { s.discsWindow = 3; }},
                   {"ultra", "k 4", [](Settings& s) { s.discsWindow = 4; }}},
                  {intParam("disc_window", "--disc-window",
-                           "discs: k, nodes open within k + 1/2 of their sizes: (4k+2)^2 per level (default 2)", 1, 4,
+                           "discs: k, nodes open within k + 1/2 of their sizes: (4k+2)^2 per level (default 1)", 1, 4,
                            &Settings::discsWindow),
                   intParam("disc_passes", "--disc-passes",
                            "discs: 2 weights each element by its own first-pass AO (default 1)", 1, 2,

@@ -66,7 +66,7 @@ struct Settings {
     int rtaoGrid = 1;               // trace every N-th pixel and interpolate; 1: every pixel
 
     // ---- method "discs" (hierarchical disc form factors, docs/discs.md) ----
-    int discsWindow = 2;            // k: a node is opened within k + 1/2 of its sizes of the receiver
+    int discsWindow = 1;            // k: a node is opened within k + 1/2 of its sizes of the receiver (1: the speed budget, docs/discs.md)
     int discsPasses = 1;            // 2: weight each element by its own first-pass AO (correction c)
     bool discsHardLevels = false;   // switch levels at window edges, no blending (correction a off)
     bool discsNoPolygon = false;    // discs for the nearest pixels too (correction b off)
