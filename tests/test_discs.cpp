@@ -172,13 +172,9 @@ TEST(Discs, AWallHiddenBehindAWallAddsLittle) {
 // surroundings in the buffer: within reach of the edge, the edge nodes' tangent planes
 // continued (--border tangent, the default) come closer to the full frame than nothing.
 TEST(Discs, TangentBorderRecoversWhatOverscanShows) {
-    const int W = 200, H = 150;
-    const Camera cam = cornerCamera(W, H);
-    const SceneBuffers full = renderScene(cornerScene(), cam, W, H);
-    const Box2i crop{30, 20, 170, 130};
-    const SceneBuffers part = renderScene(cornerScene(), cam, Box2i{0, 0, W, H}, crop);
-    // k 2: a wider window reaches more nodes past the edge, so the edge matters more (at the
-    // default k 1 the continuation removes 45% of the open border's error here).
+    const auto& [full, part, crop] = cornerCrop();
+    // k 2 (discsSettings): a wider window reaches more nodes past the edge, so the edge matters
+    // more (at the default k 1 the continuation removes 45% of the open border's error here).
     const Settings base = discsSettings("cpu", 1.0f);
     const Image whole = runOperator(full.inputs(), base).ao;
     double error[3] = {0, 0, 0};

@@ -53,11 +53,7 @@ TEST(HbaoBorder, TangentKeepsPlanesExactAtTheEdge) {
 // continuing the edge's tangent plane (floor and wall of the corner scene are planes) comes
 // closer to the overscan result than open sky, and the edge's depth alone lies in between.
 TEST(HbaoBorder, TangentRecoversMostOfWhatOverscanShows) {
-    const int W = 200, H = 150;
-    const Camera cam = cornerCamera(W, H);
-    const SceneBuffers full = renderScene(cornerScene(), cam, W, H);
-    const Box2i crop{30, 20, 170, 130};
-    const SceneBuffers part = renderScene(cornerScene(), cam, Box2i{0, 0, W, H}, crop);
+    const auto& [full, part, crop] = cornerCrop();
     const Settings open = borderSettings(kBorderOpen);
     const OperatorOutputs whole = runOperator(full.inputs(), open);
     double error[3] = {0, 0, 0};

@@ -217,6 +217,17 @@ Settings hbaoSettings(Weighting w, Falloff f, float radius, int dirs, int steps)
     return s;
 }
 
+const CornerCrop& cornerCrop() {
+    static const CornerCrop c = [] {
+        const int W = 200, H = 150;
+        const Camera cam = cornerCamera(W, H);
+        const Box2i crop{30, 20, 170, 130};
+        return CornerCrop{renderScene(cornerScene(), cam, W, H),
+                          renderScene(cornerScene(), cam, Box2i{0, 0, W, H}, crop), crop};
+    }();
+    return c;
+}
+
 double meanEdgeBandError(const SceneBuffers& full, const Image& whole, const Box2i& crop, const Image& cropped, int band,
                          int* pixels) {
     double sum = 0;

@@ -67,6 +67,14 @@ double meanOnCornerLine(const SceneBuffers& sb, const Image& ao, double d);
 double meanEdgeBandError(const SceneBuffers& full, const Image& whole, const Box2i& crop, const Image& cropped, int band,
                          int* pixels);
 
+// cornerScene() at 200 x 150 through cornerCamera(): the whole frame, and the same frame with
+// its buffer cut to `crop` (no overscan), for the border tests. Rendered once.
+struct CornerCrop {
+    SceneBuffers full, part;
+    Box2i crop;
+};
+const CornerCrop& cornerCrop();
+
 // A plane through the origin, its normal tilted `tiltDeg` from the view axis, seen from `dist`
 // along +Z (70 degree pinhole, or an orthographic view `dist` wide).
 SceneBuffers tiltedPlaneView(double tiltDeg, double dist, bool ortho, int width, int height);
