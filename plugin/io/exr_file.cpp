@@ -524,8 +524,12 @@ std::vector<char> encodePlane(const Image& img, Imf::PixelType type) {
 // One part's output header: the input header plus new channels and attributes.
 Imf::Header outputHeader(const ExrPart& part, const std::vector<const NewChannel*>& add,
                          const std::vector<StringAttribute>& attrs, int p) {
-    Imf::Header h = part.header;
-    h.erase("chunkCount");  // the writer counts its own; a corrupt input's may have the wrong type
+    // Every input attribute but chunkCount: the writer counts its own, and a corrupt input's may
+    // have the wrong type. Copied one by one rather than erased: OpenEXR 3.1's Header::erase
+    // leaks the attribute (fixed upstream in 2023, PR #1520), which stops ASan runs.
+    Imf::Header h;
+    for (auto it = part.header.begin(); it != part.header.end(); ++it)
+        if (std::strcmp(it.name(), "chunkCount") != 0) h.insert(it.name(), it.attribute());
     Imf::ChannelList list;  // ChannelList has no erase: rebuild it, dropping replaced channels
     for (auto it = h.channels().begin(); it != h.channels().end(); ++it) {
         bool replaced = false;
