@@ -176,15 +176,26 @@ std::string compressionName(Imf::Compression c) {
     return c >= 0 && c < Imf::NUM_COMPRESSION_METHODS ? names[c] : "unknown";
 }
 
+// A copy of `h` without the attributes `drop(name)` is true for. Copied one by one rather than
+// erased: OpenEXR 3.1's Header::erase leaks the attribute (fixed upstream in 2023, PR #1520),
+// which stops ASan runs.
+template <class Drop>
+Imf::Header headerWithout(const Imf::Header& h, Drop drop) {
+    Imf::Header out;
+    for (auto it = h.begin(); it != h.end(); ++it)
+        if (!drop(it.name())) out.insert(it.name(), it.attribute());
+    return out;
+}
+
 ExrPixels layersOnlyFile(const ExrInfo& info, int p) {
     if (p < 0 || p >= (int)info.parts.size())
         throw Error("internal: no part " + std::to_string(p) + " in " + quoted(info.path));
     ExrPart part = info.parts[p];
+    part.header = headerWithout(part.header, [](const char* name) {
+        return std::strcmp(name, "name") == 0 || std::strcmp(name, "chunkCount") == 0 ||
+               std::strcmp(name, "dwaCompressionLevel") == 0 || std::strncmp(name, "cryptomatte/", 12) == 0;
+    });
     Imf::Header& h = part.header;
-    std::vector<std::string> drop = {"name", "chunkCount", "dwaCompressionLevel"};
-    for (auto it = h.begin(); it != h.end(); ++it)
-        if (std::strncmp(it.name(), "cryptomatte/", 12) == 0) drop.push_back(it.name());
-    for (const std::string& name : drop) h.erase(name);
     h.channels() = Imf::ChannelList();
     h.compression() = losslessFor(h.compression());
     part.name.clear();
@@ -524,12 +535,8 @@ std::vector<char> encodePlane(const Image& img, Imf::PixelType type) {
 // One part's output header: the input header plus new channels and attributes.
 Imf::Header outputHeader(const ExrPart& part, const std::vector<const NewChannel*>& add,
                          const std::vector<StringAttribute>& attrs, int p) {
-    // Every input attribute but chunkCount: the writer counts its own, and a corrupt input's may
-    // have the wrong type. Copied one by one rather than erased: OpenEXR 3.1's Header::erase
-    // leaks the attribute (fixed upstream in 2023, PR #1520), which stops ASan runs.
-    Imf::Header h;
-    for (auto it = part.header.begin(); it != part.header.end(); ++it)
-        if (std::strcmp(it.name(), "chunkCount") != 0) h.insert(it.name(), it.attribute());
+    // chunkCount: the writer counts its own, and a corrupt input's may have the wrong type.
+    Imf::Header h = headerWithout(part.header, [](const char* name) { return std::strcmp(name, "chunkCount") == 0; });
     Imf::ChannelList list;  // ChannelList has no erase: rebuild it, dropping replaced channels
     for (auto it = h.channels().begin(); it != h.channels().end(); ++it) {
         bool replaced = false;
