@@ -132,6 +132,22 @@ TEST(DeepRead, FlatFileAndMissingZAreOneLineErrors) {
     }
 }
 
+// A deep header's windows are bounded like a flat one's, before its samples are read.
+TEST(DeepRead, WindowOverMaxPixelsIsRefusedBeforeReading) {
+    const fs::path dir = testDir("deep");
+    const std::string deep = (dir / "wide.exr").string();
+    writeDeepFile(deep, std::vector<Samples>(8, Samples{{1, 1}}), false);
+    EXPECT_EQ(readDeepLayers(deep, 4, {}, 8).layers, 1);
+    try {
+        readDeepLayers(deep, 4, {}, 7);
+        FAIL() << "an 8-pixel deep file passed a limit of 7";
+    } catch (const FileError& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("8 x 1 pixels, more than the limit of 7 (--max-pixels)"), std::string::npos) << what;
+        EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+    }
+}
+
 namespace {
 
 // Top-down orthographic view of a floor (camera-space normals facing the camera, depth 10):
@@ -325,10 +341,17 @@ TEST(DeepCli, UsageAndErrors) {
     r = runProgram(OBSCURA_CLI_PATH, {deep, "--flat", "x.exr", "-o", "o.exr", "--method", "ssao"});
     EXPECT_EQ(r.exitCode, 2);
     EXPECT_NE(r.err.find("--flat (deep input) works with --method hbao only"), std::string::npos) << r.err;
+    r = runProgram(OBSCURA_CLI_PATH, {(dir / "d.####.exr").string(), "--flat", "f.exr", "-o", "o.####.exr"});
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.err.find("must both be frame patterns"), std::string::npos) << r.err;
+    r = runProgram(OBSCURA_CLI_PATH, {deep, "--flat", "f.####.exr", "-o", "o.####.exr"});
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.err.find("must both be frame patterns"), std::string::npos) << r.err;
     r = runProgram(OBSCURA_CLI_PATH, {deep, "-o", (dir / "o.exr").string()});
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_NE(r.err.find("--flat"), std::string::npos) << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "o.exr"));
 }
 
 TEST(DeepCli, PolesWithDeepInputBeatTheDepthPass) {

@@ -360,6 +360,9 @@ Options parseArgs(int argc, char** argv) {
         if (o.job.settings.method != "hbao") throw UsageError("--flat (deep input) works with --method hbao only");
         o.job.deepInput = o.job.input;
         o.job.input = o.flat;
+        // One pattern without the other would read the same deep file for every frame.
+        if (isFramePattern(o.job.deepInput) != isFramePattern(o.job.input))
+            throw UsageError("the deep input and --flat must both be frame patterns (e.g. shot.####.exr), or neither");
     }
     const MethodInfo& m = *findMethod(o.job.settings.method);
     const std::string& d = o.job.settings.device;

@@ -29,7 +29,8 @@ bool isDeepFile(const std::string& path) {
     return deep;
 }
 
-DeepLayers readDeepLayers(const std::string& path, int maxLayers, const DeepChannelNames& names) {
+DeepLayers readDeepLayers(const std::string& path, int maxLayers, const DeepChannelNames& names, long long maxPixels) {
+    checkWindowsBeforeOpening(path, maxPixels);
     DeepSamples dd;
     const std::string failed = oiioModule().readDeep(path, names.z, names.zBack, dd);
     if (!failed.empty()) throw FileError(path, failed);

@@ -3,6 +3,7 @@
 // deep files, through OpenImageIO's deep API.
 #pragma once
 #include "core/image.h"
+#include "io/exr_file.h"
 
 #include <string>
 
@@ -31,8 +32,10 @@ bool isDeepFile(const std::string& path);
 
 // Reads up to maxLayers distinct surfaces per pixel: samples sorted by Z, overlapping or
 // touching samples (Z at or before the current surface's back) merged into one surface.
-// Throws FileError for a flat file, a missing Z channel or an unreadable file.
-DeepLayers readDeepLayers(const std::string& path, int maxLayers, const DeepChannelNames& names = {});
+// Throws FileError for a flat file, a missing Z channel, an unreadable file, or a window of more
+// than maxPixels (checked before reading).
+DeepLayers readDeepLayers(const std::string& path, int maxLayers, const DeepChannelNames& names = {},
+                          long long maxPixels = kDefaultMaxPixels);
 
 // The layers over another data window (the flat passes'): pixels outside the deep file's get none.
 Image deepPlanesOver(const DeepLayers& deep, const Box2i& data);

@@ -339,6 +339,8 @@ void checkAttributeSizes(const std::string& path) {
     }
 }
 
+} // namespace
+
 // The windows, from the header alone: OpenEXR's core API reads no chunk table, where the C++
 // API sizes and reads one from the windows as it opens a file. A header the core API refuses
 // is left to the C++ API to report.
@@ -394,8 +396,6 @@ void checkWindowsBeforeOpening(const std::string& path, long long maxPixels) {
         }
     }
 }
-
-} // namespace
 
 ExrInfo readExrInfo(const std::string& path, long long maxPixels) {
     checkMagic(path);

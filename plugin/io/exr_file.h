@@ -47,6 +47,11 @@ constexpr long long kDefaultMaxPixels = 16384LL * 16384;
 void checkWindow(const std::string& path, const char* which, const Imath::Box2i& window, long long maxPixels,
                  long long minFileBytes = -1, long long fileBytes = -1);
 
+// Every part's data and display windows through checkWindow, before any reader (OpenEXR's or
+// OpenImageIO's, deep parts too) allocates what they claim. A file that is not an EXR passes:
+// its reader reports it.
+void checkWindowsBeforeOpening(const std::string& path, long long maxPixels);
+
 // Headers only. Errors: missing file, not an EXR (magic number), deep data, unreadable header,
 // a data or display window above maxPixels or larger than the file's size can hold.
 ExrInfo readExrInfo(const std::string& path, long long maxPixels = kDefaultMaxPixels);

@@ -415,7 +415,7 @@ Image readDeepInput(const FrameJob& job, const FramePasses& p, FrameReport& repo
     return blameInput(job.deepInput, [&] {
         if (!methodOutputs(job.settings.method, "ao") || job.settings.method != "hbao")
             throw Error("deep input is used by --method hbao only");
-        const DeepLayers deep = readDeepLayers(job.deepInput, job.settings.deepLayers, {p.plan.deepZ, p.plan.deepZBack});
+        const DeepLayers deep = readDeepLayers(job.deepInput, job.settings.deepLayers, {p.plan.deepZ, p.plan.deepZBack}, job.maxPixels);
         if (deep.display != p.display)
             throw Error("its display window (" + std::to_string(deep.display.width()) + "x" +
                         std::to_string(deep.display.height()) + ") is not the flat passes' (" +
@@ -607,7 +607,7 @@ std::string inspectFrame(const FrameJob& job) {
        << "   sky depth >= " << job.skyDepth.value_or(p.plan.skyDepth) << "\n";
     if (!job.deepInput.empty()) {
         const DeepLayers d = blameInput(job.deepInput, [&] {
-            return readDeepLayers(job.deepInput, job.settings.deepLayers, {p.plan.deepZ, p.plan.deepZBack});
+            return readDeepLayers(job.deepInput, job.settings.deepLayers, {p.plan.deepZ, p.plan.deepZBack}, job.maxPixels);
         });
         os << "deep:    " << job.deepInput << " (" << p.plan.deepZ << ", " << p.plan.deepZBack << "): " << d.layers
            << " layer(s) of at most " << job.settings.deepLayers << ", " << d.samples << " samples, " << d.emptyPixels
