@@ -328,6 +328,21 @@ TEST(DeepHbao, OddChannelCountIsAnError) {
     EXPECT_THROW(runOperator(in, hbaoSettings(Weighting::Cosine, Falloff::None, 1.0f)), Error);
 }
 
+// Deep layers given to a method that does not read them are an error, not silently ignored.
+TEST(DeepHbao, OtherMethodsRefuseDeepLayers) {
+    const RoofScene scene(3.0f, 1.5f);
+    const OperatorInputs in = scene.inputs(true);
+    Settings s = hbaoSettings(Weighting::Cosine, Falloff::None, 1.0f);
+    EXPECT_NO_THROW(runOperator(in, s));
+    s.method = "ssao";
+    try {
+        runOperator(in, s);
+        FAIL() << "ssao took deep layers";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("--method ssao does not read deep layers"), std::string::npos) << e.what();
+    }
+}
+
 // The command line: deep input needs --flat, --deep-layers has a range, and the ray-traced
 // poles (thin cylinders the depth pass sees as walls) come out far closer to the reference
 // with every solid along each ray than from the depth pass alone.

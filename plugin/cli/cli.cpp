@@ -357,7 +357,8 @@ Options parseArgs(int argc, char** argv) {
         o.job.input = arg;
     }
     if (!o.flat.empty()) {
-        if (o.job.settings.method != "hbao") throw UsageError("--flat (deep input) works with --method hbao only");
+        if (!methodReads(o.job.settings.method, "deep"))
+            throw UsageError("--flat (deep input) works with --method hbao only");
         o.job.deepInput = o.job.input;
         o.job.input = o.flat;
         // One pattern without the other would read the same deep file for every frame.

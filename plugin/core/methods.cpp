@@ -74,7 +74,7 @@ MethodParam deepLayersParam() {
 std::vector<MethodInfo> makeTable() {
     std::vector<MethodInfo> t;
     t.push_back({"hbao", "horizon-based ambient occlusion (Bavoil et al. 2008): slices around the view vector",
-                 "kernels/hbao.glsl", true, true, {"depth", "normal"}, {"ao"},
+                 "kernels/hbao.glsl", true, true, {"depth", "normal", "deep"}, {"ao"},
                  {{"low", "4x4 + blur 2", [](Settings& s) { hbaoLevel(s, 0); }},
                   {"medium", "8x8 + blur 1", [](Settings& s) { hbaoLevel(s, 1); }},
                   {"high", "16x12", [](Settings& s) { hbaoLevel(s, 2); }},
@@ -158,12 +158,22 @@ const MethodInfo* findMethod(const std::string& name) {
     return nullptr;
 }
 
+namespace {
+bool listed(const std::vector<const char*>& list, const char* name) {
+    for (const char* n : list)
+        if (std::string(n) == name) return true;
+    return false;
+}
+} // namespace
+
 bool methodOutputs(const std::string& method, const char* output) {
     const MethodInfo* m = findMethod(method);
-    if (!m) return false;
-    for (const char* o : m->outputs)
-        if (std::string(o) == output) return true;
-    return false;
+    return m && listed(m->outputs, output);
+}
+
+bool methodReads(const std::string& method, const char* pass) {
+    const MethodInfo* m = findMethod(method);
+    return m && listed(m->reads, pass);
 }
 
 std::string methodNames(const char* sep) {

@@ -50,7 +50,7 @@ struct MethodInfo {
     const char* description;            // one line
     const char* kernels;                // the kernels/ files (or CPU code) that compute it
     bool cpu, gl;                       // devices it runs on
-    std::vector<const char*> reads;     // passes: "depth", "normal", "beauty", ...
+    std::vector<const char*> reads;     // passes: "depth", "normal", "beauty", ...; "deep": deep layers if given
     std::vector<const char*> outputs;   // "ao", "do", "gi"
     std::vector<MethodPreset> presets;
     std::vector<MethodParam> params;
@@ -68,6 +68,8 @@ const std::vector<MethodInfo>& methods();
 const MethodInfo* findMethod(const std::string& name);
 // Whether `method` makes `output` ("ao", "do", "gi"); false for an unknown method.
 bool methodOutputs(const std::string& method, const char* output);
+// Whether `method` reads `pass` ("depth", "deep", ...); false for an unknown method.
+bool methodReads(const std::string& method, const char* pass);
 // "hbao, ssdo, ssao, rtao" (or with `sep`).
 std::string methodNames(const char* sep = ", ");
 // Every method's own parameter, in table order (the hosts' extra flags and keywords).

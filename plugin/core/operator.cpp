@@ -197,6 +197,7 @@ OperatorOutputs runOperator(const OperatorInputs& in, const Settings& s) {
     checkPlane(in.depth, 1, in.dataWindow, "depth");
     checkPlane(in.normal, 3, in.dataWindow, "normal");
     if (in.deepLayers.valid()) {
+        if (!methodReads(s.method, "deep")) throw Error("--method " + s.method + " does not read deep layers");
         checkPlane(in.deepLayers, 2, in.dataWindow, "deep layers");
         if (in.deepLayers.channels % 2 != 0)
             throw Error("the deep layers plane has " + std::to_string(in.deepLayers.channels) +

@@ -413,8 +413,6 @@ Image readDeepInput(const FrameJob& job, const FramePasses& p, FrameReport& repo
     if (job.deepInput.empty()) return Image();
     StageTimer timer{&report.stages, "deep"};
     return blameInput(job.deepInput, [&] {
-        if (!methodOutputs(job.settings.method, "ao") || job.settings.method != "hbao")
-            throw Error("deep input is used by --method hbao only");
         const DeepLayers deep = readDeepLayers(job.deepInput, job.settings.deepLayers, {p.plan.deepZ, p.plan.deepZBack}, job.maxPixels);
         if (deep.display != p.display)
             throw Error("its display window (" + std::to_string(deep.display.width()) + "x" +
