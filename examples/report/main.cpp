@@ -175,10 +175,10 @@ int main(int argc, char** argv) {
             obscura::Image deepPlanes;
             if (anyDeep) {
                 const std::string deepPath = ensureDeepReference(rig, rs, o.cacheDir);
-                const obscura::DeepLayers deep = obscura::readDeepLayers(deepPath, obscura::Settings().deepLayers);
-                deepPlanes = obscura::deepPlanesOver(deep, used.passes.data);
+                obscura::DeepLayers deep = obscura::readDeepLayers(deepPath, obscura::Settings().deepLayers);
                 progress("%s deep reference: %d layers, %lld empty pixels -> %s\n", tag, deep.layers, deep.emptyPixels,
                          deepPath.c_str());
+                deepPlanes = obscura::deepPlanesOver(std::move(deep), used.passes.data);
             }
             obscura::OperatorInputs deepIn = in;
             if (anyDeep) deepIn.deepLayers = deepPlanes.view();

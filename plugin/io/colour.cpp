@@ -1,6 +1,7 @@
 #include "io/colour.h"
 
 #include "core/error.h"
+#include "cpu/parallel.h"
 #include "io/preview.h"
 
 #include <OpenColorIO/OpenColorIO.h>
@@ -350,8 +351,7 @@ std::atomic<int> g_colourThreads{0};
 
 void applyImage(const OCIO::CPUProcessor& cpu, const MutablePlane& plane) {
     const long long pixels = static_cast<long long>(plane.width) * plane.height;
-    const int cap = g_colourThreads.load();
-    unsigned n = cap > 0 ? static_cast<unsigned>(cap) : std::max(1u, std::thread::hardware_concurrency());
+    unsigned n = static_cast<unsigned>(cpu::resolveThreads(g_colourThreads.load()));
     n = static_cast<unsigned>(std::min<long long>(n, std::max(1LL, pixels / (256 * 1024))));
     n = std::min<unsigned>(n, static_cast<unsigned>(plane.height));
     if (n <= 1) {

@@ -97,8 +97,8 @@ DeepLayers readDeepLayers(const std::string& path, int maxLayers, const DeepChan
     return out;
 }
 
-Image deepPlanesOver(const DeepLayers& deep, const Box2i& data) {
-    if (data == deep.data) return deep.planes;
+Image deepPlanesOver(DeepLayers&& deep, const Box2i& data) {
+    if (data == deep.data) return std::move(deep.planes);
     Image out(data.width(), data.height(), deep.planes.channels, kInf);
     const Box2i common = intersect(data, deep.data);
     for (int y = common.y0; y < common.y1; ++y)

@@ -38,6 +38,6 @@ DeepLayers readDeepLayers(const std::string& path, int maxLayers, const DeepChan
                           long long maxPixels = kDefaultMaxPixels);
 
 // The layers over another data window (the flat passes'): pixels outside the deep file's get none.
-Image deepPlanesOver(const DeepLayers& deep, const Box2i& data);
+Image deepPlanesOver(DeepLayers&& deep, const Box2i& data);
 
 } // namespace obscura

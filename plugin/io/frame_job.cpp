@@ -413,7 +413,7 @@ Image readDeepInput(const FrameJob& job, const FramePasses& p, FrameReport& repo
     if (job.deepInput.empty()) return Image();
     StageTimer timer{&report.stages, "deep"};
     return blameInput(job.deepInput, [&] {
-        const DeepLayers deep = readDeepLayers(job.deepInput, job.settings.deepLayers, {p.plan.deepZ, p.plan.deepZBack}, job.maxPixels);
+        DeepLayers deep = readDeepLayers(job.deepInput, job.settings.deepLayers, {p.plan.deepZ, p.plan.deepZBack}, job.maxPixels);
         if (deep.display != p.display)
             throw Error("its display window (" + std::to_string(deep.display.width()) + "x" +
                         std::to_string(deep.display.height()) + ") is not the flat passes' (" +
@@ -428,7 +428,7 @@ Image readDeepInput(const FrameJob& job, const FramePasses& p, FrameReport& repo
             report.warnings.push_back(std::to_string(deep.droppedSamples) + " deep samples with NaN, infinite or non-positive Z skipped");
         if (deep.unsortedPixels)
             report.warnings.push_back(std::to_string(deep.unsortedPixels) + " deep pixels with unsorted samples sorted by Z");
-        return deepPlanesOver(deep, p.data);
+        return deepPlanesOver(std::move(deep), p.data);
     });
 }
 
