@@ -159,16 +159,17 @@ void occupySpan(lvec3 frontX, lvec3 backX, lbool span, lbool use, lvec3 T, lvec3
 
 // The texel one pixel from a sample texel (display corner `corner`, surface point on sampleRay at
 // sampleDepth) along `offset`: whether it is a surface, its view-space normal (not normalised)
-// and its surface point's offset D from the sample's.
-void neighbourTexel(lvec2 corner, lvec2 offset, lvec3 sampleRay, lfloat sampleDepth, lbool use, OUT(lbool) surface,
-                    OUT(lvec3) normal, OUT(lvec3) D) {
+// and its surface point's offset D from the sample's. `at`: the sample's own corner, past the
+// buffer's edge where `corner` is the edge texel standing in for it (D is measured from there).
+void neighbourTexel(lvec2 corner, lvec2 at, lvec2 offset, lvec3 sampleRay, lfloat sampleDepth, lbool use,
+                    OUT(lbool) surface, OUT(lvec3) normal, OUT(lvec3) D) {
     vec2 origin = vec2(bufferOrigin());
     lvec2 texel = floor(corner + lvec2(0.5f, 0.5f) + offset);
     surface = use && insideBuffer(texel - origin, 0.0f);
     lfloat depth = gatherDepthAtDisplay(texel, surface) * P.depthScale;
     surface = surface && isSurfaceDepth(depth);
     normal = mat3(P.normalToView) * gatherNormal(lint(texel.x - origin.x), lint(texel.y - origin.y), surface);
-    lvec2 w = lvec2((texel.x - corner.x) * P.invFx, (texel.y - corner.y) * -P.invFy);
+    lvec2 w = lvec2((texel.x - at.x) * P.invFx, (texel.y - at.y) * -P.invFy);
     D = viewOffset(sampleRay, sampleDepth, w, select(surface, depth, sampleDepth));
 }
 
@@ -205,7 +206,7 @@ struct FootprintPrevious {
 // plane (a silhouette's tangent plane runs along the eye's ray and would stand for a wall there),
 // is cut at the run jump (P.runJump), and the whole is clipped to the ball of radius R. It adds
 // the angles between its ends (none below the tangent); the sample's own interval is set as before.
-void occupyFootprint(lvec3 X, lvec2 corner, lvec3 sampleRay, lfloat sampleDepth, lvec3 m, lvec2 dir, lvec2 w,
+void occupyFootprint(lvec3 X, lvec2 corner, lvec2 at, lvec3 sampleRay, lfloat sampleDepth, lvec3 m, lvec2 dir, lvec2 w,
                      lbool use, INOUT(FootprintPrevious) previous, lvec3 T, lvec3 n, lfloat nE, lfloat nV,
                      float radius2, INOUT(lfloat) horizonA, INOUT(lfloat) horizonB, INOUT(luint) sectors) {
     FootprintPrevious before = previous;
@@ -220,11 +221,11 @@ void occupyFootprint(lvec3 X, lvec2 corner, lvec3 sampleRay, lfloat sampleDepth,
     lbool behindSurface;
     lvec3 behindNormal;
     lvec3 behindD;
-    neighbourTexel(corner, across * -1.0f, sampleRay, sampleDepth, use, behindSurface, behindNormal, behindD);
+    neighbourTexel(corner, at, across * -1.0f, sampleRay, sampleDepth, use, behindSurface, behindNormal, behindD);
     lbool aheadSurface;
     lvec3 aheadNormal;
     lvec3 aheadD;
-    neighbourTexel(corner, across, sampleRay, sampleDepth, use, aheadSurface, aheadNormal, aheadD);
+    neighbourTexel(corner, at, across, sampleRay, sampleDepth, use, aheadSurface, aheadNormal, aheadD);
     // The half towards -dir needs the plane to go on at +dir, and the other way round.
     lbool back = use && continuesPlane(aheadSurface, aheadNormal, m);
     lbool ahead = use && continuesPlane(behindSurface, behindNormal, m);
@@ -653,8 +654,8 @@ lfloat hbaoLanes(lint x, lint y) {
                 lvec3 sampleRay = lvec3(ray.x + w.x, ray.y + w.y, ray.z);
                 lvec3 m = viewNormal(gatherNormal(lint(loadCorner.x - origin.x), lint(loadCorner.y - origin.y), surface),
                                      viewVector(sampleRay));
-                occupyFootprint(X, loadCorner, sampleRay, sampleDepth, m, dir, w, surface, previous, T, n, nE, nV, radius2,
-                                horizonA, horizonB, sectors);
+                occupyFootprint(X, loadCorner, corner, sampleRay, sampleDepth, m, dir, w, surface, previous, T, n, nE, nV,
+                                radius2, horizonA, horizonB, sectors);
                 for (int k = 1; k < P.deepLayers; ++k) {
                     occupyDeepLayer(k, corner, deepUse, ray, depth, w, T, n, nE, nV, radius2, backShiftA, backShiftB,
                                     horizonA, horizonB, sectors);
