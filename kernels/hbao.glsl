@@ -51,6 +51,20 @@ lfloat sliceOcclusionAt(lfloat cosTheta, lfloat sinTheta, lfloat cosB, lfloat si
     return 0.5f * nLen * (sinB * sinTheta * sinTheta + cosB * (theta - sinTheta * cosTheta));
 }
 
+// Linear falloff: the sample's F (0 outside `counts`) and its weight 1 - r/R (r^2 = r2).
+void linearTerms(lfloat a, lfloat b, lfloat r2, lbool counts, lfloat cosB, lfloat sinB, lfloat nLen, float invRadius,
+                 OUT(lfloat) f, OUT(lfloat) weight) {
+    lfloat invLen = inversesqrt(max(a * a + b * b, 1e-30f));
+    f = select(counts, sliceOcclusionAt(a * invLen, b * invLen, cosB, sinB, nLen), lfloat(0.0f));
+    weight = max(1.0f - sqrt(r2) * invRadius, 0.0f);
+}
+
+// HBAO's linear-falloff step: F above the horizon's adds its rise, weighted, and raises it.
+void raiseLinearHorizon(lfloat f, lfloat weight, INOUT(lfloat) horizonF, INOUT(lfloat) sliceOcclusion) {
+    sliceOcclusion += weight * max(f - horizonF, 0.0f);
+    horizonF = max(horizonF, f);
+}
+
 // Occlusion the set sectors add above the horizon, whose own is horizonF: each sector adds
 // F(upper bound) - F(lower bound) with both bounds raised to the horizon (F grows with the
 // angle, so raising F's value is raising the bound). F is linear in (cos b, sin b); the
@@ -93,15 +107,22 @@ luint bitsBelow(lint n) {
     return low | select(n >= 32, luint(0x80000000u), luint(0u));
 }
 
+// Raises the horizon to (a, b) in the lanes of `mask` where it lies above (counter-clockwise
+// of) the horizon: no square root or division, one compare. Returns the lanes it raised.
+lbool raiseHorizon(lbool mask, lfloat a, lfloat b, INOUT(lfloat) horizonA, INOUT(lfloat) horizonB) {
+    lbool higher = mask && horizonA * b - horizonB * a > 0.0f;
+    horizonA = select(higher, a, horizonA);
+    horizonB = select(higher, b, horizonB);
+    return higher;
+}
+
 // Marks the occupied interval of one sample, front (a, b) to back (backA, backB) in the slice's
 // axes: when its back is not above the horizon it joins the horizon's interval (and may raise
 // it), else it sets the sectors between its two ends.
 void occupyInterval(lfloat a, lfloat b, lfloat backA, lfloat backB, lbool counts, INOUT(lfloat) horizonA,
                     INOUT(lfloat) horizonB, INOUT(luint) sectors) {
     lbool joins = backB <= 0.0f || horizonA * backB - horizonB * backA <= 0.0f;
-    lbool higher = counts && joins && horizonA * b - horizonB * a > 0.0f;
-    horizonA = select(higher, a, horizonA);
-    horizonB = select(higher, b, horizonB);
+    raiseHorizon(counts && joins, a, b, horizonA, horizonB);
     // Only an interval apart from the horizon's sets sectors; in most registers none is.
     lbool apart = counts && !joins;
     if (anyLane(apart)) {
@@ -356,9 +377,7 @@ void closeRuns(lbool ends, lfloat t, OccluderRun run, lfloat nE, lfloat nV, lflo
     lfloat backA = select(firstLower, firstBackA, lastBackA);
     lfloat backB = select(firstLower, firstBackB, lastBackB);
     lbool joins = backB <= 0.0f || horizonA * backB - horizonB * backA <= 0.0f;
-    lbool higher = ends && joins && horizonA * run.topB - horizonB * run.topA > 0.0f;
-    horizonA = select(higher, run.topA, horizonA);
-    horizonB = select(higher, run.topB, horizonB);
+    lbool higher = raiseHorizon(ends && joins, run.topA, run.topB, horizonA, horizonB);
     lfloat runRange = max(run.topF - horizonF, 1e-30f);
     if (P.linearFalloff != 0) {
         lfloat counted = lfloat(0.0f);
@@ -544,14 +563,11 @@ lfloat hbaoLanes(lint x, lint y) {
                 }
             }
             // Deep layers are read at texels inside the buffer only (not at clamped edge texels).
-            lbool deepUse = counts;
-            if (!interior && P.hbaoBitmask == 2) {
-                deepUse = deepUse && insideBuffer(corner - origin, 0.0f);
-            }
+            lbool deepUse = counts && !leftBuffer;
             lfloat sampleDepth = gatherDepthAtDisplay(loadCorner, counts) * P.depthScale;
             counts = counts && isSurfaceDepth(sampleDepth);
             if (!interior && P.hbaoBorder == 2) {
-                lbool continued = counts && !insideBuffer(corner - origin, 0.0f);
+                lbool continued = counts && leftBuffer;
                 if (anyLane(continued)) {
                     lfloat planeDepth = tangentPlaneDepth(loadCorner, corner, sampleDepth, continued);
                     // A plane seen edge-on, or behind the eye, continues nowhere: keep the edge's depth.
@@ -578,14 +594,11 @@ lfloat hbaoLanes(lint x, lint y) {
                 // No run goes on and none starts (a receiver on open ground): only the linear
                 // falloff's on-tangent samples below need this step.
                 if (P.linearFalloff != 0) {
-                    lfloat invLen = inversesqrt(max(a * a + b * b, 1e-30f));
-                    lfloat f = select(counts, sliceOcclusionAt(a * invLen, b * invLen, cosB, sinB, nLen), lfloat(0.0f));
-                    lfloat weight = max(1.0f - sqrt(r2) * invRadius, 0.0f);
-                    sliceOcclusion += weight * max(f - horizonF, 0.0f);
-                    horizonF = max(horizonF, f);
-                    lbool tangentHigher = counts && horizonA * b - horizonB * a > 0.0f;
-                    horizonA = select(tangentHigher, a, horizonA);
-                    horizonB = select(tangentHigher, b, horizonB);
+                    lfloat f;
+                    lfloat weight;
+                    linearTerms(a, b, r2, counts, cosB, sinB, nLen, invRadius, f, weight);
+                    raiseLinearHorizon(f, weight, horizonF, sliceOcclusion);
+                    raiseHorizon(counts, a, b, horizonA, horizonB);
                 }
             } else if (adaptive) {
                 lfloat toEye = (b - run.lastB) * nV - (a - run.lastA) * nE;
@@ -619,29 +632,23 @@ lfloat hbaoLanes(lint x, lint y) {
                     // matters), so a large T is the linear horizon. Binary visibility drops it: it
                     // adds at most F at 0.57 degrees, and nothing on the receiver's own plane.
                     lbool onTangent = counts && !above;
-                    lbool tangentHigher = onTangent && horizonA * b - horizonB * a > 0.0f;
-                    horizonA = select(tangentHigher, a, horizonA);
-                    horizonB = select(tangentHigher, b, horizonB);
-                    lfloat invLen = inversesqrt(max(a * a + b * b, 1e-30f));
-                    lfloat f = select(counts, sliceOcclusionAt(a * invLen, b * invLen, cosB, sinB, nLen), lfloat(0.0f));
-                    lfloat weight = max(1.0f - sqrt(r2) * invRadius, 0.0f);
+                    raiseHorizon(onTangent, a, b, horizonA, horizonB);
+                    lfloat f;
+                    lfloat weight;
+                    linearTerms(a, b, r2, counts, cosB, sinB, nLen, invRadius, f, weight);
                     lfloat insideF = select(inside, f, lfloat(0.0f));
                     run.rise += weight * max(insideF - max(horizonF, run.topF), 0.0f);
                     run.topF = max(run.topF, insideF);
-                    lfloat tangentF = select(onTangent, f, lfloat(0.0f));
-                    sliceOcclusion += weight * max(tangentF - horizonF, 0.0f);
-                    horizonF = max(horizonF, tangentF);
+                    raiseLinearHorizon(select(onTangent, f, lfloat(0.0f)), weight, horizonF, sliceOcclusion);
                 }
                 run.lastA = a;
                 run.lastB = b;
                 inRun = above;
             } else if (P.linearFalloff != 0) {
-                lfloat invLen = inversesqrt(max(a * a + b * b, 1e-30f));
-                lfloat f = sliceOcclusionAt(a * invLen, b * invLen, cosB, sinB, nLen);
-                f = select(counts, f, 0.0f);
-                lfloat weight = max(1.0f - sqrt(r2) * invRadius, 0.0f);
-                sliceOcclusion += weight * max(f - horizonF, 0.0f);
-                horizonF = max(horizonF, f);
+                lfloat f;
+                lfloat weight;
+                linearTerms(a, b, r2, counts, cosB, sinB, nLen, invRadius, f, weight);
+                raiseLinearHorizon(f, weight, horizonF, sliceOcclusion);
             } else if (P.hbaoBitmask == 2) {
                 // Deep input: the visible layer's span where the renderer saw the ray leave its solid,
                 // then every hidden layer.
@@ -663,11 +670,7 @@ lfloat hbaoLanes(lint x, lint y) {
             } else if (P.hbaoBitmask != 0) {
                 occupyInterval(a, b, a + backShiftA, b + backShiftB, counts, horizonA, horizonB, sectors);
             } else {
-                // (a, b) lies above the horizon when it is counter-clockwise of it: no square
-                // root or division, one compare.
-                lbool higher = counts && horizonA * b - horizonB * a > 0.0f;
-                horizonA = select(higher, a, horizonA);
-                horizonB = select(higher, b, horizonB);
+                raiseHorizon(counts, a, b, horizonA, horizonB);
             }
         }
         if (adaptive && anyLane(inRun)) {
