@@ -94,6 +94,16 @@ lvec3 viewOffset(lvec3 rayP, lfloat depthP, lvec2 w, lfloat depthS) {
     return lvec3(dd * rayP.x + depthS * w.x, dd * rayP.y + depthS * w.y, dd * rayP.z);
 }
 
+// Where `ray` (viewRay's) meets the plane through point e with normal m: the point, not finite
+// where the ray runs along the plane (callers guard for it). Perspective: ray t with planar depth
+// t = -z. Orthographic: the point on the plane straight down the view axis from (ray.x, ray.y).
+lvec3 rayMeetsPlane(lvec3 ray, lvec3 m, lvec3 e) {
+    if (P.orthographic != 0) {
+        return lvec3(ray.x, ray.y, e.z - (m.x * (ray.x - e.x) + m.y * (ray.y - e.y)) / m.z);
+    }
+    return ray * (dot(m, e) / dot(m, ray));
+}
+
 // Where the plane through a texel's surface point (on `ray` at `depth`) with unit normal m meets
 // the ray through image offset `delta` from that texel's centre (display pixels times
 // (1/fx, -1/fy), as viewOffset's w), as an offset from the surface point: the finite form of

@@ -528,23 +528,19 @@ void discContinue(lbool continued, lint ex, lint ey, int level, INOUT(lvec3) e, 
     lint cy = clamp(ey, lint(0), lint(discLevelHeight(level) - 1));
     lvec3 rayE = viewRay(lvec2((lfloat(cx) + 0.5f) * size + float(P.originX), (lfloat(cy) + 0.5f) * size + float(P.originY)));
     lvec3 ray = viewRay(lvec2((lfloat(ex) + 0.5f) * size + float(P.originX), (lfloat(ey) + 0.5f) * size + float(P.originY)));
-    lvec3 p;
+    lvec3 p = rayMeetsPlane(ray, ne, e);
     lbool ok = continued;
     if (P.orthographic != 0) {
         ok = ok && abs(ne.z) > DISC_MIN_NV;
-        lfloat nz = select(ok, ne.z, lfloat(1.0f));
-        p = lvec3(ray.x, ray.y, e.z - (ne.x * (ray.x - e.x) + ne.y * (ray.y - e.y)) / nz);
     } else {
-        lfloat facing = dot(ne, ray);
-        lfloat t = dot(ne, e) / select(abs(facing) > 1e-30f, facing, lfloat(1.0f));
         // Beyond 89 degrees from the ray (DISC_MIN_NV, as for footprints) the plane's
         // continuation is ill-conditioned: a far, grazing plane's rounding would lift it.
         // Only within a factor 2 of the node's depth: a coarse node's mean position is rounded
         // at its own depth, and carried much nearer the eye that offset would lift the plane
-        // (the stiff suite's plane from 1e-3 to 1e6).
-        ok = ok && abs(facing) > DISC_MIN_NV * sqrt(dot(ray, ray)) && t > -0.5f * e.z && t < -2.0f * e.z;
-        p = ray * select(ok, t, lfloat(1.0f));
+        // (the stiff suite's plane from 1e-3 to 1e6). Planar depth t = -p.z.
+        ok = ok && abs(dot(ne, ray)) > DISC_MIN_NV * sqrt(dot(ray, ray)) && -p.z > -0.5f * e.z && -p.z < -2.0f * e.z;
     }
+    p = select(ok, p, e); // elsewhere the node keeps its own element (and p need not be finite)
     lvec3 du;
     lvec3 dv;
     discAxes(rayE, e, ne, du, dv);

@@ -412,13 +412,9 @@ lfloat tangentPlaneDepth(lvec2 edgeCorner, lvec2 corner, lfloat edgeDepth, lbool
     lvec3 edgeRay = viewRay(lvec2(edgeCorner.x + 0.5f, edgeCorner.y + 0.5f));
     lvec3 e = positionOnRay(edgeRay, edgeDepth);
     lvec3 ray = viewRay(lvec2(corner.x + 0.5f, corner.y + 0.5f));
-    if (P.orthographic != 0) {
-        // The point (ray.x, ray.y, -d) on the plane m . (X - e) = 0.
-        return (m.x * (ray.x - e.x) + m.y * (ray.y - e.y)) / m.z - e.z;
-    }
-    // The point ray t (planar depth t, as ray.z = -1) on the plane; radial depth is t |ray|.
-    lfloat t = dot(m, e) / dot(m, ray);
-    return P.radialDepth != 0 ? t * sqrt(dot(ray, ray)) : t;
+    // Planar depth -z; radial depth (perspective only) is t |ray| for the point ray t.
+    lfloat d = -rayMeetsPlane(ray, m, e).z;
+    return P.orthographic == 0 && P.radialDepth != 0 ? d * sqrt(dot(ray, ray)) : d;
 }
 
 // Ambient occlusion in [0,1] (1 = unoccluded) of the buffer texels (x, y); texels outside
