@@ -7,5 +7,5 @@
 #include "cpu/ssdo_tile_impl.h"
 
 namespace obscura::cpu::OBSCURA_ISA {
-const IsaKernels kernels{&hbaoTile, &ssaoTile, &ssdoTile, &blurTile, &discsBaseTile, &discsTile, &hbaoDeepTile};
+const IsaKernels kernels{&hbaoTile, &ssaoTile, &ssdoTile, &blurTile, &discsBaseTile, &discsTile, &hbaoDeepTile, &hbaoBorderTile};
 } // namespace obscura::cpu::OBSCURA_ISA

@@ -11,6 +11,7 @@
 
 #include "cpu/lane_kernel.h"
 
+#include <algorithm>
 #include <cstdlib>
 
 namespace obscura::glsl {
@@ -80,7 +81,7 @@ namespace {
 using glsl::KernelParams;
 constexpr int kLanesHere = OBSCURA_LANES;
 
-enum class Entry { Hbao, Ssao };
+enum class Entry { Hbao, Ssao, HbaoBorder };
 
 template <Entry E, class Params>
 void runTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, MutablePlane ao,
@@ -93,8 +94,10 @@ void runTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPl
     k.depthData = depth.data;
     k.depthXStride = (int)depth.xStride;
     k.depthYStride = (int)depth.yStride;
-    // Display coordinates of the buffer reach |origin| + size; the offsets stay below 2^24.
-    const long long reachX = std::llabs(p.originX) + p.width, reachY = std::llabs(p.originY) + p.height;
+    // Display coordinates of the depth texels reach |origin| + size (+ the border); the offsets stay below 2^24.
+    const auto extent = [](int size, int lo, int hi) { return std::max<long long>(size, std::max(std::llabs(lo), std::llabs(hi))); };
+    const long long reachX = std::llabs(p.originX) + extent(p.width, p.depthX0, p.depthX1);
+    const long long reachY = std::llabs(p.originY) + extent(p.height, p.depthY0, p.depthY1);
     k.displayOffsetsExactInFloat = reachY * std::llabs(depth.yStride) + reachX * std::llabs(depth.xStride) < (1ll << 24);
     // Only formed (and only dereferenced at in-buffer texels) when the offsets fit.
     k.depthAtDisplayOrigin =
@@ -106,7 +109,9 @@ void runTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPl
     for (int y = tile.y0; y < tile.y1; ++y)
         for (int x = tile.x0; x < tile.x1; x += kLanesHere) {
             // Lanes past the tile compute a neighbour (or, past the buffer, nothing) and are not stored.
-            const auto v = E == Entry::Hbao ? k.hbaoLanes(lane + x, y) : k.ssaoLanes(lane + x, y);
+            const auto v = E == Entry::Hbao   ? k.hbaoLanes(lane + x, y)
+                           : E == Entry::Ssao ? k.ssaoLanes(lane + x, y)
+                                              : k.continuedDepth(lane + x, y);
             const int count = tile.x1 - x < kLanesHere ? tile.x1 - x : kLanesHere;
             for (int i = 0; i < count; ++i) {
 #if OBSCURA_LANES == 1
@@ -160,6 +165,10 @@ void hbaoTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, Mutabl
 void hbaoDeepTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, MutablePlane ao,
                   const Box2i& tile) {
     runEntry<Entry::Hbao>(p, depth, normal, deep, ao, tile);
+}
+
+void hbaoBorderTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane out, const Box2i& tile) {
+    runTileFor<Entry::HbaoBorder, 0, 0>(p, depth, normal, ConstPlane{}, out, tile);
 }
 
 void ssaoTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile) {

@@ -1,6 +1,7 @@
 #include "gpu/gl_backend.h"
 
 #include "core/error.h"
+#include "cpu/hbao_border.h"
 #include "gpu/gl_context.h"
 #include "gpu/gl_kernels.h"
 #include "gpu/gl_program.h"
@@ -24,27 +25,6 @@ std::string kernelText(const char* file) {
     for (const KernelSource& s : kernelSources())
         if (std::strcmp(s.name, file) == 0) return s.text;
     throw Error(std::string("kernel source '") + file + "' is not embedded in this build");
-}
-
-// The largest projected radius over the frame (the nearest surface), as hbaoPixel computes it.
-float maxReachPixels(const glsl::KernelParams& p, ConstPlane depth) {
-    if (p.orthographic) return std::min(p.radius * p.fx, p.maxRadiusPixels);
-    double zMin = INFINITY;
-    for (int y = 0; y < depth.height; ++y) {
-        const double ry = (p.cy - (p.originY + y + 0.5)) * p.invFy;
-        for (int x = 0; x < depth.width; ++x) {
-            double z = *depth.at(x, y) * (double)p.depthScale;
-            if (!(z >= 1.17549435e-38 && z < p.skyDepth)) continue;
-            if (p.radialDepth) {
-                const double rx = (p.originX + x + 0.5 - p.cx) * p.invFx;
-                z /= std::sqrt(1.0 + rx * rx + ry * ry);
-            }
-            zMin = std::min(zMin, z);
-        }
-    }
-    if (!std::isfinite(zMin)) return 0.0f;
-    const double r = p.radius * (double)p.fx / std::sqrt(std::max(zMin * zMin - (double)p.radius * p.radius, 1e-30));
-    return (float)std::min(r, (double)p.maxRadiusPixels);
 }
 
 enum Binding {
@@ -137,7 +117,11 @@ void GlBackend::runTiled(const glsl::KernelParams& p, ConstPlane depth, ConstPla
     const GlApi& gl = context_->gl();
     const int W = p.width, H = p.height;
     // How far a pixel's result reads: its samples (radius plus snapping), then the blur.
-    const int apron = (int)std::ceil(std::min(maxReachPixels(p, depth), (float)std::max(W, H))) + 2 + std::max(blur, 0);
+    const int apron = (int)std::ceil(std::min(cpu::hbaoReachPixels(p, depth), (float)std::max(W, H))) + 2 + std::max(blur, 0);
+    // The depth box (hbao's border past the frame's edges, if any): a tile loads its part within
+    // the apron and the border's width of its texels.
+    const Box2i depthBox = cpu::depthBoxOf(p);
+    const int border = std::max({-depthBox.x0, -depthBox.y0, depthBox.x1 - W, depthBox.y1 - H, 0});
     if (maxTexels <= 0) maxTexels = info().maxStorageBlockBytes / (3 * (long long)sizeof(float));  // 3-float planes
     std::vector<float> packed;
     for (const Tile& tile : planTiles(W, H, apron, maxTexels, info())) {
@@ -146,9 +130,16 @@ void GlBackend::runTiled(const glsl::KernelParams& p, ConstPlane depth, ConstPla
         q.height = tile.buf.height();
         q.originX = p.originX + tile.buf.x0;
         q.originY = p.originY + tile.buf.y0;
+        const int reach = apron + border;
+        const Box2i tileDepth = intersect(
+            Box2i{tile.inner.x0 - reach, tile.inner.y0 - reach, tile.inner.x1 + reach, tile.inner.y1 + reach}, depthBox);
+        q.depthX0 = tileDepth.x0 - tile.buf.x0;
+        q.depthY0 = tileDepth.y0 - tile.buf.y0;
+        q.depthX1 = tileDepth.x1 - tile.buf.x0;
+        q.depthY1 = tileDepth.y1 - tile.buf.y0;
         auto t0 = Clock::now();
         uploadBuffer(kParams, GL_UNIFORM_BUFFER, &q, sizeof(q));
-        pack(depth, tile.buf, 1, packed);
+        pack(depth, tileDepth, 1, packed);
         uploadBuffer(kDepth, GL_SHADER_STORAGE_BUFFER, packed.data(), packed.size() * sizeof(float));
         pack(normal, tile.buf, 3, packed);
         uploadBuffer(kNormal, GL_SHADER_STORAGE_BUFFER, packed.data(), packed.size() * sizeof(float));
@@ -229,8 +220,16 @@ void GlBackend::runAoWith(const char* program, const glsl::KernelParams& p, Cons
     // The deep pairs ride in the signal-in buffer (HBAO reads no signal), so a tile holds 2K floats a texel.
     if (deep.valid() && maxTexels <= 0)
         maxTexels = info().maxStorageBlockBytes / (std::max(3, 2 * p.deepLayers) * (long long)sizeof(float));
+    // HBAO reads its depth with the border continued past the frame's edges (cpu/hbao_border.h, on the host).
+    const bool hbao = std::strcmp(program, "hbao") == 0;
+    cpu::BorderedDepth bordered;
+    if (hbao) {
+        const auto t0 = Clock::now();
+        bordered = cpu::continueBorder(p, depth, normal, 0, cpu::cpuKernelsFor({depth, normal}));
+        t.upload += since(t0);
+    }
     runTiled(
-        p, depth, normal, blur, maxTexels, t,
+        hbao ? bordered.params : p, hbao ? bordered.depth : depth, normal, blur, maxTexels, t,
         [&](const Box2i& buf, const glsl::KernelParams& q) {
             if (deep.valid()) {
                 pack(deep, buf, 2 * q.deepLayers, packed);
@@ -246,11 +245,15 @@ void GlBackend::runAoWith(const char* program, const glsl::KernelParams& p, Cons
     if (timings) *timings = t;
 }
 
-void GlBackend::runDiscs(const glsl::KernelParams& p, const float* pyramid, size_t pyramidFloats, ConstPlane depth,
+void GlBackend::runDiscs(const glsl::KernelParams& params, const float* pyramid, size_t pyramidFloats, ConstPlane depth,
                          ConstPlane normal, MutablePlane ao, int blur, GlTimings* timings) {
     context_->makeCurrent();
     const GlApi& gl = context_->gl();
     const ContextInfo& ci = info();
+    glsl::KernelParams p = params;  // the blur's depth is the frame's, without a border
+    p.depthX0 = p.depthY0 = 0;
+    p.depthX1 = p.width;
+    p.depthY1 = p.height;
     const size_t bytes = pyramidFloats * sizeof(float);
     const long long groupLimit = (long long)std::min(ci.maxWorkGroups[0], ci.maxWorkGroups[1]) * kGroup;
     // Every receiver may read any node of the pyramid, so the frame runs as one tile.

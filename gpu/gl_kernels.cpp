@@ -22,7 +22,9 @@ uniform int signalChannels;   // channels per texel of signalIn / signalOut (1: 
 uniform int hasAlbedo;        // 0: albedo 1 (no albedo pass bound)
 
 int texelIndex(ivec2 t) { return t.y * P.width + t.x; }
-float loadDepth(ivec2 t) { return depthData[texelIndex(t)]; }
+// The depth buffer holds the box P.depthX0 .. (the buffer, and hbao's border around it).
+int depthIndex(int x, int y) { return (y - P.depthY0) * (P.depthX1 - P.depthX0) + x - P.depthX0; }
+float loadDepth(ivec2 t) { return depthData[depthIndex(t.x, t.y)]; }
 vec3 loadNormal(ivec2 t) {
     int i = 3 * texelIndex(t);
     return vec3(normalData[i], normalData[i + 1], normalData[i + 2]);
@@ -51,7 +53,7 @@ vec3 loadEnv(ivec2 t) {
     return vec3(envData[i], envData[i + 1], envData[i + 2]);
 }
 // The lane kernels' loads (kernels/*.glsl): one pixel per thread, 0 where not used (albedo 1).
-float gatherDepth(int x, int y, bool use) { return use ? depthData[y * P.width + x] : 0.0f; }
+float gatherDepth(int x, int y, bool use) { return use ? depthData[depthIndex(x, y)] : 0.0f; }
 float gatherDepthAtDisplay(vec2 corner, bool use) {
     return gatherDepth(int(corner.x) - P.originX, int(corner.y) - P.originY, use);
 }

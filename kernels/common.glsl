@@ -47,6 +47,13 @@ lbool insideBuffer(lvec2 corner, float margin) {
            corner.y < float(P.height) - margin;
 }
 
+// The same against the texels the depth buffer holds (P.depthX0 ..: the buffer, and hbao's
+// continued border around it).
+lbool insideDepthBuffer(lvec2 corner, float margin) {
+    return corner.x >= float(P.depthX0) + margin && corner.y >= float(P.depthY0) + margin &&
+           corner.x < float(P.depthX1) - margin && corner.y < float(P.depthY1) - margin;
+}
+
 // Depth of the buffer texels (x, y) in world units, and which of them are surfaces (inside
 // the buffer, finite, nearer than the sky). The others get depth 1: harmless in arithmetic
 // whose result they discard. Requires the backend's gatherDepth(x, y, use).

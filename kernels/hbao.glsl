@@ -417,6 +417,26 @@ lfloat tangentPlaneDepth(lvec2 edgeCorner, lvec2 corner, lfloat edgeDepth, lbool
     return P.orthographic == 0 && P.radialDepth != 0 ? d * sqrt(dot(ray, ray)) : d;
 }
 
+// The depth the march reads at buffer texel (x, y) past the buffer's edge, border clamp (1) or
+// tangent (2): the nearest edge texel's depth, or where that texel's tangent plane meets this
+// texel's ray (the edge's depth where the plane is seen edge-on or behind the eye). The
+// backends write it once per frame around the depth buffer (P.depthX0 ..), so each sample
+// past the edge reads one texel as a sample inside does. Inside the buffer: the texel's depth.
+lfloat continuedDepth(lint x, lint y) {
+    vec2 origin = vec2(bufferOrigin());
+    lvec2 corner = lvec2(lfloat(x) + origin.x, lfloat(y) + origin.y);
+    lvec2 edgeCorner = lvec2(clamp(corner.x, origin.x, origin.x + float(P.width - 1)),
+                             clamp(corner.y, origin.y, origin.y + float(P.height - 1)));
+    lbool every = lfloat(0.0f) <= 0.0f; // true in every lane
+    lfloat depth = gatherDepthAtDisplay(edgeCorner, every) * P.depthScale;
+    lbool continued = isSurfaceDepth(depth) && !insideBuffer(corner - origin, 0.0f);
+    if (P.hbaoBorder == 2 && anyLane(continued)) {
+        lfloat planeDepth = tangentPlaneDepth(edgeCorner, corner, depth, continued);
+        depth = select(continued && isSurfaceDepth(planeDepth), planeDepth, depth);
+    }
+    return depth * (1.0f / P.depthScale);
+}
+
 // Ambient occlusion in [0,1] (1 = unoccluded) of the buffer texels (x, y); texels outside
 // the buffer, sky and holes get 1.
 lfloat hbaoLanes(lint x, lint y) {
@@ -449,11 +469,12 @@ lfloat hbaoLanes(lint x, lint y) {
     // The first sample sits one pixel out; the rest spread evenly to the radius.
     lfloat stepPixels = (radiusPixels - 1.0f) * (1.0f / float(P.steps));
     // Every sample lies within radiusPixels of the centre: when that square (with a texel to
-    // spare for rounding) is inside the buffer for every lane, no step needs a bounds test.
+    // spare for rounding) is inside the depth buffer (with the border continued around it, if any)
+    // for every lane, no step needs a bounds test.
     vec2 origin = vec2(bufferOrigin());
     lvec2 reach = lvec2(radiusPixels, radiusPixels);
-    bool discInside = !anyLane(computing && !(insideBuffer(floor(centre - reach) - origin, 1.0f) &&
-                                               insideBuffer(floor(centre + reach) - origin, 1.0f)));
+    bool discInside = !anyLane(computing && !(insideDepthBuffer(floor(centre - reach) - origin, 1.0f) &&
+                                               insideDepthBuffer(floor(centre + reach) - origin, 1.0f)));
     float radius2 = P.radius * P.radius;
     // World width one step stands for at the pixel's depth (thickness auto's run widths).
     lfloat footprint = max(stepPixels, lfloat(1.0f)) * P.invFx * (P.orthographic != 0 ? lfloat(1.0f) : planarDepth);
@@ -528,48 +549,37 @@ lfloat hbaoLanes(lint x, lint y) {
         lvec2 step = dir * stepPixels;
         lvec2 position = centre + dir * (1.0f + jitter * stepPixels);
         // Each coordinate moves monotonically, so when the first and the last sample of every
-        // lane are inside the buffer (the last with a texel to spare for rounding), all are,
+        // lane are inside the depth buffer (the last with a texel to spare for rounding), all are,
         // and the steps skip the bounds test: the common case away from the frame's edges.
         bool interior = discInside;
         if (!interior) {
             lvec2 last = position + step * float(P.steps - 1);
-            interior = !anyLane(computing && !(insideBuffer(floor(position) - origin, 0.0f) &&
-                                                insideBuffer(floor(last) - origin, 1.0f)));
+            interior = !anyLane(computing && !(insideDepthBuffer(floor(position) - origin, 0.0f) &&
+                                                insideDepthBuffer(floor(last) - origin, 1.0f)));
         }
         for (int s = 0; s < P.steps; ++s) {
             lvec2 corner = floor(position);
             position = position + step;
             lbool counts = computing;
             lvec2 loadCorner = corner;
-            lbool leftBuffer = lfloat(0.0f) > 0.0f; // past the edge: a run's end there is not seen
             if (!interior) {
-                leftBuffer = !insideBuffer(corner - origin, 0.0f);
                 if (P.hbaoBorder == 0) {
-                    counts = counts && !leftBuffer;
+                    counts = counts && insideBuffer(corner - origin, 0.0f);
                     // The image line is straight and the buffer convex: once every lane has left
                     // it, every later step is outside too.
                     if (!anyLane(counts)) {
                         break;
                     }
                 } else {
-                    // Past the edge the nearest edge texel stands in: its depth (clamp), or its
-                    // tangent plane continued to this sample's ray (tangent).
-                    loadCorner = lvec2(clamp(corner.x, float(origin.x), float(origin.x + P.width - 1)),
-                                       clamp(corner.y, float(origin.y), float(origin.y + P.height - 1)));
+                    // The continued border reaches every sample (cpu/hbao_border.h sizes it); the
+                    // clamp only guards rounding.
+                    loadCorner = lvec2(clamp(corner.x, origin.x + float(P.depthX0), origin.x + float(P.depthX1 - 1)),
+                                       clamp(corner.y, origin.y + float(P.depthY0), origin.y + float(P.depthY1 - 1)));
                 }
             }
-            // Deep layers are read at texels inside the buffer only (not at clamped edge texels).
-            lbool deepUse = counts && !leftBuffer;
+            lbool sampled = counts; // before the surface test: deep layers may lie behind sky
             lfloat sampleDepth = gatherDepthAtDisplay(loadCorner, counts) * P.depthScale;
             counts = counts && isSurfaceDepth(sampleDepth);
-            if (!interior && P.hbaoBorder == 2) {
-                lbool continued = counts && leftBuffer;
-                if (anyLane(continued)) {
-                    lfloat planeDepth = tangentPlaneDepth(loadCorner, corner, sampleDepth, continued);
-                    // A plane seen edge-on, or behind the eye, continues nowhere: keep the edge's depth.
-                    sampleDepth = select(continued && isSurfaceDepth(planeDepth), planeDepth, sampleDepth);
-                }
-            }
             sampleDepth = select(counts, sampleDepth, depth); // holes and sky: keep X finite
             // Scaled after the exact subtraction: scaling first would cancel digits.
             lvec2 w = lvec2((corner.x + cornerToOffset.x) * P.invFx, (corner.y + cornerToOffset.y) * -P.invFy);
@@ -604,6 +614,8 @@ lfloat hbaoLanes(lint x, lint y) {
                 // the horizon, its rises are none): most runs end so, and skip the close.
                 lbool matters = ends && horizonA * run.topB - horizonB * run.topA > 0.0f;
                 if (anyLane(matters)) {
+                    // A run ending past the edge (its end not seen) may be any depth.
+                    lbool leftBuffer = !insideBuffer(corner - origin, 0.0f);
                     lfloat t = select(leftBuffer, lfloat(P.thickness), runThickness(run, invNLen, footprint));
                     closeRuns(matters, t, run, nE, nV, cosB, sinB, nLen, horizonA, horizonB, horizonF, sectors,
                               sliceOcclusion);
@@ -647,7 +659,11 @@ lfloat hbaoLanes(lint x, lint y) {
                 raiseLinearHorizon(f, weight, horizonF, sliceOcclusion);
             } else if (P.hbaoBitmask == 2) {
                 // Deep input: the visible layer's span where the renderer saw the ray leave its solid,
-                // then every hidden layer.
+                // then every hidden layer; they are read inside the buffer only, and past the edge the
+                // edge texel's normal stands in.
+                lbool deepUse = sampled && insideBuffer(corner - origin, 0.0f);
+                loadCorner = lvec2(clamp(corner.x, origin.x, origin.x + float(P.width - 1)),
+                                   clamp(corner.y, origin.y, origin.y + float(P.height - 1)));
                 lfloat back = gatherDeepAtDisplay(corner, 1, deepUse && surface) * P.depthScale;
                 lbool span = deepUse && surface && back > sampleDepth && isSurfaceDepth(back);
                 lvec3 backX = viewOffset(ray, depth, w, select(span, back, sampleDepth));
