@@ -141,16 +141,13 @@ std::vector<std::string> roleRgb(const LayerPlan& plan, Role role) {
 // Lat-long environment map, any format OpenImageIO reads, as RGB floats in the working space.
 Image readEnvironmentMap(const std::string& path, const std::string& colourSpace, long long maxPixels,
                          FrameReport& report) {
-    const OiioModule& oiio = oiioModule();
-    int width = 0, height = 0, channels = 0;
-    bool deep = false;
-    std::string failed = oiio.probe(path, width, height, channels, deep);
-    if (!failed.empty()) throw FileError(path, "cannot read the environment map: " + failed);
-    if (channels < 3) throw FileError(path, "the environment map has fewer than 3 channels");
-    checkWindow(path, "image", Imath::Box2i(Imath::V2i(0, 0), Imath::V2i(width - 1, height - 1)), maxPixels);
+    auto accept = [&](int width, int height, int channels) {
+        if (channels < 3) throw FileError(path, "the environment map has fewer than 3 channels");
+        checkWindow(path, "image", Imath::Box2i(Imath::V2i(0, 0), Imath::V2i(width - 1, height - 1)), maxPixels);
+    };
     Image rgb;
     ColourMetadata meta;
-    failed = oiio.readRgb(path, rgb, meta);
+    const std::string failed = oiioModule().readRgb(path, accept, rgb, meta);
     if (!failed.empty()) throw FileError(path, "cannot read the environment map: " + failed);
     const ColourManager& cm = colourManager();
     const ColourSpaceGuess space = cm.detectColourSpace(meta, colourSpace);

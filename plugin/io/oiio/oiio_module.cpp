@@ -36,10 +36,12 @@ std::string probe(const std::string& path, int& width, int& height, int& channel
     return {};
 }
 
-std::string readRgb(const std::string& path, Image& rgb, ColourMetadata& meta) {
+std::string readRgb(const std::string& path, const std::function<void(int, int, int)>& accept, Image& rgb,
+                    ColourMetadata& meta) {
     auto in = OIIO::ImageInput::open(path);
     if (!in) return oiioError(OIIO::geterror());
     const OIIO::ImageSpec& spec = in->spec();
+    accept(spec.width, spec.height, spec.nchannels);
     if (spec.nchannels < 3) return "fewer than 3 channels";
     rgb = Image(spec.width, spec.height, 3);
     if (!in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, rgb.pixels.data())) return oiioError(in->geterror());
