@@ -410,7 +410,7 @@ Image readDeepInput(const FrameJob& job, const FramePasses& p, FrameReport& repo
     if (job.deepInput.empty()) return Image();
     StageTimer timer{&report.stages, "deep"};
     return blameInput(job.deepInput, [&] {
-        DeepLayers deep = readDeepLayers(job.deepInput, job.settings.deepLayers, {p.plan.deepZ, p.plan.deepZBack}, job.maxPixels);
+        DeepLayers deep = readDeepLayers(job.deepInput, job.settings.deepLayers, p.plan.deep, job.maxPixels);
         if (deep.display != p.display)
             throw Error("its display window (" + std::to_string(deep.display.width()) + "x" +
                         std::to_string(deep.display.height()) + ") is not the flat passes' (" +
@@ -602,9 +602,9 @@ std::string inspectFrame(const FrameJob& job) {
        << "   sky depth >= " << job.skyDepth.value_or(p.plan.skyDepth) << "\n";
     if (!job.deepInput.empty()) {
         const DeepLayers d = blameInput(job.deepInput, [&] {
-            return readDeepLayers(job.deepInput, job.settings.deepLayers, {p.plan.deepZ, p.plan.deepZBack}, job.maxPixels);
+            return readDeepLayers(job.deepInput, job.settings.deepLayers, p.plan.deep, job.maxPixels);
         });
-        os << "deep:    " << job.deepInput << " (" << p.plan.deepZ << ", " << p.plan.deepZBack << "): " << d.layers
+        os << "deep:    " << job.deepInput << " (" << p.plan.deep.z << ", " << p.plan.deep.zBack << "): " << d.layers
            << " layer(s) of at most " << job.settings.deepLayers << ", " << d.samples << " samples, " << d.emptyPixels
            << " empty pixels, " << d.droppedSamples << " dropped samples, " << d.unsortedPixels << " unsorted pixels\n";
     }
