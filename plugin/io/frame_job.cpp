@@ -405,12 +405,18 @@ Camera resolveFrameCamera(const FrameJob& job, const FramePasses& p) {
 }
 
 namespace {
+// The job's deep file, with the channel names of the flat passes' preset; errors name the file.
+DeepLayers readJobDeepLayers(const FrameJob& job, const FramePasses& p) {
+    return blameInput(job.deepInput,
+                      [&] { return readDeepLayers(job.deepInput, job.settings.deepLayers, p.plan.deep, job.maxPixels); });
+}
+
 // The deep file's surfaces over the flat passes' data window, or an empty image without one.
 Image readDeepInput(const FrameJob& job, const FramePasses& p, FrameReport& report) {
     if (job.deepInput.empty()) return Image();
     StageTimer timer{&report.stages, "deep"};
+    DeepLayers deep = readJobDeepLayers(job, p);
     return blameInput(job.deepInput, [&] {
-        DeepLayers deep = readDeepLayers(job.deepInput, job.settings.deepLayers, p.plan.deep, job.maxPixels);
         if (deep.display != p.display)
             throw Error("its display window (" + std::to_string(deep.display.width()) + "x" +
                         std::to_string(deep.display.height()) + ") is not the flat passes' (" +
@@ -601,9 +607,7 @@ std::string inspectFrame(const FrameJob& job) {
        << (p.plan.normalsLeftHanded ? " (left-handed, z flipped)" : "")
        << "   sky depth >= " << job.skyDepth.value_or(p.plan.skyDepth) << "\n";
     if (!job.deepInput.empty()) {
-        const DeepLayers d = blameInput(job.deepInput, [&] {
-            return readDeepLayers(job.deepInput, job.settings.deepLayers, p.plan.deep, job.maxPixels);
-        });
+        const DeepLayers d = readJobDeepLayers(job, p);
         os << "deep:    " << job.deepInput << " (" << p.plan.deep.z << ", " << p.plan.deep.zBack << "): " << d.layers
            << " layer(s) of at most " << job.settings.deepLayers << ", " << d.samples << " samples, " << d.emptyPixels
            << " empty pixels, " << d.droppedSamples << " dropped samples, " << d.unsortedPixels << " unsorted pixels\n";
