@@ -221,9 +221,7 @@ TEST(DeepHbao, HiddenBlockUnderRoofMatchesCornerClosedForm) {
 TEST(DeepHbao, PointSamplesOfTheVisibleLayerAddFootprintsToTheFlatResult) {
     const int W = 160, H = 120;
     const SceneBuffers sb = renderScene(studioScene(), studioCamera(W, H), W, H);
-    Image deep(W, H, 2);
-    for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x) deep.at(x, y)[0] = deep.at(x, y)[1] = *sb.depth.at(x, y);
+    const Image deep = deepLayersFromDepth(sb.depth, {{0.0f, 0.0f}});  // the visible layer, point samples
     OperatorInputs in = sb.inputs();
     for (Weighting w : {Weighting::Uniform, Weighting::Cosine}) {
         Settings s = hbaoSettings(w, Falloff::None, 1.0f);
@@ -263,9 +261,7 @@ TEST(DeepHbao, GrazingFloorBeforeAWallMatchesCornerClosedForm) {
     const double eyeHeight = 0.02;
     const SceneBuffers sb = renderScene(cornerScene(), lookAtPerspective({-10, eyeHeight, 0}, {0, eyeHeight - 1.5, 0},
                                                                           M_PI / 3, W, H), W, H);
-    Image deep(W, H, 2);
-    for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x) deep.at(x, y)[0] = deep.at(x, y)[1] = *sb.depth.at(x, y);
+    const Image deep = deepLayersFromDepth(sb.depth, {{0.0f, 0.0f}});  // the visible layer, point samples
     OperatorInputs in = sb.inputs();
     for (Weighting w : {Weighting::Uniform, Weighting::Cosine}) {
         const Settings s = hbaoSettings(w, Falloff::None, R, 16, 12);
@@ -301,15 +297,8 @@ TEST(DeepHbao, PlaneWithLayersBehindStaysExact) {
     for (bool ortho : {false, true})
         for (double tiltDeg : {0.0, 60.0}) {
             const SceneBuffers sb = tiltedPlaneView(tiltDeg, 20.0, ortho, 64, 48);
-            Image deep(64, 48, 6);
-            for (int y = 0; y < 48; ++y)
-                for (int x = 0; x < 64; ++x) {
-                    const float z = *sb.depth.at(x, y);
-                    float* d = deep.at(x, y);
-                    d[0] = z, d[1] = z + 0.5f;   // the plane is a slab
-                    d[2] = d[3] = z + 1.0f;      // a point surface behind it
-                    d[4] = z + 1.5f, d[5] = z + 3.0f;
-                }
+            // The plane is a slab, a point surface behind it, then a span.
+            const Image deep = deepLayersFromDepth(sb.depth, {{0.0f, 0.5f}, {1.0f, 1.0f}, {1.5f, 3.0f}});
             OperatorInputs in = sb.inputs();
             in.deepLayers = deep.view();
             for (Weighting w : {Weighting::Uniform, Weighting::Cosine}) {
@@ -372,9 +361,7 @@ TEST(DeepCli, UsageAndErrors) {
 TEST(DeepCli, PolesWithDeepInputBeatTheDepthPass) {
     const fs::path dir = testDir("deep");
     const std::string ref = (dir / "poles.exr").string(), deep = (dir / "poles_deep.exr").string();
-    const CliResult r = runProgram(referenceRenderPath(), {"--scene", "poles", "-o", ref, "--deep", deep, "--width", "200",
-                                                           "--height", "150", "--ao-rays", "256", "--gi-rays", "1",
-                                                           "--quiet"});
+    const CliResult r = renderReferenceScene("poles", ref, 200, 150, {"--deep", deep});
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const DeepLayers layers = readDeepLayers(deep, 4);
     EXPECT_EQ(layers.layers, 4);  // pole, pole behind, ..., the ground
