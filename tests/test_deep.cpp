@@ -6,6 +6,7 @@
 #include "io/deep_file.h"
 #include "support/cli_runner.h"
 #include "support/closed_forms.h"
+#include "support/exr_fixtures.h"
 #include "support/reference_runs.h"
 #include "support/scenes.h"
 #include "support/scratch.h"
@@ -375,4 +376,50 @@ TEST(DeepCli, PolesWithDeepInputBeatTheDepthPass) {
     const CliResult inspect = runProgram(OBSCURA_CLI_PATH, {deep, "--flat", ref, "--inspect"});
     EXPECT_EQ(inspect.exitCode, 0) << inspect.err;
     EXPECT_NE(inspect.out.find("deep:    " + deep + " (Z, ZBack): 4 layer(s)"), std::string::npos) << inspect.out;
+}
+
+// A deep input the CLI cannot use fails the frame with one line naming it, exit 1 and no
+// output: a truncated deep file, a flat file given as the deep input, a deep file whose
+// display window is not the flat passes'. The same flat passes with a good deep file run.
+TEST(DeepCli, BadDeepInputIsOneLineAndNoOutput) {
+    const fs::path dir = testDir("deep-bad");
+    const std::string flat = (dir / "flat.exr").string(), good = (dir / "good.exr").string();
+    // The flat passes: a plane facing the camera at depth 2, 16 x 1 pixels.
+    fixtures::FixturePart passes;
+    for (const auto& [name, v] : std::vector<std::pair<std::string, float>>{{"Z", 2}, {"N.X", 0}, {"N.Y", 0}, {"N.Z", 1}}) {
+        fixtures::FixtureChannel c;
+        c.name = name;
+        c.value = [v = v](int, int) { return v; };
+        passes.channels.push_back(c);
+    }
+    passes.displayWindow = passes.dataWindow = Imath::Box2i(Imath::V2i(0, 0), Imath::V2i(15, 0));
+    fixtures::writeFixture(flat, {passes});
+    const std::vector<Samples> pixels(16, Samples{{2, 3}, {5, 5}});
+    writeDeepFile(good, pixels, false);
+    const std::string out = (dir / "out.exr").string();
+    auto run = [&](const std::string& deep) {
+        return runProgram(OBSCURA_CLI_PATH, {deep, "--flat", flat, "-o", out, "--fov-deg", "50", "--normals", "camera", "--quiet"});
+    };
+    const CliResult ok = run(good);
+    ASSERT_EQ(ok.exitCode, 0) << ok.err;
+    ASSERT_TRUE(fs::exists(out));
+    fs::remove(out);
+
+    const std::string truncated = (dir / "truncated.exr").string(), narrow = (dir / "narrow.exr").string();
+    fixtures::truncatedCopy(good, truncated, fixtures::fileSize(good) - 16);
+    writeDeepFile(narrow, std::vector<Samples>(8, Samples{{2, 3}}), false);
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {truncated, "truncated.exr'"},
+        {flat, "not a deep image"},
+        {narrow, "its display window (8x1) is not the flat passes' (16x1)"},
+    };
+    for (const auto& [deep, expected] : cases) {
+        const CliResult r = run(deep);
+        std::printf("%s", r.err.c_str());
+        EXPECT_EQ(r.exitCode, 1) << deep;
+        EXPECT_EQ(r.err.rfind("obscura: ", 0), 0u) << r.err;
+        EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        EXPECT_FALSE(fs::exists(out)) << deep;
+    }
 }
