@@ -6,6 +6,7 @@
 #include "io/deep_file.h"
 #include "support/cli_runner.h"
 #include "support/closed_forms.h"
+#include "support/exr_fixtures.h"
 #include "support/reference_runs.h"
 #include "support/scenes.h"
 #include "support/scratch.h"
@@ -221,9 +222,7 @@ TEST(DeepHbao, HiddenBlockUnderRoofMatchesCornerClosedForm) {
 TEST(DeepHbao, PointSamplesOfTheVisibleLayerAddFootprintsToTheFlatResult) {
     const int W = 160, H = 120;
     const SceneBuffers sb = renderScene(studioScene(), studioCamera(W, H), W, H);
-    Image deep(W, H, 2);
-    for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x) deep.at(x, y)[0] = deep.at(x, y)[1] = *sb.depth.at(x, y);
+    const Image deep = deepLayersFromDepth(sb.depth, {{0.0f, 0.0f}});  // the visible layer, point samples
     OperatorInputs in = sb.inputs();
     for (Weighting w : {Weighting::Uniform, Weighting::Cosine}) {
         Settings s = hbaoSettings(w, Falloff::None, 1.0f);
@@ -263,9 +262,7 @@ TEST(DeepHbao, GrazingFloorBeforeAWallMatchesCornerClosedForm) {
     const double eyeHeight = 0.02;
     const SceneBuffers sb = renderScene(cornerScene(), lookAtPerspective({-10, eyeHeight, 0}, {0, eyeHeight - 1.5, 0},
                                                                           M_PI / 3, W, H), W, H);
-    Image deep(W, H, 2);
-    for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x) deep.at(x, y)[0] = deep.at(x, y)[1] = *sb.depth.at(x, y);
+    const Image deep = deepLayersFromDepth(sb.depth, {{0.0f, 0.0f}});  // the visible layer, point samples
     OperatorInputs in = sb.inputs();
     for (Weighting w : {Weighting::Uniform, Weighting::Cosine}) {
         const Settings s = hbaoSettings(w, Falloff::None, R, 16, 12);
@@ -301,15 +298,8 @@ TEST(DeepHbao, PlaneWithLayersBehindStaysExact) {
     for (bool ortho : {false, true})
         for (double tiltDeg : {0.0, 60.0}) {
             const SceneBuffers sb = tiltedPlaneView(tiltDeg, 20.0, ortho, 64, 48);
-            Image deep(64, 48, 6);
-            for (int y = 0; y < 48; ++y)
-                for (int x = 0; x < 64; ++x) {
-                    const float z = *sb.depth.at(x, y);
-                    float* d = deep.at(x, y);
-                    d[0] = z, d[1] = z + 0.5f;   // the plane is a slab
-                    d[2] = d[3] = z + 1.0f;      // a point surface behind it
-                    d[4] = z + 1.5f, d[5] = z + 3.0f;
-                }
+            // The plane is a slab, a point surface behind it, then a span.
+            const Image deep = deepLayersFromDepth(sb.depth, {{0.0f, 0.5f}, {1.0f, 1.0f}, {1.5f, 3.0f}});
             OperatorInputs in = sb.inputs();
             in.deepLayers = deep.view();
             for (Weighting w : {Weighting::Uniform, Weighting::Cosine}) {
@@ -372,9 +362,7 @@ TEST(DeepCli, UsageAndErrors) {
 TEST(DeepCli, PolesWithDeepInputBeatTheDepthPass) {
     const fs::path dir = testDir("deep");
     const std::string ref = (dir / "poles.exr").string(), deep = (dir / "poles_deep.exr").string();
-    const CliResult r = runProgram(referenceRenderPath(), {"--scene", "poles", "-o", ref, "--deep", deep, "--width", "200",
-                                                           "--height", "150", "--ao-rays", "256", "--gi-rays", "1",
-                                                           "--quiet"});
+    const CliResult r = renderReferenceScene("poles", ref, 200, 150, {"--deep", deep});
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const DeepLayers layers = readDeepLayers(deep, 4);
     EXPECT_EQ(layers.layers, 4);  // pole, pole behind, ..., the ground
@@ -388,4 +376,50 @@ TEST(DeepCli, PolesWithDeepInputBeatTheDepthPass) {
     const CliResult inspect = runProgram(OBSCURA_CLI_PATH, {deep, "--flat", ref, "--inspect"});
     EXPECT_EQ(inspect.exitCode, 0) << inspect.err;
     EXPECT_NE(inspect.out.find("deep:    " + deep + " (Z, ZBack): 4 layer(s)"), std::string::npos) << inspect.out;
+}
+
+// A deep input the CLI cannot use fails the frame with one line naming it, exit 1 and no
+// output: a truncated deep file, a flat file given as the deep input, a deep file whose
+// display window is not the flat passes'. The same flat passes with a good deep file run.
+TEST(DeepCli, BadDeepInputIsOneLineAndNoOutput) {
+    const fs::path dir = testDir("deep-bad");
+    const std::string flat = (dir / "flat.exr").string(), good = (dir / "good.exr").string();
+    // The flat passes: a plane facing the camera at depth 2, 16 x 1 pixels.
+    fixtures::FixturePart passes;
+    for (const auto& [name, v] : std::vector<std::pair<std::string, float>>{{"Z", 2}, {"N.X", 0}, {"N.Y", 0}, {"N.Z", 1}}) {
+        fixtures::FixtureChannel c;
+        c.name = name;
+        c.value = [v = v](int, int) { return v; };
+        passes.channels.push_back(c);
+    }
+    passes.displayWindow = passes.dataWindow = Imath::Box2i(Imath::V2i(0, 0), Imath::V2i(15, 0));
+    fixtures::writeFixture(flat, {passes});
+    const std::vector<Samples> pixels(16, Samples{{2, 3}, {5, 5}});
+    writeDeepFile(good, pixels, false);
+    const std::string out = (dir / "out.exr").string();
+    auto run = [&](const std::string& deep) {
+        return runProgram(OBSCURA_CLI_PATH, {deep, "--flat", flat, "-o", out, "--fov-deg", "50", "--normals", "camera", "--quiet"});
+    };
+    const CliResult ok = run(good);
+    ASSERT_EQ(ok.exitCode, 0) << ok.err;
+    ASSERT_TRUE(fs::exists(out));
+    fs::remove(out);
+
+    const std::string truncated = (dir / "truncated.exr").string(), narrow = (dir / "narrow.exr").string();
+    fixtures::truncatedCopy(good, truncated, fixtures::fileSize(good) - 16);
+    writeDeepFile(narrow, std::vector<Samples>(8, Samples{{2, 3}}), false);
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {truncated, "truncated.exr'"},
+        {flat, "not a deep image"},
+        {narrow, "its display window (8x1) is not the flat passes' (16x1)"},
+    };
+    for (const auto& [deep, expected] : cases) {
+        const CliResult r = run(deep);
+        std::printf("%s", r.err.c_str());
+        EXPECT_EQ(r.exitCode, 1) << deep;
+        EXPECT_EQ(r.err.rfind("obscura: ", 0), 0u) << r.err;
+        EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        EXPECT_FALSE(fs::exists(out)) << deep;
+    }
 }

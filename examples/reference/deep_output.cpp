@@ -1,14 +1,14 @@
 #include "deep_output.h"
 
+#include "render.h"
+
 #include <OpenImageIO/deepdata.h>
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
-#include <atomic>
 #include <filesystem>
 #include <limits>
 #include <stdexcept>
-#include <thread>
 
 namespace reference {
 
@@ -41,16 +41,10 @@ DeepFrame traceDeep(const Tracer& tracer, const PinholeCamera& camera, int threa
     f.width = camera.width;
     f.height = camera.height;
     f.pixels.resize(size_t(f.width) * f.height);
-    const int n = threads > 0 ? threads : std::max(1u, std::thread::hardware_concurrency());
-    std::atomic<int> nextRow{0};
-    std::vector<std::thread> pool;
-    for (int t = 0; t < n; ++t)
-        pool.emplace_back([&] {
-            for (int y = nextRow++; y < f.height; y = nextRow++)
-                for (int x = 0; x < f.width; ++x)
-                    f.pixels[size_t(y) * f.width + x] = raySpans(tracer, camera.eye, camera.ray(x + 0.5, y + 0.5), maxHits);
-        });
-    for (std::thread& t : pool) t.join();
+    forEachRow(f.height, threads, [&](int y) {
+        for (int x = 0; x < f.width; ++x)
+            f.pixels[size_t(y) * f.width + x] = raySpans(tracer, camera.eye, camera.ray(x + 0.5, y + 0.5), maxHits);
+    });
     return f;
 }
 

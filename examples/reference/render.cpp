@@ -6,22 +6,27 @@
 
 namespace reference {
 
+void forEachRow(int height, int threads, const std::function<void(int y)>& row) {
+    std::atomic<int> nextRow{0};
+    auto work = [&] {
+        for (int y; (y = nextRow.fetch_add(1)) < height;) row(y);
+    };
+    const int n = threads > 0 ? threads : int(std::max(1u, std::thread::hardware_concurrency()));
+    std::vector<std::thread> pool;
+    for (int i = 1; i < n; ++i) pool.emplace_back(work);
+    work();
+    for (std::thread& t : pool) t.join();
+}
+
 Frame render(const Integrator& integrator, const RenderSettings& settings) {
     Frame f;
     f.width = settings.width + 2 * settings.overscan;
     f.height = settings.height + 2 * settings.overscan;
     f.originX = f.originY = -settings.overscan;
     f.pixels.resize(size_t(f.width) * f.height);
-    std::atomic<int> nextRow{0};
-    auto work = [&] {
-        for (int y; (y = nextRow.fetch_add(1)) < f.height;)
-            for (int x = 0; x < f.width; ++x) f.pixels[size_t(y) * f.width + x] = integrator.shade(x + f.originX, y + f.originY);
-    };
-    const int threads = settings.threads > 0 ? settings.threads : int(std::max(1u, std::thread::hardware_concurrency()));
-    std::vector<std::thread> pool;
-    for (int i = 1; i < threads; ++i) pool.emplace_back(work);
-    work();
-    for (auto& t : pool) t.join();
+    forEachRow(f.height, settings.threads, [&](int y) {
+        for (int x = 0; x < f.width; ++x) f.pixels[size_t(y) * f.width + x] = integrator.shade(x + f.originX, y + f.originY);
+    });
     return f;
 }
 

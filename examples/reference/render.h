@@ -3,6 +3,7 @@
 #pragma once
 #include "integrators.h"
 
+#include <functional>
 #include <vector>
 
 namespace reference {
@@ -19,6 +20,10 @@ struct Convergence {
     std::array<double, kAoLayers> aoMean{}, aoStdErrMean{}, aoStdErrMax{};
     double indirectMean = 0, indirectStdErrMean = 0, indirectStdErrMax = 0;  // luminance
 };
+
+// row(y) for every y in [0, height), rows handed out one at a time to `threads` threads (0 =
+// all cores; the caller is one of them): rows cost unevenly, so none is assigned in advance.
+void forEachRow(int height, int threads, const std::function<void(int y)>& row);
 
 Frame render(const Integrator& integrator, const RenderSettings& settings);
 Convergence summarise(const Frame& frame);

@@ -121,8 +121,7 @@ int main(int argc, char** argv) {
             const LoadedFrame frame = loadFrame(conv.path, o.definition.exrLayer());
             const obscura::Image& truth = frame.passes.reference;
             // SSDO's inputs: the bounce source (DiffDir x DiffCol), DiffInd, and its AO definition's reference.
-            bool anySsdo = false;
-            for (const std::string& m : o.methods) anySsdo = anySsdo || isSsdoMethod(m);
+            const bool anySsdo = anyMethod(o.methods, isSsdoMethod);
             AoDefinition ssdoDefinition;
             parseDefinition("cosine_linear", ssdoDefinition);
             const LoadedFrame ssdoFrame = anySsdo ? loadFrame(conv.path, ssdoDefinition.exrLayer(), true) : LoadedFrame();
@@ -170,8 +169,7 @@ int main(int argc, char** argv) {
             const LoadedFrame& used = o.overscan > 0 ? overscanFrame : frame;
             const obscura::OperatorInputs in = operatorInputs(used);
             // hbao+deep: the same inputs plus the deep reference's layers, read as the CLI's --flat reads them.
-            bool anyDeep = false;
-            for (const std::string& m : o.methods) anyDeep = anyDeep || usesDeep(m);
+            const bool anyDeep = anyMethod(o.methods, usesDeep);
             obscura::Image deepPlanes;
             if (anyDeep) {
                 const std::string deepPath = ensureDeepReference(rig, rs, o.cacheDir);

@@ -3,6 +3,8 @@
 #include "core/methods.h"
 #include "reference/integrators.h"
 
+#include <algorithm>
+
 namespace report {
 
 const std::vector<std::string>& registeredMethods() {
@@ -46,6 +48,10 @@ bool isSsdoMethod(const std::string& method) { return method == "ssdo" || method
 bool hasBounce(const std::string& method) { return method == "ssdo+bounce"; }
 
 bool usesDeep(const std::string& method) { return method == "hbao+deep"; }
+
+bool anyMethod(const std::vector<std::string>& methods, bool (*test)(const std::string&)) {
+    return std::any_of(methods.begin(), methods.end(), test);
+}
 
 int ssdoSamplesForPreset(const std::string& preset) {
     if (preset == "low") return 16;

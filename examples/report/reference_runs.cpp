@@ -19,12 +19,22 @@ SceneRig::SceneRig(const std::string& name, int width, int height)
       tracer(std::make_unique<reference::Tracer>(scene)),
       camera(reference::PinholeCamera::lookAt(scene.camera, width, height)) {}
 
-ConvergedReference ensureConvergedReference(const SceneRig& rig, const ReferenceSettings& s, const std::string& cacheDir) {
+namespace {
+
+// <cacheDir>/<scene>_<W>x<H>_<what>.exr
+std::string cachePath(const SceneRig& rig, const ReferenceSettings& s, const std::string& cacheDir,
+                      const std::string& what) {
+    return (std::filesystem::path(cacheDir) /
+            (rig.scene.name + "_" + std::to_string(s.width) + "x" + std::to_string(s.height) + "_" + what + ".exr"))
+        .string();
+}
+
+// A reference render (passes, AO layers, camera sidecar) with these rays and overscan, from
+// the cache when it holds both files, rendered and cached otherwise.
+ConvergedReference ensureRender(const SceneRig& rig, const ReferenceSettings& s, const std::string& cacheDir,
+                                const std::string& what, int aoRays, int giRays, int overscan) {
     ConvergedReference out;
-    out.path = (std::filesystem::path(cacheDir) / (rig.scene.name + "_" + std::to_string(s.width) + "x" +
-                                                   std::to_string(s.height) + "_ao" + std::to_string(s.convergedRays) +
-                                                   "_gi" + std::to_string(s.giRays) + ".exr"))
-                   .string();
+    out.path = cachePath(rig, s, cacheDir, what);
     const std::string sidecar = out.path.substr(0, out.path.size() - 4) + ".json";
     if (std::filesystem::exists(out.path) && std::filesystem::exists(sidecar)) {
         out.cached = true;
@@ -34,10 +44,11 @@ ConvergedReference ensureConvergedReference(const SceneRig& rig, const Reference
     rs.width = s.width;
     rs.height = s.height;
     rs.radius = rig.scene.defaultRadius;
-    rs.aoRays = s.convergedRays;
-    rs.giRays = s.giRays;
+    rs.aoRays = aoRays;
+    rs.giRays = giRays;
     rs.seed = kConvergedSeed;
     rs.threads = s.threads;
+    rs.overscan = overscan;
     const Clock::time_point t0 = Clock::now();
     const reference::Integrator integrator(rig.scene, *rig.tracer, rig.camera, rs);
     const reference::Frame frame = reference::render(integrator, rs);
@@ -46,34 +57,23 @@ ConvergedReference ensureConvergedReference(const SceneRig& rig, const Reference
     return out;
 }
 
+} // namespace
+
+ConvergedReference ensureConvergedReference(const SceneRig& rig, const ReferenceSettings& s, const std::string& cacheDir) {
+    return ensureRender(rig, s, cacheDir, "ao" + std::to_string(s.convergedRays) + "_gi" + std::to_string(s.giRays),
+                        s.convergedRays, s.giRays, 0);
+}
+
 std::string ensureDeepReference(const SceneRig& rig, const ReferenceSettings& s, const std::string& cacheDir) {
-    const std::string path = (std::filesystem::path(cacheDir) / (rig.scene.name + "_" + std::to_string(s.width) + "x" +
-                                                                 std::to_string(s.height) + "_deep.exr"))
-                                 .string();
+    const std::string path = cachePath(rig, s, cacheDir, "deep");
     if (!std::filesystem::exists(path)) reference::writeDeep(path, reference::traceDeep(*rig.tracer, rig.camera, s.threads));
     return path;
 }
 
+// Only the passes are used: 1 AO ray, no GI.
 std::string ensureOverscanPasses(const SceneRig& rig, const ReferenceSettings& s, int overscan,
                                  const std::string& cacheDir) {
-    const std::string path = (std::filesystem::path(cacheDir) / (rig.scene.name + "_" + std::to_string(s.width) + "x" +
-                                                                 std::to_string(s.height) + "_overscan" +
-                                                                 std::to_string(overscan) + ".exr"))
-                                 .string();
-    if (std::filesystem::exists(path) && std::filesystem::exists(path.substr(0, path.size() - 4) + ".json")) return path;
-    reference::RenderSettings rs;
-    rs.width = s.width;
-    rs.height = s.height;
-    rs.radius = rig.scene.defaultRadius;
-    rs.aoRays = 1;
-    rs.giRays = 0;
-    rs.seed = kConvergedSeed;
-    rs.threads = s.threads;
-    rs.overscan = overscan;
-    const reference::Integrator integrator(rig.scene, *rig.tracer, rig.camera, rs);
-    const reference::Frame frame = reference::render(integrator, rs);
-    reference::writeReference(path, frame, rig.camera, {rig.scene.name, rs, reference::summarise(frame)});
-    return path;
+    return ensureRender(rig, s, cacheDir, "overscan" + std::to_string(overscan), 1, 0, overscan).path;
 }
 
 TracedAo traceAo(const SceneRig& rig, const ReferenceSettings& s, int rays) {

@@ -42,12 +42,16 @@ DeepLayers readDeepLayers(const std::string& path, int maxLayers, const DeepChan
     struct Span {
         float front, back;
     };
-    // Every pixel's surfaces first, so the plane gets as many layers as the deepest pixel needs.
-    std::vector<std::vector<Span>> surfaces((size_t)W * H);
+    // Every pixel's surfaces first, so the plane gets as many layers as the deepest pixel needs:
+    // pixel p's are kept[start[p] .. start[p + 1]).
+    std::vector<Span> kept;
+    kept.reserve(std::min(dd.z.size(), (size_t)maxLayers * W * H));
+    std::vector<size_t> start((size_t)W * H + 1, 0);
     std::vector<Span> samples;
     size_t first = 0;  // this pixel's first sample in dd.z
-    for (int64_t p = 0; p < (int64_t)W * H; ++p) {
-        const int n = dd.counts[(size_t)p];
+    for (size_t p = 0; p < (size_t)W * H; ++p) {
+        start[p] = kept.size();
+        const int n = dd.counts[p];
         out.samples += n;
         samples.clear();
         for (size_t i = first; i < first + (size_t)n; ++i) {
@@ -69,30 +73,28 @@ DeepLayers readDeepLayers(const std::string& path, int maxLayers, const DeepChan
             ++out.unsortedPixels;
             std::stable_sort(samples.begin(), samples.end(), byFront);
         }
-        std::vector<Span>& kept = surfaces[(size_t)p];
         for (const Span& s : samples) {
-            if (!kept.empty() && s.front <= kept.back().back * (1.0f + kTouching)) {
+            if (kept.size() > start[p] && s.front <= kept.back().back * (1.0f + kTouching)) {
                 kept.back().back = std::max(kept.back().back, s.back);
                 continue;
             }
-            if ((int)kept.size() == maxLayers) {
+            if (kept.size() - start[p] == (size_t)maxLayers) {
                 ++out.truncatedPixels;
                 break;
             }
             kept.push_back(s);
         }
-        out.layers = std::max(out.layers, (int)kept.size());
+        out.layers = std::max(out.layers, (int)(kept.size() - start[p]));
     }
+    start[(size_t)W * H] = kept.size();
     out.planes = Image(W, H, 2 * std::max(out.layers, 1), kInf);
-    for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x) {
-            float* v = out.planes.at(x, y);
-            const std::vector<Span>& kept = surfaces[(size_t)y * W + x];
-            for (size_t k = 0; k < kept.size(); ++k) {
-                v[2 * k] = kept[k].front;
-                v[2 * k + 1] = kept[k].back;
-            }
+    for (size_t p = 0; p < (size_t)W * H; ++p) {
+        float* v = out.planes.pixels.data() + p * out.planes.channels;
+        for (size_t k = start[p]; k < start[p + 1]; ++k, v += 2) {
+            v[0] = kept[k].front;
+            v[1] = kept[k].back;
         }
+    }
     if (out.layers == 0) out.layers = 1;  // an all-sky file: one layer of +inf
     return out;
 }

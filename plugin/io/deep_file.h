@@ -4,16 +4,11 @@
 #pragma once
 #include "core/image.h"
 #include "io/exr_file.h"
+#include "io/layers.h"
 
 #include <string>
 
 namespace obscura {
-
-// Channel names of a deep file's sample depths. Every renderer obscura has a preset for
-// writes the OpenEXR standard names (io/layers.cpp's table says so per renderer).
-struct DeepChannelNames {
-    std::string z = "Z", zBack = "ZBack";  // zBack may be absent: point samples
-};
 
 struct DeepLayers {
     Box2i display, data;     // the deep file's windows (display origin 0,0)

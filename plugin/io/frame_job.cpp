@@ -141,16 +141,13 @@ std::vector<std::string> roleRgb(const LayerPlan& plan, Role role) {
 // Lat-long environment map, any format OpenImageIO reads, as RGB floats in the working space.
 Image readEnvironmentMap(const std::string& path, const std::string& colourSpace, long long maxPixels,
                          FrameReport& report) {
-    const OiioModule& oiio = oiioModule();
-    int width = 0, height = 0, channels = 0;
-    bool deep = false;
-    std::string failed = oiio.probe(path, width, height, channels, deep);
-    if (!failed.empty()) throw FileError(path, "cannot read the environment map: " + failed);
-    if (channels < 3) throw FileError(path, "the environment map has fewer than 3 channels");
-    checkWindow(path, "image", Imath::Box2i(Imath::V2i(0, 0), Imath::V2i(width - 1, height - 1)), maxPixels);
+    auto accept = [&](int width, int height, int channels) {
+        if (channels < 3) throw FileError(path, "the environment map has fewer than 3 channels");
+        checkWindow(path, "image", Imath::Box2i(Imath::V2i(0, 0), Imath::V2i(width - 1, height - 1)), maxPixels);
+    };
     Image rgb;
     ColourMetadata meta;
-    failed = oiio.readRgb(path, rgb, meta);
+    const std::string failed = oiioModule().readRgb(path, accept, rgb, meta);
     if (!failed.empty()) throw FileError(path, "cannot read the environment map: " + failed);
     const ColourManager& cm = colourManager();
     const ColourSpaceGuess space = cm.detectColourSpace(meta, colourSpace);
@@ -408,12 +405,18 @@ Camera resolveFrameCamera(const FrameJob& job, const FramePasses& p) {
 }
 
 namespace {
+// The job's deep file, with the channel names of the flat passes' preset; errors name the file.
+DeepLayers readJobDeepLayers(const FrameJob& job, const FramePasses& p) {
+    return blameInput(job.deepInput,
+                      [&] { return readDeepLayers(job.deepInput, job.settings.deepLayers, p.plan.deep, job.maxPixels); });
+}
+
 // The deep file's surfaces over the flat passes' data window, or an empty image without one.
 Image readDeepInput(const FrameJob& job, const FramePasses& p, FrameReport& report) {
     if (job.deepInput.empty()) return Image();
     StageTimer timer{&report.stages, "deep"};
+    DeepLayers deep = readJobDeepLayers(job, p);
     return blameInput(job.deepInput, [&] {
-        DeepLayers deep = readDeepLayers(job.deepInput, job.settings.deepLayers, {p.plan.deepZ, p.plan.deepZBack}, job.maxPixels);
         if (deep.display != p.display)
             throw Error("its display window (" + std::to_string(deep.display.width()) + "x" +
                         std::to_string(deep.display.height()) + ") is not the flat passes' (" +
@@ -604,10 +607,8 @@ std::string inspectFrame(const FrameJob& job) {
        << (p.plan.normalsLeftHanded ? " (left-handed, z flipped)" : "")
        << "   sky depth >= " << job.skyDepth.value_or(p.plan.skyDepth) << "\n";
     if (!job.deepInput.empty()) {
-        const DeepLayers d = blameInput(job.deepInput, [&] {
-            return readDeepLayers(job.deepInput, job.settings.deepLayers, {p.plan.deepZ, p.plan.deepZBack}, job.maxPixels);
-        });
-        os << "deep:    " << job.deepInput << " (" << p.plan.deepZ << ", " << p.plan.deepZBack << "): " << d.layers
+        const DeepLayers d = readJobDeepLayers(job, p);
+        os << "deep:    " << job.deepInput << " (" << p.plan.deep.z << ", " << p.plan.deep.zBack << "): " << d.layers
            << " layer(s) of at most " << job.settings.deepLayers << ", " << d.samples << " samples, " << d.emptyPixels
            << " empty pixels, " << d.droppedSamples << " dropped samples, " << d.unsortedPixels << " unsorted pixels\n";
     }

@@ -26,11 +26,9 @@ struct Preset {
     bool viewLayerPrefix;   // layers are "<anything>.<name>" (Blender's view layer)
     const char* hint;       // header attribute name (or software value) token
     std::vector<RoleNames> roles;
-    // Deep output's sample depths (docs/deep.md): every renderer here writes OpenEXR's standard
-    // Z and ZBack in its deep files, so the column is one value today; a renderer that differs
-    // gets its names here.
-    const char* deepZ = "Z";
-    const char* deepZBack = "ZBack";
+    // Deep output's sample depths: every renderer here writes OpenEXR's standard names (the
+    // default); a renderer that differs gives its names at the end of its row.
+    DeepChannelNames deep = {};
 };
 
 const std::vector<Preset>& presetTable() {
@@ -39,27 +37,27 @@ const std::vector<Preset>& presetTable() {
         // Generic first: it wins ties, so a specific preset needs specific evidence.
         {"generic", DepthKind::Planar, NormalSpace::World, false, false, "",
          {{R::Depth, {"Z", "depth", "Depth"}}, {R::Normal, {"N", "normal"}}, {R::Position, {"P"}},
-          {R::Beauty, {""}}, {R::Albedo, {"albedo"}}, {R::DirectDiffuse, {}}}, "Z", "ZBack"},
+          {R::Beauty, {""}}, {R::Albedo, {"albedo"}}, {R::DirectDiffuse, {}}}},
         // Blender: planar depth (radial only for panoramic cameras), world normals, sky 1e10.
         {"blender", DepthKind::Planar, NormalSpace::World, false, true, "blender",
          {{R::Depth, {"Depth"}}, {R::Normal, {"Normal"}}, {R::Position, {"Position"}},
           {R::Beauty, {"Combined"}}, {R::Albedo, {"DiffCol", "Diffuse Color"}},
-          {R::DirectDiffuse, {"DiffDir", "Diffuse Direct"}}}, "Z", "ZBack"},
+          {R::DirectDiffuse, {"DiffDir", "Diffuse Direct"}}}},
         {"arnold", DepthKind::Planar, NormalSpace::World, false, false, "arnold",
          {{R::Depth, {"Z"}}, {R::Normal, {"N"}}, {R::Position, {"P"}}, {R::Beauty, {"", "RGBA"}},
-          {R::Albedo, {"albedo", "diffuse_albedo"}}, {R::DirectDiffuse, {"diffuse_direct"}}}, "Z", "ZBack"},
+          {R::Albedo, {"albedo", "diffuse_albedo"}}, {R::DirectDiffuse, {"diffuse_direct"}}}},
         // RenderMan: Nn in camera ("current") space, left-handed, +z forward. P is camera
         // space, so only the world-space __Pworld is bound as position.
         {"renderman", DepthKind::Planar, NormalSpace::Camera, true, false, "renderman",
          {{R::Depth, {"z"}}, {R::Normal, {"Nn"}}, {R::Position, {"__Pworld"}}, {R::Beauty, {"Ci"}},
-          {R::Albedo, {"albedo"}}, {R::DirectDiffuse, {"directDiffuse"}}}, "Z", "ZBack"},
+          {R::Albedo, {"albedo"}}, {R::DirectDiffuse, {"directDiffuse"}}}},
         // V-Ray: raw Z only; VRayZDepth is remapped for display and never used.
         {"vray", DepthKind::Planar, NormalSpace::Camera, false, false, "vray",
          {{R::Depth, {"Z"}}, {R::Normal, {"VRayNormals"}}, {R::Position, {"VRaySamplerInfo"}},
-          {R::Beauty, {""}}, {R::Albedo, {"VRayDiffuseFilter"}}, {R::DirectDiffuse, {"VRayLighting"}}}, "Z", "ZBack"},
+          {R::Beauty, {""}}, {R::Albedo, {"VRayDiffuseFilter"}}, {R::DirectDiffuse, {"VRayLighting"}}}},
         {"karma", DepthKind::Planar, NormalSpace::World, false, false, "karma",
          {{R::Depth, {"depth"}}, {R::Normal, {"N"}}, {R::Position, {"P"}}, {R::Beauty, {"C"}},
-          {R::Albedo, {"albedo"}}, {R::DirectDiffuse, {"directdiffuse"}}}, "Z", "ZBack"},
+          {R::Albedo, {"albedo"}}, {R::DirectDiffuse, {"directdiffuse"}}}},
     };
     return table;
 }
@@ -222,8 +220,7 @@ LayerPlan planPreset(const Preset& pr, const std::vector<LayerEntry>& layers) {
     plan.depthKind = pr.depth;
     plan.normalSpace = pr.normals;
     plan.normalsLeftHanded = pr.leftHanded;
-    plan.deepZ = pr.deepZ;
-    plan.deepZBack = pr.deepZBack;
+    plan.deep = pr.deep;
     plan.skyDepth = 1e9f;  // Blender's 1e10 sky, "large Z" and inf all sit above this
     std::string viewLayer;
     for (const RoleNames& rn : pr.roles) {

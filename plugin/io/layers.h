@@ -16,6 +16,12 @@ const char* roleName(Role);                         // "depth", "normal", ..., "
 bool parseRole(const std::string&, Role&);
 const std::vector<Role>& allRoles();
 
+// Channel names of a deep file's sample depths, per renderer preset (--flat; docs/deep.md).
+// The defaults are OpenEXR's standard names, which every renderer in layers.cpp's table writes.
+struct DeepChannelNames {
+    std::string z = "Z", zBack = "ZBack";  // zBack may be absent: point samples
+};
+
 struct LayerBinding {
     Role role = Role::Depth;
     int part = 0;
@@ -31,7 +37,7 @@ struct LayerPlan {
     NormalSpace normalSpace = NormalSpace::World;
     float skyDepth = 1e9f;
     bool normalsLeftHanded = false;     // camera space looks down +z (RenderMan): caller flips z
-    std::string deepZ = "Z", deepZBack = "ZBack";  // the renderer's deep sample depths (--flat)
+    DeepChannelNames deep;              // the renderer's deep sample depths
 
     const LayerBinding* find(Role) const;
 };

@@ -7,6 +7,7 @@
 #include "io/colour.h"
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -26,8 +27,10 @@ struct OiioModule {
     int abi;  // kOiioModuleAbi: a stale module from another build is refused, not called
     // Size and kind of the first subimage.
     std::string (*probe)(const std::string& path, int& width, int& height, int& channels, bool& deep);
-    // Channels 0..2 of the first subimage as floats, and what the file says of its colour.
-    std::string (*readRgb)(const std::string& path, Image& rgb, ColourMetadata& meta);
+    // Channels 0..2 of the first subimage as floats, and what the file says of its colour, from
+    // one open. `accept` sees the size before any pixel is allocated and may throw to refuse it.
+    std::string (*readRgb)(const std::string& path, const std::function<void(int width, int height, int channels)>& accept,
+                           Image& rgb, ColourMetadata& meta);
     // An 8-bit PNG of `channels` interleaved channels, straight to `path` (the caller renames).
     std::string (*writePng)(const std::string& path, int width, int height, int channels,
                             const std::uint8_t* bytes, const std::string& colourSpaceTag);
@@ -35,7 +38,7 @@ struct OiioModule {
     std::string (*readDeep)(const std::string& path, const std::string& z, const std::string& zBack,
                             DeepSamples& out);
 };
-constexpr int kOiioModuleAbi = 1;
+constexpr int kOiioModuleAbi = 2;
 
 // The module, loaded once (thread-safe). Throws obscura::Error when it cannot be loaded.
 const OiioModule& oiioModule();

@@ -181,19 +181,9 @@ void BM_Scheduler(benchmark::State& state, Weighting w, Falloff f, int threads, 
 // K (front, back) layers per texel: the visible surface 0.2 deep, then alternately a point
 // surface and a 0.5-deep slab, 0.4 apart (docs/deep.md).
 Image syntheticDeepLayers(int layers) {
-    const SceneBuffers& sb = scene();
-    Image deep(sb.depth.width, sb.depth.height, 2 * layers);
-    for (int y = 0; y < deep.height; ++y)
-        for (int x = 0; x < deep.width; ++x) {
-            const float z = *sb.depth.at(x, y);
-            float* d = deep.at(x, y);
-            d[0] = z, d[1] = z + 0.2f;
-            for (int k = 1; k < layers; ++k) {
-                d[2 * k] = z + 0.4f * k;
-                d[2 * k + 1] = d[2 * k] + (k % 2 == 0 ? 0.5f : 0.0f);
-            }
-        }
-    return deep;
+    std::vector<std::pair<float, float>> offsets = {{0.0f, 0.2f}};
+    for (int k = 1; k < layers; ++k) offsets.emplace_back(0.4f * k, 0.4f * k + (k % 2 == 0 ? 0.5f : 0.0f));
+    return deepLayersFromDepth(scene().depth, offsets);
 }
 
 void runHbaoBench(benchmark::State& state, const Settings& s, const std::string& caseName, int deepLayers) {

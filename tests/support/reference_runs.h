@@ -19,10 +19,13 @@ inline std::string referenceRenderPath() {
     return (cli.parent_path().parent_path() / "examples" / "reference" / "reference_render").string();
 }
 
-// Renders `scene` at w x h with 256 AO rays (one GI ray: unused) into `path`.
-inline CliResult renderReferenceScene(const std::string& scene, const std::string& path, int w, int h) {
-    return runProgram(referenceRenderPath(), {"--scene", scene, "-o", path, "--width", std::to_string(w), "--height",
-                                              std::to_string(h), "--ao-rays", "256", "--gi-rays", "1", "--quiet"});
+// Renders `scene` at w x h with 256 AO rays (one GI ray: unused) into `path`, plus `args`.
+inline CliResult renderReferenceScene(const std::string& scene, const std::string& path, int w, int h,
+                                      const std::vector<std::string>& args = {}) {
+    std::vector<std::string> all = {"--scene", scene, "-o", path, "--width", std::to_string(w), "--height",
+                                    std::to_string(h), "--ao-rays", "256", "--gi-rays", "1", "--quiet"};
+    all.insert(all.end(), args.begin(), args.end());
+    return runProgram(referenceRenderPath(), all);
 }
 
 // PSNR (dB) of the CLI's AO on `reference` against its Reference.AO_cosine_none, at radius

@@ -243,4 +243,18 @@ double meanEdgeBandError(const SceneBuffers& full, const Image& whole, const Box
     return sum / std::max(n, 1);
 }
 
+Image deepLayersFromDepth(const Image& depth, const std::vector<std::pair<float, float>>& offsets) {
+    Image deep(depth.width, depth.height, 2 * (int)offsets.size());
+    for (int y = 0; y < depth.height; ++y)
+        for (int x = 0; x < depth.width; ++x) {
+            const float z = *depth.at(x, y);
+            float* d = deep.at(x, y);
+            for (const auto& [front, back] : offsets) {
+                *d++ = z + front;
+                *d++ = z + back;
+            }
+        }
+    return deep;
+}
+
 } // namespace obscura::test

@@ -6,6 +6,7 @@
 #include "core/operator.h"
 
 #include <glm/glm.hpp>
+#include <utility>
 #include <vector>
 
 namespace obscura::test {
@@ -81,5 +82,9 @@ SceneBuffers tiltedPlaneView(double tiltDeg, double dist, bool ortho, int width,
 
 // HBAO settings for analytic tests: weighting, falloff, radius, slices x steps, 2 threads.
 Settings hbaoSettings(Weighting w, Falloff f, float radius, int dirs = 8, int steps = 8);
+
+// Deep input layers (OperatorInputs::deepLayers) from a depth plane: layer k's (front, back)
+// at each texel is (z + offsets[k].first, z + offsets[k].second), z that texel's depth.
+Image deepLayersFromDepth(const Image& depth, const std::vector<std::pair<float, float>>& offsets);
 
 } // namespace obscura::test

@@ -7,6 +7,8 @@
 #include <OpenImageIO/deepdata.h>
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
+
 namespace obscura {
 
 // Visible: tests call it (io/colour.h declares it).
@@ -36,10 +38,12 @@ std::string probe(const std::string& path, int& width, int& height, int& channel
     return {};
 }
 
-std::string readRgb(const std::string& path, Image& rgb, ColourMetadata& meta) {
+std::string readRgb(const std::string& path, const std::function<void(int, int, int)>& accept, Image& rgb,
+                    ColourMetadata& meta) {
     auto in = OIIO::ImageInput::open(path);
     if (!in) return oiioError(OIIO::geterror());
     const OIIO::ImageSpec& spec = in->spec();
+    accept(spec.width, spec.height, spec.nchannels);
     if (spec.nchannels < 3) return "fewer than 3 channels";
     rgb = Image(spec.width, spec.height, 3);
     if (!in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, rgb.pixels.data())) return oiioError(in->geterror());
@@ -66,8 +70,14 @@ std::string readDeep(const std::string& path, const std::string& z, const std::s
     if (!spec.deep) return "not a deep image (a flat file gives the passes with --flat)";
     const int zc = spec.channelindex(z), zBackC = spec.channelindex(zBack);
     if (zc < 0) return "deep image without a " + z + " channel";
+    // Only the channels from Z to ZBack (adjacent in OpenEXR's sorted list), not colour or ids.
+    const int chBegin = zBackC >= 0 ? std::min(zc, zBackC) : zc, chEnd = std::max(zc, zBackC) + 1;
     OIIO::DeepData dd;
-    if (!in->read_native_deep_image(0, 0, dd)) return oiioError(in->geterror());
+    const bool read = spec.tile_width > 0
+                          ? in->read_native_deep_tiles(0, 0, spec.x, spec.x + spec.width, spec.y, spec.y + spec.height,
+                                                       spec.z, spec.z + spec.depth, chBegin, chEnd, dd)
+                          : in->read_native_deep_scanlines(0, 0, spec.y, spec.y + spec.height, spec.z, chBegin, chEnd, dd);
+    if (!read) return oiioError(in->geterror());
     out.fullWidth = spec.full_width;
     out.fullHeight = spec.full_height;
     out.x = spec.x - spec.full_x;
@@ -76,15 +86,17 @@ std::string readDeep(const std::string& path, const std::string& z, const std::s
     out.height = spec.height;
     out.hasZBack = zBackC >= 0;
     const int64_t pixels = (int64_t)spec.width * spec.height;
-    out.counts.resize((size_t)pixels);
-    for (int64_t p = 0; p < pixels; ++p) {
-        const int n = dd.samples(p);
-        out.counts[(size_t)p] = n;
-        for (int s = 0; s < n; ++s) {
-            out.z.push_back(dd.deep_value(p, zc, s));
-            if (out.hasZBack) out.zBack.push_back(dd.deep_value(p, zBackC, s));
+    const OIIO::cspan<unsigned int> counts = dd.all_samples();
+    out.counts.assign(counts.begin(), counts.end());
+    size_t total = 0;
+    for (unsigned int n : counts) total += n;
+    out.z.reserve(total);
+    if (out.hasZBack) out.zBack.reserve(total);
+    for (int64_t p = 0; p < pixels; ++p)
+        for (int s = 0; s < dd.samples(p); ++s) {
+            out.z.push_back(dd.deep_value(p, zc - chBegin, s));
+            if (out.hasZBack) out.zBack.push_back(dd.deep_value(p, zBackC - chBegin, s));
         }
-    }
     return {};
 }
 
