@@ -19,28 +19,31 @@ std::vector<std::string> laneIsas() { return cpuIsas(); }
 
 LaneTileFn laneTileFor(LaneKernel kernel, const std::string& isa) { return entryOf(cpuKernelsNamed(isa), kernel); }
 
+namespace {
+// HBAO, with deep layers when `deep` is valid: it reads its depth with the border continued
+// (cpu/hbao_border.h), and the kernels are chosen again for the bordered plane, whose offsets are larger.
+void runHbaoWith(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, MutablePlane ao,
+                 int threads, const std::string& isa) {
+    const BorderedDepth b = continueBorder(p, depth, normal, threads, kernelsFor(isa, {depth, normal, deep}));
+    const IsaKernels& k = kernelsFor(isa, {b.plane.view(), depth, normal, deep});
+    parallelForTiles(Box2i{0, 0, p.width, p.height}, kLaneTileWidth, kLaneTileHeight, threads, [&](const Box2i& tile) {
+        if (deep.valid()) k.hbaoDeepTile(b.params, b.depth, normal, deep, ao, tile);
+        else k.hbaoTile(b.params, b.depth, normal, ao, tile);
+    });
+}
+} // namespace
+
 void runLaneKernel(LaneKernel kernel, const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao,
                    int threads, const std::string& isa) {
-    if (kernel == LaneKernel::Ssao) {
-        const LaneTileFn tileFn = entryOf(kernelsFor(isa, {depth, normal}), kernel);
-        parallelForTiles(Box2i{0, 0, p.width, p.height}, kLaneTileWidth, kLaneTileHeight, threads,
-                         [&](const Box2i& tile) { tileFn(p, depth, normal, ao, tile); });
-        return;
-    }
-    // HBAO reads its depth with the border continued (cpu/hbao_border.h); the kernels are chosen
-    // again for the bordered plane, whose offsets are larger.
-    const BorderedDepth b = continueBorder(p, depth, normal, threads, kernelsFor(isa, {depth, normal}));
-    const LaneTileFn tileFn = entryOf(kernelsFor(isa, {b.plane.view(), depth, normal}), kernel);
+    if (kernel == LaneKernel::Hbao) return runHbaoWith(p, depth, normal, ConstPlane{}, ao, threads, isa);
+    const IsaKernels& k = kernelsFor(isa, {depth, normal});
     parallelForTiles(Box2i{0, 0, p.width, p.height}, kLaneTileWidth, kLaneTileHeight, threads,
-                     [&](const Box2i& tile) { tileFn(b.params, b.depth, normal, ao, tile); });
+                     [&](const Box2i& tile) { k.ssaoTile(p, depth, normal, ao, tile); });
 }
 
 void runHbaoDeep(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, MutablePlane ao,
                  int threads, const std::string& isa) {
-    const BorderedDepth b = continueBorder(p, depth, normal, threads, kernelsFor(isa, {depth, normal, deep}));
-    const IsaKernels& k = kernelsFor(isa, {b.plane.view(), depth, normal, deep});
-    parallelForTiles(Box2i{0, 0, p.width, p.height}, kLaneTileWidth, kLaneTileHeight, threads,
-                     [&](const Box2i& tile) { k.hbaoDeepTile(b.params, b.depth, normal, deep, ao, tile); });
+    runHbaoWith(p, depth, normal, deep, ao, threads, isa);
 }
 
 } // namespace obscura::cpu

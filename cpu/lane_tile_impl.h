@@ -132,39 +132,47 @@ void runTileFor(const KernelParams& p, ConstPlane depth, ConstPlane normal, Cons
         runTile<E, glsl::ParamsAnyCamera<Cosine, Linear, Bitmask>>(p, depth, normal, deep, ao, tile);
 }
 
-// The weighting and falloff switches as template arguments; HBAO's bitmask too (SSAO never
-// takes it), and with it the deep layers (bitmask 2), so input without them runs no deep code.
-template <Entry E>
-void runEntry(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, MutablePlane ao,
-              const Box2i& tile) {
-    const int bitmask = E == Entry::Hbao ? p.hbaoBitmask : 0;
+// The weighting and falloff switches as template arguments, for one bitmask mode.
+template <Entry E, int Bitmask>
+void runSwitches(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, MutablePlane ao,
+                 const Box2i& tile) {
+    const bool linear = Bitmask != 2 && p.linearFalloff != 0; // deep input takes no falloff (operator.cpp)
     if (p.cosineWeighting != 0) {
-        if (p.linearFalloff != 0 && bitmask == 1) runTileFor<E, 1, 1, 1>(p, depth, normal, deep, ao, tile);
-        else if (p.linearFalloff != 0) runTileFor<E, 1, 1>(p, depth, normal, deep, ao, tile);
-        else if (bitmask == 2) runTileFor<E, 1, 0, 2>(p, depth, normal, deep, ao, tile);
-        else if (bitmask == 1) runTileFor<E, 1, 0, 1>(p, depth, normal, deep, ao, tile);
-        else runTileFor<E, 1, 0>(p, depth, normal, deep, ao, tile);
+        if constexpr (Bitmask != 2) {
+            if (linear) return runTileFor<E, 1, 1, Bitmask>(p, depth, normal, deep, ao, tile);
+        }
+        runTileFor<E, 1, 0, Bitmask>(p, depth, normal, deep, ao, tile);
     } else {
-        if (p.linearFalloff != 0 && bitmask == 1) runTileFor<E, 0, 1, 1>(p, depth, normal, deep, ao, tile);
-        else if (p.linearFalloff != 0) runTileFor<E, 0, 1>(p, depth, normal, deep, ao, tile);
-        else if (bitmask == 2) runTileFor<E, 0, 0, 2>(p, depth, normal, deep, ao, tile);
-        else if (bitmask == 1) runTileFor<E, 0, 0, 1>(p, depth, normal, deep, ao, tile);
-        else runTileFor<E, 0, 0>(p, depth, normal, deep, ao, tile);
+        if constexpr (Bitmask != 2) {
+            if (linear) return runTileFor<E, 0, 1, Bitmask>(p, depth, normal, deep, ao, tile);
+        }
+        runTileFor<E, 0, 0, Bitmask>(p, depth, normal, deep, ao, tile);
     }
+}
+
+// HBAO's bitmask as a template argument too (SSAO never takes it), and with it the deep layers
+// (bitmask 2), so input without them runs no deep code. Linear falloff with deep layers keeps
+// the horizon (bitmask 0), as the operator asks.
+template <Entry E>
+void runEntry(const KernelParams& p, int bitmask, ConstPlane depth, ConstPlane normal, ConstPlane deep,
+              MutablePlane ao, const Box2i& tile) {
+    if constexpr (E == Entry::Hbao) {
+        if (bitmask == 1) return runSwitches<E, 1>(p, depth, normal, deep, ao, tile);
+        if (bitmask == 2 && p.linearFalloff == 0) return runSwitches<E, 2>(p, depth, normal, deep, ao, tile);
+    }
+    runSwitches<E, 0>(p, depth, normal, deep, ao, tile);
 }
 
 } // namespace
 
 void hbaoTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile) {
-    KernelParams flat = p;
-    flat.hbaoBitmask = p.hbaoBitmask != 0 ? 1 : 0;  // no deep plane here
-    flat.deepLayers = 0;
-    runEntry<Entry::Hbao>(flat, depth, normal, ConstPlane{}, ao, tile);
+    // No deep plane here: the bitmask without its deep layers.
+    runEntry<Entry::Hbao>(p, p.hbaoBitmask != 0 ? 1 : 0, depth, normal, ConstPlane{}, ao, tile);
 }
 
 void hbaoDeepTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, MutablePlane ao,
                   const Box2i& tile) {
-    runEntry<Entry::Hbao>(p, depth, normal, deep, ao, tile);
+    runEntry<Entry::Hbao>(p, p.hbaoBitmask, depth, normal, deep, ao, tile);
 }
 
 void hbaoBorderTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane out, const Box2i& tile) {
@@ -172,7 +180,7 @@ void hbaoBorderTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, 
 }
 
 void ssaoTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile) {
-    runEntry<Entry::Ssao>(p, depth, normal, ConstPlane{}, ao, tile);
+    runEntry<Entry::Ssao>(p, 0, depth, normal, ConstPlane{}, ao, tile);
 }
 
 } // namespace obscura::cpu::OBSCURA_ISA

@@ -557,11 +557,21 @@ lfloat hbaoLanes(lint x, lint y) {
             interior = !anyLane(computing && !(insideDepthBuffer(floor(position) - origin, 0.0f) &&
                                                 insideDepthBuffer(floor(last) - origin, 1.0f)));
         }
+        // Inside, each step's depth is loaded one step ahead, so the load's latency overlaps the
+        // work on the sample before (the step's work is too long for the CPU to reach it alone).
+        lfloat aheadDepth = lfloat(0.0f);
+        if (interior) {
+            aheadDepth = gatherDepthAtDisplay(floor(position), computing);
+        }
         for (int s = 0; s < P.steps; ++s) {
             lvec2 corner = floor(position);
             position = position + step;
             lbool counts = computing;
             lvec2 loadCorner = corner;
+            lfloat loaded = aheadDepth;
+            if (interior && s + 1 < P.steps) {
+                aheadDepth = gatherDepthAtDisplay(floor(position), computing);
+            }
             if (!interior) {
                 if (P.hbaoBorder == 0) {
                     counts = counts && insideBuffer(corner - origin, 0.0f);
@@ -576,9 +586,10 @@ lfloat hbaoLanes(lint x, lint y) {
                     loadCorner = lvec2(clamp(corner.x, origin.x + float(P.depthX0), origin.x + float(P.depthX1 - 1)),
                                        clamp(corner.y, origin.y + float(P.depthY0), origin.y + float(P.depthY1 - 1)));
                 }
+                loaded = gatherDepthAtDisplay(loadCorner, counts);
             }
             lbool sampled = counts; // before the surface test: deep layers may lie behind sky
-            lfloat sampleDepth = gatherDepthAtDisplay(loadCorner, counts) * P.depthScale;
+            lfloat sampleDepth = loaded * P.depthScale;
             counts = counts && isSurfaceDepth(sampleDepth);
             sampleDepth = select(counts, sampleDepth, depth); // holes and sky: keep X finite
             // Scaled after the exact subtraction: scaling first would cancel digits.
