@@ -101,7 +101,7 @@ DiscPyramid buildDiscPyramid(KernelParams& p, ConstPlane depth, ConstPlane norma
 
     // Room for every level, not zeroed: only the levels up to the frame's top level are
     // written, and the pages of the others are never touched.
-    pyr.data.reset(new float[(size_t)texels * kChannels]);
+    pyr.data = allocateBigFloats((size_t)texels * kChannels);
     const IsaKernels& k = cpuKernelsFor({depth, normal});
     float* base = pyr.data.get();
     std::mutex reachLock;

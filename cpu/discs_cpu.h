@@ -1,6 +1,7 @@
 // CPU side of disc AO (kernels/discs.glsl): the pyramid of elements, which both devices read,
 // and the traversal over tiles on all cores with the widest instruction set (cpu/isa.h).
 #pragma once
+#include "cpu/big_buffer.h"
 #include "core/image.h"
 #include "cpu/kernel_params.h"
 
@@ -18,7 +19,7 @@ constexpr int kDiscChannels = 17;
 
 // Level 0: one texel per pixel; level L: one per 2^L x 2^L block, kDiscChannels floats each.
 struct DiscPyramid {
-    std::unique_ptr<float[]> data;  // not zeroed first: every texel of the stored levels is written
+    BigFloats data;  // not zeroed first: every texel of the stored levels is written
     size_t floats = 0;
     std::vector<int> offsets;  // texel offset of each stored level
     int width = 0, height = 0;
