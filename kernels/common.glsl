@@ -54,6 +54,14 @@ lbool insideDepthBuffer(lvec2 corner, float margin) {
            corner.x < float(P.depthX1) - margin && corner.y < float(P.depthY1) - margin;
 }
 
+// The display corner of the buffer texel nearest the one at display corner `corner` (itself
+// when inside): the edge texel that stands in for a texel past the buffer's edge.
+lvec2 nearestBufferCorner(lvec2 corner) {
+    vec2 origin = vec2(bufferOrigin());
+    return lvec2(clamp(corner.x, origin.x, origin.x + float(P.width - 1)),
+                 clamp(corner.y, origin.y, origin.y + float(P.height - 1)));
+}
+
 // Depth of the buffer texels (x, y) in world units, and which of them are surfaces (inside
 // the buffer, finite, nearer than the sky). The others get depth 1: harmless in arithmetic
 // whose result they discard. Requires the backend's gatherDepth(x, y, use).

@@ -425,8 +425,7 @@ lfloat tangentPlaneDepth(lvec2 edgeCorner, lvec2 corner, lfloat edgeDepth, lbool
 lfloat continuedDepth(lint x, lint y) {
     vec2 origin = vec2(bufferOrigin());
     lvec2 corner = lvec2(lfloat(x) + origin.x, lfloat(y) + origin.y);
-    lvec2 edgeCorner = lvec2(clamp(corner.x, origin.x, origin.x + float(P.width - 1)),
-                             clamp(corner.y, origin.y, origin.y + float(P.height - 1)));
+    lvec2 edgeCorner = nearestBufferCorner(corner);
     lbool every = lfloat(0.0f) <= 0.0f; // true in every lane
     lfloat depth = gatherDepthAtDisplay(edgeCorner, every) * P.depthScale;
     lbool continued = isSurfaceDepth(depth) && !insideBuffer(corner - origin, 0.0f);
@@ -567,12 +566,12 @@ lfloat hbaoLanes(lint x, lint y) {
             lvec2 corner = floor(position);
             position = position + step;
             lbool counts = computing;
-            lvec2 loadCorner = corner;
             lfloat loaded = aheadDepth;
             if (interior && s + 1 < P.steps) {
                 aheadDepth = gatherDepthAtDisplay(floor(position), computing);
             }
             if (!interior) {
+                lvec2 loadCorner = corner;
                 if (P.hbaoBorder == 0) {
                     counts = counts && insideBuffer(corner - origin, 0.0f);
                     // The image line is straight and the buffer convex: once every lane has left
@@ -673,8 +672,7 @@ lfloat hbaoLanes(lint x, lint y) {
                 // then every hidden layer; they are read inside the buffer only, and past the edge the
                 // edge texel's normal stands in.
                 lbool deepUse = sampled && insideBuffer(corner - origin, 0.0f);
-                loadCorner = lvec2(clamp(corner.x, origin.x, origin.x + float(P.width - 1)),
-                                   clamp(corner.y, origin.y, origin.y + float(P.height - 1)));
+                lvec2 edgeCorner = nearestBufferCorner(corner);
                 lfloat back = gatherDeepAtDisplay(corner, 1, deepUse && surface) * P.depthScale;
                 lbool span = deepUse && surface && back > sampleDepth && isSurfaceDepth(back);
                 lvec3 backX = viewOffset(ray, depth, w, select(span, back, sampleDepth));
@@ -682,9 +680,9 @@ lfloat hbaoLanes(lint x, lint y) {
                            sectors);
                 // The texel's footprint on its tangent plane (its normal at the texel read, also past the edge).
                 lvec3 sampleRay = lvec3(ray.x + w.x, ray.y + w.y, ray.z);
-                lvec3 m = viewNormal(gatherNormal(lint(loadCorner.x - origin.x), lint(loadCorner.y - origin.y), surface),
+                lvec3 m = viewNormal(gatherNormal(lint(edgeCorner.x - origin.x), lint(edgeCorner.y - origin.y), surface),
                                      viewVector(sampleRay));
-                occupyFootprint(X, loadCorner, corner, sampleRay, sampleDepth, m, dir, w, surface, previous, T, n, nE, nV,
+                occupyFootprint(X, edgeCorner, corner, sampleRay, sampleDepth, m, dir, w, surface, previous, T, n, nE, nV,
                                 radius2, horizonA, horizonB, sectors);
                 for (int k = 1; k < P.deepLayers; ++k) {
                     occupyDeepLayer(k, corner, deepUse, ray, depth, w, T, n, nE, nV, radius2, backShiftA, backShiftB,
