@@ -358,7 +358,7 @@ Options parseArgs(int argc, char** argv) {
     }
     if (!o.flat.empty()) {
         if (!methodReads(o.job.settings.method, "deep"))
-            throw UsageError("--flat (deep input) works with --method hbao only");
+            throw UsageError("--flat (deep input) works with --method " + methodNames(", ", "deep") + " only");
         o.job.deepInput = o.job.input;
         o.job.input = o.flat;
         // One pattern without the other would read the same deep file for every frame.

@@ -176,9 +176,10 @@ bool methodReads(const std::string& method, const char* pass) {
     return m && listed(m->reads, pass);
 }
 
-std::string methodNames(const char* sep) {
+std::string methodNames(const char* sep, const char* reading) {
     std::string names;
-    for (const MethodInfo& m : methods()) names += (names.empty() ? "" : sep) + std::string(m.name);
+    for (const MethodInfo& m : methods())
+        if (!reading || listed(m.reads, reading)) names += (names.empty() ? "" : sep) + std::string(m.name);
     return names;
 }
 

@@ -70,8 +70,8 @@ const MethodInfo* findMethod(const std::string& name);
 bool methodOutputs(const std::string& method, const char* output);
 // Whether `method` reads `pass` ("depth", "deep", ...); false for an unknown method.
 bool methodReads(const std::string& method, const char* pass);
-// "hbao, ssdo, ssao, rtao" (or with `sep`).
-std::string methodNames(const char* sep = ", ");
+// "hbao, ssdo, ssao, rtao" (or with `sep`); with `reading`, only the methods that read that pass.
+std::string methodNames(const char* sep = ", ", const char* reading = nullptr);
 // Every method's own parameter, in table order (the hosts' extra flags and keywords).
 std::vector<const MethodParam*> allMethodParams();
 // The parameters `method` reads: its own, then those other methods share with it.

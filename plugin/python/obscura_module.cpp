@@ -388,7 +388,7 @@ py::array computeAo(const py::object& depthObj, const py::object& normalObj, con
     if (methodOutputs(settings.method, "do")) valueError("compute_ao computes AO methods; use compute_ssdo for SSDO");
     OperatorInputs in = viewInputs(depthObj, normalObj, v, settings);
     if (!deep.is_none()) {
-        if (!methodReads(settings.method, "deep")) valueError("deep layers are used by method='hbao' only");
+        if (!methodReads(settings.method, "deep")) valueError("deep layers are used by method='" + methodNames("', '", "deep") + "' only");
         in.deepLayers = deepArg(deep, in);
     }
     OperatorOutputs out;
