@@ -327,7 +327,7 @@ void occupyDeepLayer(int k, lvec2 corner, lbool use, lvec3 ray, lfloat depth, lv
     }
 }
 
-// Adaptive thickness (`--thickness auto`, P.thicknessPerExtent > 0). One T cannot suit both a
+// Adaptive thickness (`--thickness auto`, P.hbaoBitmask 3). One T cannot suit both a
 // pole (about as deep as it is wide) and a sphere or a wall (deep behind its silhouette), so
 // the thickness is measured per occluder. Along a slice, consecutive samples above the tangent
 // plane whose depth (along V) changes by at most P.runJump form a run: one occluder as this
@@ -337,7 +337,7 @@ void occupyDeepLayer(int k, lvec2 corner, lbool use, lvec3 ray, lfloat depth, lv
 // P.thickness; a run cut off by the search's end or the buffer's edge may be any depth and
 // gets P.thickness. Its samples share that thickness, so a run is applied when it ends, as
 // one interval: from the lower of its ends' backs to its top. Linear falloff with a fixed T
-// takes this path too, with P.thicknessPerExtent so large that every run gets P.thickness.
+// takes this path too (P.hbaoBitmask 3), with P.thicknessPerExtent so large that every run gets P.thickness.
 struct OccluderRun {
     lfloat firstA, firstB;     // its first sample
     lfloat lastA, lastB;       // its last sample so far
@@ -525,7 +525,7 @@ lfloat hbaoLanes(lint x, lint y) {
         lfloat backShiftB = -P.thickness * nV;
         luint sectors = luint(0u); // occluded sectors above the horizon's interval
         // Deep input (bitmask 2) measures its solids; runs estimate them for flat input only.
-        bool adaptive = P.hbaoBitmask == 1 && P.thicknessPerExtent > 0.0f;
+        bool adaptive = P.hbaoBitmask == 3;
         lbool inRun = lfloat(0.0f) > 0.0f; // false in every lane
         FootprintPrevious previous; // deep input's footprints: the receiver before the first sample
         previous.X = lvec3(lfloat(0.0f), lfloat(0.0f), lfloat(0.0f));

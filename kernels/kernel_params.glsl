@@ -46,7 +46,8 @@ struct KernelParams {
 
     int envWidth, envHeight;     // the prefiltered lat-long level uploaded; 0 x 0: no map, use skyRadiance
     int senderAlbedo;            // 1: a sender's radiance is the bounce source times its albedo
-    int hbaoBitmask;             // hbao: 1 when thickness is finite: the visibility bitmask (kernels/hbao.glsl)
+    int hbaoBitmask;             // hbao, finite thickness: the visibility bitmask (kernels/hbao.glsl) per sample (1),
+                                 // with deep layers (2), or by runs (3: thickness auto, or linear falloff)
 
     float envIntensity;          // multiplies the environment (map or sky)
     float sampleArea;            // A_s = pi r_max^2 / N: the disc area one bounce sample stands for

@@ -166,13 +166,14 @@ KernelParams makeKernelParams(const OperatorInputs& in, const Settings& s) {
     p.radialDepth = in.depthKind == DepthKind::Radial ? 1 : 0;
     p.thickness = resolvedThickness(s);
     p.hbaoBorder = s.border;
-    p.hbaoBitmask = std::isfinite(p.thickness) ? 1 : 0;
+    const bool finiteThickness = std::isfinite(p.thickness);
     // thickness auto: each occluder's depth is its width across the slice (k = 1; a cylinder's
     // depth is its width), at most 0.85 R; a depth change above 1.5 R between samples ends an
     // occluder (docs/hbao.md has the sweeps on the report's scenes).
     // Linear falloff weights by runs (kernels/hbao.glsl), also for a fixed T: k so large that
     // every run gets T.
-    p.thicknessPerExtent = !p.hbaoBitmask ? 0.0f : s.thickness == kThicknessAuto ? 1.0f : p.linearFalloff ? 1e30f : 0.0f;
+    p.thicknessPerExtent = !finiteThickness ? 0.0f : s.thickness == kThicknessAuto ? 1.0f : p.linearFalloff ? 1e30f : 0.0f;
+    p.hbaoBitmask = !finiteThickness ? 0 : p.thicknessPerExtent > 0.0f ? 3 : 1;
     p.runJump = 1.5f * s.radius;
     // Deep input: the bitmask with every layer's interval (2); linear falloff keeps the horizon alone.
     p.deepLayers = in.deepLayers.valid() && p.linearFalloff == 0 ? std::min(s.deepLayers, in.deepLayers.channels / 2) : 0;
