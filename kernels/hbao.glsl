@@ -341,7 +341,8 @@ void occupyDeepLayer(int k, lvec2 corner, lbool use, lvec3 ray, lfloat depth, lv
 struct OccluderRun {
     lfloat firstA, firstB;     // its first sample
     lfloat lastA, lastB;       // its last sample so far
-    lfloat topA, topB;         // its highest sample within R (the tangent when none)
+    lfloat topA, topB;         // its highest sample within R, from the horizon when it started
+    lbool raised;              // some sample rose above that horizon: only then does the run add
     lfloat topF;               // linear falloff: F at its top
     lfloat rise;               // linear falloff: sum of W(r) times each sample's rise of F above
                                // the horizon and the run's earlier samples
@@ -539,6 +540,7 @@ lfloat hbaoLanes(lint x, lint y) {
         run.lastB = lfloat(0.0f);
         run.topA = lfloat(1.0f);
         run.topB = lfloat(0.0f);
+        run.raised = inRun;
         run.topF = lfloat(0.0f);
         run.rise = lfloat(0.0f);
         // A depth change along V, in the slice's axes (scaled by |n_p|^2 like a and b).
@@ -621,8 +623,10 @@ lfloat hbaoLanes(lint x, lint y) {
                 lbool continues = inRun && above && abs(toEye) <= runJump;
                 lbool ends = inRun && !continues;
                 // A run whose top is not above the horizon adds nothing (its sectors would lie under
-                // the horizon, its rises are none): most runs end so, and skip the close.
-                lbool matters = ends && horizonA * run.topB - horizonB * run.topA > 0.0f;
+                // the horizon, its rises are none): most runs end so, and skip the close. The top
+                // starts at the horizon, which only a close raises while the run goes on, so the
+                // test is a flag set as the top rises, not a cross product a step.
+                lbool matters = ends && run.raised;
                 if (anyLane(matters)) {
                     // A run ending past the edge (its end not seen) may be any depth.
                     lbool leftBuffer = !insideBuffer(corner - origin, 0.0f);
@@ -631,9 +635,9 @@ lfloat hbaoLanes(lint x, lint y) {
                               sliceOcclusion);
                 }
                 // A sample that does not continue a run starts one, or lies in none: either way the
-                // run's state restarts from it (outside a run the top stays at the tangent).
-                run.topA = select(continues, run.topA, lfloat(1.0f));
-                run.topB = select(continues, run.topB, lfloat(0.0f));
+                // run's state restarts from it (outside a run the top stays at the horizon).
+                run.topA = select(continues, run.topA, horizonA);
+                run.topB = select(continues, run.topB, horizonB);
                 if (P.linearFalloff != 0) {
                     run.topF = select(ends, lfloat(0.0f), run.topF);
                     run.rise = select(ends, lfloat(0.0f), run.rise);
@@ -644,6 +648,7 @@ lfloat hbaoLanes(lint x, lint y) {
                 lbool higher = inside && run.topA * b - run.topB * a > 0.0f;
                 run.topA = select(higher, a, run.topA);
                 run.topB = select(higher, b, run.topB);
+                run.raised = (continues && run.raised) || higher;
                 if (P.linearFalloff != 0) {
                     // Linear falloff: a sample within rounding of the tangent raises the horizon as
                     // it would without runs (its back lies below the tangent for any thickness that
@@ -694,9 +699,9 @@ lfloat hbaoLanes(lint x, lint y) {
                 raiseHorizon(counts, a, b, horizonA, horizonB);
             }
         }
-        if (adaptive && anyLane(inRun)) {
+        if (adaptive && anyLane(inRun && run.raised)) {
             // Runs still going when the search ends (or leaves the buffer) may be any depth.
-            closeRuns(inRun, lfloat(P.thickness), run, nE, nV, cosB, sinB, nLen, horizonA, horizonB, horizonF, sectors,
+            closeRuns(inRun && run.raised, lfloat(P.thickness), run, nE, nV, cosB, sinB, nLen, horizonA, horizonB, horizonF, sectors,
                       sliceOcclusion);
         }
         if (P.linearFalloff == 0) {
