@@ -315,6 +315,19 @@ int main(int argc, char** argv) {
         for (int layers : {1, 4})
             options(benchmark::RegisterBenchmark((name + "/deep:" + std::to_string(layers)).c_str(), BM_HbaoDeep, s,
                                                  layers));
+        // The same pair under the flags' own defaults, uniform weighting and linear falloff (runs
+        // also weight the falloff).
+        Settings paper = settingsFor(Weighting::Uniform, Falloff::Linear, all, "cpu");
+        applyQualityPreset(q.name, paper);
+        paper.blur = 0;
+        const std::string paperName = "hbao_" + std::string(q.name) + "_" + std::to_string(q.directions) + "x" +
+                                      std::to_string(q.steps) + "/uniform/linear/cpu/threads:" + std::to_string(all);
+        Settings paperHorizon = paper;
+        paperHorizon.thickness = kThicknessInfinite;
+        paperHorizon.border = kBorderOpen;
+        options(benchmark::RegisterBenchmark((paperName + "/horizon").c_str(), BM_Hbao, paperHorizon,
+                                             std::string("preset")));
+        options(benchmark::RegisterBenchmark((paperName + "/defaults").c_str(), BM_Hbao, paper, std::string("preset")));
     }
     // The other AO methods' levels on the same frame (ssao: Crytek's sphere form), to set
     // against HBAO's: the error-against-time report pairs these times with accuracy.
