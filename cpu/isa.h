@@ -1,8 +1,9 @@
 // The CPU kernels (HBAO, SSAO, SSDO, the blur, discs) instantiated once per instruction set, and the
-// one place that picks among them. cpu/isa_kernels.cpp is compiled once per ISA, each in
-// its own namespace (scalar, baseline, x86_64_v3, x86_64_v4); everything there except the
-// `kernels` table has internal linkage, so no out-of-line copy compiled for one ISA can be
-// picked by the linker for another.
+// one place that picks among them. cpu/isa_kernels.cpp and cpu/isa_lane_kernels.cpp are compiled
+// once per ISA, each in its own namespace (scalar, baseline, x86_64_v3, x86_64_v4); everything
+// there except the `kernels` table and the entry points it names (all in that namespace) has
+// internal linkage, so no out-of-line copy compiled for one ISA can be picked by the linker for
+// another.
 #pragma once
 #include "core/image.h"
 #include "cpu/kernel_params.h"

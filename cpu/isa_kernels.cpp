@@ -1,11 +1,18 @@
 // The CPU kernels instantiated once per instruction set; cpu/CMakeLists.txt compiles this
-// file several times with OBSCURA_ISA, OBSCURA_LANES and the matching -march.
-// Nothing here may have external linkage but the `kernels` table (see cpu/isa.h).
+// file and cpu/isa_lane_kernels.cpp several times with OBSCURA_ISA, OBSCURA_LANES and the
+// matching -march. Nothing here may have external linkage but the `kernels` table and the
+// lane kernels' entry points (see cpu/isa.h), all in the ISA's own namespace.
 #include "cpu/blur_tile_impl.h"
 #include "cpu/discs_tile_impl.h"
-#include "cpu/lane_tile_impl.h"
 #include "cpu/ssdo_tile_impl.h"
 
 namespace obscura::cpu::OBSCURA_ISA {
+// Defined in cpu/isa_lane_kernels.cpp for the same ISA (the table's types check them).
+void hbaoTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile);
+void ssaoTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile);
+void hbaoDeepTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, MutablePlane ao,
+                  const Box2i& tile);
+void hbaoBorderTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane out, const Box2i& tile);
+
 const IsaKernels kernels{&hbaoTile, &ssaoTile, &ssdoTile, &blurTile, &discsBaseTile, &discsTile, &hbaoDeepTile, &hbaoBorderTile};
 } // namespace obscura::cpu::OBSCURA_ISA

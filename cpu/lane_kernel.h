@@ -1,7 +1,8 @@
 // What every per-ISA kernel instantiation (cpu/*_tile_impl.h) shares: the lane types for
 // OBSCURA_LANES (1: GLM scalars, one pixel at a time; 4, 8, 16: SIMD registers of a row of
 // pixels), loads with the lane kernels' signature, and the store of one lane.
-// Included by cpu/isa_kernels.cpp once per ISA, so everything here has internal linkage.
+// Included by cpu/isa_kernels.cpp and cpu/isa_lane_kernels.cpp once per ISA, so everything here
+// has internal linkage.
 #pragma once
 #include "cpu/isa.h"
 #include "cpu/kernel_params.h"
