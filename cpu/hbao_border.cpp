@@ -81,9 +81,13 @@ BorderedDepth continueBorder(const glsl::KernelParams& p, ConstPlane depth, Cons
         b.depth = depth;
         return b;
     }
-    b.plane = Image(box.width(), box.height(), 1);
+    // Not zeroed: the border kernel writes every texel of the box. Large boxes (a radius spanning
+    // the frame) take huge pages: a page fault per 2 MiB.
+    b.storage = allocateBigFloats((std::size_t)box.width() * box.height());
+    const MutablePlane stored{b.storage.get(), box.width(), box.height(), 1, 1, box.width()};
+    b.box = stored;
     // Addressed in buffer coordinates: the box's corner (x0, y0) is the plane's first texel.
-    MutablePlane out = b.plane.view();
+    MutablePlane out = stored;
     out.data -= box.y0 * out.yStride + box.x0 * out.xStride;
     out.width = p.width;
     out.height = p.height;

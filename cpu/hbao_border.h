@@ -4,6 +4,7 @@
 // bounds test) instead of finding the edge texel's plane again at every sample.
 #pragma once
 #include "core/image.h"
+#include "cpu/big_buffer.h"
 #include "cpu/isa.h"
 #include "cpu/kernel_params.h"
 
@@ -15,14 +16,16 @@ float hbaoReachPixels(const glsl::KernelParams& p, ConstPlane depth);
 
 struct BorderedDepth {
     BorderedDepth() = default;
-    // `depth` may point into `plane`: moving keeps it valid, a copy would not.
+    // `depth` points into `storage`: moving keeps it valid, a copy would not.
     BorderedDepth(BorderedDepth&&) = default;
     BorderedDepth& operator=(BorderedDepth&&) = default;
     BorderedDepth(const BorderedDepth&) = delete;
     BorderedDepth& operator=(const BorderedDepth&) = delete;
     glsl::KernelParams params; // p, with the depth box (depthX0 ..) the depth plane below holds
-    Image plane;               // the box's depths (empty when p.hbaoBorder is 0: the caller's plane is read)
-    ConstPlane depth;          // addressed in buffer coordinates: texel (0, 0) is the buffer's
+    BigFloats storage;         // the box's depths, every one written (none when p.hbaoBorder is 0)
+    ConstPlane box;            // `storage` as a plane from the box's corner (invalid without a border)
+    ConstPlane depth;          // addressed in buffer coordinates: texel (0, 0) is the buffer's; the
+                               // caller's plane when there is no border
 };
 
 // The box of texels p's depth buffer holds (depthX0 ..), in buffer coordinates; the buffer

@@ -25,7 +25,7 @@ namespace {
 void runHbaoWith(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, MutablePlane ao,
                  int threads, const std::string& isa) {
     const BorderedDepth b = continueBorder(p, depth, normal, threads, kernelsFor(isa, {depth, normal, deep}));
-    const IsaKernels& k = kernelsFor(isa, {b.plane.view(), depth, normal, deep});
+    const IsaKernels& k = kernelsFor(isa, {b.box, depth, normal, deep});
     parallelForTiles(Box2i{0, 0, p.width, p.height}, kLaneTileWidth, kLaneTileHeight, threads, [&](const Box2i& tile) {
         if (deep.valid()) k.hbaoDeepTile(b.params, b.depth, normal, deep, ao, tile);
         else k.hbaoTile(b.params, b.depth, normal, ao, tile);

@@ -160,7 +160,7 @@ TEST(HbaoBorder, BorderIsWrittenOnceAroundTheDepthPlane) {
 
     const glsl::KernelParams open = makeKernelParams(in, borderSettings(kBorderOpen));
     const cpu::BorderedDepth none = cpu::continueBorder(open, in.depth, in.normal, 2, k);
-    EXPECT_EQ(none.plane.width, 0);
+    EXPECT_FALSE(none.box.valid());
     EXPECT_EQ(cpu::depthBoxOf(none.params), (Box2i{0, 0, W, H}));
 
     const glsl::KernelParams p = makeKernelParams(in, borderSettings(kBorderTangent));
