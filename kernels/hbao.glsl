@@ -699,9 +699,10 @@ lfloat hbaoLanes(lint x, lint y) {
                 raiseHorizon(counts, a, b, horizonA, horizonB);
             }
         }
-        if (adaptive && anyLane(inRun && run.raised)) {
+        lbool unclosed = inRun && run.raised;
+        if (adaptive && anyLane(unclosed)) {
             // Runs still going when the search ends (or leaves the buffer) may be any depth.
-            closeRuns(inRun && run.raised, lfloat(P.thickness), run, nE, nV, cosB, sinB, nLen, horizonA, horizonB, horizonF, sectors,
+            closeRuns(unclosed, lfloat(P.thickness), run, nE, nV, cosB, sinB, nLen, horizonA, horizonB, horizonF, sectors,
                       sliceOcclusion);
         }
         if (P.linearFalloff == 0) {

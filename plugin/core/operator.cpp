@@ -172,7 +172,10 @@ KernelParams makeKernelParams(const OperatorInputs& in, const Settings& s) {
     // occluder (docs/hbao.md has the sweeps on the report's scenes).
     // Linear falloff weights by runs (kernels/hbao.glsl), also for a fixed T: k so large that
     // every run gets T.
-    p.thicknessPerExtent = !finiteThickness ? 0.0f : s.thickness == kThicknessAuto ? 1.0f : p.linearFalloff ? 1e30f : 0.0f;
+    p.thicknessPerExtent = !finiteThickness                 ? 0.0f
+                           : s.thickness == kThicknessAuto ? 1.0f
+                           : p.linearFalloff               ? 1e30f
+                                                           : 0.0f;
     p.hbaoBitmask = !finiteThickness ? 0 : p.thicknessPerExtent > 0.0f ? 3 : 1;
     p.runJump = 1.5f * s.radius;
     // Deep input: the bitmask with every layer's interval (2); linear falloff keeps the horizon alone.
