@@ -14,8 +14,9 @@ namespace obscura::cpu {
 using glsl::KernelParams;
 
 // Floats a texel (kernels/discs.glsl's DISC_CHANNELS): mean position (3), area, unit mean
-// normal (3), visibility; the side wall's centre (3), area, unit normal (3), length, facing.
-constexpr int kDiscChannels = 17;
+// normal (3), visibility; the side wall's centre (3), area, unit normal (3), length, facing;
+// a second element like the first (area 0: none).
+constexpr int kDiscChannels = 24;
 
 // Level 0: one texel per pixel; level L: one per 2^L x 2^L block, kDiscChannels floats each.
 struct DiscPyramid {
@@ -23,6 +24,8 @@ struct DiscPyramid {
     size_t floats = 0;
     std::vector<int> offsets;  // texel offset of each stored level
     int width = 0, height = 0;
+    float invF = 1.0f;     // p.invFx: node sizes in the world (mergeElements)
+    bool orthographic = false;
 };
 
 // Builds the pyramid for the buffers p describes and fills p's disc fields: the level

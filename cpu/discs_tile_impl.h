@@ -62,9 +62,9 @@ float discsBaseTile(const glsl::KernelParams& p, ConstPlane depth, ConstPlane no
     float reach = 0.0f;
     for (int y = tile.y0; y < tile.y1; ++y)
         for (int x = tile.x0; x < tile.x1; x += kDiscLanes) {
-            glsl::lvec3 pos, n, wallPos, wallN;
-            glsl::lfloat area, wallArea, wallLen, facing;
-            k.discBase(lane + x, y, pos, n, area, wallPos, wallN, wallArea, wallLen, facing);
+            glsl::lvec3 pos, n, wallPos, wallN, stripPos, stripN;
+            glsl::lfloat area, wallArea, wallLen, facing, stripArea;
+            k.discBase(lane + x, y, pos, n, area, wallPos, wallN, wallArea, wallLen, facing, stripPos, stripN, stripArea);
             const glsl::lfloat laneReach = k.discReachPixels(pos);
             for (int i = 0; i < lanesToStore(x, tile.x1); ++i) {
                 if (glsl::laneValue(area, i) > 0.0f) reach = std::max(reach, glsl::laneValue(laneReach, i));
@@ -75,7 +75,10 @@ float discsBaseTile(const glsl::KernelParams& p, ConstPlane depth, ConstPlane no
                     glsl::laneValue(n.z, i),       1.0f,
                     glsl::laneValue(wallPos.x, i), glsl::laneValue(wallPos.y, i), glsl::laneValue(wallPos.z, i),
                     glsl::laneValue(wallArea, i),  glsl::laneValue(wallN.x, i),   glsl::laneValue(wallN.y, i),
-                    glsl::laneValue(wallN.z, i),   glsl::laneValue(wallLen, i),   glsl::laneValue(facing, i)};
+                    glsl::laneValue(wallN.z, i),   glsl::laneValue(wallLen, i),   glsl::laneValue(facing, i),
+                    glsl::laneValue(stripPos.x, i), glsl::laneValue(stripPos.y, i), glsl::laneValue(stripPos.z, i),
+                    glsl::laneValue(stripArea, i), glsl::laneValue(stripN.x, i),  glsl::laneValue(stripN.y, i),
+                    glsl::laneValue(stripN.z, i)};
                 for (int c = 0; c < cpu::kDiscChannels; ++c) t[c] = v[c];
             }
         }

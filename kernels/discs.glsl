@@ -16,9 +16,11 @@
 // Channels: 0-2 mean position, 3 area, 4-6 unit mean normal, 7 visibility (pass 2); the
 // node's side walls (the hidden sides of what it occludes, see discWall): 8-10 centre,
 // 11 area, 12-14 unit normal, 15 length along the view ray, 16 facing (+1: the normal points
-// out of the solid, towards the drop; -1: into it; between: walls facing apart merged).
+// out of the solid, towards the drop; -1: into it; between: walls facing apart merged);
+// 17-19, 20, 21-23: a second element like 0-6 (area 0: none): at level 0 the part of the pixel
+// past a concave crease (discCreaseStrip), above it the children far behind the rest.
 
-CONST_GLOBAL int DISC_CHANNELS = 17;
+CONST_GLOBAL int DISC_CHANNELS = 24;
 // A footprint is stretched at most as for n.V = 0.02 (88.9 degrees from the eye): beyond,
 // depth gives no usable extent and a pixel would stand for an unbounded strip.
 CONST_GLOBAL float DISC_MIN_NV = 0.02f;
@@ -252,6 +254,59 @@ void discWall(lint x, lint y, lvec3 ray, lvec3 pos, lfloat w0, lbool surface, lf
     wallPos = pos + D * (wallLen * 0.5f);
 }
 
+// The part of texel (x, y)'s screen block that lies past a crease towards side (sx, sy), on
+// the neighbour's plane: there the texel's own element (on its own plane) stands for nothing,
+// and the face across the crease would have a gap one part-pixel wide right along it, the
+// nearest part of that face for receivers beside the crease. w is affine in the pixel
+// coordinates on a plane: the own plane through w0 and wb (one step back), the neighbour's
+// through w1 and w2; they meet s steps towards the side. Added to (stripPos, stripN) by
+// area, its share of the block to `share`.
+void discCreaseStrip(lint x, lint y, lfloat w0, int sx, int sy, lfloat w1, lbool ok1, lfloat w2, lbool ok2, lfloat wb,
+                     lbool okB, INOUT(lvec3) stripPos, INOUT(lvec3) stripN, INOUT(lfloat) stripArea,
+                     INOUT(lfloat) share) {
+    lfloat own = w0 - wb;
+    lfloat next = w2 - w1;
+    lfloat bend = own - next;
+    lfloat scale = max(max(abs(w0), abs(w1)), max(abs(w2), abs(wb)));
+    // A silhouette (a drop, discDrop) is not a crease: past it the surfaces do not meet.
+    lfloat z0 = discZ(w0);
+    lfloat pixel = (P.orthographic != 0 ? 1.0f : z0) * (sx != 0 ? P.invFx : P.invFy);
+    lfloat drop = discDrop(x, y, z0, w0, sx, sy, w1, ok1, w2, ok2, wb, okB);
+    // Concave only: the neighbour nearer than the own plane continued to it (w grows towards
+    // the eye under perspective). Past a convex crease the far face falls below the texel's
+    // tangent plane, and a strip's square stand-in tilted off it would poke above.
+    lfloat nearer = w1 - (w0 + own);
+    if (P.orthographic != 0) {
+        nearer = nearer * -1.0f;
+    }
+    lbool crease = ok1 && ok2 && okB && nearer > 1e-3f * scale && drop < DISC_MIN_DROP_PIXELS * pixel;
+    lfloat s = (w1 - next - w0) / select(crease, bend, lfloat(1.0f));
+    crease = crease && s > 0.0f && s < 0.5f;
+    if (!anyLane(crease)) {
+        return;
+    }
+    s = select(crease, s, lfloat(0.25f)); // keep every lane's point finite
+    lfloat centre = 0.5f * (s + 0.5f);
+    lfloat z = discZ(w1 + (centre - 1.0f) * next);
+    crease = crease && z < 1e29f;
+    z = select(crease, z, lfloat(1.0f));
+    lvec3 ray = viewRay(lvec2(lfloat(x + P.originX) + 0.5f + centre * float(sx), lfloat(y + P.originY) + 0.5f + centre * float(sy)));
+    lvec3 p = ray * z;
+    if (P.orthographic != 0) {
+        p = lvec3(ray.x, ray.y, z * -1.0f);
+    }
+    lvec3 m = viewNormal(gatherNormal(x + sx, y + sy, crease), viewVector(ray));
+    lvec3 du;
+    lvec3 dv;
+    discAxes(ray, p, m, du, dv);
+    lvec3 c = cross(du, dv);
+    lfloat a = select(crease, (0.5f - s) * sqrt(dot(c, c)), lfloat(0.0f));
+    stripPos += p * a;
+    stripN += m * a;
+    stripArea += a;
+    share += select(crease, 0.5f - s, lfloat(0.0f));
+}
+
 // The level-0 element of buffer texel (x, y) and its wall; area 0 where it is not a surface.
 // Its normal is the depth's own (the cross product of the steps to its neighbours on the
 // sides that continue its plane) wherever those steps are no longer than three footprints of
@@ -259,7 +314,8 @@ void discWall(lint x, lint y, lvec3 ray, lvec3 pos, lfloat w0, lbool surface, lf
 // smooth, and shading normals need not (a smooth-shaded cylinder averages its caps into its
 // sides; a facet bends them). Elsewhere (edges, one-pixel features) the pass's normal stays.
 void discBase(lint x, lint y, OUT(lvec3) pos, OUT(lvec3) n, OUT(lfloat) area, OUT(lvec3) wallPos, OUT(lvec3) wallN,
-              OUT(lfloat) wallArea, OUT(lfloat) wallLen, OUT(lfloat) facing) {
+              OUT(lfloat) wallArea, OUT(lfloat) wallLen, OUT(lfloat) facing, OUT(lvec3) stripPos, OUT(lvec3) stripN,
+              OUT(lfloat) stripArea) {
     lbool surface;
     lfloat depth = surfaceDepth(x, y, surface);
     lvec3 ray = viewRay(lvec2(lfloat(x + P.originX) + 0.5f, lfloat(y + P.originY) + 0.5f));
@@ -314,6 +370,20 @@ void discBase(lint x, lint y, OUT(lvec3) pos, OUT(lvec3) n, OUT(lfloat) area, OU
     discAxes(ray, pos, n, du, dv);
     lvec3 c = cross(du, dv);
     area = select(surface, sqrt(dot(c, c)), lfloat(0.0f));
+    stripPos = lvec3(lfloat(0.0f), lfloat(0.0f), lfloat(0.0f));
+    stripN = stripPos;
+    stripArea = lfloat(0.0f);
+    lfloat share = lfloat(0.0f);
+    // A pixel's part past a concave crease: the second element; the first keeps the rest.
+    discCreaseStrip(x, y, w0, -1, 0, wL1, okL1 && surface, wL2, okL2, wR1, okR1, stripPos, stripN, stripArea, share);
+    discCreaseStrip(x, y, w0, 1, 0, wR1, okR1 && surface, wR2, okR2, wL1, okL1, stripPos, stripN, stripArea, share);
+    discCreaseStrip(x, y, w0, 0, -1, wU1, okU1 && surface, wU2, okU2, wD1, okD1, stripPos, stripN, stripArea, share);
+    discCreaseStrip(x, y, w0, 0, 1, wD1, okD1 && surface, wD2, okD2, wU1, okU1, stripPos, stripN, stripArea, share);
+    lbool strip = stripArea > 0.0f;
+    stripPos = stripPos * (1.0f / select(strip, stripArea, lfloat(1.0f)));
+    lfloat nl = sqrt(dot(stripN, stripN));
+    stripN = stripN * (1.0f / select(nl > 0.0f, nl, lfloat(1.0f)));
+    area = area * max(1.0f - share, 0.25f);
     discWall(x, y, ray, pos, w0, surface, wL1, okL1, wL2, okL2, wR1, okR1, wR2, okR2, wU1, okU1, wU2, okU2, wD1, okD1,
              wD2, okD2, wallPos, wallN, wallArea, wallLen, facing);
 }
@@ -509,7 +579,8 @@ lfloat discOcclusion(DiscBins bins) {
     return occlusion;
 }
 
-// Node `index`'s element (channels first..first+6: centre, area, normal; first = 8: its wall).
+// Node `index`'s element (channels first..first+6: centre, area, normal; first = 8: its wall,
+// 17: its second element).
 void discGather(lint index, int first, lbool use, OUT(lvec3) c, OUT(lfloat) area, OUT(lvec3) n) {
     c = gatherDisc3(index, first, use);
     area = gatherDisc(index, first + 3, use);
@@ -597,6 +668,39 @@ void discWallContribution(lvec3 xr, lvec3 nr, lint index, lbool use, lfloat weig
     discAdd(bins, nr, v, d2, area * (1.0f / PI) + halfLength * halfLength, ff);
 }
 
+// The form factor of element (e, ne, area) of node (ex, ey) of `level`, v = e - xr away, within
+// R: a disc, or nearer than DISC_NEAR_RADII (or with `polygon`) its exact footprint polygon.
+lfloat discElementFormFactor(lvec3 xr, lvec3 nr, lvec3 e, lvec3 ne, lfloat area, lvec3 v, lfloat d2, lbool use,
+                             bool polygon, lint ex, lint ey, int level) {
+    lfloat ff = discFormFactor(v, d2, nr, ne, area, DISC_HORIZON);
+    lbool near = use && d2 * PI < (DISC_NEAR_RADII * DISC_NEAR_RADII) * area;
+    if (polygon) {
+        near = use;
+    }
+    if (P.discPolygon != 0 && anyLane(near)) {
+        ff = select(near, discPolygonFormFactor(xr, nr, e, ne, area, ex, ey, level), ff);
+    }
+    return select(use && area > 0.0f, ff * discRangeWeight(sqrt(d2), area), lfloat(0.0f));
+}
+
+// The node's second element (channels 17-23: the part of a pixel past a concave crease, on
+// the far face; above level 0 the children lying far behind the others), if any.
+void discSecondContribution(lvec3 xr, lvec3 nr, lint index, lbool use, lfloat weight, bool polygon, lint ex, lint ey,
+                            int level, INOUT(DiscBins) bins) {
+    lvec3 e;
+    lfloat area;
+    lvec3 ne;
+    lbool two = use && gatherDisc(index, 20, use) > 0.0f;
+    if (!anyLane(two)) {
+        return;
+    }
+    discGather(index, 17, two, e, area, ne);
+    lvec3 v = e - xr;
+    lfloat d2 = dot(v, v);
+    lfloat ff = discElementFormFactor(xr, nr, e, ne, area, v, d2, two, polygon, ex, ey, level);
+    discAdd(bins, nr, v, d2, area * (1.0f / PI), ff * weight);
+}
+
 // The element of pyramid texel `index` (node (ex, ey) of `level`) and its wall where `wall`:
 // their occlusion of the receiver (xr, nr), `weight` included; `polygon`: always the exact
 // footprint form factor.
@@ -611,19 +715,12 @@ void discContribution(lvec3 xr, lvec3 nr, lint index, lbool use, lbool wall, lfl
     }
     lvec3 v = e - xr;
     lfloat d2 = dot(v, v);
-    lfloat ff = discFormFactor(v, d2, nr, ne, area, DISC_HORIZON);
-    lbool near = use && d2 * PI < (DISC_NEAR_RADII * DISC_NEAR_RADII) * area;
-    if (polygon) {
-        near = use;
-    }
-    if (P.discPolygon != 0 && anyLane(near)) {
-        ff = select(near, discPolygonFormFactor(xr, nr, e, ne, area, ex, ey, level), ff);
-    }
-    ff = select(use && area > 0.0f, ff * discRangeWeight(sqrt(d2), area), lfloat(0.0f));
+    lfloat ff = discElementFormFactor(xr, nr, e, ne, area, v, d2, use, polygon, ex, ey, level);
     if (P.discVisibility != 0) {
         weight = weight * gatherDisc(index, 7, use);
     }
     discAdd(bins, nr, v, d2, area * (1.0f / PI), ff * weight);
+    discSecondContribution(xr, nr, index, use && !continued, weight, polygon, ex, ey, level, bins);
     lbool walled = wall && !continued && gatherDisc(index, 11, wall) > 0.0f;
     if (anyLane(walled)) {
         discWallContribution(xr, nr, index, walled, weight, bins);
@@ -740,6 +837,9 @@ lfloat discsLanes(lint x, lint y) {
                     }
                     lint index = clamp(ex, lint(0), lint(P.width - 1)) + clamp(ey, lint(0), lint(P.height - 1)) * P.width;
                     discContribution(xr, nr, index, use, use, lfloat(1.0f), true, ex, ey, 0, !inside, bins);
+                } else {
+                    // The receiver's own part past a crease: the nearest of the face across it.
+                    discSecondContribution(xr, nr, self, computing, lfloat(1.0f), true, x, y, 0, bins);
                 }
             }
         }

@@ -319,7 +319,7 @@ TEST(GlParity, DiscsMatchCpu) {
             s.discsSum = variant == 5;
             const OperatorOutputs cpu = runOperator(scene->inputs(), s);
             ASSERT_LT(*std::min_element(cpu.ao.pixels.begin(), cpu.ao.pixels.end()), 0.9f)
-                << "the scene must have occlusion to compare";
+                << "the scene must have occlusion to compare (variant " << variant << ", view " << (scene - &views[0]) << ")";
             expectGlAoMatchesCpu(scene->inputs(), s, cpu, "variant " + std::to_string(variant));
         }
 }
