@@ -85,7 +85,7 @@ TEST(Discs, OpenPlaneIsExactlyUnoccluded) {
                     s.discsWindow = 1 + variant % 2;
                     s.discsPasses = variant == 1 ? 2 : 1;
                     s.discsNoPolygon = variant == 2;
-                    s.discsHardLevels = variant == 3;
+                    s.discsBlendLevels = variant == 3;
                     s.discsSum = variant == 4;
                     if (variant == 5) s.weighting = Weighting::Uniform;
                     if (variant == 6) s.border = kBorderOpen;
@@ -203,7 +203,7 @@ TEST(Discs, EveryInstructionSetMatchesThePixelAtATimeBuild) {
         for (int variant = 0; variant < 3; ++variant) {
             Settings s = discsSettings("cpu", 1.0f);
             s.discsNoPolygon = variant == 1;
-            s.discsHardLevels = variant == 2;
+            s.discsBlendLevels = variant == 2;
             KernelParams p = makeKernelParams(sb.inputs(), s);
             cpu::DiscPyramid pyramid = cpu::buildDiscPyramid(p, sb.depth.view(), sb.normal.view(), 2);
             Image reference(W, H, 1);
@@ -233,7 +233,7 @@ TEST(Discs, CorrectionsAreSwitches) {
     s.discsNoPolygon = true;
     EXPECT_GT(maxAbsDiff(base, runOperator(sb.inputs(), s).ao), 1e-3);
     s = discsSettings("cpu", 1.0f);
-    s.discsHardLevels = true;
+    s.discsBlendLevels = true;
     EXPECT_GT(maxAbsDiff(base, runOperator(sb.inputs(), s).ao), 1e-3);
 }
 

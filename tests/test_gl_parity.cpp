@@ -315,7 +315,7 @@ TEST(GlParity, DiscsMatchCpu) {
             s.method = "discs";
             s.discsPasses = variant == 1 ? 2 : 1;
             s.discsNoPolygon = variant == 2;
-            s.discsHardLevels = variant == 3;
+            s.discsBlendLevels = variant == 3;
             s.discsSum = variant == 5;
             const OperatorOutputs cpu = runOperator(scene->inputs(), s);
             ASSERT_LT(*std::min_element(cpu.ao.pixels.begin(), cpu.ao.pixels.end()), 0.9f)

@@ -16,7 +16,7 @@ const std::vector<std::string>& registeredMethods() {
             if (std::string(m.name) == "hbao") v.insert(v.end(), {"hbao+horizon", "hbao+open", "hbao+clamp", "hbao+deep"});
             if (std::string(m.name) == "rtao") v.insert(v.end(), {"rtao+sheet", "rtao+thick"});
             // Disc AO with one of its corrections switched (docs/discs.md).
-            if (std::string(m.name) == "discs") v.insert(v.end(), {"discs+vis", "discs-hard", "discs-nopoly", "discs-sum"});
+            if (std::string(m.name) == "discs") v.insert(v.end(), {"discs+vis", "discs-blend", "discs-nopoly", "discs-sum"});
         }
         v.insert(v.end(), {"ssdo", "ssdo+bounce", "ssdo-noint"});
         return v;
@@ -26,7 +26,7 @@ const std::vector<std::string>& registeredMethods() {
 
 std::string operatorMethod(const std::string& method) {
     if (isSsdoMethod(method)) return "ssdo";
-    if (method.rfind("discs", 0) == 0) return "discs";  // discs+vis, discs-hard, discs-nopoly, discs-sum
+    if (method.rfind("discs", 0) == 0) return "discs";  // discs+vis, discs-blend, discs-nopoly, discs-sum
     return method.substr(0, method.find('+'));
 }
 
@@ -74,7 +74,7 @@ void configureMethod(const std::string& method, const std::string& preset, obscu
         if (method == "hbao+open") s.border = obscura::kBorderOpen;
         if (method == "hbao+clamp") s.border = obscura::kBorderClamp;
         if (method == "discs+vis") s.discsPasses = 2;
-        if (method == "discs-hard") s.discsHardLevels = true;
+        if (method == "discs-blend") s.discsBlendLevels = true;
         if (method == "discs-nopoly") s.discsNoPolygon = true;
         if (method == "discs-sum") s.discsSum = true;
         return;

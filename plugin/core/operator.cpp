@@ -192,7 +192,7 @@ KernelParams makeKernelParams(const OperatorInputs& in, const Settings& s) {
     // The pyramid's levels and top window are set when it is built (cpu/discs_cpu.h).
     p.discWindow = s.discsWindow;
     p.discPolygon = s.discsNoPolygon ? 0 : 1;
-    p.discBlend = s.discsHardLevels ? 0 : 1;
+    p.discBlend = s.discsBlendLevels ? 1 : 0;
     p.discVisibility = 0;
     p.discUnion = s.discsSum ? 0 : 1;
     return p;

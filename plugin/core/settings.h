@@ -68,7 +68,7 @@ struct Settings {
     // ---- method "discs" (hierarchical disc form factors, docs/discs.md) ----
     int discsWindow = 1;            // k: a node is opened within k + 1/2 of its sizes of the receiver (1: the speed budget, docs/discs.md)
     int discsPasses = 1;            // 2: weight each element by its own first-pass AO (correction c)
-    bool discsHardLevels = false;   // switch levels at window edges, no blending (correction a off)
+    bool discsBlendLevels = false;  // blend between levels, no seams (correction a); default: hard windows
     bool discsNoPolygon = false;    // discs for the nearest pixels too (correction b off)
     bool discsSum = false;          // sum the form factors, without the hemisphere bins' union
 };

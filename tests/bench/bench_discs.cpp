@@ -86,7 +86,7 @@ int main(int argc, char** argv) {
     const std::pair<const char*, void (*)(Settings&)> variants[] = {
         {"passes:2", [](Settings& s) { s.discsPasses = 2; }},
         {"no-polygon", [](Settings& s) { s.discsNoPolygon = true; }},
-        {"hard-levels", [](Settings& s) { s.discsHardLevels = true; }},
+        {"blend-levels", [](Settings& s) { s.discsBlendLevels = true; }},
         {"sum", [](Settings& s) { s.discsSum = true; }},
         {"border-open", [](Settings& s) { s.border = kBorderOpen; }}};
     for (const auto& [name, set] : variants) {
