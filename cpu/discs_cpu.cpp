@@ -179,11 +179,12 @@ void setDiscVisibility(DiscPyramid& pyr, ConstPlane ao, int threads) {
     for (int l = 1; l < (int)pyr.offsets.size(); ++l) mergeLevel(pyr, l, true, threads);
 }
 
-void runDiscs(const KernelParams& p, const DiscPyramid& pyramid, MutablePlane ao, int threads, const std::string& isa) {
+void runDiscs(const KernelParams& p, const DiscPyramid& pyramid, ConstPlane normal, MutablePlane ao, int threads,
+              const std::string& isa) {
     const IsaKernels& k = isa.empty() ? cpuKernels() : cpuKernelsNamed(isa);
     const float* data = pyramid.data.get();
     parallelForTiles(Box2i{0, 0, p.width, p.height}, kLaneTileWidth, kLaneTileHeight, threads,
-                     [&](const Box2i& tile) { k.discsTile(p, data, ao, tile); });
+                     [&](const Box2i& tile) { k.discsTile(p, data, normal, ao, tile); });
 }
 
 } // namespace obscura::cpu

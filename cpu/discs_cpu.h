@@ -38,8 +38,9 @@ DiscPyramid buildDiscPyramid(KernelParams& p, ConstPlane depth, ConstPlane norma
 // up the levels by area like the positions.
 void setDiscVisibility(DiscPyramid& pyramid, ConstPlane ao, int threads);
 
-// The traversal for every texel of `ao` (p.width x p.height); `isa` empty: the chosen one.
-void runDiscs(const KernelParams& p, const DiscPyramid& pyramid, MutablePlane ao, int threads,
+// The traversal for every texel of `ao` (p.width x p.height), each receiver's hemisphere about
+// its `normal` (the pass's); `isa` empty: the chosen one.
+void runDiscs(const KernelParams& p, const DiscPyramid& pyramid, ConstPlane normal, MutablePlane ao, int threads,
               const std::string& isa = "");
 
 } // namespace obscura::cpu

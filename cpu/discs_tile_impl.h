@@ -85,10 +85,11 @@ float discsBaseTile(const glsl::KernelParams& p, ConstPlane depth, ConstPlane no
     return reach;
 }
 
-void discsTile(const glsl::KernelParams& p, const float* pyramid, MutablePlane ao, const Box2i& tile) {
+void discsTile(const glsl::KernelParams& p, const float* pyramid, ConstPlane normal, MutablePlane ao, const Box2i& tile) {
     glsl::DiscsCpuKernel k;
     k.P = p;
     k.pyramid = pyramid;
+    k.normal = glsl::LanePlane(normal);
     const auto lane = glsl::laneIndex();
     for (int y = tile.y0; y < tile.y1; ++y)
         for (int x = tile.x0; x < tile.x1; x += kDiscLanes) {

@@ -30,10 +30,12 @@ struct IsaKernels {
                      MutablePlane dst, glm::ivec2 axis, int radius, const Box2i& tile);
     // Disc AO (kernels/discs.glsl): level 0 of the pyramid (kDiscChannels floats per texel,
     // p.width per row) over `tile`, returning the largest reach on the screen of its surface
-    // texels (discReachPixels); and the traversal of a whole pyramid for the receivers in `tile`.
+    // texels (discReachPixels); and the traversal of a whole pyramid for the receivers in `tile`
+    // (their hemispheres about `normal`).
     float (*discsBaseTile)(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, float* base,
                            const Box2i& tile);
-    void (*discsTile)(const glsl::KernelParams& p, const float* pyramid, MutablePlane ao, const Box2i& tile);
+    void (*discsTile)(const glsl::KernelParams& p, const float* pyramid, ConstPlane normal, MutablePlane ao,
+                      const Box2i& tile);
     // HBAO with deep input: `deep` holds p.deepLayers (front, back) depth pairs per texel (kernels/hbao.glsl).
     void (*hbaoDeepTile)(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep,
                          MutablePlane ao, const Box2i& tile);

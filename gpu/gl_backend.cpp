@@ -267,11 +267,12 @@ void GlBackend::runDiscs(const glsl::KernelParams& params, const float* pyramid,
     uploadBuffer(kSignalOut, GL_SHADER_STORAGE_BUFFER, nullptr, (size_t)p.width * p.height * sizeof(float));
     const Box2i frame{0, 0, p.width, p.height};
     std::vector<float> packed;
+    // The receivers' normals always (their hemispheres); the depth for the blur only.
+    pack(normal, frame, 3, packed);
+    uploadBuffer(kNormal, GL_SHADER_STORAGE_BUFFER, packed.data(), packed.size() * sizeof(float));
     if (blur > 0) {
         pack(depth, frame, 1, packed);
         uploadBuffer(kDepth, GL_SHADER_STORAGE_BUFFER, packed.data(), packed.size() * sizeof(float));
-        pack(normal, frame, 3, packed);
-        uploadBuffer(kNormal, GL_SHADER_STORAGE_BUFFER, packed.data(), packed.size() * sizeof(float));
     }
     t.upload += since(t0);
     t0 = Clock::now();

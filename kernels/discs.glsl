@@ -763,7 +763,12 @@ lfloat discsLanes(lint x, lint y) {
         return lfloat(1.0f);
     }
     lvec3 xr = gatherDisc3(self, 0, computing);
-    lvec3 nr = gatherDisc3(self, 4, computing);
+    // The receiver's hemisphere is about the pass's normal, as the AO definition's (a ray
+    // tracer's AO pass) and HBAO's: elements keep the depth's own normals, which must lie in
+    // each other's planes, but a smooth-shaded facet's receiver is shaded as its normal says
+    // (Blender's columns: 20.9 -> 24.7 dB against Cycles).
+    lvec3 nr = viewNormal(gatherNormal(x, y, computing), viewVector(viewRay(lvec2(lfloat(x + P.originX) + 0.5f,
+                                                                                  lfloat(y + P.originY) + 0.5f))));
     lint topLevel = discTopLevel(xr);
     lfloat px = lfloat(x) + 0.5f;
     lfloat py = lfloat(y) + 0.5f;

@@ -207,11 +207,11 @@ TEST(Discs, EveryInstructionSetMatchesThePixelAtATimeBuild) {
             KernelParams p = makeKernelParams(sb.inputs(), s);
             cpu::DiscPyramid pyramid = cpu::buildDiscPyramid(p, sb.depth.view(), sb.normal.view(), 2);
             Image reference(W, H, 1);
-            cpu::runDiscs(p, pyramid, reference.view(), 1, "scalar");
+            cpu::runDiscs(p, pyramid, sb.normal.view(), reference.view(), 1, "scalar");
             ASSERT_LT(*std::min_element(reference.pixels.begin(), reference.pixels.end()), 0.9f);
             for (size_t i = 1; i < isas.size(); ++i) {
                 Image ao(W, H, 1);
-                cpu::runDiscs(p, pyramid, ao.view(), 2, isas[i]);
+                cpu::runDiscs(p, pyramid, sb.normal.view(), ao.view(), 2, isas[i]);
                 for (float v : ao.pixels) ASSERT_TRUE(v >= 0.0f && v <= 1.0f) << v;
                 EXPECT_LT(maxAbsDiff(ao, reference), 1e-4) << isas[i] << (ortho ? " ortho" : " persp") << " " << variant;
             }

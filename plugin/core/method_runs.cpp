@@ -90,7 +90,7 @@ void runDiscsMethod(const MethodRun& r) {
             continue;
         }
         t0 = Clock::now();
-        cpu::runDiscs(p, pyramid, r.out.ao.view(), r.threads);
+        cpu::runDiscs(p, pyramid, r.in.normal, r.out.ao.view(), r.threads);
         st.timings.push_back({"discs", secondsSince(t0)});
         if (blur > 0) {
             t0 = Clock::now();
