@@ -522,6 +522,10 @@ void discStartBins(OUT(DiscBins) bins, lvec3 nr) {
 // Adds form factor ff of an element at v from the receiver (normal nr); reach2: its radius
 // squared, which widens its tent and raises its top.
 void discAdd(INOUT(DiscBins) bins, lvec3 nr, lvec3 v, lfloat d2, lfloat reach2, lfloat ff) {
+    // Nothing to add (every lane's element under its horizon: a plane's own, or out of range).
+    if (!anyLane(ff > 0.0f)) {
+        return;
+    }
     lfloat invD = inversesqrt(max(d2, lfloat(1e-30f)));
     lfloat s = clamp(dot(nr, v) * invD, 0.0f, 1.0f);
     lfloat rho = min(sqrt(reach2) * invD, lfloat(1.5f));
