@@ -18,8 +18,15 @@ constexpr int kMaxLevels = 16;  // p.discLevelOffset holds 16
 
 int levelSize(int n, int level) { return (n + (1 << level) - 1) >> level; }
 
-float* texel(DiscPyramid& pyr, int level, int x, int y) {
-    return pyr.data.get() + ((size_t)pyr.offsets[level] + (size_t)y * levelSize(pyr.width, level) + x) * kChannels;
+// One texel's channels, each in its own plane.
+struct Texel {
+    float* p;
+    size_t stride;
+    float& operator[](int c) const { return p[(size_t)c * stride]; }
+};
+
+Texel texel(DiscPyramid& pyr, int level, int x, int y) {
+    return {pyr.data.get() + (size_t)pyr.offsets[level] + (size_t)y * levelSize(pyr.width, level) + x, pyr.stride};
 }
 
 // A node's children farther apart in depth than this many node sizes (on the screen, at the
@@ -33,18 +40,18 @@ struct Element { double area, pos[3], n[3]; };
 // Channels 0-6 and 17-23 of node (x, y) of `level` from the (up to eight) elements of its
 // children: one element, or two where some lie far behind the largest (kSplitDepthNodes),
 // each child element joining the one nearer in depth. The larger goes first.
-void mergeElements(DiscPyramid& pyr, int level, int x, int y, float* t) {
+void mergeElements(DiscPyramid& pyr, int level, int x, int y, const Texel& t) {
     const int cw = levelSize(pyr.width, level - 1), ch = levelSize(pyr.height, level - 1);
     Element e[8];
     int count = 0;
     for (int j = 2 * y; j < std::min(2 * y + 2, ch); ++j)
         for (int i = 2 * x; i < std::min(2 * x + 2, cw); ++i)
             for (int first : {0, 17}) {
-                const float* c = texel(pyr, level - 1, i, j) + first;
-                if (!(c[3] > 0)) continue;
+                const Texel c = texel(pyr, level - 1, i, j);
+                if (!(c[first + 3] > 0)) continue;
                 Element& q = e[count++];
-                q.area = c[3];
-                for (int k = 0; k < 3; ++k) q.pos[k] = c[k], q.n[k] = c[4 + k];
+                q.area = c[first + 3];
+                for (int k = 0; k < 3; ++k) q.pos[k] = c[first + k], q.n[k] = c[first + 4 + k];
             }
     int largest = 0, farthest = 0;
     for (int q = 1; q < count; ++q)
@@ -65,15 +72,15 @@ void mergeElements(DiscPyramid& pyr, int level, int x, int y, float* t) {
     const int big = sum[1][3] > sum[0][3] ? 1 : 0;
     for (int slot = 0; slot < 2; ++slot) {
         const double* g = sum[slot == 0 ? big : 1 - big];
-        float* out = t + (slot == 0 ? 0 : 17);
+        const int o = slot == 0 ? 0 : 17;
         const double area = g[3];
         const double nlen = std::sqrt(g[4] * g[4] + g[5] * g[5] + g[6] * g[6]);
         const bool used = area > 0 && nlen > 0;
         for (int k = 0; k < 3; ++k) {
-            out[k] = used ? (float)(g[k] / area) : 0.0f;
-            out[4 + k] = used ? (float)(g[4 + k] / nlen) : 0.0f;
+            t[o + k] = used ? (float)(g[k] / area) : 0.0f;
+            t[o + 4 + k] = used ? (float)(g[4 + k] / nlen) : 0.0f;
         }
-        out[3] = used ? (float)area : 0.0f;
+        t[o + 3] = used ? (float)area : 0.0f;
     }
 }
 
@@ -89,7 +96,7 @@ void mergeLevel(DiscPyramid& pyr, int level, bool visibilityOnly, int threads) {
             double sum[kChannels] = {};
             for (int j = 2 * y; j < std::min(2 * y + 2, ch); ++j)
                 for (int i = 2 * x; i < std::min(2 * x + 2, cw); ++i) {
-                    const float* c = texel(pyr, level - 1, i, j);
+                    const Texel c = texel(pyr, level - 1, i, j);
                     const double a = c[3];
                     sum[3] += a;
                     sum[7] += a * c[7];
@@ -99,7 +106,7 @@ void mergeLevel(DiscPyramid& pyr, int level, bool visibilityOnly, int threads) {
                     sum[15] += aw * c[15];
                     sum[16] += aw * c[16];
                 }
-            float* t = texel(pyr, level, x, y);
+            const Texel t = texel(pyr, level, x, y);
             const double area = sum[3];
             if (visibilityOnly) {
                 t[7] = area > 0 ? (float)(sum[7] / area) : 1.0f;
@@ -147,12 +154,16 @@ DiscPyramid buildDiscPyramid(KernelParams& p, ConstPlane depth, ConstPlane norma
         pyr.offsets.push_back((int)std::min<long long>(texels, INT_MAX));
         texels += (long long)levelSize(p.width, l) * levelSize(p.height, l);
     }
-    if (texels * kChannels >= INT_MAX)
+    if (texels * kChannels + kDiscPad >= INT_MAX)
         throw Error("the frame is too large for --method discs (" + std::to_string(texels) + " elements)");
 
     // Room for every level, not zeroed: only the levels up to the frame's top level are
     // written, and the pages of the others are never touched.
-    pyr.data = allocateBigFloats((size_t)texels * kChannels);
+    pyr.stride = (size_t)texels;
+    pyr.floats = pyr.stride * kChannels + kDiscPad;
+    p.discStride = (int)pyr.stride;
+    pyr.data = allocateBigFloats(pyr.floats);
+    std::fill(pyr.data.get() + pyr.stride * kChannels, pyr.data.get() + pyr.floats, 0.0f);
     const IsaKernels& k = cpuKernelsFor({depth, normal});
     float* base = pyr.data.get();
     std::mutex reachLock;
@@ -167,7 +178,6 @@ DiscPyramid buildDiscPyramid(KernelParams& p, ConstPlane depth, ConstPlane norma
     const int top = frameTopLevel(p, reach, allLevels);
     p.discTop = top;
     pyr.offsets.resize(top + 1);
-    pyr.floats = ((size_t)pyr.offsets[top] + (size_t)levelSize(p.width, top) * levelSize(p.height, top)) * kChannels;
     for (int l = 1; l <= top; ++l) mergeLevel(pyr, l, false, threads);
     for (int l = 0; l < kMaxLevels; ++l) p.discLevelOffset[l / 4][l % 4] = l <= top ? pyr.offsets[l] : 0;
     return pyr;

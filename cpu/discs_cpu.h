@@ -17,11 +17,16 @@ using glsl::KernelParams;
 // normal (3), visibility; the side wall's centre (3), area, unit normal (3), length, facing;
 // a second element like the first (area 0: none).
 constexpr int kDiscChannels = 24;
+// Floats past the last plane, so a row of lanes may load 16 neighbouring texels of any plane.
+constexpr int kDiscPad = 16;
 
-// Level 0: one texel per pixel; level L: one per 2^L x 2^L block, kDiscChannels floats each.
+// Level 0: one texel per pixel; level L: one per 2^L x 2^L block. Stored a plane per channel
+// (kDiscChannels planes, `stride` floats apart, each holding every level at `offsets`): the
+// lanes of a row read neighbouring nodes, so a channel's values for them lie together.
 struct DiscPyramid {
     BigFloats data;  // not zeroed first: every texel of the stored levels is written
-    size_t floats = 0;
+    size_t floats = 0;  // kDiscChannels * stride, plus kDiscPad
+    size_t stride = 0;
     std::vector<int> offsets;  // texel offset of each stored level
     int width = 0, height = 0;
     float invF = 1.0f;     // p.invFx: node sizes in the world (mergeElements)

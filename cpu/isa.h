@@ -28,8 +28,8 @@ struct IsaKernels {
     // One pass of the blur along `axis`, from `src` to `dst` (same channel count).
     void (*blurTile)(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane src,
                      MutablePlane dst, glm::ivec2 axis, int radius, const Box2i& tile);
-    // Disc AO (kernels/discs.glsl): level 0 of the pyramid (kDiscChannels floats per texel,
-    // p.width per row) over `tile`, returning the largest reach on the screen of its surface
+    // Disc AO (kernels/discs.glsl): level 0 of the pyramid (kDiscChannels planes p.discStride
+    // apart, p.width texels per row) over `tile`, returning the largest reach on the screen of its surface
     // texels (discReachPixels); and the traversal of a whole pyramid for the receivers in `tile`
     // (their hemispheres about `normal`).
     float (*discsBaseTile)(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, float* base,

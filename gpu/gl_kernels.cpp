@@ -67,8 +67,9 @@ float gatherDeepAtDisplay(vec2 corner, int c, bool use) {
     int i = texelIndex(ivec2(int(corner.x) - P.originX, int(corner.y) - P.originY));
     return use ? signalIn[i * 2 * P.deepLayers + c] : 0.0f;
 }
-// Disc AO reads the host's pyramid (24 floats a texel, cpu/discs_cpu.h) through the signal-in binding.
-float gatherDisc(int index, int c, bool use) { return use ? signalIn[index * 24 + c] : 0.0f; }
+// Disc AO reads the host's pyramid (a plane per channel, P.discStride apart, cpu/discs_cpu.h)
+// through the signal-in binding.
+float gatherDisc(int index, int c, bool use) { return use ? signalIn[c * P.discStride + index] : 0.0f; }
 bool outsideDispatch(ivec2 t) { return t.x >= P.width || t.y >= P.height; }
 )glsl";
 

@@ -60,7 +60,7 @@ struct KernelParams {
     vec4 sectorTerms[33];
 
     // ---- discs (kernels/discs.glsl, docs/discs.md); the pyramid is built by the host ----
-    ivec4 discLevelOffset[4];    // texel offset of level L's plane in the pyramid, at [L / 4][L % 4]
+    ivec4 discLevelOffset[4];    // texel offset of level L in each channel's plane, at [L / 4][L % 4]
     int discTop;                 // T: the coarsest level stored (any pixel's top level at most)
     int discWindow;              // k: windows of (4k + 2)^2 nodes per level
     int deepLayers;              // hbao: (front, back) layers per texel of the deep input, 0: none
@@ -69,5 +69,5 @@ struct KernelParams {
     int discBlend;               // 1: smooth open weights between levels; 0: hard windows
     int discVisibility;          // 1: weight each element by channel 7, its first-pass AO
     int discUnion;               // 1: occlusion as a union over hemisphere bins; 0: the plain sum
-    int pad8;
+    int discStride;              // floats between one channel's plane of the pyramid and the next
 };
