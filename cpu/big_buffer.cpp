@@ -1,25 +1,65 @@
 #include "cpu/big_buffer.h"
 
+#include <mutex>
 #include <new>
 #include <sys/mman.h>
 
 namespace obscura::cpu {
+namespace {
+
+constexpr std::size_t kHugePage = std::size_t(2) << 20;
+
+// The one large buffer kept after it was freed. A request takes it when it fits and needs at
+// least half of it, so a small scratch plane does not pin a pyramid's memory.
+std::mutex keptLock;
+float* kept = nullptr;
+std::size_t keptBytes = 0;
+
+} // namespace
+
+void FreeBuffer::operator()(float* p) const {
+    if (bytes == 0) {
+        std::free(p);
+        return;
+    }
+    std::lock_guard<std::mutex> hold(keptLock);
+    std::free(kept);
+    kept = p;
+    keptBytes = bytes;
+}
+
+void releaseKeptBigFloats() {
+    std::lock_guard<std::mutex> hold(keptLock);
+    std::free(kept);
+    kept = nullptr;
+    keptBytes = 0;
+}
 
 BigFloats allocateBigFloats(std::size_t count) {
-    constexpr std::size_t kHugePage = std::size_t(2) << 20;
     const std::size_t bytes = count * sizeof(float);
     if (bytes < kHugePage) {
         float* p = static_cast<float*>(std::malloc(bytes > 0 ? bytes : 1));
         if (!p) throw std::bad_alloc();
-        return BigFloats(p);
+        return BigFloats(p, FreeBuffer{0});
     }
     // aligned_alloc wants a multiple of the alignment.
     const std::size_t rounded = (bytes + kHugePage - 1) / kHugePage * kHugePage;
+    {
+        std::lock_guard<std::mutex> hold(keptLock);
+        if (kept && keptBytes >= rounded && keptBytes / 2 <= rounded) {
+            BigFloats reused(kept, FreeBuffer{keptBytes});
+            kept = nullptr;
+            keptBytes = 0;
+            return reused;
+        }
+    }
+    // Not reusable: its memory goes back before more is taken.
+    releaseKeptBigFloats();
     float* p = static_cast<float*>(std::aligned_alloc(kHugePage, rounded));
     if (!p) throw std::bad_alloc();
     // Advice only: where huge pages are off, or this is not Linux, it fails and nothing changes.
     (void)madvise(p, rounded, MADV_HUGEPAGE);
-    return BigFloats(p);
+    return BigFloats(p, FreeBuffer{rounded});
 }
 
 } // namespace obscura::cpu

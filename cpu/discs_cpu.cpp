@@ -133,7 +133,8 @@ void mergeLevel(DiscPyramid& pyr, int level, bool visibilityOnly, int threads) {
 // largest reach of any surface texel (discReachPixels, taken per tile by the base kernel).
 int frameTopLevel(const KernelParams& p, float reach, int levels) {
     int top = 0;
-    while (top + 1 < levels && (float)(2 * p.discWindow) * (float)(1 << top) < reach) ++top;
+    auto windowAt = [&](int level) { return p.discWindow + (level >= p.discWideFrom ? 1 : 0); };
+    while (top + 1 < levels && (float)(2 * windowAt(top + 1)) * (float)(1 << top) < reach) ++top;
     return top;
 }
 

@@ -391,8 +391,8 @@ void discBase(lint x, lint y, OUT(lvec3) pos, OUT(lvec3) n, OUT(lfloat) area, OU
 // Open weight of a node `dist` node sizes from the receiver: smooth from 1 at k (where every
 // grandparent of a visited node is still fully open, as k >= k/2 + 1/2) to 0 at k + 1/2 (the
 // edge of the block the finer window covers). Without blending: open inside that block, by index.
-lfloat discOpen(lfloat dist, lfloat indexDist) {
-    float k = float(P.discWindow);
+lfloat discOpen(lfloat dist, lfloat indexDist, int window) {
+    float k = float(window);
     if (P.discBlend == 0) {
         return select(indexDist < k + 0.5f, lfloat(1.0f), lfloat(0.0f));
     }
@@ -705,25 +705,45 @@ void discSecondContribution(lvec3 xr, lvec3 nr, lint index, lbool use, lfloat we
     discAdd(bins, nr, v, d2, area * (1.0f / PI), ff * weight);
 }
 
+// The node's first element. Where no lane's element is both within R and near (its polygon)
+// or above the receiver's horizon (a plane's own nodes, everything under a floor receiver's
+// tangent plane), its form factor is 0 in every lane: the rest is skipped, from its normal on.
+void discFirstContribution(lvec3 xr, lvec3 nr, lint index, lbool use, lfloat weight, bool polygon, lint ex, lint ey,
+                           int level, lbool continued, INOUT(DiscBins) bins) {
+    lvec3 e = gatherDisc3(index, 0, use);
+    lfloat area = gatherDisc(index, 3, use);
+    lvec3 v = e - xr;
+    lfloat d2 = dot(v, v);
+    if (!anyLane(continued && use) && !polygon) {
+        lbool near = d2 * PI < (DISC_NEAR_RADII * DISC_NEAR_RADII) * area;
+        // discFormFactor's cosR > 0, with a margin for rounding between the two.
+        lbool above = dot(nr, v) * inversesqrt(max(d2, lfloat(1e-30f))) > DISC_HORIZON - 1e-6f;
+        // discRangeWeight > 0: nearer than R plus the element's radius (with a margin).
+        lfloat reach = P.radius + 1.01f * sqrt(area * (1.0f / PI));
+        lbool inRange = d2 < reach * reach;
+        if (!anyLane(use && area > 0.0f && inRange && (near || above))) {
+            return;
+        }
+    }
+    lvec3 ne = gatherDisc3(index, 4, use);
+    if (anyLane(continued && use)) {
+        discContinue(continued, ex, ey, level, e, ne, area, use);
+        v = e - xr;
+        d2 = dot(v, v);
+    }
+    lfloat ff = discElementFormFactor(xr, nr, e, ne, area, v, d2, use, polygon, ex, ey, level);
+    discAdd(bins, nr, v, d2, area * (1.0f / PI), ff * weight);
+}
+
 // The element of pyramid texel `index` (node (ex, ey) of `level`) and its wall where `wall`:
 // their occlusion of the receiver (xr, nr), `weight` included; `polygon`: always the exact
 // footprint form factor.
 void discContribution(lvec3 xr, lvec3 nr, lint index, lbool use, lbool wall, lfloat weight, bool polygon, lint ex,
                       lint ey, int level, lbool continued, INOUT(DiscBins) bins) {
-    lvec3 e;
-    lfloat area;
-    lvec3 ne;
-    discGather(index, 0, use, e, area, ne);
-    if (anyLane(continued && use)) {
-        discContinue(continued, ex, ey, level, e, ne, area, use);
-    }
-    lvec3 v = e - xr;
-    lfloat d2 = dot(v, v);
-    lfloat ff = discElementFormFactor(xr, nr, e, ne, area, v, d2, use, polygon, ex, ey, level);
     if (P.discVisibility != 0) {
         weight = weight * gatherDisc(index, 7, use);
     }
-    discAdd(bins, nr, v, d2, area * (1.0f / PI), ff * weight);
+    discFirstContribution(xr, nr, index, use, weight, polygon, ex, ey, level, continued, bins);
     discSecondContribution(xr, nr, index, use && !continued, weight, polygon, ex, ey, level, bins);
     lbool walled = wall && !continued && gatherDisc(index, 11, wall) > 0.0f;
     if (anyLane(walled)) {
@@ -747,13 +767,17 @@ lfloat discReachPixels(lvec3 xr) {
     return select(z > 1.01f * P.radius, min(reach, lfloat(cap)), lfloat(cap));
 }
 
+// k at `level`: its nodes open within k of the receiver; a level's window is made by the
+// level above's k. Growing upwards keeps every open node's parent open.
+int discWindowAt(int level) { return P.discWindow + (level >= P.discWideFrom ? 1 : 0); }
+
 // The receiver's top level: the coarsest whose window (2k nodes each way beyond the
-// receiver's own) covers its reach, at most P.discTop.
+// receiver's own, k of the level above) covers its reach, at most P.discTop.
 lint discTopLevel(lvec3 xr) {
     lfloat reach = discReachPixels(xr);
     lint top = lint(0);
     for (int level = 1; level <= P.discTop; ++level) {
-        top = top + select(float(2 * P.discWindow) * float(1 << (level - 1)) < reach, lint(1), lint(0));
+        top = top + select(float(2 * discWindowAt(level)) * float(1 << (level - 1)) < reach, lint(1), lint(0));
     }
     return top;
 }
@@ -776,8 +800,6 @@ lfloat discsLanes(lint x, lint y) {
     lint topLevel = discTopLevel(xr);
     lfloat px = lfloat(x) + 0.5f;
     lfloat py = lfloat(y) + 0.5f;
-    int k = P.discWindow;
-    int span = 4 * k + 2;
     DiscBins bins;
     discStartBins(bins, nr);
     for (int level = P.discTop; level >= 0; --level) {
@@ -787,6 +809,11 @@ lfloat discsLanes(lint x, lint y) {
             continue;
         }
         lbool top = !(topLevel > lint(level));
+        // This level's open radius, and the one above's, whose open nodes' children are this
+        // level's window.
+        int kHere = discWindowAt(level);
+        int k = discWindowAt(level + 1);
+        int span = 4 * k + 2;
         float size = float(1 << level);
         int levelW = discLevelWidth(level);
         int levelH = discLevelHeight(level);
@@ -811,11 +838,11 @@ lfloat discsLanes(lint x, lint y) {
                 if (level > 0) {
                     lfloat dist = max(abs((lfloat(nx) + 0.5f) * size - px), dy) * (1.0f / size);
                     lfloat idist = max(abs(lfloat(nx - (x >> level))), idy);
-                    weight = 1.0f - discOpen(dist, idist);
+                    weight = 1.0f - discOpen(dist, idist, kHere);
                 }
                 lfloat pdist = max(abs((lfloat(nx >> 1) + 0.5f) * (2.0f * size) - px), pdy) * (0.5f / size);
                 lfloat pidist = max(abs(lfloat((nx >> 1) - (x >> (level + 1)))), pidy);
-                weight = weight * select(top, lfloat(1.0f), discOpen(pdist, pidist));
+                weight = weight * select(top, lfloat(1.0f), discOpen(pdist, pidist, k));
                 if (level == 0 && P.discPolygon != 0) {
                     // The 3 x 3 pixels around the receiver are the polygon loop's below.
                     weight = select(max(abs(lfloat(nx - x)), idy) < 1.5f, lfloat(0.0f), weight);

@@ -70,4 +70,9 @@ struct KernelParams {
     int discVisibility;          // 1: weight each element by channel 7, its first-pass AO
     int discUnion;               // 1: occlusion as a union over hemisphere bins; 0: the plain sum
     int discStride;              // floats between one channel's plane of the pyramid and the next
+
+    int discWideFrom;            // from this level up nodes open within k + 1 (discWindowAt)
+    int pad9;
+    int pad10;
+    int pad11;
 };

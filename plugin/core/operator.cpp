@@ -193,6 +193,9 @@ KernelParams makeKernelParams(const OperatorInputs& in, const Settings& s) {
     p.discWindow = s.discsWindow;
     p.discPolygon = s.discsNoPolygon ? 0 : 1;
     p.discBlend = s.discsBlendLevels ? 1 : 0;
+    // Nodes from level 2 up stand for blocks of 4 x 4 pixels and more, whose disc is a poorer
+    // stand-in (they bend, straddle creases): they open one node farther, k + 1 (docs/discs.md).
+    p.discWideFrom = 2;
     p.discVisibility = 0;
     p.discUnion = s.discsSum ? 0 : 1;
     return p;
