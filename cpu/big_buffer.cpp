@@ -15,6 +15,14 @@ std::mutex keptLock;
 float* kept = nullptr;
 std::size_t keptBytes = 0;
 
+// Frees the buffer kept for the next frame, if any.
+void releaseKept() {
+    std::lock_guard<std::mutex> hold(keptLock);
+    std::free(kept);
+    kept = nullptr;
+    keptBytes = 0;
+}
+
 } // namespace
 
 void FreeBuffer::operator()(float* p) const {
@@ -26,13 +34,6 @@ void FreeBuffer::operator()(float* p) const {
     std::free(kept);
     kept = p;
     keptBytes = bytes;
-}
-
-void releaseKeptBigFloats() {
-    std::lock_guard<std::mutex> hold(keptLock);
-    std::free(kept);
-    kept = nullptr;
-    keptBytes = 0;
 }
 
 BigFloats allocateBigFloats(std::size_t count) {
@@ -54,7 +55,7 @@ BigFloats allocateBigFloats(std::size_t count) {
         }
     }
     // Not reusable: its memory goes back before more is taken.
-    releaseKeptBigFloats();
+    releaseKept();
     float* p = static_cast<float*>(std::aligned_alloc(kHugePage, rounded));
     if (!p) throw std::bad_alloc();
     // Advice only: where huge pages are off, or this is not Linux, it fails and nothing changes.

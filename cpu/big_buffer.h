@@ -20,7 +20,4 @@ using BigFloats = std::unique_ptr<float[], FreeBuffer>;
 // `count` floats, not zeroed; throws std::bad_alloc when the memory is not there.
 BigFloats allocateBigFloats(std::size_t count);
 
-// Frees the buffer kept for the next frame, if any.
-void releaseKeptBigFloats();
-
 } // namespace obscura::cpu

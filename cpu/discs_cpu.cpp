@@ -45,14 +45,15 @@ void mergeElements(DiscPyramid& pyr, int level, int x, int y, const Texel& t) {
     Element e[8];
     int count = 0;
     for (int j = 2 * y; j < std::min(2 * y + 2, ch); ++j)
-        for (int i = 2 * x; i < std::min(2 * x + 2, cw); ++i)
+        for (int i = 2 * x; i < std::min(2 * x + 2, cw); ++i) {
+            const Texel c = texel(pyr, level - 1, i, j);
             for (int first : {0, 17}) {
-                const Texel c = texel(pyr, level - 1, i, j);
                 if (!(c[first + 3] > 0)) continue;
                 Element& q = e[count++];
                 q.area = c[first + 3];
                 for (int k = 0; k < 3; ++k) q.pos[k] = c[first + k], q.n[k] = c[first + 4 + k];
             }
+        }
     int largest = 0, farthest = 0;
     for (int q = 1; q < count; ++q)
         if (e[q].area > e[largest].area) largest = q;

@@ -28,6 +28,7 @@ struct DiscsCpuKernel {
             spanUse = use.k;
             spanIndex = idx;
             spanLo = use.k ? reduceMin(_mm512_mask_blend_epi32(use.k, _mm512_set1_epi32(INT_MAX), idx)) : 0;
+            // The largest index: minus the smallest of the negated ones.
             const int hi = use.k ? -reduceMin(_mm512_mask_blend_epi32(use.k, _mm512_set1_epi32(INT_MAX),
                                                                       _mm512_sub_epi32(_mm512_setzero_si512(), idx)))
                                  : 0;
@@ -37,9 +38,19 @@ struct DiscsCpuKernel {
         if (spanWidth == 0) return (vfloat)_mm512_maskz_mov_ps(use.k, _mm512_set1_ps(plane[spanLo]));
         // Past the last plane the pyramid holds cpu::kDiscPad floats, so the load stays inside.
         if (spanWidth < 16) return (vfloat)_mm512_maskz_permutexvar_ps(use.k, spanRel, _mm512_loadu_ps(plane + spanLo));
+#elif OBSCURA_LANES > 1
+        if (sameNode(index, use)) return lfloat(plane[index[0]]);
 #endif
         return gather(plane, index, use);
     }
+#if OBSCURA_LANES > 1 && OBSCURA_LANES != 16
+    // Every lane reads the same node (AVX2: one broadcast instead of a gather).
+    static bool sameNode(lint index, lbool use) {
+        bool same = true;
+        for (int i = 1; i < cpu::lanes::kLanes; ++i) same = same && index[i] == index[0] && use.m[i] != 0;
+        return same && use.m[0] != 0;
+    }
+#endif
 #if OBSCURA_LANES == 16
     // The smallest of 16 ints, halving with vector shuffles (GCC 12's reduce and extract
     // intrinsics warn inside their own header under -Wall).
