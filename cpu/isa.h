@@ -39,10 +39,6 @@ struct IsaKernels {
     // HBAO with deep input: `deep` holds p.deepLayers (front, back) depth pairs per texel (kernels/hbao.glsl).
     void (*hbaoDeepTile)(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep,
                          MutablePlane ao, const Box2i& tile);
-    // HBAO's border (kernels/hbao.glsl, continuedDepth) at the texels of `tile`, in buffer
-    // coordinates (past the buffer's edge too); `out` is addressed in buffer coordinates.
-    void (*hbaoBorderTile)(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane out,
-                           const Box2i& tile);
 };
 
 #define OBSCURA_DECLARE_ISA(isa) \

@@ -12,7 +12,6 @@ void hbaoTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, Mutabl
 void ssaoTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile);
 void hbaoDeepTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, MutablePlane ao,
                   const Box2i& tile);
-void hbaoBorderTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane out, const Box2i& tile);
 
-const IsaKernels kernels{&hbaoTile, &ssaoTile, &ssdoTile, &blurTile, &discsBaseTile, &discsTile, &hbaoDeepTile, &hbaoBorderTile};
+const IsaKernels kernels{&hbaoTile, &ssaoTile, &ssdoTile, &blurTile, &discsBaseTile, &discsTile, &hbaoDeepTile};
 } // namespace obscura::cpu::OBSCURA_ISA

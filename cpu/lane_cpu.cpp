@@ -1,6 +1,5 @@
 #include "lane_cpu.h"
 
-#include "cpu/hbao_border.h"
 #include "cpu/parallel.h"
 
 namespace obscura::cpu {
@@ -20,15 +19,13 @@ std::vector<std::string> laneIsas() { return cpuIsas(); }
 LaneTileFn laneTileFor(LaneKernel kernel, const std::string& isa) { return entryOf(cpuKernelsNamed(isa), kernel); }
 
 namespace {
-// HBAO, with deep layers when `deep` is valid: it reads its depth with the border continued
-// (cpu/hbao_border.h), and the kernels are chosen again for the bordered plane, whose offsets are larger.
+// HBAO, with deep layers when `deep` is valid.
 void runHbaoWith(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, MutablePlane ao,
                  int threads, const std::string& isa) {
-    const BorderedDepth b = continueBorder(p, depth, normal, threads, kernelsFor(isa, {depth, normal, deep}));
-    const IsaKernels& k = kernelsFor(isa, {b.box, depth, normal, deep});
+    const IsaKernels& k = kernelsFor(isa, {depth, normal, deep});
     parallelForTiles(Box2i{0, 0, p.width, p.height}, kLaneTileWidth, kLaneTileHeight, threads, [&](const Box2i& tile) {
-        if (deep.valid()) k.hbaoDeepTile(b.params, b.depth, normal, deep, ao, tile);
-        else k.hbaoTile(b.params, b.depth, normal, ao, tile);
+        if (deep.valid()) k.hbaoDeepTile(p, depth, normal, deep, ao, tile);
+        else k.hbaoTile(p, depth, normal, ao, tile);
     });
 }
 } // namespace

@@ -81,7 +81,7 @@ namespace {
 using glsl::KernelParams;
 constexpr int kLanesHere = OBSCURA_LANES;
 
-enum class Entry { Hbao, Ssao, HbaoBorder };
+enum class Entry { Hbao, Ssao };
 
 template <Entry E, class Params>
 void runTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, MutablePlane ao,
@@ -109,9 +109,7 @@ void runTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPl
     for (int y = tile.y0; y < tile.y1; ++y)
         for (int x = tile.x0; x < tile.x1; x += kLanesHere) {
             // Lanes past the tile compute a neighbour (or, past the buffer, nothing) and are not stored.
-            const auto v = E == Entry::Hbao   ? k.hbaoLanes(lane + x, y)
-                           : E == Entry::Ssao ? k.ssaoLanes(lane + x, y)
-                                              : k.continuedDepth(lane + x, y);
+            const auto v = E == Entry::Hbao ? k.hbaoLanes(lane + x, y) : k.ssaoLanes(lane + x, y);
             const int count = tile.x1 - x < kLanesHere ? tile.x1 - x : kLanesHere;
             for (int i = 0; i < count; ++i) {
 #if OBSCURA_LANES == 1
@@ -175,10 +173,6 @@ void hbaoTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, Mutabl
 void hbaoDeepTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, MutablePlane ao,
                   const Box2i& tile) {
     runEntry<Entry::Hbao>(p, p.hbaoBitmask, depth, normal, deep, ao, tile);
-}
-
-void hbaoBorderTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane out, const Box2i& tile) {
-    runTileFor<Entry::HbaoBorder, 0, 0>(p, depth, normal, ConstPlane{}, out, tile);
 }
 
 void ssaoTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile) {

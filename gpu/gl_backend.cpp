@@ -1,7 +1,7 @@
 #include "gpu/gl_backend.h"
 
 #include "core/error.h"
-#include "cpu/hbao_border.h"
+#include "cpu/hbao_reach.h"
 #include "gpu/gl_context.h"
 #include "gpu/gl_kernels.h"
 #include "gpu/gl_program.h"
@@ -118,10 +118,8 @@ void GlBackend::runTiled(const glsl::KernelParams& p, ConstPlane depth, ConstPla
     const int W = p.width, H = p.height;
     // How far a pixel's result reads: its samples (radius plus snapping), then the blur.
     const int apron = (int)std::ceil(std::min(cpu::hbaoReachPixels(p, depth), (float)std::max(W, H))) + 2 + std::max(blur, 0);
-    // The depth box (hbao's border past the frame's edges, if any): a tile loads its part within
-    // the apron and the border's width of its texels.
+    // A tile loads the depth within the apron of its texels.
     const Box2i depthBox = cpu::depthBoxOf(p);
-    const int border = std::max({-depthBox.x0, -depthBox.y0, depthBox.x1 - W, depthBox.y1 - H, 0});
     if (maxTexels <= 0) maxTexels = info().maxStorageBlockBytes / (3 * (long long)sizeof(float));  // 3-float planes
     std::vector<float> packed;
     for (const Tile& tile : planTiles(W, H, apron, maxTexels, info())) {
@@ -130,9 +128,8 @@ void GlBackend::runTiled(const glsl::KernelParams& p, ConstPlane depth, ConstPla
         q.height = tile.buf.height();
         q.originX = p.originX + tile.buf.x0;
         q.originY = p.originY + tile.buf.y0;
-        const int reach = apron + border;
         const Box2i tileDepth = intersect(
-            Box2i{tile.inner.x0 - reach, tile.inner.y0 - reach, tile.inner.x1 + reach, tile.inner.y1 + reach}, depthBox);
+            Box2i{tile.inner.x0 - apron, tile.inner.y0 - apron, tile.inner.x1 + apron, tile.inner.y1 + apron}, depthBox);
         q.depthX0 = tileDepth.x0 - tile.buf.x0;
         q.depthY0 = tileDepth.y0 - tile.buf.y0;
         q.depthX1 = tileDepth.x1 - tile.buf.x0;
@@ -220,16 +217,8 @@ void GlBackend::runAoWith(const char* program, const glsl::KernelParams& p, Cons
     // The deep pairs ride in the signal-in buffer (HBAO reads no signal), so a tile holds 2K floats a texel.
     if (deep.valid() && maxTexels <= 0)
         maxTexels = info().maxStorageBlockBytes / (std::max(3, 2 * p.deepLayers) * (long long)sizeof(float));
-    // HBAO reads its depth with the border continued past the frame's edges (cpu/hbao_border.h, on the host).
-    const bool hbao = std::strcmp(program, "hbao") == 0;
-    cpu::BorderedDepth bordered;
-    if (hbao) {
-        const auto t0 = Clock::now();
-        bordered = cpu::continueBorder(p, depth, normal, 0, cpu::cpuKernelsFor({depth, normal}));
-        t.upload += since(t0);
-    }
     runTiled(
-        hbao ? bordered.params : p, hbao ? bordered.depth : depth, normal, blur, maxTexels, t,
+        p, depth, normal, blur, maxTexels, t,
         [&](const Box2i& buf, const glsl::KernelParams& q) {
             if (deep.valid()) {
                 pack(deep, buf, 2 * q.deepLayers, packed);

@@ -22,7 +22,7 @@ uniform int signalChannels;   // channels per texel of signalIn / signalOut (1: 
 uniform int hasAlbedo;        // 0: albedo 1 (no albedo pass bound)
 
 int texelIndex(ivec2 t) { return t.y * P.width + t.x; }
-// The depth buffer holds the box P.depthX0 .. (the buffer, and hbao's border around it).
+// The depth buffer holds the box P.depthX0 .. (a tile's part of the frame).
 int depthIndex(int x, int y) { return (y - P.depthY0) * (P.depthX1 - P.depthX0) + x - P.depthX0; }
 float loadDepth(ivec2 t) { return depthData[depthIndex(t.x, t.y)]; }
 vec3 loadNormal(ivec2 t) {

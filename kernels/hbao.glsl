@@ -180,9 +180,8 @@ void occupySpan(lvec3 frontX, lvec3 backX, lbool span, lbool use, lvec3 T, lvec3
 
 // The texel one pixel from a sample texel (display corner `corner`, surface point on sampleRay at
 // sampleDepth) along `offset`: whether it is a surface, its view-space normal (not normalised)
-// and its surface point's offset D from the sample's. `at`: the sample's own corner, past the
-// buffer's edge where `corner` is the edge texel standing in for it (D is measured from there).
-void neighbourTexel(lvec2 corner, lvec2 at, lvec2 offset, lvec3 sampleRay, lfloat sampleDepth, lbool use,
+// and its surface point's offset D from the sample's.
+void neighbourTexel(lvec2 corner, lvec2 offset, lvec3 sampleRay, lfloat sampleDepth, lbool use,
                     OUT(lbool) surface, OUT(lvec3) normal, OUT(lvec3) D) {
     vec2 origin = vec2(bufferOrigin());
     lvec2 texel = floor(corner + lvec2(0.5f, 0.5f) + offset);
@@ -190,7 +189,7 @@ void neighbourTexel(lvec2 corner, lvec2 at, lvec2 offset, lvec3 sampleRay, lfloa
     lfloat depth = gatherDepthAtDisplay(texel, surface) * P.depthScale;
     surface = surface && isSurfaceDepth(depth);
     normal = mat3(P.normalToView) * gatherNormal(lint(texel.x - origin.x), lint(texel.y - origin.y), surface);
-    lvec2 w = lvec2((texel.x - at.x) * P.invFx, (texel.y - at.y) * -P.invFy);
+    lvec2 w = lvec2((texel.x - corner.x) * P.invFx, (texel.y - corner.y) * -P.invFy);
     D = viewOffset(sampleRay, sampleDepth, w, select(surface, depth, sampleDepth));
 }
 
@@ -227,7 +226,7 @@ struct FootprintPrevious {
 // plane (a silhouette's tangent plane runs along the eye's ray and would stand for a wall there),
 // is cut at the run jump (P.runJump), and the whole is clipped to the ball of radius R. It adds
 // the angles between its ends (none below the tangent); the sample's own interval is set as before.
-void occupyFootprint(lvec3 X, lvec2 corner, lvec2 at, lvec3 sampleRay, lfloat sampleDepth, lvec3 m, lvec2 dir, lvec2 w,
+void occupyFootprint(lvec3 X, lvec2 corner, lvec3 sampleRay, lfloat sampleDepth, lvec3 m, lvec2 dir, lvec2 w,
                      lbool use, INOUT(FootprintPrevious) previous, lvec3 T, lvec3 n, lfloat nE, lfloat nV,
                      float radius2, INOUT(lfloat) horizonA, INOUT(lfloat) horizonB, INOUT(luint) sectors) {
     FootprintPrevious before = previous;
@@ -242,11 +241,11 @@ void occupyFootprint(lvec3 X, lvec2 corner, lvec2 at, lvec3 sampleRay, lfloat sa
     lbool behindSurface;
     lvec3 behindNormal;
     lvec3 behindD;
-    neighbourTexel(corner, at, across * -1.0f, sampleRay, sampleDepth, use, behindSurface, behindNormal, behindD);
+    neighbourTexel(corner, across * -1.0f, sampleRay, sampleDepth, use, behindSurface, behindNormal, behindD);
     lbool aheadSurface;
     lvec3 aheadNormal;
     lvec3 aheadD;
-    neighbourTexel(corner, at, across, sampleRay, sampleDepth, use, aheadSurface, aheadNormal, aheadD);
+    neighbourTexel(corner, across, sampleRay, sampleDepth, use, aheadSurface, aheadNormal, aheadD);
     // The half towards -dir needs the plane to go on at +dir, and the other way round.
     lbool back = use && continuesPlane(aheadSurface, aheadNormal, m);
     lbool ahead = use && continuesPlane(behindSurface, behindNormal, m);
@@ -404,37 +403,147 @@ void closeRuns(lbool ends, lfloat t, OccluderRun run, lfloat nE, lfloat nV, lflo
     }
 }
 
-// Depth at which the ray through display texel `corner` meets the tangent plane of the buffer
-// texel at `edgeCorner` (its depth edgeDepth): the surface at the frame's edge continued past
-// it. Not finite or not positive where the plane does not meet the ray in front of the eye.
-lfloat tangentPlaneDepth(lvec2 edgeCorner, lvec2 corner, lfloat edgeDepth, lbool use) {
+// Border clamp (1) and tangent (2) (docs/hbao.md, "The frame's border"). Past the buffer's edge the
+// continued surface is, at each texel, the nearest edge texel's tangent plane met by the texel's
+// ray (where it meets it in front of the eye; else, and for clamp, the edge texel's depth).
+// On one plane the angle seen from the receiver changes monotonically along a slice, and the part
+// within R is one segment, so its highest point within R is one of that segment's ends: a lane
+// that leaves the buffer stops marching and takes the ends of the chord from the edge texel where
+// it left (its own surface point) to the continued surface at its last step, clipped to the ball
+// of radius R. Where the chord lies in the far end's plane (the edge continues one plane) it is
+// that plane, every angle between its ends covered; else its ends are two samples.
+//
+// The continued surface at display corner `corner` past the edge, as an offset from the receiver;
+// `valid` where the nearest edge texel is a surface, m its view-space normal (tangent only).
+lvec3 continuedOffset(lvec2 corner, lbool use, lvec3 ray, lfloat depth, lvec2 cornerToOffset, OUT(lbool) valid,
+                      OUT(lvec3) m) {
     vec2 origin = vec2(bufferOrigin());
-    lvec3 m = mat3(P.normalToView) * gatherNormal(lint(edgeCorner.x - origin.x), lint(edgeCorner.y - origin.y), use);
-    lvec3 edgeRay = viewRay(lvec2(edgeCorner.x + 0.5f, edgeCorner.y + 0.5f));
-    lvec3 e = positionOnRay(edgeRay, edgeDepth);
-    lvec3 ray = viewRay(lvec2(corner.x + 0.5f, corner.y + 0.5f));
-    // Planar depth -z; radial depth (perspective only) is t |ray| for the point ray t.
-    lfloat d = -rayMeetsPlane(ray, m, e).z;
-    return P.orthographic == 0 && P.radialDepth != 0 ? d * sqrt(dot(ray, ray)) : d;
+    lvec2 edgeCorner = nearestBufferCorner(corner);
+    lfloat edgeDepth = gatherDepthAtDisplay(edgeCorner, use) * P.depthScale;
+    valid = use && isSurfaceDepth(edgeDepth);
+    lfloat d = edgeDepth;
+    m = lvec3(lfloat(0.0f), lfloat(0.0f), lfloat(0.0f));
+    if (P.hbaoBorder == 2) {
+        m = mat3(P.normalToView) * gatherNormal(lint(edgeCorner.x - origin.x), lint(edgeCorner.y - origin.y), valid);
+        lvec3 e = positionOnRay(viewRay(lvec2(edgeCorner.x + 0.5f, edgeCorner.y + 0.5f)), edgeDepth);
+        lvec3 sampleRay = viewRay(lvec2(corner.x + 0.5f, corner.y + 0.5f));
+        // Planar depth -z; radial depth (perspective only) is t |ray| for the point ray t.
+        lfloat planeDepth = -rayMeetsPlane(sampleRay, m, e).z;
+        if (P.orthographic == 0 && P.radialDepth != 0) {
+            planeDepth *= sqrt(dot(sampleRay, sampleRay));
+        }
+        d = select(valid && isSurfaceDepth(planeDepth), planeDepth, edgeDepth);
+    }
+    lvec2 w = lvec2((corner.x + cornerToOffset.x) * P.invFx, (corner.y + cornerToOffset.y) * -P.invFy);
+    return viewOffset(ray, depth, w, select(valid, d, depth));
 }
 
-// The depth the march reads at buffer texel (x, y) past the buffer's edge, border clamp (1) or
-// tangent (2): the nearest edge texel's depth, or where that texel's tangent plane meets this
-// texel's ray (the edge's depth where the plane is seen edge-on or behind the eye). The
-// backends write it once per frame around the depth buffer (P.depthX0 ..), so each sample
-// past the edge reads one texel as a sample inside does. Inside the buffer: the texel's depth.
-lfloat continuedDepth(lint x, lint y) {
-    vec2 origin = vec2(bufferOrigin());
-    lvec2 corner = lvec2(lfloat(x) + origin.x, lfloat(y) + origin.y);
-    lvec2 edgeCorner = nearestBufferCorner(corner);
-    lbool every = lfloat(0.0f) <= 0.0f; // true in every lane
-    lfloat depth = gatherDepthAtDisplay(edgeCorner, every) * P.depthScale;
-    lbool continued = isSurfaceDepth(depth) && !insideBuffer(corner - origin, 0.0f);
-    if (P.hbaoBorder == 2 && anyLane(continued)) {
-        lfloat planeDepth = tangentPlaneDepth(edgeCorner, corner, depth, continued);
-        depth = select(continued && isSurfaceDepth(planeDepth), planeDepth, depth);
+// The chord of a lane that left the buffer at display corner `exitCorner` and whose last step is
+// at `lastCorner`: its ends within R (P0 nearer the edge), where there are any (`meets`), and
+// whether it lies in one plane. Where one end is not a surface the other stands alone.
+void continuedChord(lvec2 exitCorner, lvec2 lastCorner, lbool left, lvec3 ray, lfloat depth, lvec2 cornerToOffset,
+                    float radius2, OUT(lvec3) P0, OUT(lvec3) P1, OUT(lbool) meets, OUT(lbool) onePlane) {
+    lvec2 edgeCorner = nearestBufferCorner(exitCorner);
+    lfloat edgeDepth = gatherDepthAtDisplay(edgeCorner, left) * P.depthScale;
+    // Not the receiver's own texel (a receiver on the edge): its offset is rounding alone.
+    lvec2 pixels = edgeCorner + cornerToOffset;
+    lbool edgeValid = left && isSurfaceDepth(edgeDepth) && abs(pixels.x) + abs(pixels.y) > 0.0f;
+    lvec2 w = lvec2(pixels.x * P.invFx, pixels.y * -P.invFy);
+    lvec3 X0 = viewOffset(ray, depth, w, select(edgeValid, edgeDepth, depth));
+    lbool lastValid;
+    lvec3 m;
+    lvec3 X1 = continuedOffset(lastCorner, left, ray, depth, cornerToOffset, lastValid, m);
+    // X0 within 0.57 degrees of X1's plane, as seen from X1 (the chord's direction and the normal).
+    lvec3 chord = X0 - X1;
+    lfloat across = dot(m, chord);
+    onePlane = edgeValid && lastValid && across * across <= 1e-4f * dot(m, m) * dot(chord, chord);
+    X0 = select(edgeValid, X0, X1);
+    X1 = select(lastValid, X1, X0);
+    lfloat t0;
+    lfloat t1;
+    clipToBall(X0, X1, radius2, t0, t1, meets);
+    meets = meets && (edgeValid || lastValid);
+    lvec3 d = X1 - X0;
+    P0 = X0 + d * t0;
+    P1 = X0 + d * t1;
+}
+
+// A run of the samples (a0, b0) and, where `joined`, (a1, b1) (F values f0, f1 and linear falloff's
+// weights w0, w1; c0, c1 where each counts), closed at once with thickness P.thickness.
+void closeSamples(lfloat a0, lfloat b0, lbool c0, lfloat f0, lfloat w0, lfloat a1, lfloat b1, lbool c1, lfloat f1,
+                  lfloat w1, lbool joined, lfloat nE, lfloat nV, lfloat cosB, lfloat sinB, lfloat nLen,
+                  INOUT(lfloat) horizonA, INOUT(lfloat) horizonB, INOUT(lfloat) horizonF, INOUT(luint) sectors,
+                  INOUT(lfloat) sliceOcclusion) {
+    OccluderRun run;
+    run.firstA = a0;
+    run.firstB = b0;
+    run.lastA = select(joined, a1, a0);
+    run.lastB = select(joined, b1, b0);
+    run.topA = horizonA;
+    run.topB = horizonB;
+    lbool higher0 = raiseHorizon(c0, a0, b0, run.topA, run.topB);
+    lbool higher1 = raiseHorizon(joined && c1, a1, b1, run.topA, run.topB);
+    run.raised = higher0 || higher1;
+    lfloat f1j = select(joined, f1, lfloat(0.0f));
+    run.topF = max(f0, f1j);
+    run.rise = w0 * max(f0 - horizonF, 0.0f) + w1 * max(f1j - max(horizonF, f0), 0.0f);
+    closeRuns(run.raised, lfloat(P.thickness), run, nE, nV, cosB, sinB, nLen, horizonA, horizonB, horizonF, sectors,
+              sliceOcclusion);
+}
+
+// The continued surface between the chord's ends P0 and P1: cut off by the edge, it occludes as a
+// run the edge cuts does, P.thickness deep (the horizon alone: the higher end). Linear falloff
+// weighs each end's rise by its weight.
+void takeContinued(lvec3 P0, lvec3 P1, lbool use, lbool onePlane, lfloat weight0, lfloat weight1, lvec3 T, lvec3 n,
+                   lfloat nE, lfloat nV, lfloat cosB, lfloat sinB, lfloat nLen, INOUT(lfloat) horizonA,
+                   INOUT(lfloat) horizonB, INOUT(lfloat) horizonF, INOUT(luint) sectors, INOUT(lfloat) sliceOcclusion) {
+    lfloat a0 = dot(T, P0);
+    lfloat b0 = dot(n, P0);
+    lfloat a1 = dot(T, P1);
+    lfloat b1 = dot(n, P1);
+    // Above the tangent by more than rounding (0.57 degrees, as runs): the receiver's own plane
+    // continued past the edge occludes nothing.
+    lbool counts0 = use && b0 > 0.0f && b0 * b0 > 1e-4f * dot(P0, P0) && a0 * nV + b0 * nE > 0.0f;
+    lbool counts1 = use && b1 > 0.0f && b1 * b1 > 1e-4f * dot(P1, P1) && a1 * nV + b1 * nE > 0.0f;
+    if (P.hbaoBitmask == 0 && P.linearFalloff == 0) {
+        raiseHorizon(counts0, a0, b0, horizonA, horizonB);
+        raiseHorizon(counts1, a1, b1, horizonA, horizonB);
+        return;
     }
-    return depth * (1.0f / P.depthScale);
+    lfloat f0 = lfloat(0.0f);
+    lfloat f1 = lfloat(0.0f);
+    if (P.linearFalloff != 0) {
+        lfloat inv0 = inversesqrt(max(a0 * a0 + b0 * b0, 1e-30f));
+        lfloat inv1 = inversesqrt(max(a1 * a1 + b1 * b1, 1e-30f));
+        f0 = select(counts0, sliceOcclusionAt(a0 * inv0, b0 * inv0, cosB, sinB, nLen), lfloat(0.0f));
+        f1 = select(counts1, sliceOcclusionAt(a1 * inv1, b1 * inv1, cosB, sinB, nLen), lfloat(0.0f));
+    }
+    if (P.hbaoBitmask == 0) {
+        raiseLinearHorizon(f0, weight0, horizonF, sliceOcclusion);
+        raiseLinearHorizon(f1, weight1, horizonF, sliceOcclusion);
+        return;
+    }
+    // The chord whole where it is one plane, else P0 alone and then P1 alone.
+    if (anyLane(counts0 || (counts1 && onePlane))) {
+        closeSamples(a0, b0, counts0, f0, weight0, a1, b1, counts1, f1, weight1, onePlane, nE, nV, cosB, sinB, nLen,
+                     horizonA, horizonB, horizonF, sectors, sliceOcclusion);
+    }
+    lbool alone1 = counts1 && !onePlane;
+    if (anyLane(alone1)) {
+        lbool none = lfloat(0.0f) > 0.0f; // false in every lane
+        closeSamples(a1, b1, alone1, f1, weight1, a1, b1, none, f1, weight1, none, nE, nV, cosB, sinB, nLen, horizonA,
+                     horizonB, horizonF, sectors, sliceOcclusion);
+    }
+}
+
+// The depth a march step at display corner `corner` reads, and in `use` the lanes that read it:
+// every lane computing on an interior slice, else those whose texel is in the buffer.
+lfloat loadStep(lvec2 corner, lbool computing, bool interior, OUT(lbool) use) {
+    use = computing;
+    if (!interior) {
+        use = use && insideBuffer(corner - vec2(bufferOrigin()), 0.0f);
+    }
+    return gatherDepthAtDisplay(corner, use);
 }
 
 // Ambient occlusion in [0,1] (1 = unoccluded) of the buffer texels (x, y); texels outside
@@ -469,8 +578,7 @@ lfloat hbaoLanes(lint x, lint y) {
     // The first sample sits one pixel out; the rest spread evenly to the radius.
     lfloat stepPixels = (radiusPixels - 1.0f) * (1.0f / float(P.steps));
     // Every sample lies within radiusPixels of the centre: when that square (with a texel to
-    // spare for rounding) is inside the depth buffer (with the border continued around it, if any)
-    // for every lane, no step needs a bounds test.
+    // spare for rounding) is inside the depth buffer for every lane, no step needs a bounds test.
     vec2 origin = vec2(bufferOrigin());
     lvec2 reach = lvec2(radiusPixels, radiusPixels);
     bool discInside = !anyLane(computing && !(insideDepthBuffer(floor(centre - reach) - origin, 1.0f) &&
@@ -549,6 +657,10 @@ lfloat hbaoLanes(lint x, lint y) {
         // first sample one pixel out, then evenly to the radius.
         lvec2 step = dir * stepPixels;
         lvec2 position = centre + dir * (1.0f + jitter * stepPixels);
+        lvec2 start = position;
+        // Off the interior, how many steps each lane took inside the buffer (the line is straight and
+        // the buffer convex, so they come first): where its line left the buffer, if it did.
+        lfloat stepsInside = lfloat(0.0f);
         // Each coordinate moves monotonically, so when the first and the last sample of every
         // lane are inside the depth buffer (the last with a texel to spare for rounding), all are,
         // and the steps skip the bounds test: the common case away from the frame's edges.
@@ -558,36 +670,25 @@ lfloat hbaoLanes(lint x, lint y) {
             interior = !anyLane(computing && !(insideDepthBuffer(floor(position) - origin, 0.0f) &&
                                                 insideDepthBuffer(floor(last) - origin, 1.0f)));
         }
-        // Inside, each step's depth is loaded one step ahead, so the load's latency overlaps the
-        // work on the sample before (the step's work is too long for the CPU to reach it alone).
-        lfloat aheadDepth = lfloat(0.0f);
-        if (interior) {
-            aheadDepth = gatherDepthAtDisplay(floor(position), computing);
-        }
+        // Each step's depth is loaded one step ahead, so the load's latency overlaps the work on
+        // the sample before (the step's work is too long for the CPU to reach it alone).
+        lbool aheadUse;
+        lfloat aheadDepth = loadStep(floor(position), computing, interior, aheadUse);
         for (int s = 0; s < P.steps; ++s) {
             lvec2 corner = floor(position);
             position = position + step;
-            lbool counts = computing;
+            lbool counts = aheadUse;
             lfloat loaded = aheadDepth;
-            if (interior && s + 1 < P.steps) {
-                aheadDepth = gatherDepthAtDisplay(floor(position), computing);
+            if (s + 1 < P.steps) {
+                aheadDepth = loadStep(floor(position), computing, interior, aheadUse);
             }
             if (!interior) {
-                lvec2 loadCorner = corner;
-                if (P.hbaoBorder == 0) {
-                    counts = counts && insideBuffer(corner - origin, 0.0f);
-                    // The image line is straight and the buffer convex: once every lane has left
-                    // it, every later step is outside too.
-                    if (!anyLane(counts)) {
-                        break;
-                    }
-                } else {
-                    // The continued border reaches every sample (cpu/hbao_border.h sizes it); the
-                    // clamp only guards rounding.
-                    loadCorner = lvec2(clamp(corner.x, origin.x + float(P.depthX0), origin.x + float(P.depthX1 - 1)),
-                                       clamp(corner.y, origin.y + float(P.depthY0), origin.y + float(P.depthY1 - 1)));
+                stepsInside += select(counts, lfloat(1.0f), lfloat(0.0f));
+                // The image line is straight and the buffer convex: once every lane has left it,
+                // every later step is outside too.
+                if (!anyLane(counts)) {
+                    break;
                 }
-                loaded = gatherDepthAtDisplay(loadCorner, counts);
             }
             lbool sampled = counts; // before the surface test: deep layers may lie behind sky
             lfloat sampleDepth = loaded * P.depthScale;
@@ -674,23 +775,20 @@ lfloat hbaoLanes(lint x, lint y) {
                 raiseLinearHorizon(f, weight, horizonF, sliceOcclusion);
             } else if (P.hbaoBitmask == 2) {
                 // Deep input: the visible layer's span where the renderer saw the ray leave its solid,
-                // then every hidden layer; they are read inside the buffer only, and past the edge the
-                // edge texel's normal stands in.
-                lbool deepUse = sampled && insideBuffer(corner - origin, 0.0f);
-                lvec2 edgeCorner = nearestBufferCorner(corner);
-                lfloat back = gatherDeepAtDisplay(corner, 1, deepUse && surface) * P.depthScale;
-                lbool span = deepUse && surface && back > sampleDepth && isSurfaceDepth(back);
+                // then every hidden layer (inside the buffer: past it, the continued surface's samples).
+                lfloat back = gatherDeepAtDisplay(corner, 1, surface) * P.depthScale;
+                lbool span = surface && back > sampleDepth && isSurfaceDepth(back);
                 lvec3 backX = viewOffset(ray, depth, w, select(span, back, sampleDepth));
                 occupySpan(X, backX, span, surface, T, n, nE, nV, radius2, backShiftA, backShiftB, horizonA, horizonB,
                            sectors);
-                // The texel's footprint on its tangent plane (its normal at the texel read, also past the edge).
+                // The texel's footprint on its tangent plane.
                 lvec3 sampleRay = lvec3(ray.x + w.x, ray.y + w.y, ray.z);
-                lvec3 m = viewNormal(gatherNormal(lint(edgeCorner.x - origin.x), lint(edgeCorner.y - origin.y), surface),
+                lvec3 m = viewNormal(gatherNormal(lint(corner.x - origin.x), lint(corner.y - origin.y), surface),
                                      viewVector(sampleRay));
-                occupyFootprint(X, edgeCorner, corner, sampleRay, sampleDepth, m, dir, w, surface, previous, T, n, nE, nV,
+                occupyFootprint(X, corner, sampleRay, sampleDepth, m, dir, w, surface, previous, T, n, nE, nV,
                                 radius2, horizonA, horizonB, sectors);
                 for (int k = 1; k < P.deepLayers; ++k) {
-                    occupyDeepLayer(k, corner, deepUse, ray, depth, w, T, n, nE, nV, radius2, backShiftA, backShiftB,
+                    occupyDeepLayer(k, corner, sampled, ray, depth, w, T, n, nE, nV, radius2, backShiftA, backShiftB,
                                     horizonA, horizonB, sectors);
                 }
             } else if (P.hbaoBitmask != 0) {
@@ -704,6 +802,23 @@ lfloat hbaoLanes(lint x, lint y) {
             // Runs still going when the search ends (or leaves the buffer) may be any depth.
             closeRuns(unclosed, lfloat(P.thickness), run, nE, nV, cosB, sinB, nLen, horizonA, horizonB, horizonF, sectors,
                       sliceOcclusion);
+        }
+        lbool left = computing && stepsInside < float(P.steps);
+        if (P.hbaoBorder != 0 && !interior && anyLane(left)) {
+            // The lanes that left the buffer take the continued surface's samples (above).
+            lvec2 exitCorner = floor(start + step * stepsInside);
+            lvec2 lastCorner = floor(start + step * float(P.steps - 1));
+            lvec3 P0;
+            lvec3 P1;
+            lbool meets;
+            lbool onePlane;
+            continuedChord(exitCorner, lastCorner, left, ray, depth, cornerToOffset, radius2, P0, P1, meets, onePlane);
+            // Linear falloff: P1's rise is spread along the chord, weighed at its mean (W is linear in r).
+            lfloat r0 = sqrt(dot(P0, P0));
+            lfloat weight0 = max(1.0f - r0 * invRadius, 0.0f);
+            lfloat weight1 = max(1.0f - 0.5f * (r0 + sqrt(dot(P1, P1))) * invRadius, 0.0f);
+            takeContinued(P0, P1, meets, onePlane, weight0, weight1, T, n, nE, nV, cosB, sinB, nLen, horizonA, horizonB,
+                          horizonF, sectors, sliceOcclusion);
         }
         if (P.linearFalloff == 0) {
             lfloat invLen = inversesqrt(horizonA * horizonA + horizonB * horizonB);

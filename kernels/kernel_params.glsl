@@ -20,7 +20,7 @@ struct KernelParams {
     int originX, originY;  // display coordinates of buffer texel (0,0): noise and projection use display coords, so tiles agree
 
     // The texels the depth buffer holds, in buffer coordinates [x0, x1) x [y0, y1): the buffer itself,
-    // or with it hbao's border continued around it (clamp, tangent). The backends set it.
+    // or on the GL backend a tile's part of it. The backends set it.
     int depthX0, depthY0, depthX1, depthY1;
 
     int directions;        // N_d

@@ -28,7 +28,6 @@
 #include "core/methods.h"
 #include "core/operator.h"
 #include "io/frame_job.h"
-#include "cpu/hbao_border.h"
 #include "cpu/lane_cpu.h"
 #include "support/scenes.h"
 
@@ -162,15 +161,12 @@ void BM_Scheduler(benchmark::State& state, Weighting w, Falloff f, int threads, 
             cpu::runHbao(p, sb.depth.view(), sb.normal.view(), ao.view(), threads, isa);
         } else {
 #if defined(OBSCURA_BENCH_HAVE_TBB)
-            // The border written as runHbao writes it (the tiles read the bordered depth).
-            const cpu::BorderedDepth b =
-                cpu::continueBorder(p, sb.depth.view(), sb.normal.view(), threads, cpu::cpuKernelsNamed(isa));
             tbb::task_arena arena(threads);
             arena.execute([&] {
                 tbb::parallel_for(tbb::blocked_range2d<int>(0, p.height, cpu::kLaneTileHeight, 0, p.width,
                                                             cpu::kLaneTileWidth),
                                   [&](const tbb::blocked_range2d<int>& r) {
-                                      tile(b.params, b.depth, sb.normal.view(), ao.view(),
+                                      tile(p, sb.depth.view(), sb.normal.view(), ao.view(),
                                            Box2i{r.cols().begin(), r.rows().begin(), r.cols().end(), r.rows().end()});
                                   });
             });
