@@ -468,10 +468,10 @@ void continuedChord(lvec2 exitCorner, lvec2 lastCorner, lbool left, lvec3 ray, l
     P1 = X0 + d * t1;
 }
 
-// A run of the samples (a0, b0) and, where `joined`, (a1, b1) (F values f0, f1 and linear falloff's
-// weights w0, w1; c0, c1 where each counts), closed at once with thickness P.thickness.
-void closeSamples(lfloat a0, lfloat b0, lbool c0, lfloat f0, lfloat w0, lfloat a1, lfloat b1, lbool c1, lfloat f1,
-                  lfloat w1, lbool joined, lfloat nE, lfloat nV, lfloat cosB, lfloat sinB, lfloat nLen,
+// A run of the samples (a0, b0) and, where `joined`, (a1, b1) (F values f0, f1; c0, c1 where each
+// counts), closed at once with thickness P.thickness; linear falloff weighs its rises by `weight`.
+void closeSamples(lfloat a0, lfloat b0, lbool c0, lfloat f0, lfloat a1, lfloat b1, lbool c1, lfloat f1, lbool joined,
+                  lfloat weight, lfloat nE, lfloat nV, lfloat cosB, lfloat sinB, lfloat nLen,
                   INOUT(lfloat) horizonA, INOUT(lfloat) horizonB, INOUT(lfloat) horizonF, INOUT(luint) sectors,
                   INOUT(lfloat) sliceOcclusion) {
     OccluderRun run;
@@ -486,15 +486,15 @@ void closeSamples(lfloat a0, lfloat b0, lbool c0, lfloat f0, lfloat w0, lfloat a
     run.raised = higher0 || higher1;
     lfloat f1j = select(joined, f1, lfloat(0.0f));
     run.topF = max(f0, f1j);
-    run.rise = w0 * max(f0 - horizonF, 0.0f) + w1 * max(f1j - max(horizonF, f0), 0.0f);
+    run.rise = weight * max(max(f0, f1j) - horizonF, 0.0f);
     closeRuns(run.raised, lfloat(P.thickness), run, nE, nV, cosB, sinB, nLen, horizonA, horizonB, horizonF, sectors,
               sliceOcclusion);
 }
 
 // The continued surface between the chord's ends P0 and P1: cut off by the edge, it occludes as a
 // run the edge cuts does, P.thickness deep (the horizon alone: the higher end). Linear falloff
-// weighs each end's rise by its weight.
-void takeContinued(lvec3 P0, lvec3 P1, lbool use, lbool onePlane, lfloat weight0, lfloat weight1, lvec3 T, lvec3 n,
+// weighs its rises by `weight`.
+void takeContinued(lvec3 P0, lvec3 P1, lbool use, lbool onePlane, lfloat weight, lvec3 T, lvec3 n,
                    lfloat nE, lfloat nV, lfloat cosB, lfloat sinB, lfloat nLen, INOUT(lfloat) horizonA,
                    INOUT(lfloat) horizonB, INOUT(lfloat) horizonF, INOUT(luint) sectors, INOUT(lfloat) sliceOcclusion) {
     lfloat a0 = dot(T, P0);
@@ -519,19 +519,19 @@ void takeContinued(lvec3 P0, lvec3 P1, lbool use, lbool onePlane, lfloat weight0
         f1 = select(counts1, sliceOcclusionAt(a1 * inv1, b1 * inv1, cosB, sinB, nLen), lfloat(0.0f));
     }
     if (P.hbaoBitmask == 0) {
-        raiseLinearHorizon(f0, weight0, horizonF, sliceOcclusion);
-        raiseLinearHorizon(f1, weight1, horizonF, sliceOcclusion);
+        raiseLinearHorizon(f0, weight, horizonF, sliceOcclusion);
+        raiseLinearHorizon(f1, weight, horizonF, sliceOcclusion);
         return;
     }
     // The chord whole where it is one plane, else P0 alone and then P1 alone.
     if (anyLane(counts0 || (counts1 && onePlane))) {
-        closeSamples(a0, b0, counts0, f0, weight0, a1, b1, counts1, f1, weight1, onePlane, nE, nV, cosB, sinB, nLen,
+        closeSamples(a0, b0, counts0, f0, a1, b1, counts1, f1, onePlane, weight, nE, nV, cosB, sinB, nLen,
                      horizonA, horizonB, horizonF, sectors, sliceOcclusion);
     }
     lbool alone1 = counts1 && !onePlane;
     if (anyLane(alone1)) {
         lbool none = lfloat(0.0f) > 0.0f; // false in every lane
-        closeSamples(a1, b1, alone1, f1, weight1, a1, b1, none, f1, weight1, none, nE, nV, cosB, sinB, nLen, horizonA,
+        closeSamples(a1, b1, alone1, f1, a1, b1, none, f1, none, weight, nE, nV, cosB, sinB, nLen, horizonA,
                      horizonB, horizonF, sectors, sliceOcclusion);
     }
 }
@@ -813,11 +813,10 @@ lfloat hbaoLanes(lint x, lint y) {
             lbool meets;
             lbool onePlane;
             continuedChord(exitCorner, lastCorner, left, ray, depth, cornerToOffset, radius2, P0, P1, meets, onePlane);
-            // Linear falloff: P1's rise is spread along the chord, weighed at its mean (W is linear in r).
-            lfloat r0 = sqrt(dot(P0, P0));
-            lfloat weight0 = max(1.0f - r0 * invRadius, 0.0f);
-            lfloat weight1 = max(1.0f - 0.5f * (r0 + sqrt(dot(P1, P1))) * invRadius, 0.0f);
-            takeContinued(P0, P1, meets, onePlane, weight0, weight1, T, n, nE, nV, cosB, sinB, nLen, horizonA, horizonB,
+            // Linear falloff: the chord's rises weighed at its near end (the angle a plane covers
+            // grows fastest nearest the receiver; measured against the mean and the far end's W).
+            lfloat weight = max(1.0f - sqrt(dot(P0, P0)) * invRadius, 0.0f);
+            takeContinued(P0, P1, meets, onePlane, weight, T, n, nE, nV, cosB, sinB, nLen, horizonA, horizonB,
                           horizonF, sectors, sliceOcclusion);
         }
         if (P.linearFalloff == 0) {
