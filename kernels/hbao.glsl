@@ -88,6 +88,28 @@ lfloat sectorOcclusion(luint sectors, lfloat horizonF, lfloat cosB, lfloat sinB,
     return added;
 }
 
+// The part of the set sectors' occlusion that lies between F values lowF and highF (lowF <= highF):
+// sectorOcclusion(sectors, lowF) - sectorOcclusion(sectors, highF) in one pass over the sectors.
+lfloat sectorOcclusionBetween(luint sectors, lfloat lowF, lfloat highF, lfloat cosB, lfloat sinB, lfloat nLen) {
+    lfloat scale = P.cosineWeighting != 0 ? 0.5f * nLen : lfloat(1.0f);
+    lfloat wCos = scale * cosB;
+    lfloat wSin = scale * sinB;
+    uint any = lanesOr(sectors);
+    int first = findLSB(any);
+    int last = findMSB(any);
+    lfloat between = lfloat(0.0f);
+    for (int k = first; k <= last; ++k) {
+        vec4 lower = P.sectorTerms[k];
+        vec4 upper = P.sectorTerms[k + 1];
+        lfloat lowerF = P.cosineWeighting != 0 ? wCos * lower.z + wSin * lower.w : wCos * lower.x + wSin * lower.y;
+        lfloat upperF = P.cosineWeighting != 0 ? wCos * upper.z + wSin * upper.w : wCos * upper.x + wSin * upper.y;
+        // The sector's span [lowerF, upperF] cut to [lowF, highF].
+        lfloat share = max(min(upperF, highF) - max(lowerF, lowF), 0.0f);
+        between += lfloat((sectors >> uint(k)) & luint(1u)) * share;
+    }
+    return between;
+}
+
 // Pseudo-angle of (a, b), b >= 0, above the tangent: 0 along it, 1 along the normal, 2 opposite;
 // monotone in the angle. Sector k of the mask spans p in [k, k + 1] / 16.
 lfloat sectorPseudoAngle(lfloat a, lfloat b) {
@@ -382,8 +404,7 @@ void closeRuns(lbool ends, lfloat t, OccluderRun run, lfloat nE, lfloat nV, lflo
     if (P.linearFalloff != 0) {
         lfloat counted = lfloat(0.0f);
         if (anyLane(higher && lfloat(sectors) > 0.0f)) {
-            counted = sectorOcclusion(sectors, horizonF, cosB, sinB, nLen) -
-                      sectorOcclusion(sectors, max(run.topF, horizonF), cosB, sinB, nLen);
+            counted = sectorOcclusionBetween(sectors, horizonF, max(run.topF, horizonF), cosB, sinB, nLen);
         }
         sliceOcclusion += select(higher, run.rise * max(1.0f - counted / runRange, 0.0f), lfloat(0.0f));
         horizonF = select(higher, max(run.topF, horizonF), horizonF);
