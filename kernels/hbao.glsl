@@ -65,31 +65,10 @@ void raiseLinearHorizon(lfloat f, lfloat weight, INOUT(lfloat) horizonF, INOUT(l
     horizonF = max(horizonF, f);
 }
 
-// Occlusion the set sectors add above the horizon, whose own is horizonF: each sector adds
-// F(upper bound) - F(lower bound) with both bounds raised to the horizon (F grows with the
-// angle, so raising F's value is raising the bound). F is linear in (cos b, sin b); the
-// bounds' terms are uniform (P.sectorTerms). Only sectors some lane has set are visited.
-lfloat sectorOcclusion(luint sectors, lfloat horizonF, lfloat cosB, lfloat sinB, lfloat nLen) {
-    lfloat scale = P.cosineWeighting != 0 ? 0.5f * nLen : lfloat(1.0f);
-    lfloat wCos = scale * cosB;
-    lfloat wSin = scale * sinB;
-    uint any = lanesOr(sectors);
-    int first = findLSB(any);
-    int last = findMSB(any);
-    lfloat added = lfloat(0.0f);
-    for (int k = first; k <= last; ++k) {
-        vec4 lower = P.sectorTerms[k];
-        vec4 upper = P.sectorTerms[k + 1];
-        lfloat lowerF = P.cosineWeighting != 0 ? wCos * lower.z + wSin * lower.w : wCos * lower.x + wSin * lower.y;
-        lfloat upperF = P.cosineWeighting != 0 ? wCos * upper.z + wSin * upper.w : wCos * upper.x + wSin * upper.y;
-        lfloat share = max(upperF, horizonF) - max(lowerF, horizonF);
-        added += lfloat((sectors >> uint(k)) & luint(1u)) * share;
-    }
-    return added;
-}
-
-// The part of the set sectors' occlusion that lies between F values lowF and highF (lowF <= highF):
-// sectorOcclusion(sectors, lowF) - sectorOcclusion(sectors, highF) in one pass over the sectors.
+// The occlusion the set sectors add between F values lowF and highF (lowF <= highF): each sector
+// adds the part of [F(lower bound), F(upper bound)] within [lowF, highF] (F grows with the angle,
+// so cutting F's values is cutting the bounds). F is linear in (cos b, sin b); the bounds' terms
+// are uniform (P.sectorTerms). Only sectors some lane has set are visited.
 lfloat sectorOcclusionBetween(luint sectors, lfloat lowF, lfloat highF, lfloat cosB, lfloat sinB, lfloat nLen) {
     lfloat scale = P.cosineWeighting != 0 ? 0.5f * nLen : lfloat(1.0f);
     lfloat wCos = scale * cosB;
@@ -108,6 +87,11 @@ lfloat sectorOcclusionBetween(luint sectors, lfloat lowF, lfloat highF, lfloat c
         between += lfloat((sectors >> uint(k)) & luint(1u)) * share;
     }
     return between;
+}
+
+// Occlusion the set sectors add above the horizon, whose own is horizonF.
+lfloat sectorOcclusion(luint sectors, lfloat horizonF, lfloat cosB, lfloat sinB, lfloat nLen) {
+    return sectorOcclusionBetween(sectors, horizonF, lfloat(3.0e38f), cosB, sinB, nLen);
 }
 
 // Pseudo-angle of (a, b), b >= 0, above the tangent: 0 along it, 1 along the normal, 2 opposite;
