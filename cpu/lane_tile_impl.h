@@ -94,10 +94,9 @@ void runTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPl
     k.depthData = depth.data;
     k.depthXStride = (int)depth.xStride;
     k.depthYStride = (int)depth.yStride;
-    // Display coordinates of the depth texels reach |origin| + size (+ the border); the offsets stay below 2^24.
-    const auto extent = [](int size, int lo, int hi) { return std::max<long long>(size, std::max(std::llabs(lo), std::llabs(hi))); };
-    const long long reachX = std::llabs(p.originX) + extent(p.width, p.depthX0, p.depthX1);
-    const long long reachY = std::llabs(p.originY) + extent(p.height, p.depthY0, p.depthY1);
+    // Display coordinates of the depth texels reach |origin| + size; the offsets stay below 2^24.
+    const long long reachX = std::llabs(p.originX) + p.width;
+    const long long reachY = std::llabs(p.originY) + p.height;
     k.displayOffsetsExactInFloat = reachY * std::llabs(depth.yStride) + reachX * std::llabs(depth.xStride) < (1ll << 24);
     // Only formed (and only dereferenced at in-buffer texels) when the offsets fit.
     k.depthAtDisplayOrigin =

@@ -118,8 +118,6 @@ void GlBackend::runTiled(const glsl::KernelParams& p, ConstPlane depth, ConstPla
     const int W = p.width, H = p.height;
     // How far a pixel's result reads: its samples (radius plus snapping), then the blur.
     const int apron = (int)std::ceil(std::min(cpu::hbaoReachPixels(p, depth), (float)std::max(W, H))) + 2 + std::max(blur, 0);
-    // A tile loads the depth within the apron of its texels.
-    const Box2i depthBox = cpu::depthBoxOf(p);
     if (maxTexels <= 0) maxTexels = info().maxStorageBlockBytes / (3 * (long long)sizeof(float));  // 3-float planes
     std::vector<float> packed;
     for (const Tile& tile : planTiles(W, H, apron, maxTexels, info())) {
@@ -128,15 +126,9 @@ void GlBackend::runTiled(const glsl::KernelParams& p, ConstPlane depth, ConstPla
         q.height = tile.buf.height();
         q.originX = p.originX + tile.buf.x0;
         q.originY = p.originY + tile.buf.y0;
-        const Box2i tileDepth = intersect(
-            Box2i{tile.inner.x0 - apron, tile.inner.y0 - apron, tile.inner.x1 + apron, tile.inner.y1 + apron}, depthBox);
-        q.depthX0 = tileDepth.x0 - tile.buf.x0;
-        q.depthY0 = tileDepth.y0 - tile.buf.y0;
-        q.depthX1 = tileDepth.x1 - tile.buf.x0;
-        q.depthY1 = tileDepth.y1 - tile.buf.y0;
         auto t0 = Clock::now();
         uploadBuffer(kParams, GL_UNIFORM_BUFFER, &q, sizeof(q));
-        pack(depth, tileDepth, 1, packed);
+        pack(depth, tile.buf, 1, packed);
         uploadBuffer(kDepth, GL_SHADER_STORAGE_BUFFER, packed.data(), packed.size() * sizeof(float));
         pack(normal, tile.buf, 3, packed);
         uploadBuffer(kNormal, GL_SHADER_STORAGE_BUFFER, packed.data(), packed.size() * sizeof(float));
@@ -239,10 +231,7 @@ void GlBackend::runDiscs(const glsl::KernelParams& params, const float* pyramid,
     context_->makeCurrent();
     const GlApi& gl = context_->gl();
     const ContextInfo& ci = info();
-    glsl::KernelParams p = params;  // the blur's depth is the frame's, without a border
-    p.depthX0 = p.depthY0 = 0;
-    p.depthX1 = p.width;
-    p.depthY1 = p.height;
+    const glsl::KernelParams& p = params;
     const size_t bytes = pyramidFloats * sizeof(float);
     const long long groupLimit = (long long)std::min(ci.maxWorkGroups[0], ci.maxWorkGroups[1]) * kGroup;
     // Every receiver may read any node of the pyramid, so the frame runs as one tile.

@@ -22,9 +22,7 @@ uniform int signalChannels;   // channels per texel of signalIn / signalOut (1: 
 uniform int hasAlbedo;        // 0: albedo 1 (no albedo pass bound)
 
 int texelIndex(ivec2 t) { return t.y * P.width + t.x; }
-// The depth buffer holds the box P.depthX0 .. (a tile's part of the frame).
-int depthIndex(int x, int y) { return (y - P.depthY0) * (P.depthX1 - P.depthX0) + x - P.depthX0; }
-float loadDepth(ivec2 t) { return depthData[depthIndex(t.x, t.y)]; }
+float loadDepth(ivec2 t) { return depthData[texelIndex(t)]; }
 vec3 loadNormal(ivec2 t) {
     int i = 3 * texelIndex(t);
     return vec3(normalData[i], normalData[i + 1], normalData[i + 2]);
@@ -53,7 +51,7 @@ vec3 loadEnv(ivec2 t) {
     return vec3(envData[i], envData[i + 1], envData[i + 2]);
 }
 // The lane kernels' loads (kernels/*.glsl): one pixel per thread, 0 where not used (albedo 1).
-float gatherDepth(int x, int y, bool use) { return use ? depthData[depthIndex(x, y)] : 0.0f; }
+float gatherDepth(int x, int y, bool use) { return use ? depthData[texelIndex(ivec2(x, y))] : 0.0f; }
 float gatherDepthAtDisplay(vec2 corner, bool use) {
     return gatherDepth(int(corner.x) - P.originX, int(corner.y) - P.originY, use);
 }

@@ -47,13 +47,6 @@ lbool insideBuffer(lvec2 corner, float margin) {
            corner.y < float(P.height) - margin;
 }
 
-// The same against the texels the depth buffer holds (P.depthX0 ..: the buffer, or on the GL
-// backend a tile's part of it).
-lbool insideDepthBuffer(lvec2 corner, float margin) {
-    return corner.x >= float(P.depthX0) + margin && corner.y >= float(P.depthY0) + margin &&
-           corner.x < float(P.depthX1) - margin && corner.y < float(P.depthY1) - margin;
-}
-
 // The display corner of the buffer texel nearest the one at display corner `corner` (itself
 // when inside): the edge texel that stands in for a texel past the buffer's edge.
 lvec2 nearestBufferCorner(lvec2 corner) {

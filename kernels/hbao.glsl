@@ -459,6 +459,7 @@ void continuedChord(lvec2 exitCorner, lvec2 lastCorner, lbool left, lvec3 ray, l
     lvec3 m;
     lvec3 X1 = continuedOffset(lastCorner, left, ray, depth, cornerToOffset, lastValid, m);
     // X0 within 0.57 degrees of X1's plane, as seen from X1 (the chord's direction and the normal).
+    // Clamp has no plane (m = 0 passes): its chord is always one occluder.
     lvec3 chord = X0 - X1;
     lfloat across = dot(m, chord);
     onePlane = edgeValid && lastValid && across * across <= 1e-4f * dot(m, m) * dot(chord, chord);
@@ -586,8 +587,8 @@ lfloat hbaoLanes(lint x, lint y) {
     // spare for rounding) is inside the depth buffer for every lane, no step needs a bounds test.
     vec2 origin = vec2(bufferOrigin());
     lvec2 reach = lvec2(radiusPixels, radiusPixels);
-    bool discInside = !anyLane(computing && !(insideDepthBuffer(floor(centre - reach) - origin, 1.0f) &&
-                                               insideDepthBuffer(floor(centre + reach) - origin, 1.0f)));
+    bool discInside = !anyLane(computing && !(insideBuffer(floor(centre - reach) - origin, 1.0f) &&
+                                               insideBuffer(floor(centre + reach) - origin, 1.0f)));
     float radius2 = P.radius * P.radius;
     // World width one step stands for at the pixel's depth (thickness auto's run widths).
     lfloat footprint = max(stepPixels, lfloat(1.0f)) * P.invFx * (P.orthographic != 0 ? lfloat(1.0f) : planarDepth);
@@ -672,8 +673,8 @@ lfloat hbaoLanes(lint x, lint y) {
         bool interior = discInside;
         if (!interior) {
             lvec2 last = position + step * float(P.steps - 1);
-            interior = !anyLane(computing && !(insideDepthBuffer(floor(position) - origin, 0.0f) &&
-                                                insideDepthBuffer(floor(last) - origin, 1.0f)));
+            interior = !anyLane(computing && !(insideBuffer(floor(position) - origin, 0.0f) &&
+                                                insideBuffer(floor(last) - origin, 1.0f)));
         }
         // Each step's depth is loaded one step ahead, so the load's latency overlaps the work on
         // the sample before (the step's work is too long for the CPU to reach it alone).

@@ -19,10 +19,6 @@ struct KernelParams {
     int width, height;     // size of the buffers the loads address
     int originX, originY;  // display coordinates of buffer texel (0,0): noise and projection use display coords, so tiles agree
 
-    // The texels the depth buffer holds, in buffer coordinates [x0, x1) x [y0, y1): the buffer itself,
-    // or on the GL backend a tile's part of it. The backends set it.
-    int depthX0, depthY0, depthX1, depthY1;
-
     int directions;        // N_d
     int steps;             // N_s
     int cosineWeighting;   // 0: uniform solid angle (HBAO paper), 1: projected solid angle (ray-traced AO)

@@ -154,10 +154,6 @@ KernelParams makeKernelParams(const OperatorInputs& in, const Settings& s) {
     p.height = in.dataWindow.height();
     p.originX = in.dataWindow.x0;
     p.originY = in.dataWindow.y0;
-    // The depth buffer holds the buffer (GL tiles narrow it to their part).
-    p.depthX0 = p.depthY0 = 0;
-    p.depthX1 = p.width;
-    p.depthY1 = p.height;
     p.directions = s.directions;
     p.steps = s.steps;
     p.cosineWeighting = s.weighting == Weighting::Cosine ? 1 : 0;
