@@ -289,41 +289,38 @@ int main(int argc, char** argv) {
         const std::string name = "hbao_" + std::string(q.name) + "_" + std::to_string(q.directions) + "x" +
                                  std::to_string(q.steps) + "/cosine/none/cpu/threads:" + std::to_string(all);
         // The horizon alone (infinite thickness, open sky past the edge: HBAO before --thickness and
-        // --border), then the defaults (the visibility bitmask at thickness auto, tangent border) and a
-        // thin thickness: their cost over the horizon at the same level.
-        Settings horizon = s;
-        horizon.thickness = kThicknessInfinite;
-        horizon.border = kBorderOpen;
-        options(benchmark::RegisterBenchmark((name + "/horizon").c_str(), BM_Hbao, horizon, std::string("preset")));
-        options(benchmark::RegisterBenchmark((name + "/defaults").c_str(), BM_Hbao, s, std::string("preset")));
-        // The defaults' cost split: each of its two options alone over the horizon.
-        Settings openBorder = s;
-        openBorder.border = kBorderOpen;
-        options(benchmark::RegisterBenchmark((name + "/border:open").c_str(), BM_Hbao, openBorder,
-                                             std::string("preset")));
-        Settings tangentOnly = horizon;
-        tangentOnly.border = s.border;
-        options(benchmark::RegisterBenchmark((name + "/thickness:inf").c_str(), BM_Hbao, tangentOnly,
-                                             std::string("preset")));
+        // --border), then the defaults (the visibility bitmask at thickness auto, tangent border) and
+        // each of their two options alone over the horizon: their cost over it at the same level.
+        const auto registerSplit = [&](const std::string& prefix, const Settings& defaults) {
+            Settings horizon = defaults;
+            horizon.thickness = kThicknessInfinite;
+            horizon.border = kBorderOpen;
+            Settings openBorder = defaults;
+            openBorder.border = kBorderOpen;
+            Settings tangentOnly = horizon;
+            tangentOnly.border = defaults.border;
+            for (const auto& [variant, settings] : {std::pair<const char*, const Settings&>{"horizon", horizon},
+                                                    {"defaults", defaults},
+                                                    {"border:open", openBorder},
+                                                    {"thickness:inf", tangentOnly}})
+                options(benchmark::RegisterBenchmark((prefix + "/" + variant).c_str(), BM_Hbao, settings,
+                                                     std::string("preset")));
+        };
+        registerSplit(name, s);
         Settings thin = s;
         thin.thickness = 0.1f;
         options(benchmark::RegisterBenchmark((name + "/thickness:0.1").c_str(), BM_Hbao, thin, std::string("preset")));
         for (int layers : {1, 4})
             options(benchmark::RegisterBenchmark((name + "/deep:" + std::to_string(layers)).c_str(), BM_HbaoDeep, s,
                                                  layers));
-        // The same pair under the flags' own defaults, uniform weighting and linear falloff (runs
-        // also weight the falloff).
+        // The same under the flags' own defaults, uniform weighting and linear falloff (runs also
+        // weight the falloff).
         Settings paper = settingsFor(Weighting::Uniform, Falloff::Linear, all, "cpu");
         applyQualityPreset(q.name, paper);
         paper.blur = 0;
-        const std::string paperName = "hbao_" + std::string(q.name) + "_" + std::to_string(q.directions) + "x" +
-                                      std::to_string(q.steps) + "/uniform/linear/cpu/threads:" + std::to_string(all);
-        Settings paperHorizon = paper;
-        paperHorizon.thickness = kThicknessInfinite;
-        paperHorizon.border = kBorderOpen;
-        options(benchmark::RegisterBenchmark((paperName + "/horizon").c_str(), BM_Hbao, paperHorizon,
-                                             std::string("preset")));
-        options(benchmark::RegisterBenchmark((paperName + "/defaults").c_str(), BM_Hbao, paper, std::string("preset")));
+        registerSplit("hbao_" + std::string(q.name) + "_" + std::to_string(q.directions) + "x" +
+                          std::to_string(q.steps) + "/uniform/linear/cpu/threads:" + std::to_string(all),
+                      paper);
     }
     // The other AO methods' levels on the same frame (ssao: Crytek's sphere form), to set
     // against HBAO's: the error-against-time report pairs these times with accuracy.
