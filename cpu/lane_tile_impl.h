@@ -11,7 +11,6 @@
 
 #include "cpu/lane_kernel.h"
 
-#include <algorithm>
 #include <cstdlib>
 
 namespace obscura::glsl {

@@ -226,12 +226,11 @@ void GlBackend::runAoWith(const char* program, const glsl::KernelParams& p, Cons
     if (timings) *timings = t;
 }
 
-void GlBackend::runDiscs(const glsl::KernelParams& params, const float* pyramid, size_t pyramidFloats, ConstPlane depth,
+void GlBackend::runDiscs(const glsl::KernelParams& p, const float* pyramid, size_t pyramidFloats, ConstPlane depth,
                          ConstPlane normal, MutablePlane ao, int blur, GlTimings* timings) {
     context_->makeCurrent();
     const GlApi& gl = context_->gl();
     const ContextInfo& ci = info();
-    const glsl::KernelParams& p = params;
     const size_t bytes = pyramidFloats * sizeof(float);
     const long long groupLimit = (long long)std::min(ci.maxWorkGroups[0], ci.maxWorkGroups[1]) * kGroup;
     // Every receiver may read any node of the pyramid, so the frame runs as one tile.

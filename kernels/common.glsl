@@ -86,6 +86,12 @@ lvec3 viewPosition(lvec2 displayPos, lfloat depth) {
     return positionOnRay(viewRay(displayPos), depth);
 }
 
+// viewOffset's w for a sample `pixels` display pixels from the receiver's centre (whole and half
+// numbers, so the sum that forms them is exact): (pixels.x / fx, -pixels.y / fy).
+lvec2 imageOffset(lvec2 pixels) {
+    return lvec2(pixels.x * P.invFx, pixels.y * -P.invFy);
+}
+
 // S - P for a sample whose ray is rayS = rayP + (w, 0), without forming S and P: at large
 // depth both are big and nearly equal, and their difference would cancel most significant
 // digits. S - P = (dS - dP) rayP + dS w, every term small where the answer is small. w is

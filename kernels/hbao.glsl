@@ -51,12 +51,22 @@ lfloat sliceOcclusionAt(lfloat cosTheta, lfloat sinTheta, lfloat cosB, lfloat si
     return 0.5f * nLen * (sinB * sinTheta * sinTheta + cosB * (theta - sinTheta * cosTheta));
 }
 
-// Linear falloff: the sample's F (0 outside `counts`) and its weight 1 - r/R (r^2 = r2).
+// F of a sample at (a, b) in the slice's axes, 0 outside `counts`.
+lfloat sampleF(lfloat a, lfloat b, lbool counts, lfloat cosB, lfloat sinB, lfloat nLen) {
+    lfloat invLen = inversesqrt(max(a * a + b * b, 1e-30f));
+    return select(counts, sliceOcclusionAt(a * invLen, b * invLen, cosB, sinB, nLen), lfloat(0.0f));
+}
+
+// Linear falloff's weight 1 - r/R of a point at distance r (r^2 = r2), 0 beyond R.
+lfloat falloffWeight(lfloat r2, float invRadius) {
+    return max(1.0f - sqrt(r2) * invRadius, 0.0f);
+}
+
+// Linear falloff: the sample's F (0 outside `counts`) and its weight.
 void linearTerms(lfloat a, lfloat b, lfloat r2, lbool counts, lfloat cosB, lfloat sinB, lfloat nLen, float invRadius,
                  OUT(lfloat) f, OUT(lfloat) weight) {
-    lfloat invLen = inversesqrt(max(a * a + b * b, 1e-30f));
-    f = select(counts, sliceOcclusionAt(a * invLen, b * invLen, cosB, sinB, nLen), lfloat(0.0f));
-    weight = max(1.0f - sqrt(r2) * invRadius, 0.0f);
+    f = sampleF(a, b, counts, cosB, sinB, nLen);
+    weight = falloffWeight(r2, invRadius);
 }
 
 // HBAO's linear-falloff step: F above the horizon's adds its rise, weighted, and raises it.
@@ -195,7 +205,7 @@ void neighbourTexel(lvec2 corner, lvec2 offset, lvec3 sampleRay, lfloat sampleDe
     lfloat depth = gatherDepthAtDisplay(texel, surface) * P.depthScale;
     surface = surface && isSurfaceDepth(depth);
     normal = mat3(P.normalToView) * gatherNormal(lint(texel.x - origin.x), lint(texel.y - origin.y), surface);
-    lvec2 w = lvec2((texel.x - corner.x) * P.invFx, (texel.y - corner.y) * -P.invFy);
+    lvec2 w = imageOffset(texel - corner);
     D = viewOffset(sampleRay, sampleDepth, w, select(surface, depth, sampleDepth));
 }
 
@@ -439,8 +449,7 @@ lvec3 continuedOffset(lvec2 corner, lbool use, lvec3 ray, lfloat depth, lvec2 co
         }
         d = select(valid && isSurfaceDepth(planeDepth), planeDepth, edgeDepth);
     }
-    lvec2 w = lvec2((corner.x + cornerToOffset.x) * P.invFx, (corner.y + cornerToOffset.y) * -P.invFy);
-    return viewOffset(ray, depth, w, select(valid, d, depth));
+    return viewOffset(ray, depth, imageOffset(corner + cornerToOffset), select(valid, d, depth));
 }
 
 // The chord of a lane that left the buffer at display corner `exitCorner` and whose last step is
@@ -453,8 +462,7 @@ void continuedChord(lvec2 exitCorner, lvec2 lastCorner, lbool left, lvec3 ray, l
     // Not the receiver's own texel (a receiver on the edge): its offset is rounding alone.
     lvec2 pixels = edgeCorner + cornerToOffset;
     lbool edgeValid = left && isSurfaceDepth(edgeDepth) && abs(pixels.x) + abs(pixels.y) > 0.0f;
-    lvec2 w = lvec2(pixels.x * P.invFx, pixels.y * -P.invFy);
-    lvec3 X0 = viewOffset(ray, depth, w, select(edgeValid, edgeDepth, depth));
+    lvec3 X0 = viewOffset(ray, depth, imageOffset(pixels), select(edgeValid, edgeDepth, depth));
     lbool lastValid;
     lvec3 m;
     lvec3 X1 = continuedOffset(lastCorner, left, ray, depth, cornerToOffset, lastValid, m);
@@ -519,10 +527,8 @@ void takeContinued(lvec3 P0, lvec3 P1, lbool use, lbool onePlane, lfloat weight,
     lfloat f0 = lfloat(0.0f);
     lfloat f1 = lfloat(0.0f);
     if (P.linearFalloff != 0) {
-        lfloat inv0 = inversesqrt(max(a0 * a0 + b0 * b0, 1e-30f));
-        lfloat inv1 = inversesqrt(max(a1 * a1 + b1 * b1, 1e-30f));
-        f0 = select(counts0, sliceOcclusionAt(a0 * inv0, b0 * inv0, cosB, sinB, nLen), lfloat(0.0f));
-        f1 = select(counts1, sliceOcclusionAt(a1 * inv1, b1 * inv1, cosB, sinB, nLen), lfloat(0.0f));
+        f0 = sampleF(a0, b0, counts0, cosB, sinB, nLen);
+        f1 = sampleF(a1, b1, counts1, cosB, sinB, nLen);
     }
     if (P.hbaoBitmask == 0) {
         raiseLinearHorizon(f0, weight, horizonF, sliceOcclusion);
@@ -701,7 +707,7 @@ lfloat hbaoLanes(lint x, lint y) {
             counts = counts && isSurfaceDepth(sampleDepth);
             sampleDepth = select(counts, sampleDepth, depth); // holes and sky: keep X finite
             // Scaled after the exact subtraction: scaling first would cancel digits.
-            lvec2 w = lvec2((corner.x + cornerToOffset.x) * P.invFx, (corner.y + cornerToOffset.y) * -P.invFy);
+            lvec2 w = imageOffset(corner + cornerToOffset);
             lvec3 X = viewOffset(ray, depth, w, sampleDepth);
             lfloat r2 = dot(X, X);
             lfloat a = dot(T, X);
@@ -821,7 +827,7 @@ lfloat hbaoLanes(lint x, lint y) {
             continuedChord(exitCorner, lastCorner, left, ray, depth, cornerToOffset, radius2, P0, P1, meets, onePlane);
             // Linear falloff: the chord's rises weighed at its near end (the angle a plane covers
             // grows fastest nearest the receiver; measured against the mean and the far end's W).
-            lfloat weight = max(1.0f - sqrt(dot(P0, P0)) * invRadius, 0.0f);
+            lfloat weight = falloffWeight(dot(P0, P0), invRadius);
             takeContinued(P0, P1, meets, onePlane, weight, T, n, nE, nV, cosB, sinB, nLen, horizonA, horizonB,
                           horizonF, sectors, sliceOcclusion);
         }

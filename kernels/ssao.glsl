@@ -88,7 +88,7 @@ lfloat ssaoLanes(lint x, lint y) {
         lfloat sampleDepth = gatherDepthAtDisplay(corner, counts) * P.depthScale;
         counts = counts && isSurfaceDepth(sampleDepth);
         sampleDepth = select(counts, sampleDepth, depth);
-        lvec2 w = lvec2((corner.x + cornerToOffset.x) * P.invFx, (corner.y + cornerToOffset.y) * -P.invFy);
+        lvec2 w = imageOffset(corner + cornerToOffset);
         lvec3 X = viewOffset(ray, depth, w, sampleDepth);
         lfloat r2 = dot(X, X);
         lbool inFront;
