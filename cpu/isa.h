@@ -19,8 +19,10 @@ struct SsdoPlanes;
 
 // Entry points each ISA provides; each runs its kernel over every texel of `tile`.
 struct IsaKernels {
-    void (*hbaoTile)(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao,
-                     const Box2i& tile);
+    // HBAO; `edges` holds the buffer's edge texels (cpu/lane_cpu.h, hbaoEdgeTexels) where
+    // p.hbaoBorder continues the surface past the edge.
+    void (*hbaoTile)(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane edges,
+                     MutablePlane ao, const Box2i& tile);
     void (*ssaoTile)(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao,
                      const Box2i& tile);
     void (*ssdoTile)(const glsl::KernelParams& p, const SsdoPlanes& in, MutablePlane directional,
@@ -38,7 +40,7 @@ struct IsaKernels {
                       const Box2i& tile);
     // HBAO with deep input: `deep` holds p.deepLayers (front, back) depth pairs per texel (kernels/hbao.glsl).
     void (*hbaoDeepTile)(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep,
-                         MutablePlane ao, const Box2i& tile);
+                         ConstPlane edges, MutablePlane ao, const Box2i& tile);
 };
 
 #define OBSCURA_DECLARE_ISA(isa) \

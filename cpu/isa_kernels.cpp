@@ -8,10 +8,11 @@
 
 namespace obscura::cpu::OBSCURA_ISA {
 // Defined in cpu/isa_lane_kernels.cpp for the same ISA (the table's types check them).
-void hbaoTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile);
+void hbaoTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane edges, MutablePlane ao,
+              const Box2i& tile);
 void ssaoTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile);
-void hbaoDeepTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, MutablePlane ao,
-                  const Box2i& tile);
+void hbaoDeepTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, ConstPlane edges,
+                  MutablePlane ao, const Box2i& tile);
 
 const IsaKernels kernels{&hbaoTile, &ssaoTile, &ssdoTile, &blurTile, &discsBaseTile, &discsTile, &hbaoDeepTile};
 } // namespace obscura::cpu::OBSCURA_ISA

@@ -14,8 +14,8 @@ using glsl::KernelParams;
 
 enum class LaneKernel { Hbao, Ssao };
 
-// One tile of a kernel, as each instruction set provides it.
-using LaneTileFn = decltype(IsaKernels::hbaoTile);
+// HBAO's tile, as each instruction set provides it.
+using HbaoTileFn = decltype(IsaKernels::hbaoTile);
 
 // Name of the instruction set the kernels run with here ("x86-64-v4", ...), for reports.
 const char* laneIsa();
@@ -23,9 +23,15 @@ const char* laneIsa();
 // the reference) to the widest; the last is the one used unless OBSCURA_CPU_ISA says otherwise.
 std::vector<std::string> laneIsas();
 
-// The tile function of a kernel for a named instruction set from laneIsas()
-// (std::invalid_argument for another): for tests and benchmarks.
-LaneTileFn laneTileFor(LaneKernel kernel, const std::string& isa);
+// HBAO's tile function for a named instruction set from laneIsas() (std::invalid_argument for
+// another): for tests and benchmarks.
+HbaoTileFn hbaoTileFor(const std::string& isa);
+
+// The texels on the buffer's edge, which HBAO's continued border (p.hbaoBorder) reads, as one
+// row of records (depth, normal x, y, z): the top row (W), the bottom row (W), the left column
+// (H), the right column (H). Tabled once per frame, they stay in the caches; read in place, the
+// columns' texels are a row's stride apart in four planes (cpu/lane_tile_impl.h reads them).
+Image hbaoEdgeTexels(ConstPlane depth, ConstPlane normal);
 
 // The kernel for every texel of `ao` (same size as depth/normal buffers, p.width x p.height);
 // `isa` empty: the chosen one.

@@ -65,6 +65,23 @@ struct LaneCpuKernel {
         const lint i = y * normalYStride + x * normalXStride;
         return lvec3(gather(normalData, i, use), gather(normalData + 1, i, use), gather(normalData + 2, i, use));
     }
+    // HBAO's edge texels, tabled once per frame (cpu/lane_cpu.h, hbaoEdgeTexels: top row, bottom
+    // row, left column, right column, 4 floats each), so the continued border's reads stay in the
+    // caches instead of striding down the planes. `edgeCorner` is on the buffer's edge; its offsets
+    // are whole numbers below 2^24, exact in float.
+    const float* edgeData = nullptr;
+    lint edgeRecord(lvec2 edgeCorner) const {
+        const lfloat x = edgeCorner.x - float(P.originX);
+        const lfloat y = edgeCorner.y - float(P.originY);
+        const float w = float(P.width), h = float(P.height);
+        const lfloat column = select(x < 0.5f, 2.0f * w + y, 2.0f * w + h + y);
+        return lint(select(y < 0.5f, x, select(y > h - 1.5f, w + x, column))) * 4;
+    }
+    lfloat gatherEdgeDepth(lvec2 edgeCorner, lbool use) const { return gather(edgeData, edgeRecord(edgeCorner), use); }
+    lvec3 gatherEdgeNormal(lvec2 edgeCorner, lbool use) const {
+        const lint i = edgeRecord(edgeCorner);
+        return lvec3(gather(edgeData + 1, i, use), gather(edgeData + 2, i, use), gather(edgeData + 3, i, use));
+    }
 
 #include "kernels/common.glsl"
 #include "kernels/hbao.glsl"
@@ -83,10 +100,11 @@ constexpr int kLanesHere = OBSCURA_LANES;
 enum class Entry { Hbao, Ssao };
 
 template <Entry E, class Params>
-void runTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, MutablePlane ao,
-             const Box2i& tile) {
+void runTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, ConstPlane edges,
+             MutablePlane ao, const Box2i& tile) {
     glsl::LaneCpuKernel<Params> k;
     static_cast<KernelParams&>(k.P) = p;
+    k.edgeData = edges.data;
     k.deepData = deep.data;
     k.deepXStride = (int)deep.xStride;
     k.deepYStride = (int)deep.yStride;
@@ -120,29 +138,29 @@ void runTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPl
 }
 
 template <Entry E, int Cosine, int Linear, int Bitmask = 0>
-void runTileFor(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, MutablePlane ao,
-                const Box2i& tile) {
+void runTileFor(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, ConstPlane edges,
+                MutablePlane ao, const Box2i& tile) {
     if (p.orthographic == 0 && p.radialDepth == 0)
-        runTile<E, glsl::ParamsPerspPlanar<Cosine, Linear, Bitmask>>(p, depth, normal, deep, ao, tile);
+        runTile<E, glsl::ParamsPerspPlanar<Cosine, Linear, Bitmask>>(p, depth, normal, deep, edges, ao, tile);
     else
-        runTile<E, glsl::ParamsAnyCamera<Cosine, Linear, Bitmask>>(p, depth, normal, deep, ao, tile);
+        runTile<E, glsl::ParamsAnyCamera<Cosine, Linear, Bitmask>>(p, depth, normal, deep, edges, ao, tile);
 }
 
 // The weighting and falloff switches as template arguments, for one bitmask mode.
 template <Entry E, int Bitmask>
-void runSwitches(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, MutablePlane ao,
-                 const Box2i& tile) {
+void runSwitches(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, ConstPlane edges,
+                 MutablePlane ao, const Box2i& tile) {
     const bool linear = Bitmask != 2 && p.linearFalloff != 0; // deep input takes no falloff (operator.cpp)
     if (p.cosineWeighting != 0) {
         if constexpr (Bitmask != 2) {
-            if (linear) return runTileFor<E, 1, 1, Bitmask>(p, depth, normal, deep, ao, tile);
+            if (linear) return runTileFor<E, 1, 1, Bitmask>(p, depth, normal, deep, edges, ao, tile);
         }
-        runTileFor<E, 1, 0, Bitmask>(p, depth, normal, deep, ao, tile);
+        runTileFor<E, 1, 0, Bitmask>(p, depth, normal, deep, edges, ao, tile);
     } else {
         if constexpr (Bitmask != 2) {
-            if (linear) return runTileFor<E, 0, 1, Bitmask>(p, depth, normal, deep, ao, tile);
+            if (linear) return runTileFor<E, 0, 1, Bitmask>(p, depth, normal, deep, edges, ao, tile);
         }
-        runTileFor<E, 0, 0, Bitmask>(p, depth, normal, deep, ao, tile);
+        runTileFor<E, 0, 0, Bitmask>(p, depth, normal, deep, edges, ao, tile);
     }
 }
 
@@ -152,29 +170,30 @@ void runSwitches(const KernelParams& p, ConstPlane depth, ConstPlane normal, Con
 // the operator asks.
 template <Entry E>
 void runEntry(const KernelParams& p, int bitmask, ConstPlane depth, ConstPlane normal, ConstPlane deep,
-              MutablePlane ao, const Box2i& tile) {
+              ConstPlane edges, MutablePlane ao, const Box2i& tile) {
     if constexpr (E == Entry::Hbao) {
-        if (bitmask == 1) return runSwitches<E, 1>(p, depth, normal, deep, ao, tile);
-        if (bitmask == 3) return runSwitches<E, 3>(p, depth, normal, deep, ao, tile);
-        if (bitmask == 2 && p.linearFalloff == 0) return runSwitches<E, 2>(p, depth, normal, deep, ao, tile);
+        if (bitmask == 1) return runSwitches<E, 1>(p, depth, normal, deep, edges, ao, tile);
+        if (bitmask == 3) return runSwitches<E, 3>(p, depth, normal, deep, edges, ao, tile);
+        if (bitmask == 2 && p.linearFalloff == 0) return runSwitches<E, 2>(p, depth, normal, deep, edges, ao, tile);
     }
-    runSwitches<E, 0>(p, depth, normal, deep, ao, tile);
+    runSwitches<E, 0>(p, depth, normal, deep, edges, ao, tile);
 }
 
 } // namespace
 
-void hbaoTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile) {
+void hbaoTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane edges, MutablePlane ao,
+              const Box2i& tile) {
     // No deep plane here: the bitmask without its deep layers.
-    runEntry<Entry::Hbao>(p, p.hbaoBitmask == 2 ? 1 : p.hbaoBitmask, depth, normal, ConstPlane{}, ao, tile);
+    runEntry<Entry::Hbao>(p, p.hbaoBitmask == 2 ? 1 : p.hbaoBitmask, depth, normal, ConstPlane{}, edges, ao, tile);
 }
 
-void hbaoDeepTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, MutablePlane ao,
-                  const Box2i& tile) {
-    runEntry<Entry::Hbao>(p, p.hbaoBitmask, depth, normal, deep, ao, tile);
+void hbaoDeepTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, ConstPlane edges,
+                  MutablePlane ao, const Box2i& tile) {
+    runEntry<Entry::Hbao>(p, p.hbaoBitmask, depth, normal, deep, edges, ao, tile);
 }
 
 void ssaoTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile) {
-    runEntry<Entry::Ssao>(p, 0, depth, normal, ConstPlane{}, ao, tile);
+    runEntry<Entry::Ssao>(p, 0, depth, normal, ConstPlane{}, ConstPlane{}, ao, tile);
 }
 
 } // namespace obscura::cpu::OBSCURA_ISA

@@ -426,20 +426,20 @@ void closeRuns(lbool ends, lfloat t, OccluderRun run, lfloat nE, lfloat nV, lflo
 // that leaves the buffer stops marching and takes the ends of the chord from the edge texel where
 // it left (its own surface point) to the continued surface at its last step, clipped to the ball
 // of radius R. Where the chord lies in the far end's plane (the edge continues one plane) it is
-// that plane, every angle between its ends covered; else its ends are two samples.
+// that plane, every angle between its ends covered; else its ends are two samples. Edge texels
+// come through the backend's gatherEdgeDepth and gatherEdgeNormal (the CPU tables them per frame).
 //
 // The continued surface at display corner `corner` past the edge, as an offset from the receiver;
 // `valid` where the nearest edge texel is a surface, m its view-space normal (tangent only).
 lvec3 continuedOffset(lvec2 corner, lbool use, lvec3 ray, lfloat depth, lvec2 cornerToOffset, OUT(lbool) valid,
                       OUT(lvec3) m) {
-    vec2 origin = vec2(bufferOrigin());
     lvec2 edgeCorner = nearestBufferCorner(corner);
-    lfloat edgeDepth = gatherDepthAtDisplay(edgeCorner, use) * P.depthScale;
+    lfloat edgeDepth = gatherEdgeDepth(edgeCorner, use) * P.depthScale;
     valid = use && isSurfaceDepth(edgeDepth);
     lfloat d = edgeDepth;
     m = lvec3(lfloat(0.0f), lfloat(0.0f), lfloat(0.0f));
     if (P.hbaoBorder == 2) {
-        m = mat3(P.normalToView) * gatherNormal(lint(edgeCorner.x - origin.x), lint(edgeCorner.y - origin.y), valid);
+        m = mat3(P.normalToView) * gatherEdgeNormal(edgeCorner, valid);
         lvec3 e = positionOnRay(viewRay(lvec2(edgeCorner.x + 0.5f, edgeCorner.y + 0.5f)), edgeDepth);
         lvec3 sampleRay = viewRay(lvec2(corner.x + 0.5f, corner.y + 0.5f));
         // Planar depth -z; radial depth (perspective only) is t |ray| for the point ray t.
@@ -458,7 +458,7 @@ lvec3 continuedOffset(lvec2 corner, lbool use, lvec3 ray, lfloat depth, lvec2 co
 void continuedChord(lvec2 exitCorner, lvec2 lastCorner, lbool left, lvec3 ray, lfloat depth, lvec2 cornerToOffset,
                     float radius2, OUT(lvec3) P0, OUT(lvec3) P1, OUT(lbool) meets, OUT(lbool) onePlane) {
     lvec2 edgeCorner = nearestBufferCorner(exitCorner);
-    lfloat edgeDepth = gatherDepthAtDisplay(edgeCorner, left) * P.depthScale;
+    lfloat edgeDepth = gatherEdgeDepth(edgeCorner, left) * P.depthScale;
     // Not the receiver's own texel (a receiver on the edge): its offset is rounding alone.
     lvec2 pixels = edgeCorner + cornerToOffset;
     lbool edgeValid = left && isSurfaceDepth(edgeDepth) && abs(pixels.x) + abs(pixels.y) > 0.0f;

@@ -182,3 +182,32 @@ TEST(HbaoBorder, NothingPastTheEdgeIsRead) {
                 EXPECT_LT(darkest, 0.9) << "the box must occlude the floor";
             }
 }
+
+// The edge texels the CPU tables once per frame for the continued border: every texel on the
+// buffer's edge, in the documented order (top row, bottom row, left column, right column), with
+// its depth and normal as read in place from strided planes.
+TEST(HbaoBorder, EdgeTexelsAreTheBuffersEdge) {
+    const int W = 7, H = 5;
+    std::vector<float> depth((size_t)W * H), normal((size_t)W * H * 4);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            depth[(size_t)y * W + x] = float(1 + x + 100 * y);
+            for (int c = 0; c < 3; ++c) normal[((size_t)y * W + x) * 4 + c] = float(c + 10 * x + 1000 * y);
+        }
+    // Normals in a 4-channel plane, as an RGBA layer arrives.
+    const ConstPlane d{depth.data(), W, H, 1, 1, W};
+    const ConstPlane n{normal.data(), W, H, 4, 4, 4 * (std::ptrdiff_t)W};
+    const Image edges = cpu::hbaoEdgeTexels(d, n);
+    ASSERT_EQ(edges.width, 2 * (W + H));
+    ASSERT_EQ(edges.channels, 4);
+    int i = 0;
+    const auto expectRecord = [&](int x, int y) {
+        const float* r = edges.at(i++, 0);
+        EXPECT_EQ(r[0], *d.at(x, y)) << "record " << i - 1;
+        for (int c = 0; c < 3; ++c) EXPECT_EQ(r[1 + c], n.at(x, y)[c]) << "record " << i - 1 << " channel " << c;
+    };
+    for (int x = 0; x < W; ++x) expectRecord(x, 0);
+    for (int x = 0; x < W; ++x) expectRecord(x, H - 1);
+    for (int y = 0; y < H; ++y) expectRecord(0, y);
+    for (int y = 0; y < H; ++y) expectRecord(W - 1, y);
+}

@@ -153,7 +153,8 @@ void BM_Scheduler(benchmark::State& state, Weighting w, Falloff f, int threads, 
     const KernelParams p = makeKernelParams(sb.inputs(), s);
     Image ao(sb.depth.width, sb.depth.height, 1);
     const std::string isa = cpu::laneIsas().back();
-    const cpu::LaneTileFn tile = cpu::laneTileFor(cpu::LaneKernel::Hbao, isa);
+    const cpu::HbaoTileFn tile = cpu::hbaoTileFor(isa);
+    const Image edges = cpu::hbaoEdgeTexels(sb.depth.view(), sb.normal.view());
     double seconds = 0;
     for (auto _ : state) {
         const auto t0 = std::chrono::steady_clock::now();
@@ -166,7 +167,7 @@ void BM_Scheduler(benchmark::State& state, Weighting w, Falloff f, int threads, 
                 tbb::parallel_for(tbb::blocked_range2d<int>(0, p.height, cpu::kLaneTileHeight, 0, p.width,
                                                             cpu::kLaneTileWidth),
                                   [&](const tbb::blocked_range2d<int>& r) {
-                                      tile(p, sb.depth.view(), sb.normal.view(), ao.view(),
+                                      tile(p, sb.depth.view(), sb.normal.view(), edges.view(), ao.view(),
                                            Box2i{r.cols().begin(), r.rows().begin(), r.cols().end(), r.rows().end()});
                                   });
             });
