@@ -67,7 +67,7 @@ struct LaneCpuKernel {
     }
     // HBAO's edge texels, tabled once per frame (cpu/lane_cpu.h, hbaoEdgeTexels: top row, bottom
     // row, left column, right column, 4 floats each), so the continued border's reads stay in the
-    // caches instead of striding down the planes. `edgeCorner` is on the buffer's edge; its offsets
+    // caches instead of striding down the planes, and a texel's depth and normal are one record. `edgeCorner` is on the buffer's edge; its offsets
     // are whole numbers below 2^24, exact in float.
     const float* edgeData = nullptr;
     lint edgeRecord(lvec2 edgeCorner) const {
@@ -78,10 +78,7 @@ struct LaneCpuKernel {
         return lint(select(y < 0.5f, x, select(y > h - 1.5f, w + x, column))) * 4;
     }
     lfloat gatherEdgeDepth(lvec2 edgeCorner, lbool use) const { return gather(edgeData, edgeRecord(edgeCorner), use); }
-    lvec3 gatherEdgeNormal(lvec2 edgeCorner, lbool use) const {
-        const lint i = edgeRecord(edgeCorner);
-        return lvec3(gather(edgeData + 1, i, use), gather(edgeData + 2, i, use), gather(edgeData + 3, i, use));
-    }
+    lvec4 gatherEdgeTexel(lvec2 edgeCorner, lbool use) const { return gatherRecord4(edgeData, edgeRecord(edgeCorner), use); }
 
 #include "kernels/common.glsl"
 #include "kernels/hbao.glsl"

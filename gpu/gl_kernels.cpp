@@ -58,8 +58,9 @@ float gatherDepthAtDisplay(vec2 corner, bool use) {
 vec3 gatherNormal(int x, int y, bool use) { return use ? loadNormal(ivec2(x, y)) : vec3(0.0f); }
 // HBAO's edge texels (the CPU tables them once per frame; here they are texels like any other).
 float gatherEdgeDepth(vec2 edgeCorner, bool use) { return gatherDepthAtDisplay(edgeCorner, use); }
-vec3 gatherEdgeNormal(vec2 edgeCorner, bool use) {
-    return gatherNormal(int(edgeCorner.x) - P.originX, int(edgeCorner.y) - P.originY, use);
+vec4 gatherEdgeTexel(vec2 edgeCorner, bool use) {
+    vec3 normal = gatherNormal(int(edgeCorner.x) - P.originX, int(edgeCorner.y) - P.originY, use);
+    return vec4(gatherEdgeDepth(edgeCorner, use), normal);
 }
 vec3 gatherRadiance(int x, int y, bool use) { return use ? loadRadiance(ivec2(x, y)) : vec3(0.0f); }
 vec3 gatherAlbedo(int x, int y, bool use) { return use ? loadAlbedo(ivec2(x, y)) : vec3(1.0f); }

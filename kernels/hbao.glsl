@@ -427,19 +427,23 @@ void closeRuns(lbool ends, lfloat t, OccluderRun run, lfloat nE, lfloat nV, lflo
 // it left (its own surface point) to the continued surface at its last step, clipped to the ball
 // of radius R. Where the chord lies in the far end's plane (the edge continues one plane) it is
 // that plane, every angle between its ends covered; else its ends are two samples. Edge texels
-// come through the backend's gatherEdgeDepth and gatherEdgeNormal (the CPU tables them per frame).
+// come through the backend's gatherEdgeDepth and gatherEdgeTexel (depth and normal; the CPU tables
+// them per frame).
 //
 // The continued surface at display corner `corner` past the edge, as an offset from the receiver;
 // `valid` where the nearest edge texel is a surface, m its view-space normal (tangent only).
 lvec3 continuedOffset(lvec2 corner, lbool use, lvec3 ray, lfloat depth, lvec2 cornerToOffset, OUT(lbool) valid,
                       OUT(lvec3) m) {
     lvec2 edgeCorner = nearestBufferCorner(corner);
-    lfloat edgeDepth = gatherEdgeDepth(edgeCorner, use) * P.depthScale;
+    // Tangent reads the texel's normal with its depth: one record where the backend tables them.
+    lvec4 edge = P.hbaoBorder == 2 ? gatherEdgeTexel(edgeCorner, use)
+                                   : lvec4(gatherEdgeDepth(edgeCorner, use), lfloat(0.0f), lfloat(0.0f), lfloat(0.0f));
+    lfloat edgeDepth = edge.x * P.depthScale;
     valid = use && isSurfaceDepth(edgeDepth);
     lfloat d = edgeDepth;
     m = lvec3(lfloat(0.0f), lfloat(0.0f), lfloat(0.0f));
     if (P.hbaoBorder == 2) {
-        m = mat3(P.normalToView) * gatherEdgeNormal(edgeCorner, valid);
+        m = select(valid, mat3(P.normalToView) * lvec3(edge.y, edge.z, edge.w), m);
         lvec3 e = positionOnRay(viewRay(lvec2(edgeCorner.x + 0.5f, edgeCorner.y + 0.5f)), edgeDepth);
         lvec3 sampleRay = viewRay(lvec2(corner.x + 0.5f, corner.y + 0.5f));
         // Planar depth -z; radial depth (perspective only) is t |ray| for the point ray t.
