@@ -457,19 +457,19 @@ lvec3 continuedOffset(lvec2 corner, lbool use, lvec3 ray, lfloat depth, lvec2 co
 }
 
 // The chord of a lane that left the buffer at display corner `exitCorner` and whose last step is
-// at `lastCorner`: its ends within R (P0 nearer the edge), where there are any (`meets`), and
+// at `lastCorner`: its ends X0 (at the edge) and X1, where either is a surface (`valid`), and
 // whether it lies in one plane. Where one end is not a surface the other stands alone.
 void continuedChord(lvec2 exitCorner, lvec2 lastCorner, lbool left, lvec3 ray, lfloat depth, lvec2 cornerToOffset,
-                    float radius2, OUT(lvec3) P0, OUT(lvec3) P1, OUT(lbool) meets, OUT(lbool) onePlane) {
+                    OUT(lvec3) X0, OUT(lvec3) X1, OUT(lbool) valid, OUT(lbool) onePlane) {
     lvec2 edgeCorner = nearestBufferCorner(exitCorner);
     lfloat edgeDepth = gatherEdgeDepth(edgeCorner, left) * P.depthScale;
     // Not the receiver's own texel (a receiver on the edge): its offset is rounding alone.
     lvec2 pixels = edgeCorner + cornerToOffset;
     lbool edgeValid = left && isSurfaceDepth(edgeDepth) && abs(pixels.x) + abs(pixels.y) > 0.0f;
-    lvec3 X0 = viewOffset(ray, depth, imageOffset(pixels), select(edgeValid, edgeDepth, depth));
+    X0 = viewOffset(ray, depth, imageOffset(pixels), select(edgeValid, edgeDepth, depth));
     lbool lastValid;
     lvec3 m;
-    lvec3 X1 = continuedOffset(lastCorner, left, ray, depth, cornerToOffset, lastValid, m);
+    X1 = continuedOffset(lastCorner, left, ray, depth, cornerToOffset, lastValid, m);
     // X0 within 0.57 degrees of X1's plane, as seen from X1 (the chord's direction and the normal).
     // Clamp has no plane (m = 0 passes): its chord is always one occluder.
     lvec3 chord = X0 - X1;
@@ -477,13 +477,7 @@ void continuedChord(lvec2 exitCorner, lvec2 lastCorner, lbool left, lvec3 ray, l
     onePlane = edgeValid && lastValid && across * across <= 1e-4f * dot(m, m) * dot(chord, chord);
     X0 = select(edgeValid, X0, X1);
     X1 = select(lastValid, X1, X0);
-    lfloat t0;
-    lfloat t1;
-    clipToBall(X0, X1, radius2, t0, t1, meets);
-    meets = meets && (edgeValid || lastValid);
-    lvec3 d = X1 - X0;
-    P0 = X0 + d * t0;
-    P1 = X0 + d * t1;
+    valid = edgeValid || lastValid;
 }
 
 // A run of the samples (a0, b0) and, where `joined`, (a1, b1) (F values f0, f1; c0, c1 where each
@@ -824,16 +818,30 @@ lfloat hbaoLanes(lint x, lint y) {
             // The lanes that left the buffer take the continued surface's samples (above).
             lvec2 exitCorner = floor(start + step * stepsInside);
             lvec2 lastCorner = floor(start + step * float(P.steps - 1));
-            lvec3 P0;
-            lvec3 P1;
-            lbool meets;
+            lvec3 X0;
+            lvec3 X1;
+            lbool valid;
             lbool onePlane;
-            continuedChord(exitCorner, lastCorner, left, ray, depth, cornerToOffset, radius2, P0, P1, meets, onePlane);
-            // Linear falloff: the chord's rises weighed at its near end (the angle a plane covers
-            // grows fastest nearest the receiver; measured against the mean and the far end's W).
-            lfloat weight = falloffWeight(dot(P0, P0), invRadius);
-            takeContinued(P0, P1, meets, onePlane, weight, T, n, nE, nV, cosB, sinB, nLen, horizonA, horizonB,
-                          horizonF, sectors, sliceOcclusion);
+            continuedChord(exitCorner, lastCorner, left, ray, depth, cornerToOffset, X0, X1, valid, onePlane);
+            // Only a point above the horizon (counter-clockwise of it) adds anything, and which side of
+            // the horizon's line a point lies on is linear along the chord: where both ends are on or
+            // under that line, so is all of it (most chords: the receiver's ground continued).
+            lbool rises = valid && (horizonA * dot(n, X0) - horizonB * dot(T, X0) > 0.0f ||
+                                    horizonA * dot(n, X1) - horizonB * dot(T, X1) > 0.0f);
+            if (anyLane(rises)) {
+                lfloat t0;
+                lfloat t1;
+                lbool meets;
+                clipToBall(X0, X1, radius2, t0, t1, meets);
+                lvec3 d = X1 - X0;
+                lvec3 P0 = X0 + d * t0;
+                lvec3 P1 = X0 + d * t1;
+                // Linear falloff: the chord's rises weighed at its near end (the angle a plane covers
+                // grows fastest nearest the receiver; measured against the mean and the far end's W).
+                lfloat weight = falloffWeight(dot(P0, P0), invRadius);
+                takeContinued(P0, P1, rises && meets, onePlane, weight, T, n, nE, nV, cosB, sinB, nLen, horizonA,
+                              horizonB, horizonF, sectors, sliceOcclusion);
+            }
         }
         if (P.linearFalloff == 0) {
             lfloat invLen = inversesqrt(horizonA * horizonA + horizonB * horizonB);
