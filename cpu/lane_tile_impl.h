@@ -67,8 +67,8 @@ struct LaneCpuKernel {
     }
     // HBAO's edge texels, tabled once per frame (cpu/lane_cpu.h, hbaoEdgeTexels: top row, bottom
     // row, left column, right column, 4 floats each), so the continued border's reads stay in the
-    // caches instead of striding down the planes, and a texel's depth and normal are one record. `edgeCorner` is on the buffer's edge; its offsets
-    // are whole numbers below 2^24, exact in float.
+    // caches instead of striding down the planes, and a texel's depth and normal are one record.
+    // `edgeCorner` is on the buffer's edge; its offsets are whole numbers below 2^24, exact in float.
     const float* edgeData = nullptr;
     lint edgeRecord(lvec2 edgeCorner) const {
         const lfloat x = edgeCorner.x - float(P.originX);

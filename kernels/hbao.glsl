@@ -123,6 +123,12 @@ luint bitsBelow(lint n) {
     return low | select(n >= 32, luint(0x80000000u), luint(0u));
 }
 
+// Whether the point X (an offset from the receiver) lies above the line of the horizon (a, b) =
+// (horizonA, horizonB) in the slice's axes T, n: counter-clockwise of it, the side a raise needs.
+lbool overHorizonLine(lvec3 X, lvec3 T, lvec3 n, lfloat horizonA, lfloat horizonB) {
+    return horizonA * dot(n, X) - horizonB * dot(T, X) > 0.0f;
+}
+
 // Raises the horizon to (a, b) in the lanes of `mask` where it lies above (counter-clockwise
 // of) the horizon: no square root or division, one compare. Returns the lanes it raised.
 lbool raiseHorizon(lbool mask, lfloat a, lfloat b, INOUT(lfloat) horizonA, INOUT(lfloat) horizonB) {
@@ -823,11 +829,11 @@ lfloat hbaoLanes(lint x, lint y) {
             lbool valid;
             lbool onePlane;
             continuedChord(exitCorner, lastCorner, left, ray, depth, cornerToOffset, X0, X1, valid, onePlane);
-            // Only a point above the horizon (counter-clockwise of it) adds anything, and which side of
-            // the horizon's line a point lies on is linear along the chord: where both ends are on or
-            // under that line, so is all of it (most chords: the receiver's ground continued).
-            lbool rises = valid && (horizonA * dot(n, X0) - horizonB * dot(T, X0) > 0.0f ||
-                                    horizonA * dot(n, X1) - horizonB * dot(T, X1) > 0.0f);
+            // Only a point above the horizon adds anything, and which side of the horizon's line a
+            // point lies on is linear along the chord: where both ends are on or under that line, so
+            // is all of it (the receiver's own ground continued, say), and the lane takes nothing.
+            lbool rises = valid && (overHorizonLine(X0, T, n, horizonA, horizonB) ||
+                                    overHorizonLine(X1, T, n, horizonA, horizonB));
             if (anyLane(rises)) {
                 lfloat t0;
                 lfloat t1;
