@@ -161,9 +161,9 @@ void occupyInterval(lfloat a, lfloat b, lfloat backA, lfloat backB, lbool counts
 // renderer saw the ray cross (a span); else the surface's depth is unknown and the thickness
 // rule pushes its front back, as without deep input.
 //
-// The part [t0, t1] of the segment from X0 to X1 (offsets from the receiver) inside the ball of
+// The part P0 .. P1 of the segment from X0 to X1 (offsets from the receiver) inside the ball of
 // radius R around the receiver; `meets` when there is one.
-void clipToBall(lvec3 X0, lvec3 X1, float radius2, OUT(lfloat) t0, OUT(lfloat) t1, OUT(lbool) meets) {
+void clipToBall(lvec3 X0, lvec3 X1, float radius2, OUT(lvec3) P0, OUT(lvec3) P1, OUT(lbool) meets) {
     // |X0 + t d|^2 = R^2: the chord of the ball along the segment, t in [0, 1].
     lvec3 d = X1 - X0;
     lfloat dd = max(dot(d, d), 1e-30f);
@@ -172,9 +172,11 @@ void clipToBall(lvec3 X0, lvec3 X1, float radius2, OUT(lfloat) t0, OUT(lfloat) t
     lfloat disc = fd * fd - dd * c;
     lfloat root = sqrt(max(disc, 0.0f));
     lfloat invDd = 1.0f / dd;
-    t0 = max((-fd - root) * invDd, 0.0f);
-    t1 = min((-fd + root) * invDd, 1.0f);
+    lfloat t0 = max((-fd - root) * invDd, 0.0f);
+    lfloat t1 = min((-fd + root) * invDd, 1.0f);
     meets = disc >= 0.0f && t0 <= t1;
+    P0 = X0 + d * t0;
+    P1 = X0 + d * t1;
 }
 
 // One layer at a sample texel, front frontX and back backX (offsets from the receiver): a span
@@ -184,14 +186,12 @@ void clipToBall(lvec3 X0, lvec3 X1, float radius2, OUT(lfloat) t0, OUT(lfloat) t
 void occupySpan(lvec3 frontX, lvec3 backX, lbool span, lbool use, lvec3 T, lvec3 n, lfloat nE, lfloat nV,
                 float radius2, lfloat backShiftA, lfloat backShiftB, INOUT(lfloat) horizonA, INOUT(lfloat) horizonB,
                 INOUT(luint) sectors) {
-    lfloat t0;
-    lfloat t1;
+    lvec3 spanFront;
+    lvec3 back;
     lbool chord;
-    clipToBall(frontX, backX, radius2, t0, t1, chord);
-    lvec3 d = backX - frontX;
+    clipToBall(frontX, backX, radius2, spanFront, back, chord);
     lbool meets = (span && chord) || (!span && dot(frontX, frontX) <= radius2);
-    lvec3 front = select(span, frontX + d * t0, frontX);
-    lvec3 back = frontX + d * t1;
+    lvec3 front = select(span, spanFront, frontX);
     lfloat a = dot(T, front);
     lfloat b = dot(n, front);
     lfloat backA = select(span, dot(T, back), a + backShiftA);
@@ -299,13 +299,10 @@ void occupyFootprint(lvec3 X, lvec2 corner, lvec3 sampleRay, lfloat sampleDepth,
                                  aheadNormal, aheadD);
     lvec3 X0 = X + step0 * select(back, lfloat(1.0f), lfloat(0.0f));
     lvec3 X1 = X + step1 * select(ahead, lfloat(1.0f), lfloat(0.0f));
-    lfloat t0;
-    lfloat t1;
+    lvec3 P0;
+    lvec3 P1;
     lbool meets;
-    clipToBall(X0, X1, radius2, t0, t1, meets);
-    lvec3 d = X1 - X0;
-    lvec3 P0 = X0 + d * t0;
-    lvec3 P1 = X0 + d * t1;
+    clipToBall(X0, X1, radius2, P0, P1, meets);
     lfloat a0 = dot(T, P0);
     lfloat b0 = dot(n, P0);
     lfloat a1 = dot(T, P1);
@@ -835,13 +832,10 @@ lfloat hbaoLanes(lint x, lint y) {
             lbool rises = valid && (overHorizonLine(X0, T, n, horizonA, horizonB) ||
                                     overHorizonLine(X1, T, n, horizonA, horizonB));
             if (anyLane(rises)) {
-                lfloat t0;
-                lfloat t1;
+                lvec3 P0;
+                lvec3 P1;
                 lbool meets;
-                clipToBall(X0, X1, radius2, t0, t1, meets);
-                lvec3 d = X1 - X0;
-                lvec3 P0 = X0 + d * t0;
-                lvec3 P1 = X0 + d * t1;
+                clipToBall(X0, X1, radius2, P0, P1, meets);
                 // Linear falloff: the chord's rises weighed at its near end (the angle a plane covers
                 // grows fastest nearest the receiver; measured against the mean and the far end's W).
                 lfloat weight = falloffWeight(dot(P0, P0), invRadius);
