@@ -52,8 +52,8 @@ inline lfloat deinterleave3(const float* p, int c) {
 #endif
 
 // The 4 floats at base + index per lane (a 16-byte record; index a multiple of 4) where `use`, 0
-// elsewhere. AVX-512 reads each lane's record with one 16-byte load and transposes the sixteen:
-// about a quarter of four 16-lane gathers' cost, which are microcoded here.
+// elsewhere. AVX-512 reads each lane's record with one 16-byte load and transposes the sixteen
+// instead of issuing four gathers, which are microcoded here (HBAO's border: docs/hbao.md).
 inline lvec4 gatherRecord4(const float* base, lint index, lbool use) {
 #if OBSCURA_LANES == 1
     return use ? vec4(base[index], base[index + 1], base[index + 2], base[index + 3]) : vec4(0.0f);
