@@ -138,6 +138,16 @@ lbool raiseHorizon(lbool mask, lfloat a, lfloat b, INOUT(lfloat) horizonA, INOUT
     return higher;
 }
 
+// Linear falloff's form of raiseHorizon: F grows with the angle, so comparing the sample's F with
+// the horizon's (before it takes f) orders them as the cross product does, up to rounding, on a
+// value the falloff has computed anyway; the step then carries no product through the horizon.
+void raiseHorizonByF(lbool mask, lfloat a, lfloat b, lfloat f, lfloat horizonF, INOUT(lfloat) horizonA,
+                     INOUT(lfloat) horizonB) {
+    lbool higher = mask && f > horizonF;
+    horizonA = select(higher, a, horizonA);
+    horizonB = select(higher, b, horizonB);
+}
+
 // Marks the occupied interval of one sample, front (a, b) to back (backA, backB) in the slice's
 // axes: when its back is not above the horizon it joins the horizon's interval (and may raise
 // it), else it sets the sectors between its two ends.
@@ -729,8 +739,8 @@ lfloat hbaoLanes(lint x, lint y) {
                     lfloat f;
                     lfloat weight;
                     linearTerms(a, b, r2, counts, cosB, sinB, nLen, invRadius, f, weight);
+                    raiseHorizonByF(counts, a, b, f, horizonF, horizonA, horizonB);
                     raiseLinearHorizon(f, weight, horizonF, sliceOcclusion);
-                    raiseHorizon(counts, a, b, horizonA, horizonB);
                 }
             } else if (adaptive) {
                 lfloat toEye = (b - run.lastB) * nV - (a - run.lastA) * nE;
@@ -769,10 +779,10 @@ lfloat hbaoLanes(lint x, lint y) {
                     // matters), so a large T is the linear horizon. Binary visibility drops it: it
                     // adds at most F at 0.57 degrees, and nothing on the receiver's own plane.
                     lbool onTangent = counts && !above;
-                    raiseHorizon(onTangent, a, b, horizonA, horizonB);
                     lfloat f;
                     lfloat weight;
                     linearTerms(a, b, r2, counts, cosB, sinB, nLen, invRadius, f, weight);
+                    raiseHorizonByF(onTangent, a, b, f, horizonF, horizonA, horizonB);
                     lfloat insideF = select(inside, f, lfloat(0.0f));
                     run.rise += weight * max(insideF - max(horizonF, run.topF), 0.0f);
                     run.topF = max(run.topF, insideF);
