@@ -123,16 +123,22 @@ luint bitsBelow(lint n) {
     return low | select(n >= 32, luint(0x80000000u), luint(0u));
 }
 
-// Whether the point X (an offset from the receiver) lies above the line of the horizon (a, b) =
-// (horizonA, horizonB) in the slice's axes T, n: counter-clockwise of it, the side a raise needs.
-lbool overHorizonLine(lvec3 X, lvec3 T, lvec3 n, lfloat horizonA, lfloat horizonB) {
-    return horizonA * dot(n, X) - horizonB * dot(T, X) > 0.0f;
+// Whether (a, b) in the slice's axes lies above (counter-clockwise of) the line of the horizon
+// (horizonA, horizonB), the side a raise needs: the sign of a cross product, no angle.
+lbool aboveHorizon(lfloat a, lfloat b, lfloat horizonA, lfloat horizonB) {
+    return horizonA * b - horizonB * a > 0.0f;
+}
+
+// Whether an interval whose back is (backA, backB) joins the horizon's: its back lies under the
+// tangent or not above the horizon.
+lbool joinsHorizon(lfloat backA, lfloat backB, lfloat horizonA, lfloat horizonB) {
+    return backB <= 0.0f || horizonA * backB - horizonB * backA <= 0.0f;
 }
 
 // Raises the horizon to (a, b) in the lanes of `mask` where it lies above (counter-clockwise
 // of) the horizon: no square root or division, one compare. Returns the lanes it raised.
 lbool raiseHorizon(lbool mask, lfloat a, lfloat b, INOUT(lfloat) horizonA, INOUT(lfloat) horizonB) {
-    lbool higher = mask && horizonA * b - horizonB * a > 0.0f;
+    lbool higher = mask && aboveHorizon(a, b, horizonA, horizonB);
     horizonA = select(higher, a, horizonA);
     horizonB = select(higher, b, horizonB);
     return higher;
@@ -153,7 +159,7 @@ void raiseHorizonByF(lbool mask, lfloat a, lfloat b, lfloat f, lfloat horizonF, 
 // it), else it sets the sectors between its two ends.
 void occupyInterval(lfloat a, lfloat b, lfloat backA, lfloat backB, lbool counts, INOUT(lfloat) horizonA,
                     INOUT(lfloat) horizonB, INOUT(luint) sectors) {
-    lbool joins = backB <= 0.0f || horizonA * backB - horizonB * backA <= 0.0f;
+    lbool joins = joinsHorizon(backA, backB, horizonA, horizonB);
     raiseHorizon(counts && joins, a, b, horizonA, horizonB);
     // Only an interval apart from the horizon's sets sectors; in most registers none is.
     lbool apart = counts && !joins;
@@ -405,7 +411,7 @@ void closeRuns(lbool ends, lfloat t, OccluderRun run, lfloat nE, lfloat nV, lflo
     lbool firstLower = firstBackA * lastBackB - firstBackB * lastBackA > 0.0f;
     lfloat backA = select(firstLower, firstBackA, lastBackA);
     lfloat backB = select(firstLower, firstBackB, lastBackB);
-    lbool joins = backB <= 0.0f || horizonA * backB - horizonB * backA <= 0.0f;
+    lbool joins = joinsHorizon(backA, backB, horizonA, horizonB);
     lbool higher = raiseHorizon(ends && joins, run.topA, run.topB, horizonA, horizonB);
     lfloat runRange = max(run.topF - horizonF, 1e-30f);
     if (P.linearFalloff != 0) {
@@ -839,8 +845,8 @@ lfloat hbaoLanes(lint x, lint y) {
             // Only a point above the horizon adds anything, and which side of the horizon's line a
             // point lies on is linear along the chord: where both ends are on or under that line, so
             // is all of it (the receiver's own ground continued, say), and the lane takes nothing.
-            lbool rises = valid && (overHorizonLine(X0, T, n, horizonA, horizonB) ||
-                                    overHorizonLine(X1, T, n, horizonA, horizonB));
+            lbool rises = valid && (aboveHorizon(dot(T, X0), dot(n, X0), horizonA, horizonB) ||
+                                    aboveHorizon(dot(T, X1), dot(n, X1), horizonA, horizonB));
             if (anyLane(rises)) {
                 lvec3 P0;
                 lvec3 P1;
