@@ -2,6 +2,7 @@
 // dlopen as Nuke, Natron or Resolve would and drives describe / describeInContext /
 // createInstance / getRegionsOfInterest / isIdentity / render over tiles. Its output is
 // compared with the command line on the same planes: identical pixels, whole frame and tiled.
+#include "core/methods.h"
 #include "ofx_host/ofx_host.h"
 #include "support/scratch.h"
 #include "support/cli_runner.h"
@@ -604,6 +605,40 @@ TEST(OfxHostBehaviour, InstancesShareNoState) {
     EXPECT_EQ(joined(p1) + joined(p2), "");
     EXPECT_TRUE(sameBits(a, a2));
     EXPECT_TRUE(sameBits(b, b2));
+}
+
+// The node greys out what the method does not read, from the table the CLI and Python refuse
+// by (core/methods.h): generated from it, like tests/test_method_flags.cpp.
+TEST(OfxHostBehaviour, ParametersOfOtherMethodsAreDisabled) {
+    const Scene s = makeScene(Config{});
+    Loaded l = instantiate(s);
+    ASSERT_TRUE(l.inst);
+    auto enabled = [&](const std::string& name) {
+        const Param* p = l.inst->effect().params.find(name);
+        EXPECT_TRUE(p) << name;
+        return p && p->props.integer(kOfxParamPropEnabled, 0, 1) != 0;
+    };
+    // Output 0 is AO, computed by the chosen method; output 2 (DO) always by ssdo.
+    std::vector<std::pair<int, int>> cases;  // (output, method index)
+    for (int m = 0; m < (int)methods().size(); ++m) cases.push_back({0, m});
+    cases.push_back({2, 0});
+    int checked = 0;
+    for (const auto& [output, m] : cases) {
+        ASSERT_EQ(l.inst->setInt("output", output), kOfxStatOK);
+        ASSERT_EQ(l.inst->setInt("method", m), kOfxStatOK);
+        const std::string method = output == 0 ? methods()[m].name : "ssdo";
+        for (const MethodParam* p : allMethodParams()) {
+            if (!p->ofx) continue;
+            EXPECT_EQ(enabled(p->key), settingRefusal(method, p->key, Spelling::Key).empty()) << method << " " << p->key;
+            ++checked;
+        }
+        for (const MethodOption& o : methodOptions()) {
+            if (!o.ofx || std::string(o.ofx) == "timesAlbedo") continue;  // also follows the output (DO, GI)
+            EXPECT_EQ(enabled(o.ofx), settingRefusal(method, o.ofx, Spelling::Key).empty()) << method << " " << o.ofx;
+            ++checked;
+        }
+    }
+    EXPECT_GT(checked, 50);
 }
 
 TEST(OfxHostBehaviour, FailuresAreReportedThroughTheMessageSuite) {

@@ -5,6 +5,7 @@
 #include "gpu/gl_backend.h"
 #include "io/frame_job.h"
 #include "io/sequence.h"
+#include "io/write_guard.h"
 
 #include <nlohmann/json.hpp>
 #include <unistd.h>
@@ -19,6 +20,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <iostream>
 #include <sstream>
 #include <string>
@@ -33,6 +35,8 @@ struct Options {
     bool inspect = false, quiet = false, help = false, version = false, resume = false;
     std::string reportPath, frames;
     std::string flat;  // --flat: the input is deep, this file gives the passes
+    std::vector<std::string> given;    // every flag given, to refuse those the method does not read
+    std::vector<std::string> outputs;  // outputs asked for by name (--out-layer ROLE=, --bounce)
 };
 
 double toNumber(const std::string& flag, const std::string& v) {
@@ -48,6 +52,26 @@ int toInt(const std::string& flag, const std::string& v) {
     if (v.empty() || *end != '\0' || n < -1000000 || n > 1000000)
         throw UsageError(flag + " expects a whole number, got '" + v + "'");
     return (int)n;
+}
+
+// A number above `lo` (or at least `lo` with `closed`), at most `hi` when hi is finite.
+double toNumberIn(const std::string& flag, const std::string& v, double lo, bool closed,
+                  double hi = std::numeric_limits<double>::infinity()) {
+    const double d = toNumber(flag, v);
+    if (d < lo || (!closed && d == lo) || d > hi) {
+        std::ostringstream range;
+        range << flag << " must be " << (closed ? "at least " : "above ") << lo;
+        if (std::isfinite(hi)) range << " and at most " << hi;
+        throw UsageError(range.str() + ", got '" + v + "'");
+    }
+    return d;
+}
+
+int toIntIn(const std::string& flag, const std::string& v, int lo, int hi) {
+    const int n = toInt(flag, v);
+    if (n < lo || n > hi)
+        throw UsageError(flag + " must be between " + std::to_string(lo) + " and " + std::to_string(hi) + ", got '" + v + "'");
+    return n;
 }
 
 template <class E>
@@ -143,10 +167,7 @@ std::vector<Flag> makeFlags() {
              o.job.settings.method = v;
          }},
         {"--radius", "R", "occlusion radius in world units (default 1)",
-         [](Options& o, const std::string& v) {
-             o.job.settings.radius = (float)toNumber("--radius", v);
-             if (!(o.job.settings.radius > 0.0f)) throw UsageError("--radius must be positive, got '" + v + "'");
-         }},
+         [](Options& o, const std::string& v) { o.job.settings.radius = (float)toNumberIn("--radius", v, 0, false, 1e30); }},
         {"--weighting", "uniform|cosine", "solid angle (HBAO paper, default) or projected solid angle (ray-traced AO)",
          [](Options& o, const std::string& v) {
              o.job.settings.weighting = toEnum<Weighting>("--weighting", v, "uniform or cosine");
@@ -159,11 +180,11 @@ std::vector<Flag> makeFlags() {
                  throw UsageError("--quality expects low, medium, high or ultra, got '" + v + "'");
          }},
         {"--blur", "N", "geometry-aware blur radius in pixels (default 0, off)",
-         [](Options& o, const std::string& v) { o.job.settings.blur = toInt("--blur", v); }},
+         [](Options& o, const std::string& v) { o.job.settings.blur = toIntIn("--blur", v, 0, 64); }},
         {"--fov-deg", "F", "perspective camera, horizontal field of view of the display window",
-         [](Options& o, const std::string& v) { o.job.camera.fovDeg = toNumber("--fov-deg", v); }},
+         [](Options& o, const std::string& v) { o.job.camera.fovDeg = toNumberIn("--fov-deg", v, 0, false, 179.9); }},
         {"--ortho-width", "W", "orthographic camera, W world units across the display window",
-         [](Options& o, const std::string& v) { o.job.camera.orthoWidth = toNumber("--ortho-width", v); }},
+         [](Options& o, const std::string& v) { o.job.camera.orthoWidth = toNumberIn("--ortho-width", v, 0, false); }},
         {"--camera-to-world", "m00,...,m33", "16 numbers, row-major, OpenGL convention (camera looks down -Z)",
          [](Options& o, const std::string& v) {
              const std::vector<double> rows = toNumbers("--camera-to-world", v, 16);
@@ -180,7 +201,7 @@ std::vector<Flag> makeFlags() {
              o.job.normalSpace = toEnum<NormalSpace>("--normals", v, "world or camera");
          }},
         {"--sky-depth", "D", "depth at or beyond which a pixel is sky (default: the preset's, 1e9)",
-         [](Options& o, const std::string& v) { o.job.skyDepth = (float)toNumber("--sky-depth", v); }},
+         [](Options& o, const std::string& v) { o.job.skyDepth = (float)toNumberIn("--sky-depth", v, 0, false); }},
         {"--preset", "NAME", "renderer naming: auto (default), blender, arnold, renderman, vray, karma, generic",
          [](Options& o, const std::string& v) {
              const auto& names = presetNames();
@@ -206,6 +227,7 @@ std::vector<Flag> makeFlags() {
          "channels NAME.R/G/B); naming gi or relit also asks for it",
          [](Options& o, const std::string& v) {
              auto [role, name] = splitAssignment("--out-layer", v);
+             o.outputs.push_back(role);
              if (role == "ao") o.job.aoLayer = name;
              else if (role == "do") o.job.doLayer = name;
              else if (role == "gi") o.job.giLayer = name, o.job.writeIndirect = true;
@@ -222,15 +244,21 @@ std::vector<Flag> makeFlags() {
         {"--env-rotate", "DEG", "turn the environment about the up axis",
          [](Options& o, const std::string& v) { o.job.settings.envRotationDeg = (float)toNumber("--env-rotate", v); }},
         {"--env-intensity", "X", "multiply the environment (or sky) radiance (default 1)",
-         [](Options& o, const std::string& v) { o.job.settings.envIntensity = (float)toNumber("--env-intensity", v); }},
+         [](Options& o, const std::string& v) { o.job.settings.envIntensity = (float)toNumberIn("--env-intensity", v, 0, true); }},
         {"--sky", "R,G,B", "ssdo: constant sky radiance when there is no --env (default 1,1,1)",
          [](Options& o, const std::string& v) {
              const std::vector<double> c = toNumbers("--sky", v, 3);
-             for (int i = 0; i < 3; ++i) o.job.settings.skyRadiance[i] = (float)c[i];
+             for (int i = 0; i < 3; ++i) {
+                 if (c[i] < 0) throw UsageError("--sky radiance must not be negative, got '" + v + "'");
+                 o.job.settings.skyRadiance[i] = (float)c[i];
+             }
          }},
         {"--light", "X,Y,Z,R,G,B", "ssdo: a directional light (world direction towards it, irradiance); up to 4",
          [](Options& o, const std::string& v) {
              const std::vector<double> c = toNumbers("--light", v, 6);
+             if (o.job.settings.lights.size() == 4) throw UsageError("--light: at most 4 directional lights");
+             if (c[0] == 0 && c[1] == 0 && c[2] == 0) throw UsageError("--light: the direction must not be 0,0,0");
+             if (c[3] < 0 || c[4] < 0 || c[5] < 0) throw UsageError("--light: the irradiance must not be negative, got '" + v + "'");
              Settings::DirectionalLight l{};
              for (int i = 0; i < 3; ++i) l.direction[i] = (float)c[i], l.irradiance[i] = (float)c[i + 3];
              o.job.settings.lights.push_back(l);
@@ -261,7 +289,7 @@ std::vector<Flag> makeFlags() {
              o.job.settings.device = v;
          }},
         {"--threads", "N", "CPU threads (default 0 = all cores)",
-         [](Options& o, const std::string& v) { o.job.settings.threads = toInt("--threads", v); }},
+         [](Options& o, const std::string& v) { o.job.settings.threads = toIntIn("--threads", v, 0, 1 << 16); }},
         {"--max-pixels", "N", "refuse an input or environment map with a window above N pixels, before allocating "
                                "(default 268435456 = 16384 x 16384)",
          [](Options& o, const std::string& v) {
@@ -277,9 +305,9 @@ std::vector<Flag> makeFlags() {
          }},
         {"--reference", "LAYER", "print MAE, RMSE, PSNR and p99 error of the AO against LAYER over non-sky pixels",
          [](Options& o, const std::string& v) { o.job.referenceLayer = v; }},
-        {"--report", "FILE.json", "write timings per stage, settings, camera and statistics",
+        {"--report", "FILE.json|DIR/", "write timings per stage, settings, camera and statistics (DIR/: OUTPUT's name .json there)",
          [](Options& o, const std::string& v) { o.reportPath = v; }},
-        {"--preview", "FILE.png", "write an 8-bit PNG of the AO (ssdo: of the DO, through the colour config's display view)",
+        {"--preview", "FILE.png|DIR/", "write an 8-bit PNG of the AO (ssdo: of the DO, through the colour config's display view)",
          [](Options& o, const std::string& v) { o.job.previewPath = v; }},
         {"--in-place", nullptr, "allow OUTPUT to be the input file (replaced atomically)",
          [](Options& o, const std::string&) { o.job.inPlace = true; }},
@@ -321,9 +349,23 @@ std::string helpText() {
         os << left << f.help << "\n";
     }
     os << "\nexample:\n  obscura shot.0001.exr -o shot_ao.0001.exr --radius 0.5 --weighting cosine --falloff none \\\n"
-          "          --reference ViewLayer.AO --report shot.0001.json\n"
+          "          --reference ViewLayer.AO --report shot_ao.0001.json\n"
           "\nexit status: 0 success, 1 failure (one line on stderr), 2 bad command line\n";
     return os.str();
+}
+
+// A flag or output the method would ignore is refused, naming the methods that read it
+// (core/methods.h), so a run never exits 0 without doing what it was asked.
+void refuseWhatTheMethodIgnores(const Options& o) {
+    const std::string& method = o.job.settings.method;
+    for (const std::string& flag : o.given) {
+        const std::string problem = settingRefusal(method, flag, Spelling::Flag);
+        if (!problem.empty()) throw UsageError(problem);
+    }
+    for (const std::string& output : o.outputs) {
+        const std::string problem = outputRefusal(method, output, Spelling::Flag);
+        if (!problem.empty()) throw UsageError(problem);
+    }
 }
 
 Options parseArgs(int argc, char** argv) {
@@ -351,6 +393,7 @@ Options parseArgs(int argc, char** argv) {
                 throw UsageError(arg + " takes no value");
             }
             flag->apply(o, value);
+            o.given.push_back(flag->name);
             continue;
         }
         if (!o.job.input.empty()) throw UsageError("more than one input file given ('" + o.job.input + "', '" + arg + "')");
@@ -365,6 +408,7 @@ Options parseArgs(int argc, char** argv) {
         if (isFramePattern(o.job.deepInput) != isFramePattern(o.job.input))
             throw UsageError("the deep input and --flat must both be frame patterns (e.g. shot.####.exr), or neither");
     }
+    refuseWhatTheMethodIgnores(o);
     const MethodInfo& m = *findMethod(o.job.settings.method);
     const std::string& d = o.job.settings.device;
     if (!m.gl && d != "cpu" && d != "auto")
@@ -397,9 +441,11 @@ void runOneFrame(const Options& o, const FrameJob& job, const std::string& repor
 }
 
 // With --report, a frame is complete once its report is written too (it comes after the output),
-// and the report is not a failure's.
+// and the report is not a failure's; with --preview, once the preview exists.
 bool frameComplete(const FrameJob& job, const std::string& reportPath) {
     if (!outputComplete(job.output, aoChannelName(job.aoLayer))) return false;
+    std::error_code ec;
+    if (!job.previewPath.empty() && !std::filesystem::is_regular_file(job.previewPath, ec)) return false;
     if (reportPath.empty()) return true;
     std::ifstream f(reportPath);
     const nlohmann::json report = nlohmann::json::parse(f, nullptr, false);
@@ -416,9 +462,28 @@ void writeFailureReport(const FrameJob& job, int frame, const std::string& repor
     }
 }
 
+// --resume, for one frame as for a sequence: the temp files of a run killed mid-frame (a farm
+// task, a dead node) are cleared, then a complete frame is skipped (true).
+bool resumeSkips(const Options& o, const FrameJob& job, const std::string& reportPath) {
+    if (!o.resume) return false;
+    for (const std::string& path : {job.output, reportPath, job.previewPath})
+        if (!path.empty()) removeStaleTemps(path);
+    return frameComplete(job, reportPath);
+}
+
+// A --report or --preview that is neither a pattern nor a directory would be overwritten by
+// every frame of the sequence, keeping only the last.
+void requirePerFrame(const char* flag, const std::string& spec, const char* example) {
+    if (spec.empty() || isFramePattern(spec)) return;
+    throw UsageError(std::string(flag) + " '" + spec + "' would be rewritten by every frame: give a pattern (" + example +
+                     ") or a directory");
+}
+
 // A frame sequence, with a progress line and --resume; stops at the first failing frame.
 int runSequence(const Options& o) {
     if (!isFramePattern(o.job.output)) throw UsageError("the input is a sequence: -o needs a pattern too (e.g. out.####.exr)");
+    requirePerFrame("--report", o.reportPath, "out.####.json");
+    requirePerFrame("--preview", o.job.previewPath, "out.####.png");
     std::vector<int> frames;
     try {
         frames = o.frames.empty() ? existingFrames(o.job.input) : parseFrames(o.frames);
@@ -428,22 +493,27 @@ int runSequence(const Options& o) {
         throw UsageError(e.what());
     }
     if (frames.empty()) throw FileError(o.job.input, "no frames match");
-    const bool tty = ::isatty(2);
-    const auto start = std::chrono::steady_clock::now();
-    int done = 0, skipped = 0;
+    std::vector<FrameJob> jobs(frames.size(), o.job);
+    std::vector<FrameFiles> files;
     for (size_t i = 0; i < frames.size(); ++i) {
-        FrameJob job = o.job;
+        FrameJob& job = jobs[i];
         job.input = framePath(o.job.input, frames[i]);
         job.deepInput = framePath(o.job.deepInput, frames[i]);
         job.output = framePath(o.job.output, frames[i]);
         job.previewPath = framePath(o.job.previewPath, frames[i]);
-        const std::string reportPath = framePath(o.reportPath, frames[i]);
-        if (o.resume && frameComplete(job, reportPath)) {
+        files.push_back({&job, framePath(o.reportPath, frames[i])});
+    }
+    checkFrameFiles(files, Spelling::Flag);  // every frame's files, before the first is written
+    const bool tty = ::isatty(2);
+    const auto start = std::chrono::steady_clock::now();
+    int done = 0, skipped = 0;
+    for (size_t i = 0; i < frames.size(); ++i) {
+        const FrameJob& job = jobs[i];
+        const std::string& reportPath = files[i].report;
+        if (resumeSkips(o, job, reportPath)) {
             ++skipped;
         } else {
             try {
-                // A run killed mid-frame (a farm task, a dead node) left its temp files behind.
-                if (o.resume) removeStaleTemps(job.output), removeStaleTemps(reportPath);
                 runOneFrame(o, job, reportPath);
             } catch (const UsageError&) {
                 throw;
@@ -531,8 +601,15 @@ int run(int argc, char** argv) {
             return 0;
         }
         if (o.job.output.empty()) throw UsageError("no output file: give -o OUTPUT.exr (or --inspect)");
+        o.job.previewPath = besideOutput(o.job.previewPath, o.job.output, ".png");
+        o.reportPath = besideOutput(o.reportPath, o.job.output, ".json");
         if (isFramePattern(o.job.input)) return runSequence(o);
         if (!o.frames.empty()) throw UsageError("--frames needs an input pattern such as shot.####.exr");
+        checkFrameFiles({{&o.job, o.reportPath}}, Spelling::Flag);
+        if (resumeSkips(o, o.job, o.reportPath)) {
+            if (!o.quiet) std::fprintf(stderr, "obscura: %s is complete; skipped (--resume)\n", o.job.output.c_str());
+            return 0;
+        }
         runOneFrame(o, o.job, o.reportPath);
         return 0;
     } catch (const UsageError& e) {

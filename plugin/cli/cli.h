@@ -10,9 +10,7 @@ namespace obscura::cli {
 int run(int argc, char** argv);
 
 // A bad command line (exit status 2), as opposed to a failure while running (1).
-struct UsageError : Error {
-    using Error::Error;
-};
+using obscura::UsageError;
 
 // What a normal run's command line (without the program name) asks for: the parts a host
 // planning runs elsewhere needs (obscura farm). Throws UsageError as `run` would.

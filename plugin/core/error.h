@@ -8,6 +8,12 @@ struct Error : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
+// A request that cannot be carried out as asked (a flag or keyword the method ignores, two
+// roles naming one file): the command line's exit status 2, Python's ValueError.
+struct UsageError : Error {
+    using Error::Error;
+};
+
 // A failure a file caused, in the one form users and scripts parse: 'FILE': what is wrong.
 // Hosts name the input for an Error that names no file (see blameInput in io/frame_job.h).
 struct FileError : Error {

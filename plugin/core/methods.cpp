@@ -87,7 +87,7 @@ std::vector<MethodInfo> makeTable() {
                  [](const Settings& s) { return s.directions * s.steps; }, nullptr, &runHbaoMethod});
     t.push_back({"ssdo", "directional occlusion and one bounce (Ritschel et al. 2009): DO, AO and, with --bounce, GI",
                  "kernels/ssdo.glsl", true, true, {"depth", "normal", "beauty|direct-diffuse", "albedo"},
-                 {"ao", "do", "gi"}, {},
+                 {"ao", "do", "gi", "relit"}, {},
                  {intParam("samples", "--samples", "ssdo: sample set per M x M block (default 64)", 1, 4096,
                            &Settings::ssdoSamples),
                   intParam("interleave", "--interleave",
@@ -223,6 +223,80 @@ std::string checkParam(const MethodParam& p, double v, bool named) {
     std::string words;
     for (const NamedValue& n : p.named) words += std::string(", or ") + n.word;
     return std::string(p.flag) + range + words;
+}
+
+namespace {
+std::vector<MethodOption> makeOptions() {
+    // The four AO integrals weigh and fade their samples; SSDO's DO has its own definition.
+    const std::vector<const char*> ao = {"hbao", "ssao", "rtao", "discs"}, ssdo = {"ssdo"};
+    return {
+        {"weighting", "--weighting", "weighting", ao},
+        {"falloff", "--falloff", "falloff", ao},
+        {"bounce", "--bounce", nullptr, ssdo},
+        {"bounce_source", "--bounce-source", nullptr, ssdo},
+        {"env", "--env", "envMap", ssdo},
+        {"env_rotate", "--env-rotate", "envRotation", ssdo},
+        {"env_intensity", "--env-intensity", "envIntensity", ssdo},
+        {"env_colorspace", "--env-colorspace", nullptr, ssdo},
+        {"sky", "--sky", "skyColour", ssdo},
+        {"lights", "--light", nullptr, ssdo},
+        {"up", "--up", "upAxis", ssdo},
+        // Only SSDO reads colour passes (the bounce source, albedo, direct light).
+        {"colorspace", "--colorspace", nullptr, ssdo},
+        {"times_albedo", "--times-albedo", "timesAlbedo", ssdo},
+        {"relit_direct", "--relit-direct", nullptr, ssdo},
+    };
+}
+
+bool named(const std::string& name, const char* key, const char* flag, const char* ofx) {
+    return name == key || name == flag || (ofx && name == ofx);
+}
+
+std::string methodWord(const std::string& method, Spelling spelling) {
+    return spelling == Spelling::Flag ? "--method " + method : "method='" + method + "'";
+}
+
+std::string refusal(const std::string& what, const char* verb, const std::vector<std::string>& readers,
+                    const std::string& method, Spelling spelling) {
+    std::string who;
+    for (size_t i = 0; i < readers.size(); ++i)
+        who += (i == 0 ? "" : i + 1 == readers.size() ? " or " : ", ") + methodWord(readers[i], spelling);
+    return what + " is " + verb + " by " + who + " only, not by " + methodWord(method, spelling);
+}
+} // namespace
+
+const std::vector<MethodOption>& methodOptions() {
+    static const std::vector<MethodOption> table = makeOptions();
+    return table;
+}
+
+std::vector<std::string> methodsReading(const std::string& name) {
+    std::vector<std::string> readers;
+    for (const MethodInfo& m : methods())
+        for (const MethodParam& p : m.params)
+            if (named(name, p.key, p.flag, p.ofx ? p.key : nullptr)) {
+                readers.push_back(m.name);
+                readers.insert(readers.end(), p.alsoFor.begin(), p.alsoFor.end());
+            }
+    for (const MethodOption& o : methodOptions())
+        if (named(name, o.key, o.flag, o.ofx)) readers.assign(o.methods.begin(), o.methods.end());
+    return readers;
+}
+
+std::string settingRefusal(const std::string& method, const std::string& name, Spelling spelling) {
+    const std::vector<std::string> readers = methodsReading(name);
+    if (readers.empty() || std::find(readers.begin(), readers.end(), method) != readers.end()) return "";
+    return refusal(name, "read", readers, method, spelling);
+}
+
+std::string outputRefusal(const std::string& method, const std::string& output, Spelling spelling) {
+    if (methodOutputs(method, output.c_str())) return "";
+    std::vector<std::string> writers;
+    for (const MethodInfo& m : methods())
+        if (listed(m.outputs, output.c_str())) writers.push_back(m.name);
+    if (writers.empty()) return "unknown output '" + output + "'";
+    const std::string what = spelling == Spelling::Flag ? "the " + output + " output" : "out_layer '" + output + "'";
+    return refusal(what, "written", writers, method, spelling);
 }
 
 bool applyMethodPresets(const std::string& quality, Settings& s) {

@@ -51,7 +51,7 @@ struct MethodInfo {
     const char* kernels;                // the kernels/ files (or CPU code) that compute it
     bool cpu, gl;                       // devices it runs on
     std::vector<const char*> reads;     // passes: "depth", "normal", "beauty", ...; "deep": deep layers if given
-    std::vector<const char*> outputs;   // "ao", "do", "gi"
+    std::vector<const char*> outputs;   // "ao", "do", "gi", "relit"
     std::vector<MethodPreset> presets;
     std::vector<MethodParam> params;
     // Samples (or rays) per pixel at these settings: the cost reports divide by.
@@ -83,6 +83,28 @@ double fromHostValue(const MethodParam& p, double hostValue);
 // The message for a value outside the parameter's range, or "" when it is inside. A named
 // value's number passes only with `named` (Settings hold them; hosts parse them as words).
 std::string checkParam(const MethodParam& p, double value, bool named = false);
+// A setting some hosts offer that only some methods read. Its value is parsed by the host (a
+// path, a colour, a list), so it is not a MethodParam; the table says who reads it, so every
+// host refuses it alike for a method that would ignore it.
+struct MethodOption {
+    const char* key;                   // Python keyword ("bounce")
+    const char* flag;                  // CLI flag ("--bounce")
+    const char* ofx;                   // OpenFX parameter, nullptr where the node has none
+    std::vector<const char*> methods;  // the methods that read it
+};
+const std::vector<MethodOption>& methodOptions();
+// How a refusal names things: the CLI's flags (--bounce, --method ssdo) or the keywords of
+// Python and OpenFX (bounce, method='ssdo').
+enum class Spelling { Flag, Key };
+// The methods that read the setting `name` (a MethodParam or MethodOption, by key, flag or
+// OpenFX name); empty when every method reads it or no table entry has that name.
+std::vector<std::string> methodsReading(const std::string& name);
+// "" when `method` reads setting `name`, else the one-line refusal naming the methods that do:
+// "--bounce is read by --method ssdo only, not by --method hbao".
+std::string settingRefusal(const std::string& method, const std::string& name, Spelling spelling);
+// "" when `method` writes `output` ("ao", "do", "gi", "relit"), else the refusal naming who does.
+std::string outputRefusal(const std::string& method, const std::string& output, Spelling spelling);
+
 // Applies every method's level `quality` to `s`; false for an unknown level.
 bool applyMethodPresets(const std::string& quality, Settings& s);
 

@@ -192,8 +192,9 @@ std::string ColourManager::shippedConfigPath() {
     return {};
 }
 
-namespace {
-std::string configFromEnvironmentOrShipped(std::string* origin) {
+std::string colourConfigPath(std::string* origin) {
+    std::string ignored;
+    if (!origin) origin = &ignored;
     const char* env = std::getenv("OCIO");
     if (env && *env) {
         *origin = "from $OCIO";
@@ -211,11 +212,10 @@ std::string configFromEnvironmentOrShipped(std::string* origin) {
     }
     return shipped;
 }
-} // namespace
 
 ColourManager::ColourManager() {
     std::string origin;
-    const std::string path = configFromEnvironmentOrShipped(&origin);
+    const std::string path = colourConfigPath(&origin);
     impl_ = std::make_unique<Impl>(path, origin);
 }
 

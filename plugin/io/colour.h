@@ -137,6 +137,9 @@ std::string detectColourSpace(const Imf::Header& header, const std::string& over
                               std::string* warning = nullptr);
 void toWorkingSpace(Image& rgb, const std::string& fromSpace);
 void fromWorkingSpace(Image& rgb, const std::string& toSpace);
+// The OpenColorIO config obscura loads: $OCIO, else the one shipped with it (`origin` says
+// which); throws obscura::Error when neither exists.
+std::string colourConfigPath(std::string* origin = nullptr);
 void writeDisplayPreview(const std::string& path, const Image& rgbWorking);
 
 } // namespace obscura

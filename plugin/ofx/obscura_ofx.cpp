@@ -880,7 +880,19 @@ void updateEnabled(const Instance& in) {
     enable(in.orthoWidth, projection == 1);
     enable(in.cameraToWorld, normals == 0);
     // DO, GI and Relit are SSDO whatever the method; Times Albedo concerns DO and GI only.
-    enable(in.method, kind == OutputKind::Ao || kind == OutputKind::BeautyTimesAo);
+    const bool ao = kind == OutputKind::Ao || kind == OutputKind::BeautyTimesAo;
+    enable(in.method, ao);
+    // What the method does not read is greyed out, from the same table the CLI and Python refuse by.
+    int methodIndex = 0;
+    gParam->paramGetValue(in.method, &methodIndex);
+    const std::string method = ao ? methods()[std::clamp(methodIndex, 0, (int)methods().size() - 1)].name : "ssdo";
+    const std::vector<const MethodParam*> own = allMethodParams();
+    for (size_t i = 0; i < own.size(); ++i)
+        if (in.methodParams[i]) enable(in.methodParams[i], settingRefusal(method, own[i]->key, Spelling::Key).empty());
+    OfxParamSetHandle set = nullptr;
+    gEffect->getParamSet(in.effect, &set);
+    for (const MethodOption& o : methodOptions())
+        if (o.ofx) enable(param(set, o.ofx), settingRefusal(method, o.ofx, Spelling::Key).empty());
     enable(in.timesAlbedo, kind == OutputKind::Directional || kind == OutputKind::Indirect);
 }
 

@@ -7,6 +7,7 @@
 #include "gpu/gl_backend.h"
 #include "io/camera_sources.h"
 #include "io/frame_job.h"
+#include "io/write_guard.h"
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -232,7 +233,16 @@ void applyMethodParam(const std::string& key, const py::handle& value, Settings&
     throw py::type_error("unexpected keyword argument '" + key + "'");
 }
 
-Settings settingsFrom(const SettingArgs& a) {
+// A keyword the method would ignore is refused from the method table (core/methods.h), as the
+// CLI refuses the flag. False and None are the defaults: passing them asks for nothing.
+void refuseIgnored(const std::string& method, const std::string& key, const py::handle& value) {
+    if (value.is_none() || (py::isinstance<py::bool_>(value) && !py::bool_(value))) return;
+    const std::string problem = settingRefusal(method, key, Spelling::Key);
+    if (!problem.empty()) valueError(problem);
+}
+
+// `method`, when given, is the method the call runs whatever sa.method says (compute_ssdo).
+Settings settingsFrom(const SettingArgs& a, const char* method = nullptr) {
     Settings s;
     if (!a.quality.is_none()) {
         const std::string q = strArg(a.quality, "quality");
@@ -259,6 +269,10 @@ Settings settingsFrom(const SettingArgs& a) {
     }
     if (!a.threads.is_none()) s.threads = intInRange(a.threads, "threads", 0, 1 << 16);
     for (const auto& item : a.own) applyMethodParam(py::str(item.first), item.second, s);
+    if (method) s.method = method;
+    refuseIgnored(s.method, "weighting", a.weighting);
+    refuseIgnored(s.method, "falloff", a.falloff);
+    for (const auto& item : a.own) refuseIgnored(s.method, py::str(item.first), item.second);
     return s;
 }
 
@@ -282,6 +296,10 @@ std::array<float, 3> tripleArg(const py::handle& obj, const char* what, bool non
 }
 
 void applySsdo(const SsdoArgs& a, Settings& s) {
+    for (const auto& [key, value] : {std::pair<const char*, const py::object*>{"samples", &a.samples},
+                                     {"interleave", &a.interleave}, {"sky", &a.sky}, {"env_rotate", &a.envRotate},
+                                     {"env_intensity", &a.envIntensity}, {"lights", &a.lights}})
+        refuseIgnored(s.method, key, *value);
     if (!a.samples.is_none()) s.ssdoSamples = intInRange(a.samples, "samples", 1, 4096);
     if (!a.interleave.is_none()) s.interleave = intInRange(a.interleave, "interleave", 1, 8);
     if (s.interleave * s.interleave > s.ssdoSamples)
@@ -408,8 +426,7 @@ struct SsdoArrayArgs {
 
 py::dict computeSsdo(const py::object& depthObj, const py::object& normalObj, const ViewArgs& v,
                      const SettingArgs& sa, const SsdoArgs& ssdoArgs, const SsdoArrayArgs& x) {
-    Settings settings = settingsFrom(sa);
-    settings.method = "ssdo";
+    Settings settings = settingsFrom(sa, "ssdo");
     applySsdo(ssdoArgs, settings);
     settings.bounce = !x.bounce.is_none() && py::bool_(x.bounce);
     if (!x.up.is_none()) settings.zUp = upArg(x.up);
@@ -576,10 +593,15 @@ py::object processPy(const py::object& path, const py::object& out, const FileAr
     job.output = pathArg(out, "out");
     job.settings = settingsFrom(sa);
     applySsdo(ssdoArgs, job.settings);
-    const bool ssdo = job.settings.method == "ssdo";
-    // Outputs only SSDO makes: asking for them with method 'hbao' would silently write nothing.
-    auto needSsdo = [&](const std::string& what) {
-        if (!ssdo) valueError(what + " needs method='ssdo' (method is '" + job.settings.method + "')");
+    // Keywords and outputs the method would ignore: asking for them would silently write nothing.
+    for (const auto& [key, value] :
+         {std::pair<const char*, const py::object*>{"bounce", &js.bounce}, {"bounce_source", &js.bounceSource},
+          {"env", &js.env}, {"env_colorspace", &js.envColorspace}, {"colorspace", &js.colorspace}, {"up", &js.up},
+          {"times_albedo", &js.timesAlbedo}, {"relit_direct", &js.relitDirect}})
+        refuseIgnored(job.settings.method, key, *value);
+    auto needSsdo = [&](const std::string& output) {
+        const std::string problem = outputRefusal(job.settings.method, output, Spelling::Key);
+        if (!problem.empty()) valueError(problem);
     };
     if (!o.outLayer.is_none()) {
         if (py::isinstance<py::dict>(o.outLayer)) {
@@ -593,7 +615,7 @@ py::object processPy(const py::object& path, const py::object& out, const FileAr
                 }
                 if (role != "do" && role != "gi" && role != "relit")
                     valueError("out_layer: unknown output '" + role + "' (available: ao, do, gi, relit)");
-                needSsdo("out_layer '" + role + "'");
+                needSsdo(role);
                 // Naming gi or relit also asks for it, as --out-layer does.
                 if (role == "do") job.doLayer = name;
                 else if (role == "gi") job.giLayer = name, job.writeIndirect = true;
@@ -604,10 +626,7 @@ py::object processPy(const py::object& path, const py::object& out, const FileAr
         }
         if (job.aoLayer.empty()) valueError("out_layer must not be empty");
     }
-    if (!js.bounce.is_none() && py::bool_(js.bounce)) {
-        needSsdo("bounce=True");
-        job.writeIndirect = true;
-    }
+    if (!js.bounce.is_none() && py::bool_(js.bounce)) job.writeIndirect = true;
     if (!js.bounceSource.is_none()) {
         job.bounceSource = strArg(js.bounceSource, "bounce_source");
         if (job.bounceSource.empty())
@@ -617,14 +636,8 @@ py::object processPy(const py::object& path, const py::object& out, const FileAr
     if (!js.envColorspace.is_none()) job.envColourSpace = strArg(js.envColorspace, "env_colorspace");
     if (!js.colorspace.is_none()) job.colourSpace = strArg(js.colorspace, "colorspace");
     if (!js.up.is_none()) job.zUp = upArg(js.up);
-    if (!js.timesAlbedo.is_none() && py::bool_(js.timesAlbedo)) {
-        needSsdo("times_albedo=True");
-        job.timesAlbedo = true;
-    }
-    if (!js.relitDirect.is_none() && py::bool_(js.relitDirect)) {
-        needSsdo("relit_direct=True");
-        job.relitWithDirect = true;
-    }
+    if (!js.timesAlbedo.is_none() && py::bool_(js.timesAlbedo)) job.timesAlbedo = true;
+    if (!js.relitDirect.is_none() && py::bool_(js.relitDirect)) job.relitWithDirect = true;
     if (!o.outType.is_none()) job.aoFloat = choiceArg(o.outType, "out_type", {"half", "float"}) == "float";
     if (!o.badPixels.is_none())
         job.badPixels = choiceArg(o.badPixels, "bad_pixels", {"error", "skip"}) == "skip" ? BadPixelPolicy::Skip
@@ -640,6 +653,7 @@ py::object processPy(const py::object& path, const py::object& out, const FileAr
     std::string json;
     {
         py::gil_scoped_release release;
+        checkFrameFiles({{&job, reportPath}}, Spelling::Key);
         if (!reportPath.empty()) requireOutputDirectory(reportPath);
         const FrameReport report = runFrameJob(job);
         json = frameReportJson(job, report);
@@ -774,6 +788,15 @@ PYBIND11_MODULE(_obscura, m) {
     m.doc() = kModuleDoc;
     m.attr("__version__") = OBSCURA_VERSION_STRING;
     py::register_exception<Error>(m, "Error", PyExc_RuntimeError);
+    // Registered after Error, so tried first: a request that cannot be carried out as asked
+    // (two roles naming one file) is the caller's ValueError, like a bad keyword.
+    py::register_exception_translator([](std::exception_ptr p) {
+        try {
+            if (p) std::rethrow_exception(p);
+        } catch (const UsageError& e) {
+            PyErr_SetString(PyExc_ValueError, e.what());
+        }
+    });
     m.attr("Error").attr("__doc__") =
         "A failure reported by obscura's file pipeline or operator (missing, unreadable or corrupt file, no "
         "camera, bad pixels, unwritable output). Subclass of RuntimeError; str(e) is one line naming the file "
@@ -1067,8 +1090,8 @@ max_pixels as process(). Raises obscura.Error when the file or the name is missi
     for (const QualityPreset& q : qualityPresets())
         quality[py::str(q.name)] = py::dict("directions"_a = q.directions, "steps"_a = q.steps, "blur"_a = q.blur);
     m.attr("QUALITY_PRESETS") = quality;
-    // The method table (core/methods.h): what each method reads and writes, where it runs, and
-    // its own keywords with their ranges.
+    // The method table (core/methods.h): what each method reads and writes, where it runs, its
+    // own keywords with their ranges, and the other keywords only some methods read.
     py::dict table;
     for (const MethodInfo& mi : methods()) {
         py::dict params;
@@ -1077,7 +1100,10 @@ max_pixels as process(). Raises obscura.Error when the file or the name is missi
         py::list devices;
         if (mi.cpu) devices.append("cpu");
         if (mi.gl) devices.append("gl");
-        table[py::str(mi.name)] = py::dict("description"_a = mi.description, "devices"_a = devices,
+        py::list options;  // keywords beyond its params that it reads (core/methods.h's MethodOption)
+        for (const MethodOption& o : methodOptions())
+            if (settingRefusal(mi.name, o.key, Spelling::Key).empty()) options.append(o.key);
+        table[py::str(mi.name)] = py::dict("description"_a = mi.description, "devices"_a = devices, "options"_a = options,
                                            "reads"_a = py::cast(std::vector<std::string>(mi.reads.begin(), mi.reads.end())),
                                            "outputs"_a = py::cast(std::vector<std::string>(mi.outputs.begin(), mi.outputs.end())),
                                            "params"_a = params);
