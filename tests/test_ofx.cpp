@@ -152,15 +152,17 @@ std::vector<float> runCli(const Config& c, const Scene& s, const fs::path& dir) 
     writeFixture(in.string(), {part});
 
     std::vector<std::string> args = {in.string(), "-o", out.string(), "--out-type", "float", "--quiet",
-                                     "--radius", num(c.radius), "--directions", std::to_string(c.directions),
-                                     "--steps", std::to_string(c.steps), "--weighting", c.cosine ? "cosine" : "uniform",
+                                     "--radius", num(c.radius), "--weighting", c.cosine ? "cosine" : "uniform",
                                      "--falloff", c.noFalloff ? "none" : "linear", "--blur", std::to_string(c.blur),
                                      "--depth", toString(c.depth), "--normals", toString(c.normals),
                                      "--camera-to-world", rowsOf(s.cam.cameraToWorld), "--device", "cpu"};
+    // Only what the method reads: the CLI refuses the rest (the node greys it out).
+    if (c.method == 0)
+        args.insert(args.end(), {"--directions", std::to_string(c.directions), "--steps", std::to_string(c.steps)});
     if (c.method == 2) args.insert(args.end(), {"--method", "ssao", "--ssao-samples", std::to_string(c.ssaoSamples)});
     if (c.method == 3)
         args.insert(args.end(), {"--method", "rtao", "--rtao-grid", std::to_string(c.rtaoGrid)});
-    args.insert(args.end(), {"--thickness", c.thickness < 0 ? "auto" : num(c.thickness)});
+    if (c.method != 2) args.insert(args.end(), {"--thickness", c.thickness < 0 ? "auto" : num(c.thickness)});
     if (c.orthographic) {
         args.insert(args.end(), {"--ortho-width", num(s.orthoWidth)});
     } else {

@@ -52,15 +52,20 @@ bool has(const nlohmann::json& list, const std::string& prefix) {
 
 } // namespace
 
-// AO alone runs HBAO and writes one channel; an --env given to it is never loaded.
+// AO alone runs HBAO and writes one channel; an --env given to it is refused, not loaded.
 TEST_F(SsdoCli, AoAloneRunsNothingElse) {
     const fs::path out = dir / "ao.exr", rep = dir / "ao.json";
-    const CliResult r = run({kRoom.string(), "-o", out.string(), "--radius", "1", "--env", "/nonexistent.hdr",
-                             "--report", rep.string()});
+    const CliResult r = run({kRoom.string(), "-o", out.string(), "--radius", "1", "--report", rep.string()});
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const auto j = report(rep);
     EXPECT_EQ(j["plan"], nlohmann::json::array({"hbao"}));
     EXPECT_EQ(j["written"], nlohmann::json::array({"obscura.AO.Y"}));
+    // A map only ssdo lights with is refused, not ignored: the run would not do what it says.
+    const fs::path out2 = dir / "ao2.exr";
+    const CliResult e = run({kRoom.string(), "-o", out2.string(), "--env", "/nonexistent.hdr"});
+    EXPECT_EQ(e.exitCode, 2) << e.err;
+    EXPECT_NE(e.err.find("--env is read by --method ssdo only"), std::string::npos) << e.err;
+    EXPECT_FALSE(fs::exists(out2));
 }
 
 // DO without GI: no bounce pass, no GI layer; with --bounce the GI layer appears and the

@@ -236,7 +236,7 @@ void applyMethodParam(const std::string& key, const py::handle& value, Settings&
 // A keyword the method would ignore is refused from the method table (core/methods.h), as the
 // CLI refuses the flag. False and None are the defaults: passing them asks for nothing.
 void refuseIgnored(const std::string& method, const std::string& key, const py::handle& value) {
-    if (value.is_none() || (py::isinstance<py::bool_>(value) && !py::bool_(value))) return;
+    if (value.is_none() || (py::isinstance<py::bool_>(value) && !value.cast<bool>())) return;
     const std::string problem = settingRefusal(method, key, Spelling::Key);
     if (!problem.empty()) valueError(problem);
 }
@@ -270,6 +270,8 @@ Settings settingsFrom(const SettingArgs& a, const char* method = nullptr) {
     if (!a.threads.is_none()) s.threads = intInRange(a.threads, "threads", 0, 1 << 16);
     for (const auto& item : a.own) applyMethodParam(py::str(item.first), item.second, s);
     if (method) s.method = method;
+    refuseIgnored(s.method, "directions", a.directions);
+    refuseIgnored(s.method, "steps", a.steps);
     refuseIgnored(s.method, "weighting", a.weighting);
     refuseIgnored(s.method, "falloff", a.falloff);
     for (const auto& item : a.own) refuseIgnored(s.method, py::str(item.first), item.second);

@@ -48,8 +48,8 @@ def test_process_ssdo_relit_writes_layers_and_plan(tmp):
     (dict(up="x"), "up must be one of"),
     (dict(env_intensity=float("nan")), "env_intensity must be finite"),
     (dict(out_layer={"bogus": "X"}), "unknown output 'bogus'"),
-    (dict(method="hbao", bounce=True), "bounce=True needs method='ssdo'"),
-    (dict(method="hbao", out_layer={"relit": "R"}), "needs method='ssdo'"),
+    (dict(method="hbao", bounce=True), "bounce is read by method='ssdo' only, not by method='hbao'"),
+    (dict(method="hbao", out_layer={"relit": "R"}), "out_layer 'relit' is written by method='ssdo' only"),
     (dict(method="nope"), "method must be one of"),
 ])
 def test_process_ssdo_bad_values(tmp, kwargs, message):
