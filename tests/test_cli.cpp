@@ -720,12 +720,12 @@ TEST_F(UsageFixture, OutputDirectoryMissing) {
 TEST_F(UsageFixture, OutputIsInputRefused) {
     const std::string before = fileBytes(in);
     const CliResult r = cli(cat({in, "-o", in}, cameraFlags(scene)));
-    expectCleanFailure(r, 1, {}, {"--in-place"});
+    expectCleanFailure(r, 2, {}, {"--in-place"});
     EXPECT_TRUE(fileBytes(in) == before) << "input modified";
     // The same file under another spelling.
     const std::string alias = (dir / "." / "in.exr").string();
     const CliResult r2 = cli(cat({in, "-o", alias}, cameraFlags(scene)));
-    expectCleanFailure(r2, 1, {}, {"--in-place"});
+    expectCleanFailure(r2, 2, {}, {"--in-place"});
     EXPECT_TRUE(fileBytes(in) == before) << "input modified";
     EXPECT_EQ(tempLeftovers(dir), std::vector<std::string>{});
 }

@@ -257,3 +257,29 @@ TEST(Resume, OneFrameSkipsAFinishedOutputAndClearsADeadWritersTemp) {
     EXPECT_EQ(redo.exitCode, 0) << describe(redo);
     EXPECT_NE(slurp(w("plain.exr")), slurp(w("in.exr")));
 }
+
+// A new user runs --help's example exactly as printed, beside a render and its sidecar: it
+// works, and every file they started with is byte-identical afterwards.
+TEST(NothingOverwritten, HelpsExampleKeepsEveryFile) {
+    const Workspace w(freshDir());
+    fs::copy_file(kData + "/room.exr", w("shot.0001.exr"));
+    fs::copy_file(kData + "/room.json", w("shot.0001.json"));
+    const CliResult help = cli({"--help"});
+    const size_t at = help.out.find("example:\n");
+    ASSERT_NE(at, std::string::npos) << help.out;
+    std::string example = help.out.substr(at + 9, help.out.find("\n\n", at) - at - 9);
+    std::vector<std::string> args;
+    std::istringstream words(example);
+    for (std::string word; words >> word;)
+        if (word != "\\") args.push_back(word);
+    ASSERT_EQ(args.front(), "obscura");
+    args.erase(args.begin());
+    const auto before = snapshot(w.dir);
+    const fs::path cwd = fs::current_path();
+    fs::current_path(w.dir);  // the example's file names, exactly as printed
+    const CliResult r = cli(args);
+    fs::current_path(cwd);
+    EXPECT_EQ(r.exitCode, 0) << describe(r);
+    const auto after = snapshot(w.dir);
+    for (const auto& [name, bytes] : before) EXPECT_TRUE(after.count(name) && after.at(name) == bytes) << name;
+}

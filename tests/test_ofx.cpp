@@ -641,6 +641,17 @@ TEST(OfxHostBehaviour, ParametersOfOtherMethodsAreDisabled) {
         }
     }
     EXPECT_GT(checked, 50);
+    // The describe step says the same: each such parameter names its methods in its hint.
+    Host host(kBundle);
+    ASSERT_EQ(host.load(), kOfxStatOK);
+    ASSERT_EQ(host.describe(), kOfxStatOK);
+    for (const MethodParam* p : allMethodParams())
+        if (p->ofx) {
+            const Param* d = host.descriptor().params.find(p->key);
+            ASSERT_TRUE(d) << p->key;
+            EXPECT_NE(d->props.string(kOfxParamPropHint).find("[read by " + methodsReading(p->key).front()), std::string::npos)
+                << p->key;
+        }
 }
 
 TEST(OfxHostBehaviour, FailuresAreReportedThroughTheMessageSuite) {

@@ -672,7 +672,17 @@ struct ParamDef {
         defined.push_back(name);
         gProp->propSetString(p, kOfxPropLabel, 0, label);
         gProp->propSetString(p, kOfxParamPropScriptName, 0, name);
-        if (hint) gProp->propSetString(p, kOfxParamPropHint, 0, hint);
+        // A parameter only some methods read says which (the method table), and starts greyed
+        // out unless the default method reads it; the instance follows the Method choice.
+        const std::vector<std::string> readers = methodsReading(name);
+        std::string text = hint ? hint : "";
+        if (!readers.empty()) {
+            text += " [read by";
+            for (const std::string& m : readers) text += " " + m;
+            text += "]";
+            gProp->propSetInt(p, kOfxParamPropEnabled, 0, settingRefusal(Settings{}.method, name, Spelling::Key).empty());
+        }
+        if (!text.empty()) gProp->propSetString(p, kOfxParamPropHint, 0, text.c_str());
         if (parent)
             gProp->propSetString(p, kOfxParamPropParent, 0, parent);
         else

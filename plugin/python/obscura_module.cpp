@@ -1067,8 +1067,11 @@ samples (1-4096), interleave (1-8), bounce (bool: GI), bounce_source ('direct-di
 'beauty' | layer), env (lat-long map path), env_rotate (degrees), env_intensity, env_colorspace,
 colorspace (of the input's colour passes), sky ((r, g, b) without env), lights (up to 4
 ((x, y, z), (r, g, b)): world direction towards the light, irradiance), up ('y' | 'z'; default z
-for Blender renders), times_albedo (bool), relit_direct (bool). bounce, times_albedo,
-relit_direct and out_layer do/gi/relit raise ValueError unless method='ssdo'.
+for Blender renders), times_albedo (bool), relit_direct (bool).
+A keyword the method does not read (obscura.METHODS[m]['params'] and ['options'] list those it
+does) or an output it cannot write raises ValueError naming the methods that do. So does out,
+report or preview naming a file the call reads (PATH, its sidecar, camera, env, the OpenColorIO
+config) or one another, compared by identity through links; only in_place=True lets out be PATH.
 Outputs are written atomically; on obscura.Error nothing is left behind.)doc");
 
     m.def(
