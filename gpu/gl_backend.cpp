@@ -319,10 +319,6 @@ void GlBackend::runSsdo(const glsl::KernelParams& p, const SsdoInputs& in, Mutab
     if (timings) *timings = t;
 }
 
-bool isDeviceName(const std::string& n) {
-    return n == "cpu" || n == "auto" || n == "gl" || n == "gl-egl" || n == "gl-osmesa";
-}
-
 GlBackend& glBackendFor(const std::string& device) {
     // One backend per thread and device: a GL context is current on one thread only.
     thread_local std::map<std::string, std::unique_ptr<GlBackend>> cache;
@@ -345,7 +341,7 @@ GlBackend& glBackendFor(const std::string& device) {
             }
         }
     } else {
-        throw Error("unknown device '" + device + "' (cpu, auto, gl, gl-egl, gl-osmesa)");
+        throw Error("unknown GL device '" + device + "'");
     }
     return *slot;
 }

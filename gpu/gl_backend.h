@@ -79,10 +79,8 @@ private:
     unsigned buffers_[kBufferCount] = {};
 };
 
-// "cpu", "auto", "gl", "gl-egl", "gl-osmesa"; returns false for an unknown name.
-bool isDeviceName(const std::string& name);
-
-// The backend for a device name, made once per thread and reused.
+// The backend for a GL device name ("gl", "gl-egl", "gl-osmesa", or "gl-egl-hardware": an EGL
+// device that is not a software renderer), made once per thread and reused.
 // "gl" tries EGL then OSMesa. Throws obscura::Error saying why it cannot be made.
 GlBackend& glBackendFor(const std::string& device);
 

@@ -23,9 +23,6 @@ void GlBackend::runSsdo(const glsl::KernelParams&, const SsdoInputs&, MutablePla
                         GlTimings*) {}
 void GlBackend::runDiscs(const glsl::KernelParams&, const float*, size_t, ConstPlane, ConstPlane, MutablePlane, int,
                          GlTimings*) {}
-bool isDeviceName(const std::string& n) {
-    return n == "cpu" || n == "auto" || n == "gl" || n == "gl-egl" || n == "gl-osmesa";
-}
 GlBackend& glBackendFor(const std::string&) { throw Error("this build of obscura has no OpenGL backend"); }
 
 } // namespace obscura::gpu

@@ -2,6 +2,7 @@
 // dlopen as Nuke, Natron or Resolve would and drives describe / describeInContext /
 // createInstance / getRegionsOfInterest / isIdentity / render over tiles. Its output is
 // compared with the command line on the same planes: identical pixels, whole frame and tiled.
+#include "core/devices.h"
 #include "core/methods.h"
 #include "ofx_host/ofx_host.h"
 #include "support/scratch.h"
@@ -645,6 +646,12 @@ TEST(OfxHostBehaviour, ParametersOfOtherMethodsAreDisabled) {
     Host host(kBundle);
     ASSERT_EQ(host.load(), kOfxStatOK);
     ASSERT_EQ(host.describe(), kOfxStatOK);
+    // The device choice is core's one list, in its stored order.
+    const Param* device = host.descriptor().params.find("device");
+    ASSERT_TRUE(device);
+    std::vector<std::string> names;
+    for (const DeviceName& d : deviceNames()) names.push_back(d.name);
+    EXPECT_EQ(device->props.strings(kOfxParamPropChoiceOption), names);
     for (const MethodParam* p : allMethodParams())
         if (p->ofx) {
             const Param* d = host.descriptor().params.find(p->key);

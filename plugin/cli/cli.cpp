@@ -1,8 +1,8 @@
 #include "cli.h"
 
+#include "core/devices.h"
 #include "core/error.h"
 #include "core/methods.h"
-#include "gpu/gl_backend.h"
 #include "io/frame_job.h"
 #include "io/sequence.h"
 #include "io/write_guard.h"
@@ -284,8 +284,7 @@ std::vector<Flag> makeFlags() {
         {"--device", "auto|cpu|gl|gl-egl|gl-osmesa",
          "where to compute (cpu): auto = a hardware EGL GPU if present, else the CPU; gl = EGL, else OSMesa",
          [](Options& o, const std::string& v) {
-             if (!gpu::isDeviceName(v))
-                 throw UsageError("--device expects auto, cpu, gl, gl-egl or gl-osmesa, got '" + v + "'");
+             if (!isDeviceName(v)) throw UsageError("--device expects " + deviceNameList() + ", got '" + v + "'");
              o.job.settings.device = v;
          }},
         {"--threads", "N", "CPU threads (default 0 = all cores)",

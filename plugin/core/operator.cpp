@@ -1,5 +1,7 @@
 #include "operator.h"
 
+#include "devices.h"
+
 #include "core/error.h"
 #include "core/method_runs.h"
 #include "core/methods.h"
@@ -49,28 +51,6 @@ void checkSettings(const Settings& s) {
         throw Error("the maximum screen radius must be 0 (automatic) or a positive number of pixels");
 }
 
-// The GL backend a device name asks for, or nullptr for the CPU. An explicit GL device
-// that cannot be made throws; "auto" falls back to the CPU and says why in `notes`.
-gpu::GlBackend* selectGlBackend(const std::string& requested, std::vector<std::string>& notes) {
-    const std::string device = requested.empty() ? "cpu" : requested;
-    if (!gpu::isDeviceName(device))
-        throw Error("unknown device '" + device + "' (cpu, auto, gl, gl-egl, gl-osmesa)");
-    if (device == "cpu") return nullptr;
-    if (device != "auto") return &gpu::glBackendFor(device);
-    // auto means "a real GPU if there is one": a software GL would be slower than the CPU path.
-    try {
-        return &gpu::glBackendFor("gl-egl-hardware");
-    } catch (const Error& e) {
-        notes.push_back(std::string("--device auto: ") + e.what() + "; using the CPU");
-        return nullptr;
-    }
-}
-
-std::string deviceDescription(const gpu::GlBackend* gl, int threads) {
-    if (!gl) return "cpu (" + std::to_string(threads) + " threads)";
-    return gl->info().backend + ": " + gl->info().renderer + ", OpenGL " + gl->info().version;
-}
-
 // View space -> environment space (y up): the camera's rotation, the up-axis convention and
 // the user's rotation about up. Without a pose, view space stands in for world space.
 glm::mat4 viewToEnvironment(const Camera& cam, const Settings& s) {
@@ -105,9 +85,9 @@ void fillSsdoParams(const OperatorInputs& in, const Settings& s, KernelParams& p
 } // namespace
 
 std::string describeDevice(const Settings& s) {
-    std::vector<std::string> notes;
-    std::string d = deviceDescription(selectGlBackend(s.device, notes), cpu::resolveThreads(s.threads));
-    for (const std::string& n : notes) d += " (" + n + ")";
+    const DeviceChoice c = chooseDevice(s);
+    std::string d = c.description;
+    for (const std::string& n : c.notes) d += " (" + n + ")";
     return d;
 }
 

@@ -17,6 +17,7 @@
 #include "ofx_api.h"
 
 #include "core/camera.h"
+#include "core/devices.h"
 #include "core/error.h"
 #include "core/methods.h"
 #include "core/operator.h"
@@ -125,7 +126,6 @@ const char* const kFalloffs[] = {"linear", "none"};
 const char* const kProjections[] = {"perspective", "orthographic"};
 const char* const kDepthKinds[] = {"planar", "radial"};
 const char* const kNormalSpaces[] = {"world", "camera"};
-const char* const kDevices[] = {"cpu", "auto", "gl", "gl-egl", "gl-osmesa"};
 
 template <class T, size_t N>
 constexpr int countOf(const T (&)[N]) {
@@ -272,7 +272,7 @@ std::string resolveDevice(const std::string& requested) {
         try {
             Settings probe;
             probe.device = "auto";
-            hardware = describeDevice(probe).find("using the CPU") == std::string::npos;
+            hardware = chooseDevice(probe).hardware;
         } catch (...) {
             hardware = false;
         }
@@ -311,7 +311,7 @@ Params readParams(const Instance& in, OfxTime t) {
         else if (own[i]->intField) s.*(own[i]->intField) = intAt(in.methodParams[i], t);
         else s.*(own[i]->floatField) = (float)fromHostValue(*own[i], doubleAt(in.methodParams[i], t));
     }
-    s.device = resolveDevice(kDevices[choiceAt(in.device, t, countOf(kDevices))]);
+    s.device = resolveDevice(deviceNames()[choiceAt(in.device, t, (int)deviceNames().size())].name);
     p.projection = choiceAt(in.projection, t, 2) == 0 ? Projection::Perspective : Projection::Orthographic;
     p.fovDeg = doubleAt(in.fov, t);
     p.orthoWidth = doubleAt(in.orthoWidth, t);
@@ -788,8 +788,10 @@ OfxStatus onDescribeInContext(OfxImageEffectHandle effect, OfxPropertySetHandle 
            "Cap on the projected radius in pixels; it is also the apron requested around each tile. "
            "0 = automatic (the frame's extent, as the command line: every tile then reads the whole frame)",
            256.0, 0.0, 1e6, 0.0, 1024.0, kGroupAdvanced);
+    std::vector<const char*> deviceChoices;  // the one list (core/devices.h), in its stored order
+    for (const DeviceName& dn : deviceNames()) deviceChoices.push_back(dn.name);
     d.choice(kParamDevice, "Device", "Compute device (--device); auto = a hardware GPU if present, else the CPU",
-             {kDevices[0], kDevices[1], kDevices[2], kDevices[3], kDevices[4]}, 1, kGroupAdvanced);
+             deviceChoices, 1, kGroupAdvanced);
     d.integer(kParamThreads, "Threads", "CPU threads, 0 = all cores (--threads)", 0, 0, 1024, 0, 64, kGroupAdvanced);
 
     d.group(kGroupSsdo, "SSDO");

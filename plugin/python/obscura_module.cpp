@@ -1,10 +1,10 @@
 // The Python host: a pybind11 module over the same operator (plugin/core) and frame
 // job (plugin/io) as the CLI. numpy arrays are viewed in place (strided planes), never
 // converted; the GIL is released while pixels are read, computed or written.
+#include "core/devices.h"
 #include "core/error.h"
 #include "core/operator.h"
 #include "core/methods.h"
-#include "gpu/gl_backend.h"
 #include "io/camera_sources.h"
 #include "io/frame_job.h"
 #include "io/write_guard.h"
@@ -264,8 +264,8 @@ Settings settingsFrom(const SettingArgs& a, const char* method = nullptr) {
     if (!a.blur.is_none()) s.blur = intInRange(a.blur, "blur", 0, 64);
     if (!a.device.is_none()) {
         s.device = strArg(a.device, "device");
-        if (!gpu::isDeviceName(s.device))
-            valueError("device must be 'cpu', 'auto', 'gl', 'gl-egl' or 'gl-osmesa', got '" + s.device + "'");
+        if (!isDeviceName(s.device))
+            valueError("device must be one of " + deviceNameList(", ", " or ") + ", got '" + s.device + "'");
     }
     if (!a.threads.is_none()) s.threads = intInRange(a.threads, "threads", 0, 1 << 16);
     for (const auto& item : a.own) applyMethodParam(py::str(item.first), item.second, s);
