@@ -14,10 +14,12 @@
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfInputFile.h>
+#include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -74,7 +76,7 @@ struct Config {
     bool cosine = false, noFalloff = false;
     int blur = 0;
     double maxScreenRadius = 256;   // the plugin's cap (0 = automatic, the CLI's rule)
-    int method = 0;                 // index into the Method choice: 0 hbao, 2 ssao, 3 rtao
+    int method = 0;                 // index into the Method choice: 0 hbao, 1 ssdo (the CLI's run), 2 ssao, 3 rtao
     int ssaoSamples = 16;
     double thickness = -1;          // hbao's and rtao's; -1: auto (the number OFX stores for it)
     int rtaoGrid = 1;
@@ -133,8 +135,10 @@ Scene makeScene(const Config& c, int w = kW, int h = kH) {
     return s;
 }
 
-// The CLI's AO over the data window, y down (EXR rows), from --out-type float.
-std::vector<float> runCli(const Config& c, const Scene& s, const fs::path& dir) {
+// The CLI's AO (or `channels`, interleaved) over the data window, y down (EXR rows), from
+// --out-type float; `extra` flags follow the scene's.
+std::vector<float> runCli(const Config& c, const Scene& s, const fs::path& dir, const std::vector<std::string>& extra = {},
+                          const std::vector<std::string>& channels = {"obscura.AO.Y"}) {
     using namespace fixtures;
     const Box2i data = s.buf.data;
     FixturePart part;
@@ -160,15 +164,21 @@ std::vector<float> runCli(const Config& c, const Scene& s, const fs::path& dir) 
     // Only what the method reads: the CLI refuses the rest (the node greys it out).
     if (c.method == 0)
         args.insert(args.end(), {"--directions", std::to_string(c.directions), "--steps", std::to_string(c.steps)});
+    if (c.method == 1) {  // ssdo weighs and fades its samples its own way
+        args.erase(std::find(args.begin(), args.end(), "--weighting"), std::find(args.begin(), args.end(), "--blur"));
+        args.insert(args.end(), {"--method", "ssdo"});
+    }
     if (c.method == 2) args.insert(args.end(), {"--method", "ssao", "--ssao-samples", std::to_string(c.ssaoSamples)});
     if (c.method == 3)
         args.insert(args.end(), {"--method", "rtao", "--rtao-grid", std::to_string(c.rtaoGrid)});
-    if (c.method != 2) args.insert(args.end(), {"--thickness", c.thickness < 0 ? "auto" : num(c.thickness)});
+    if (c.method != 1 && c.method != 2)
+        args.insert(args.end(), {"--thickness", c.thickness < 0 ? "auto" : num(c.thickness)});
     if (c.orthographic) {
         args.insert(args.end(), {"--ortho-width", num(s.orthoWidth)});
     } else {
         args.insert(args.end(), {"--fov-deg", num(s.fovDeg)});
     }
+    args.insert(args.end(), extra.begin(), extra.end());
     const test::CliResult r = test::runProgram(OBSCURA_CLI_PATH, args);
     EXPECT_EQ(r.exitCode, 0) << r.err;
     if (r.exitCode != 0) return {};
@@ -178,11 +188,14 @@ std::vector<float> runCli(const Config& c, const Scene& s, const fs::path& dir) 
     EXPECT_EQ(dw.min.x, data.x0);
     EXPECT_EQ(dw.max.y, data.y1 - 1);
     const int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
-    EXPECT_NE(file.header().channels().findChannel("obscura.AO.Y"), nullptr);
-    EXPECT_EQ(file.header().channels().findChannel("obscura.AO.Y")->type, Imf::FLOAT);
-    std::vector<float> ao((size_t)w * h);
+    const size_t n = channels.size();
+    std::vector<float> ao((size_t)w * h * n);
     Imf::FrameBuffer fb;
-    fb.insert("obscura.AO.Y", Imf::Slice::Make(Imf::FLOAT, ao.data(), dw, sizeof(float), sizeof(float) * w));
+    for (size_t k = 0; k < n; ++k) {
+        EXPECT_NE(file.header().channels().findChannel(channels[k]), nullptr) << channels[k];
+        EXPECT_EQ(file.header().channels().findChannel(channels[k])->type, Imf::FLOAT);
+        fb.insert(channels[k], Imf::Slice::Make(Imf::FLOAT, ao.data() + k, dw, sizeof(float) * n, sizeof(float) * n * w));
+    }
     file.setFrameBuffer(fb);
     file.readPixels(dw.min.y, dw.max.y);
     return ao;
@@ -693,14 +706,15 @@ TEST(OfxInstall, CmakeInstallLaysOutALoadableBundle) {
     const fs::path bundle = prefix / "OFX" / "Plugins" / "obscura.ofx.bundle";
     EXPECT_TRUE(fs::is_regular_file(bundle / "Contents" / "Info.plist"));
     EXPECT_TRUE(fs::is_regular_file(bundle / "Contents" / OBSCURA_OFX_ARCH / "obscura.ofx"));
-    // Nothing else is installed by the component.
+    // Nothing else is installed by the component: the plugin, the OpenImageIO module and the colour config.
     std::vector<std::string> files;
     for (const auto& e : fs::recursive_directory_iterator(prefix))
         if (e.is_regular_file()) files.push_back(fs::relative(e.path(), prefix).string());
     std::sort(files.begin(), files.end());
+    const std::string arch = std::string("OFX/Plugins/obscura.ofx.bundle/Contents/") + OBSCURA_OFX_ARCH;
     EXPECT_EQ(files, (std::vector<std::string>{"OFX/Plugins/obscura.ofx.bundle/Contents/Info.plist",
-                                               std::string("OFX/Plugins/obscura.ofx.bundle/Contents/") +
-                                                   OBSCURA_OFX_ARCH + "/obscura.ofx"}));
+                                               arch + "/libobscura_oiio.so", arch + "/obscura.ofx",
+                                               "OFX/Plugins/obscura.ofx.bundle/Contents/Resources/ocio/config.ocio"}));
 
     // The installed copy renders the same pixels as the build tree's.
     const Config c;
@@ -1026,6 +1040,56 @@ TEST(OfxSsdo, FurnaceOpenPlaneUnderWhiteSkyGivesPi) {
 
 // An environment map read from a file equals the operator given the same pixels; the
 // per-instance cache sees a changed file.
+// One map lights a shot alike in the node and the CLI: both read it through plugin/io, which
+// converts an sRGB-encoded PNG to the working space (a linear read would differ by up to ~4x).
+TEST(OfxSsdo, EnvironmentMapLightsTheNodeAsTheCli) {
+    const fs::path dir = testDir();
+    const std::string png = (dir / "env.png").string();
+    {
+        const int w = 32, h = 16;
+        std::vector<unsigned char> px((size_t)w * h * 3);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                for (int c = 0; c < 3; ++c) px[((size_t)y * w + x) * 3 + c] = (unsigned char)(40 + 5 * x + 7 * y + 30 * c);
+        auto out = OIIO::ImageOutput::create(png);
+        ASSERT_TRUE(out && out->open(png, OIIO::ImageSpec(w, h, 3, OIIO::TypeDesc::UINT8)));
+        ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, px.data()));
+        out->close();
+    }
+    Config c;
+    c.method = 1;
+    const Scene s = makeScene(c);
+    const HostImage albedo = albedoClipOf(s);
+    SsdoOptions o;
+    o.envRotation = 40, o.envIntensity = 1.5, o.zUp = true;
+    Loaded l = instantiateSsdo(s, albedo);
+    ASSERT_TRUE(l.inst);
+    applyConfig(*l.inst, c, s);
+    applySsdo(*l.inst, o);
+    ASSERT_EQ(l.inst->setString("envMap", png), kOfxStatOK);
+    ASSERT_EQ(l.inst->setInt("output", kOutDo), kOfxStatOK);
+    std::vector<std::string> problems;
+    const HostImage node = l.inst->renderFrame(0, 0, 1, problems);
+    EXPECT_EQ(joined(problems), "");
+    const std::vector<float> cli =
+        runCli(c, s, dir, {"--env", png, "--samples", "64", "--interleave", "2", "--env-rotate", "40", "--env-intensity", "1.5",
+                           "--up", "z"},
+               {"obscura.DO.R", "obscura.DO.G", "obscura.DO.B"});
+    const Box2i data = s.buf.data;
+    ASSERT_EQ(cli.size(), (size_t)data.width() * data.height() * 3);
+    double worst = 0, mean = 0;
+    for (int dy = data.y0; dy < data.y1; ++dy)
+        for (int dx = data.x0; dx < data.x1; ++dx)
+            for (int k = 0; k < 3; ++k) {
+                const float want = cli[(((size_t)(dy - data.y0) * data.width()) + (dx - data.x0)) * 3 + k];
+                worst = std::max(worst, (double)std::fabs(node.at(dx, kH - 1 - dy)[k] - want));
+                mean += want;
+            }
+    mean /= (double)cli.size();
+    EXPECT_GT(mean, 0.05);  // the map lights the scene
+    EXPECT_LE(worst, 1e-5 * std::max(1.0, mean)) << "mean DO " << mean;
+}
+
 TEST(OfxSsdo, EnvironmentMapFromFileMatchesOperator) {
     const fs::path dir = testDir();
     const Config c;
@@ -1083,7 +1147,8 @@ TEST(OfxSsdo, EnvironmentMapFromFileMatchesOperator) {
     EXPECT_EQ(l.inst->render({0, 0, 16, 16}, frame), kOfxStatFailed);
     const std::vector<std::string> msgs = l.host->messages();
     ASSERT_FALSE(msgs.empty());
-    EXPECT_NE(msgs.back().find("huge_env.hdr': the environment map holds 20000 x 20000 pixels"), std::string::npos)
+    EXPECT_NE(msgs.back().find("huge_env.hdr': image window [0,0 - 19999,19999] holds 20000 x 20000 pixels"),
+              std::string::npos)
         << msgs.back();
     EXPECT_EQ(l.host->liveImages(), 0);
 }

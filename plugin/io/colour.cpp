@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <dlfcn.h>
 #include <filesystem>
 #include <functional>
 #include <mutex>
@@ -113,10 +114,13 @@ std::string stringAttribute(const Imf::Header& h, const char* name) {
     return {};
 }
 
-// Directory of the running executable (Linux), "" if unknown.
-std::filesystem::path exeDir() {
+// Directory of the binary holding this code: the obscura executable, the Python module or the
+// OpenFX plugin inside its bundle (not the host application that loaded it); "" if unknown.
+std::filesystem::path moduleDir() {
+    Dl_info info{};
+    if (!dladdr(reinterpret_cast<void*>(&moduleDir), &info) || !info.dli_fname) return {};
     std::error_code ec;
-    auto p = std::filesystem::read_symlink("/proc/self/exe", ec);
+    const std::filesystem::path p = std::filesystem::canonical(info.dli_fname, ec);
     return ec ? std::filesystem::path() : p.parent_path();
 }
 
@@ -181,11 +185,12 @@ struct ColourManager::Impl {
 std::string ColourManager::shippedConfigPath() {
     namespace fs = std::filesystem;
     std::error_code ec;
-    const fs::path dir = exeDir();
-    if (!dir.empty()) {
-        const fs::path installed = dir / ".." / "share" / "obscura" / "ocio" / "config.ocio";
-        if (fs::is_regular_file(installed, ec)) return fs::weakly_canonical(installed, ec).string();
-    }
+    const fs::path dir = moduleDir();
+    // bin/ -> share/obscura (an install); Contents/<arch>/ -> Contents/Resources (the OFX bundle).
+    if (!dir.empty())
+        for (const fs::path& installed : {dir / ".." / "share" / "obscura" / "ocio" / "config.ocio",
+                                         dir / ".." / "Resources" / "ocio" / "config.ocio"})
+            if (fs::is_regular_file(installed, ec)) return fs::weakly_canonical(installed, ec).string();
 #ifdef OBSCURA_DEFAULT_OCIO_CONFIG
     if (fs::is_regular_file(OBSCURA_DEFAULT_OCIO_CONFIG, ec)) return OBSCURA_DEFAULT_OCIO_CONFIG;
 #endif

@@ -1,4 +1,5 @@
 #include "io/frame_job.h"
+#include "io/environment_map.h"
 
 #include "core/error.h"
 #include "core/methods.h"
@@ -138,23 +139,14 @@ std::vector<std::string> roleRgb(const LayerPlan& plan, Role role) {
     return {b->channels.begin(), b->channels.begin() + std::min<size_t>(3, b->channels.size())};
 }
 
-// Lat-long environment map, any format OpenImageIO reads, as RGB floats in the working space.
-Image readEnvironmentMap(const std::string& path, const std::string& colourSpace, long long maxPixels,
-                         FrameReport& report) {
-    auto accept = [&](int width, int height, int channels) {
-        if (channels < 3) throw FileError(path, "the environment map has fewer than 3 channels");
-        checkWindow(path, "image", Imath::Box2i(Imath::V2i(0, 0), Imath::V2i(width - 1, height - 1)), maxPixels);
-    };
-    Image rgb;
-    ColourMetadata meta;
-    const std::string failed = oiioModule().readRgb(path, accept, rgb, meta);
-    if (!failed.empty()) throw FileError(path, "cannot read the environment map: " + failed);
-    const ColourManager& cm = colourManager();
-    const ColourSpaceGuess space = cm.detectColourSpace(meta, colourSpace);
-    if (!space.warning.empty()) report.warnings.push_back("environment: " + space.warning);
-    cm.toWorkingSpace(rgb, space.name);
-    report.plan.push_back("environment colour: " + space.name + " (" + space.source + ") -> " + cm.workingSpace());
-    return rgb;
+// The map through plugin/io's one reader, its colour decisions in the report.
+Image loadEnvironment(const std::string& path, const std::string& colourSpace, long long maxPixels,
+                      FrameReport& report) {
+    EnvironmentMap map = readEnvironmentMap(path, colourSpace, maxPixels);
+    for (std::string& w : map.warnings) report.warnings.push_back(std::move(w));
+    report.plan.push_back("environment colour: " + map.colourSpace + " (" + map.source + ") -> " +
+                          colourManager().workingSpace());
+    return std::move(map.rgb);
 }
 
 // Three channels <layer>.R/G/B of an RGB image.
@@ -494,7 +486,7 @@ FrameReport runJob(const FrameJob& job) {
         if (reads.senderAlbedo && !p.albedo.empty()) in.albedo = p.albedo.view();
         if (!job.envPath.empty()) {  // loaded only when the method lights with it
             StageTimer timer{&report.stages, "environment"};
-            environment = readEnvironmentMap(job.envPath, job.envColourSpace, job.maxPixels, report);
+            environment = loadEnvironment(job.envPath, job.envColourSpace, job.maxPixels, report);
             in.environment = &environment;
             report.plan.push_back("environment " + job.envPath + " (" + std::to_string(environment.width) + "x" +
                                   std::to_string(environment.height) + ")");

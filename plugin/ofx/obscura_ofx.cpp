@@ -22,8 +22,9 @@
 #include "core/methods.h"
 #include "core/operator.h"
 #include "core/settings.h"
+#include "io/environment_map.h"
+#include "io/exr_file.h"
 
-#include <OpenImageIO/imageio.h>
 
 #include <sys/stat.h>
 
@@ -545,32 +546,9 @@ Image toDisplayPlane(const ClipImage& img, const PixRect& r, const FrameMap& f, 
 }
 
 // ---------------------------------------------------------------------------
-// The environment map: read with OpenImageIO as RGB float (a grey map is spread to RGB,
-// extra channels are dropped), cached per instance by path, modification time and size.
+// The environment map: plugin/io's reader (the CLI's and Python's), converted to the working
+// space, cached per instance by path, modification time and size.
 // ---------------------------------------------------------------------------
-
-Image readEnvironment(const std::string& path) {
-    auto file = OIIO::ImageInput::open(path);
-    if (!file) throw FileError(path, "cannot read the environment map: " + firstLineOf(OIIO::geterror()));
-    const OIIO::ImageSpec spec = file->spec();
-    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
-        throw FileError(path, "the environment map has no pixels");
-    // The header's size is checked before allocating, against the CLI's default --max-pixels.
-    constexpr long long kMaxPixels = 16384LL * 16384;
-    if ((long long)spec.width * spec.height > kMaxPixels)
-        throw FileError(path, "the environment map holds " + std::to_string(spec.width) + " x " +
-                                  std::to_string(spec.height) + " pixels, more than the limit of " +
-                                  std::to_string(kMaxPixels));
-    const int chans = std::min(spec.nchannels, 3);
-    std::vector<float> pixels((size_t)spec.width * spec.height * chans);
-    if (!file->read_image(0, 0, 0, chans, OIIO::TypeDesc::FLOAT, pixels.data()))
-        throw FileError(path, "cannot read the environment map: " + firstLineOf(file->geterror()));
-    file->close();
-    Image img(spec.width, spec.height, 3);
-    for (size_t i = 0, n = (size_t)spec.width * spec.height; i < n; ++i)
-        for (int c = 0; c < 3; ++c) img.pixels[i * 3 + c] = pixels[i * chans + std::min(c, chans - 1)];
-    return img;
-}
 
 std::shared_ptr<const Image> environmentFor(const Instance& in, const std::string& path) {
     struct stat st {};
@@ -580,7 +558,8 @@ std::shared_ptr<const Image> environmentFor(const Instance& in, const std::strin
     std::lock_guard<std::mutex> lock(cache.mutex);
     if (!cache.image || cache.path != path || cache.mtimeNs != mtime || cache.size != (long long)st.st_size) {
         cache.image.reset();
-        cache.image = std::make_shared<const Image>(readEnvironment(path));
+        // The CLI's default --max-pixels: the header's size is checked before allocating.
+        cache.image = std::make_shared<const Image>(readEnvironmentMap(path, "", kDefaultMaxPixels).rgb);
         cache.path = path;
         cache.mtimeNs = mtime;
         cache.size = (long long)st.st_size;
@@ -807,7 +786,7 @@ OfxStatus onDescribeInContext(OfxImageEffectHandle effect, OfxPropertySetHandle 
     }
     {
         OfxPropertySetHandle p = d.define(kOfxParamTypeString, kParamEnvMap, "Environment Map",
-                                          "Lat-long radiance map, any format OpenImageIO reads, taken as linear RGB "
+                                          "Lat-long radiance map, any format OpenImageIO reads, converted from its colour space to the working space as the CLI does "
                                           "(--env); empty = the sky colour",
                                           kGroupSsdo);
         gProp->propSetString(p, kOfxParamPropDefault, 0, "");
