@@ -425,7 +425,9 @@ int runSequence(const Options& o) {
     if (!isFramePattern(o.job.output)) throw UsageError("the input is a sequence: -o needs a pattern too (e.g. out.####.exr)");
     std::vector<int> frames;
     try {
-        frames = o.frames.empty() ? existingFrames(o.job.input) : parseFrames(o.frames);
+        // With --flat the deep file is the input: its frames are the sequence's.
+        frames = o.frames.empty() ? existingFrames(o.job.deepInput.empty() ? o.job.input : o.job.deepInput)
+                                  : parseFrames(o.frames);
     } catch (const FileError&) {
         throw;
     } catch (const Error& e) {  // a --frames list that does not parse: the command line
