@@ -912,7 +912,7 @@ deep (hbao): float32 (H, W, 2K), the surfaces along each pixel's ray as (front, 
 nearest first, the visible one first; front inf past a ray's last; back == front where the
 span is unknown (docs/deep.md). deep_layers=K caps how many are used.
 
-camera: obscura.Camera. data_window: (x0, y0, x1, y1) the arrays cover in display-window
+camera: obscura.Camera, required. data_window: (x0, y0, x1, y1) the arrays cover in display-window
 pixels (default (0, 0, W, H); larger than the display window for overscan). display_window:
 the frame's (x0, y0, x1, y1), default (0, 0, W, H).
 Settings (defaults as the CLI): radius=1.0 world units, directions=8, steps=8,
