@@ -212,7 +212,10 @@ TEST(WriteNew, SsdoLayersEqualTheCopys) {
     const Scene s = studio();
     const std::string in = writeSinglePart(dir, s, Imf::ZIPS_COMPRESSION);
     const std::string out = expectNewEqualsCopy(
-        dir, s, in, 0, {"--method", "ssdo", "--out-type", "float", "--samples", "8", "--bounce", "--bounce-source", "beauty"},
+        // GI without relit (--bounce would add relit, which needs an albedo pass this file lacks).
+        dir, s, in, 0,
+        {"--method", "ssdo", "--out-type", "float", "--samples", "8", "--out-layer", "gi=obscura.GI", "--bounce-source",
+         "beauty"},
         {"obscura.AO.Y", "obscura.DO.R", "obscura.DO.G", "obscura.DO.B", "obscura.GI.R", "obscura.GI.G", "obscura.GI.B"});
     if (HasFailure()) return;
     EXPECT_EQ(partsOf(out)[0].header.compression(), Imf::ZIPS_COMPRESSION);

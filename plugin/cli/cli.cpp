@@ -4,6 +4,7 @@
 #include "core/error.h"
 #include "core/methods.h"
 #include "io/frame_job.h"
+#include "io/inspect.h"
 #include "io/sequence.h"
 #include "io/write_guard.h"
 
@@ -33,6 +34,7 @@ namespace {
 struct Options {
     FrameJob job;
     bool inspect = false, quiet = false, help = false, version = false, resume = false;
+    bool inspectJson = false;  // --inspect --json
     std::string reportPath, frames;
     std::string flat;  // --flat: the input is deep, this file gives the passes
     std::vector<std::string> given;    // every flag given, to refuse those the method does not read
@@ -234,8 +236,8 @@ std::vector<Flag> makeFlags() {
              else if (role == "relit") o.job.relitLayer = name, o.job.writeRelit = true;
              else throw UsageError("--out-layer: unknown output '" + role + "' (ao, do, gi, relit)");
          }},
-        {"--bounce", nullptr, "ssdo: also compute one indirect bounce (GI layer)",
-         [](Options& o, const std::string&) { o.job.writeIndirect = true; }},
+        {"--bounce", nullptr, "ssdo: relight: one indirect bounce (GI layer) and relit = albedo x (DO + GI) / pi",
+         [](Options& o, const std::string&) { requestBounce(o.job); }},
         {"--bounce-source", "direct-diffuse|beauty|LAYER",
          "radiance of the bouncing surfaces (default direct-diffuse, times the albedo pass)",
          [](Options& o, const std::string& v) { o.job.bounceSource = v; }},
@@ -317,6 +319,8 @@ std::vector<Flag> makeFlags() {
          [](Options& o, const std::string&) { o.resume = true; }},
         {"--inspect", nullptr, "print the layers found, the role of each and the camera, then exit",
          [](Options& o, const std::string&) { o.inspect = true; }},
+        {"--json", nullptr, "with --inspect: print the same as JSON (what Python's obscura.inspect returns)",
+         [](Options& o, const std::string&) { o.inspectJson = true; }},
         {"--quiet", nullptr, "print nothing but errors", [](Options& o, const std::string&) { o.quiet = true; }},
         {"--version", nullptr, "print the version", [](Options& o, const std::string&) { o.version = true; }},
         {"--help", nullptr, "this text", [](Options& o, const std::string&) { o.help = true; }},
@@ -485,7 +489,9 @@ int runSequence(const Options& o) {
     requirePerFrame("--preview", o.job.previewPath, "out.####.png");
     std::vector<int> frames;
     try {
-        frames = o.frames.empty() ? existingFrames(o.job.input) : parseFrames(o.frames);
+        // With --flat the deep file is the input: its frames are the sequence's.
+        frames = o.frames.empty() ? existingFrames(o.job.deepInput.empty() ? o.job.input : o.job.deepInput)
+                                  : parseFrames(o.frames);
     } catch (const FileError&) {
         throw;
     } catch (const Error& e) {  // a --frames list that does not parse: the command line
@@ -595,8 +601,10 @@ int run(int argc, char** argv) {
         if (o.job.write == WriteMode::New && o.job.inPlace)
             throw UsageError("--write new and --in-place do not go together: the output holds only the new layers");
         if (o.job.input.empty()) throw UsageError("no input file (usage: obscura INPUT.exr -o OUTPUT.exr; see --help)");
+        if (o.inspectJson && !o.inspect) throw UsageError("--json goes with --inspect (--report FILE.json writes a run's JSON)");
         if (o.inspect) {
-            std::fputs(inspectFrame(o.job).c_str(), stdout);
+            const std::string out = o.inspectJson ? inspectFrameJson(o.job).dump(2) + "\n" : inspectFrame(o.job);
+            std::fputs(out.c_str(), stdout);
             return 0;
         }
         if (o.job.output.empty()) throw UsageError("no output file: give -o OUTPUT.exr (or --inspect)");

@@ -214,6 +214,11 @@ std::string describeWrite(const FrameJob& job, const ExrInfo& info, int part) {
     return "copy: the input plus the new layers, " + codec;
 }
 
+void requestBounce(FrameJob& job) {
+    job.writeIndirect = true;
+    job.writeRelit = true;
+}
+
 SsdoReads planSsdoReads(const FrameJob& job, const FramePasses& p) {
     SsdoReads r;
     if (!methodOutputs(job.settings.method, "do")) return r;  // AO alone reads no colour pass
@@ -236,7 +241,8 @@ SsdoReads planSsdoReads(const FrameJob& job, const FramePasses& p) {
     if ((bounce && r.senderAlbedo) || job.writeRelit || job.timesAlbedo) {
         r.albedo = roleRgb(p.plan, Role::Albedo);
         if (r.albedo.empty() && (job.writeRelit || job.timesAlbedo))
-            throw FileError(job.input, "no albedo layer (needed for relit or --times-albedo); use --layer albedo=NAME");
+            throw FileError(job.input, "no albedo layer (needed for relit or --times-albedo); use --layer albedo=NAME, "
+                                       "or --out-layer gi=NAME for the bounce without relit");
     }
     if (job.relitWithDirect) {
         r.directDiffuse = roleRgb(p.plan, Role::DirectDiffuse);
@@ -396,12 +402,12 @@ Camera resolveFrameCamera(const FrameJob& job, const FramePasses& p) {
     return resolveCamera(request, &p.info.parts[p.part].header, position, p.data, p.display, p.pixelAspect);
 }
 
-namespace {
-// The job's deep file, with the channel names of the flat passes' preset; errors name the file.
 DeepLayers readJobDeepLayers(const FrameJob& job, const FramePasses& p) {
     return blameInput(job.deepInput,
                       [&] { return readDeepLayers(job.deepInput, job.settings.deepLayers, p.plan.deep, job.maxPixels); });
 }
+
+namespace {
 
 // The deep file's surfaces over the flat passes' data window, or an empty image without one.
 Image readDeepInput(const FrameJob& job, const FramePasses& p, FrameReport& report) {
@@ -571,65 +577,6 @@ FrameReport runJob(const FrameJob& job) {
 
 FrameReport runFrameJob(const FrameJob& job) {
     return blameInput(job.input, [&] { return runJob(job); });
-}
-
-std::string inspectFrame(const FrameJob& job) {
-    FramePasses p = loadFramePasses(job, false);
-    std::ostringstream os;
-    os << "file:    " << job.input << (p.info.multipart ? " (multipart, " : " (") << p.info.parts.size()
-       << " part" << (p.info.parts.size() > 1 ? "s)" : ")") << "\n";
-    os << "display: " << p.display.width() << "x" << p.display.height() << "  data window: [" << p.data.x0 << ","
-       << p.data.y0 << " - " << p.data.x1 << "," << p.data.y1 << ")\n";
-    os << "layers:\n";
-    for (const std::string& l : listLayers(p.info)) os << "  " << l << "\n";
-    os << "preset:  " << p.plan.preset << "\n";
-    os << "roles:\n";
-    for (Role r : allRoles()) {
-        const LayerBinding* b = p.plan.find(r);
-        os << "  " << roleName(r) << ": ";
-        if (!b) {
-            os << "(not found)\n";
-            continue;
-        }
-        for (size_t i = 0; i < b->channels.size(); ++i) os << (i ? ", " : "") << b->channels[i];
-        os << "\n";
-    }
-    os << "depth:   " << toString(job.depthKind.value_or(p.plan.depthKind))
-       << "   normals: " << toString(job.normalSpace.value_or(p.plan.normalSpace))
-       << (p.plan.normalsLeftHanded ? " (left-handed, z flipped)" : "")
-       << "   sky depth >= " << job.skyDepth.value_or(p.plan.skyDepth) << "\n";
-    if (!job.deepInput.empty()) {
-        const DeepLayers d = readJobDeepLayers(job, p);
-        os << "deep:    " << job.deepInput << " (" << p.plan.deep.z << ", " << p.plan.deep.zBack << "): " << d.layers
-           << " layer(s) of at most " << job.settings.deepLayers << ", " << d.samples << " samples, " << d.emptyPixels
-           << " empty pixels, " << d.droppedSamples << " dropped samples, " << d.unsortedPixels << " unsorted pixels\n";
-    }
-    try {
-        const Camera c = resolveFrameCamera(job, p);
-        os << "camera:  " << (c.projection == Projection::Perspective ? "perspective" : "orthographic");
-        if (c.projection == Projection::Perspective)
-            os << ", horizontal fov " << c.horizontalFovRad(p.display.width()) * 180.0 / M_PI << " deg";
-        else
-            os << ", width " << p.display.width() / c.fx;
-        os << ", from " << c.source << "\n";
-        if (c.hasPose) {
-            os << "  camera-to-world (rows):";
-            for (int r = 0; r < 3; ++r) {
-                os << (r ? "\n                          " : " ");
-                for (int col = 0; col < 4; ++col) os << (col ? " " : "") << c.cameraToWorld[col][r];
-            }
-            os << "\n";
-        }
-    } catch (const Error& e) {
-        os << "camera:  none (" << e.what() << ")\n";
-    }
-    os << "write:   " << describeWrite(job, p.info, p.part) << "\n";
-    try {
-        os << "device:  " << describeDevice(job.settings) << "\n";
-    } catch (const Error& e) {
-        os << "device:  unavailable (" << e.what() << ")\n";
-    }
-    return os.str();
 }
 
 std::string frameReportJson(const FrameJob& job, const FrameReport& r) {

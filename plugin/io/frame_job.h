@@ -6,6 +6,7 @@
 #include "core/metrics.h"
 #include "core/operator.h"
 #include "io/camera_sources.h"
+#include "io/deep_file.h"
 #include "io/exr_file.h"
 #include "io/layers.h"
 
@@ -94,6 +95,12 @@ struct FrameReport {
     std::vector<std::string> warnings;
 };
 
+// --bounce and Python's bounce=True: relight the frame. One rule for both hosts: the bounce asks
+// for the GI layer and the relit image, albedo x (DO + GI) / pi, since relighting is what the one
+// bounce is for; relit needs an albedo pass. Naming an output (--out-layer gi=NAME) asks for that
+// layer alone.
+void requestBounce(FrameJob& job);
+
 // The colour passes an SSDO request reads (channel names in the depth's part); empty for HBAO.
 struct SsdoReads {
     std::vector<std::string> radiance;       // the bounce source, when GI or relit is asked for
@@ -119,6 +126,8 @@ std::vector<std::string> atomicWriteTemps(const std::string& path);
 int removeStaleTemps(const std::string& path);
 // The camera this job would use for these passes.
 Camera resolveFrameCamera(const FrameJob& job, const FramePasses& passes);
+// The job's deep file (--flat), with the channel names of the flat passes' preset; errors name the file.
+DeepLayers readJobDeepLayers(const FrameJob& job, const FramePasses& passes);
 // Runs f(); an error that names no file (a camera, flag or operator problem, a library's
 // exception) is re-thrown as a FileError naming `input`, so every failure reads 'FILE': what.
 template <class F>
@@ -135,8 +144,6 @@ auto blameInput(const std::string& input, F&& f) -> decltype(f()) {
 }
 // The full pipeline. Throws obscura::Error (one line) on any failure; nothing is left on disk then.
 FrameReport runFrameJob(const FrameJob& job);
-// --inspect: layers found, roles, conventions and camera, as readable text.
-std::string inspectFrame(const FrameJob& job);
 // --report: settings, camera, timings and statistics as JSON text.
 std::string frameReportJson(const FrameJob& job, const FrameReport& report);
 // A failed frame's report instead: the frame, its files and the one-line error.

@@ -352,18 +352,27 @@ void requireRoles(const LayerPlan& plan, const ExrInfo& info, const std::vector<
                         roleName(r) + "=NAME");
 }
 
+std::vector<LayerSummary> summariseLayers(const ExrInfo& info) {
+    std::vector<LayerSummary> out;
+    for (const LayerEntry& e : collectLayers(info)) {
+        const bool same = std::all_of(e.types.begin(), e.types.end(), [&](Imf::PixelType t) { return t == e.types[0]; });
+        const char* type = e.types[0] == Imf::HALF ? "half" : e.types[0] == Imf::FLOAT ? "float" : "uint";
+        out.push_back({e.part, e.partName, e.layer, displayOrder(e.suffixes), same ? type : "mixed"});
+    }
+    return out;
+}
+
+std::string layerLine(const LayerSummary& l, bool multipart) {
+    LayerEntry e;
+    e.part = l.part, e.partName = l.partName, e.layer = l.name;
+    std::string s = layerLabel(e, multipart) + " (";
+    for (size_t i = 0; i < l.channels.size(); ++i) s += (i ? "," : "") + l.channels[i];
+    return s + ") " + l.type;
+}
+
 std::vector<std::string> listLayers(const ExrInfo& info) {
     std::vector<std::string> lines;
-    for (const LayerEntry& e : collectLayers(info)) {
-        std::string s = layerLabel(e, info.multipart) + " (";
-        std::vector<std::string> suffixes = displayOrder(e.suffixes);
-        for (size_t i = 0; i < suffixes.size(); ++i) s += (i ? "," : "") + suffixes[i];
-        s += ")";
-        bool same = std::all_of(e.types.begin(), e.types.end(), [&](Imf::PixelType t) { return t == e.types[0]; });
-        const char* tn = e.types[0] == Imf::HALF ? "half" : e.types[0] == Imf::FLOAT ? "float" : "uint";
-        s += same ? std::string(" ") + tn : std::string(" mixed");
-        lines.push_back(s);
-    }
+    for (const LayerSummary& l : summariseLayers(info)) lines.push_back(layerLine(l, info.multipart));
     return lines;
 }
 

@@ -54,7 +54,19 @@ LayerPlan planLayers(const ExrInfo& info, const std::string& preset,
 // Throws Error naming the first missing role, the preset and the layers found.
 void requireRoles(const LayerPlan&, const ExrInfo&, const std::vector<Role>&);
 
-// "layer (channels) type" lines for --inspect; multipart lines start with "part: ".
+// One layer of a file as --inspect lists it: channel suffixes in display order (R,G,B,A, X,Y,Z,
+// then the rest), and the pixel type ("half", "float", "uint", or "mixed").
+struct LayerSummary {
+    int part = 0;
+    std::string partName;                 // "" when the part has no name
+    std::string name;                     // "ViewLayer.AO"; "" for top-level channels
+    std::vector<std::string> channels;    // suffixes: "R", "G", "B"
+    std::string type;
+};
+std::vector<LayerSummary> summariseLayers(const ExrInfo&);
+// "layer (channels) type"; in a multipart file it starts with "part: ".
+std::string layerLine(const LayerSummary&, bool multipart);
+// Every layer's line, for --inspect and error messages.
 std::vector<std::string> listLayers(const ExrInfo&);
 
 // The binding's channels as references for readExrChannels.

@@ -7,7 +7,9 @@
 #include "core/methods.h"
 #include "io/camera_sources.h"
 #include "io/frame_job.h"
+#include "io/inspect.h"
 #include "io/write_guard.h"
+#include "python/call_args.h"
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -628,7 +630,7 @@ py::object processPy(const py::object& path, const py::object& out, const FileAr
         }
         if (job.aoLayer.empty()) valueError("out_layer must not be empty");
     }
-    if (!js.bounce.is_none() && py::bool_(js.bounce)) job.writeIndirect = true;
+    if (!js.bounce.is_none() && py::bool_(js.bounce)) requestBounce(job);
     if (!js.bounceSource.is_none()) {
         job.bounceSource = strArg(js.bounceSource, "bounce_source");
         if (job.bounceSource.empty())
@@ -664,15 +666,20 @@ py::object processPy(const py::object& path, const py::object& out, const FileAr
     return py::module_::import("json").attr("loads")(json);
 }
 
-std::string inspectPy(const py::object& path, const FileArgs& f, const py::object& device) {
+// The structure `--inspect --json` prints, through Python's json so it equals that output.
+py::object inspectPy(const py::object& path, const FileArgs& f, const py::object& device) {
     FrameJob job = jobFrom(path, f);
     if (!device.is_none()) {
         SettingArgs sa{py::none(), py::none(), py::none(), py::none(), py::none(),
                        py::none(), py::none(), py::none(), device,      py::none(), py::dict()};
         job.settings = settingsFrom(sa);
     }
-    py::gil_scoped_release release;
-    return inspectFrame(job);
+    std::string json;
+    {
+        py::gil_scoped_release release;
+        json = inspectFrameJson(job).dump();
+    }
+    return py::module_::import("json").attr("loads")(json);
 }
 
 py::array readLayerPy(const py::object& path, const py::object& nameObj, const py::object& maxPixels) {
@@ -755,7 +762,7 @@ The same operator and file pipeline as the ``obscura`` command, for numpy:
   of a multilayer EXR, found by renderer preset as the CLI does.
 - ``ao_from_passes(passes, **settings)`` -> compute_ao over a read_passes() dict.
 - ``process(path, out, **settings)`` -> the CLI's ``--report`` JSON as a dict; writes OUT.
-- ``inspect(path)`` -> the CLI's ``--inspect`` text; ``read_layer(path, name)`` -> an EXR layer.
+- ``inspect(path)`` -> dict, the CLI's ``--inspect --json``; ``read_layer(path, name)`` -> an EXR layer.
 - ``Camera.perspective / .orthographic / .from_sidecar``.
 
 Settings are the CLI's flags with underscores: radius, directions, steps, weighting
@@ -767,7 +774,8 @@ samples, interleave, sky, env_rotate, env_intensity, lights, up.
 
 Relighting from Python: ``process(path, out, method='ssdo', bounce=True, env='studio.exr',
 env_rotate=90, out_layer={'relit': 'Relit'})`` writes OUT with the directional occlusion
-(obscura.DO), the one bounce (obscura.GI) and Relit.R/G/B = albedo x (DO + GI) / pi, i.e. the
+(obscura.DO), the one bounce (obscura.GI) and Relit.R/G/B = albedo x (DO + GI) / pi (without
+out_layer: obscura.relit), i.e. the
 frame's diffuse lighting redone under that environment (relit_direct=True adds the render's
 own direct diffuse light; times_albedo=True writes DO/GI as outgoing radiance). Without env
 the light is a constant sky=(r, g, b); lights=[((x, y, z), (r, g, b))] adds up to four
@@ -776,7 +784,8 @@ examples/batch_relight.py does this over a frame sequence, one output sequence p
 setup (environment maps and/or rotations of one), with progress and --resume.
 
 Errors: bad arguments (shape, dtype, memory layout, unknown names, out-of-range values) raise
-ValueError (TypeError for a wrong kind of object); a failure of the file pipeline or the
+ValueError (TypeError for a wrong kind of object, a missing argument or one too many), in one line
+naming the argument; a failure of the file pipeline or the
 operator (missing or corrupt file, no camera, bad pixels, unwritable output) raises
 obscura.Error, a RuntimeError whose message is the CLI's one-line error.
 The GIL is released while files are read or written and while the AO is computed.)doc";
@@ -899,17 +908,19 @@ when the file is missing or invalid.)doc")
 
     m.def(
         "compute_ao",
-        [](const py::object& depth, const py::object& normal, py::object camera, py::object normals,
-           py::object depthKind, py::object skyDepth, py::object dataWindow, py::object displayWindow,
-           py::object quality, py::object method, py::object radius, py::object directions, py::object steps,
-           py::object weighting, py::object falloff, py::object blur, py::object device, py::object threads,
-           py::object deep, const py::kwargs& own) {
+        [](const py::object& depth, const py::object& normal, const py::args& extra, py::object camera,
+           py::object normals, py::object depthKind, py::object skyDepth, py::object dataWindow,
+           py::object displayWindow, py::object quality, py::object method, py::object radius, py::object directions,
+           py::object steps, py::object weighting, py::object falloff, py::object blur, py::object device,
+           py::object threads, py::object deep, const py::kwargs& own) {
+            checkArrayCall("compute_ao", extra, depth, normal, camera);
             return computeAo(depth, normal, ViewArgs{camera, normals, depthKind, skyDepth, dataWindow, displayWindow},
                              SettingArgs{quality, method, radius, directions, steps, weighting, falloff, blur, device,
                                          threads, own},
                              deep);
         },
-        py::arg("depth"), py::arg("normal"), py::kw_only(), py::arg("camera"), py::arg("normals") = "world",
+        py::arg("depth") = py::none(), py::arg("normal") = py::none(), py::arg("camera") = py::none(),
+        py::arg("normals") = "world",
         py::arg("depth_kind") = "planar", py::arg("sky_depth") = 1e9, py::arg("data_window") = py::none(),
         py::arg("display_window") = py::none(), OBSCURA_SETTING_ARGS, py::arg("deep") = py::none(),
         R"doc(Ambient occlusion of in-memory passes: a float32 array (H, W), 1 = unoccluded.
@@ -926,7 +937,7 @@ deep (hbao): float32 (H, W, 2K), the surfaces along each pixel's ray as (front, 
 nearest first, the visible one first; front inf past a ray's last; back == front where the
 span is unknown (docs/deep.md). deep_layers=K caps how many are used.
 
-camera: obscura.Camera. data_window: (x0, y0, x1, y1) the arrays cover in display-window
+camera: obscura.Camera, required. data_window: (x0, y0, x1, y1) the arrays cover in display-window
 pixels (default (0, 0, W, H); larger than the display window for overscan). display_window:
 the frame's (x0, y0, x1, y1), default (0, 0, W, H).
 Settings (defaults as the CLI): radius=1.0 world units, directions=8, steps=8,
@@ -938,18 +949,22 @@ device='cpu', threads=0 (all cores). The GIL is released while computing.)doc");
 
     m.def(
         "compute_ssdo",
-        [](const py::object& depth, const py::object& normal, py::object camera, py::object radiance,
-           py::object albedo, py::object environment, py::object bounce, py::object up, py::object normals,
-           py::object depthKind, py::object skyDepth, py::object dataWindow, py::object displayWindow,
-           py::object radius, py::object blur, py::object device, py::object threads, py::object samples,
-           py::object interleave, py::object sky, py::object envRotate, py::object envIntensity, py::object lights) {
+        [](const py::object& depth, const py::object& normal, const py::args& extra, py::object camera,
+           py::object radiance, py::object albedo, py::object environment, py::object bounce, py::object up,
+           py::object normals, py::object depthKind, py::object skyDepth, py::object dataWindow,
+           py::object displayWindow, py::object radius, py::object blur, py::object device, py::object threads,
+           py::object samples, py::object interleave, py::object sky, py::object envRotate, py::object envIntensity,
+           py::object lights, const py::kwargs& unknown) {
+            checkArrayCall("compute_ssdo", extra, depth, normal, camera);
+            checkNoKeywords("compute_ssdo", unknown);
             const py::object none = py::none();
             return computeSsdo(depth, normal, ViewArgs{camera, normals, depthKind, skyDepth, dataWindow, displayWindow},
                                SettingArgs{none, none, radius, none, none, none, none, blur, device, threads, py::dict()},
                                SsdoArgs{samples, interleave, sky, envRotate, envIntensity, lights},
                                SsdoArrayArgs{radiance, albedo, environment, bounce, up});
         },
-        py::arg("depth"), py::arg("normal"), py::kw_only(), py::arg("camera"), py::arg("radiance") = py::none(),
+        py::arg("depth") = py::none(), py::arg("normal") = py::none(), py::arg("camera") = py::none(),
+        py::arg("radiance") = py::none(),
         py::arg("albedo") = py::none(), py::arg("environment") = py::none(), py::arg("bounce") = false,
         py::arg("up") = "y", py::arg("normals") = "world", py::arg("depth_kind") = "planar",
         py::arg("sky_depth") = 1e9, py::arg("data_window") = py::none(), py::arg("display_window") = py::none(),
@@ -971,9 +986,10 @@ sky (r, g, b) (default white), env_rotate (degrees), env_intensity, up ('y' | 'z
 
     m.def(
         "ao_from_passes",
-        [](const py::dict& passes, py::object quality, py::object method, py::object radius, py::object directions,
-           py::object steps, py::object weighting, py::object falloff, py::object blur, py::object device,
-           py::object threads, const py::kwargs& own) {
+        [](const py::object& passesObj, const py::args& extra, py::object quality, py::object method,
+           py::object radius, py::object directions, py::object steps, py::object weighting, py::object falloff,
+           py::object blur, py::object device, py::object threads, const py::kwargs& own) {
+            const py::dict passes = passesArg(extra, passesObj);
             for (const char* key : {"depth", "normal", "camera"})
                 if (!passes.contains(key)) valueError(std::string("passes has no '") + key + "' (use read_passes())");
             py::object camera = passes["camera"];
@@ -993,20 +1009,21 @@ sky (r, g, b) (default white), env_rotate (degrees), env_intensity, up ('y' | 'z
                                          threads, own},
                              py::none());
         },
-        py::arg("passes"), py::kw_only(), OBSCURA_SETTING_ARGS,
+        py::arg("passes") = py::none(), OBSCURA_SETTING_ARGS,
         R"doc(compute_ao over a read_passes() dict, with its camera, conventions (normals, depth_kind,
 sky_depth) and windows: the same AO that process() writes for that file and these settings.
 Raises obscura.Error when the passes have no camera (see passes['camera_error']).)doc");
 
     m.def(
         "read_passes",
-        [](const py::object& path, py::object preset, py::object layer, py::object camera, py::object fovDeg,
-           py::object orthoWidth, py::object c2w, py::object depth, py::object normals, py::object skyDepth,
-           py::object maxPixels) {
+        [](const py::object& path, const py::args& extra, py::object preset, py::object layer, py::object camera,
+           py::object fovDeg, py::object orthoWidth, py::object c2w, py::object depth, py::object normals,
+           py::object skyDepth, py::object maxPixels, const py::kwargs& unknown) {
+            checkFileCall("read_passes", extra, unknown, path);
             return readPassesPy(path, FileArgs{preset, layer, camera, fovDeg, orthoWidth, c2w, depth, normals, skyDepth,
                                                maxPixels});
         },
-        py::arg("path"), py::kw_only(), OBSCURA_FILE_ARGS,
+        py::arg("path") = py::none(), OBSCURA_FILE_ARGS,
         R"doc(The passes of a multilayer EXR, found as the CLI finds them, as a dict:
 
 'depth' float32 (H, W); 'normal' float32 (H, W, 3) (RenderMan's left-handed camera normals
@@ -1023,8 +1040,8 @@ Raises obscura.Error for a missing/unreadable file or missing passes.)doc");
 
     m.def(
         "process",
-        [](const py::object& path, const py::object& out, py::object quality, py::object method, py::object radius,
-           py::object directions, py::object steps, py::object weighting, py::object falloff, py::object blur,
+        [](const py::object& path, const py::object& out, const py::args& extra, py::object quality,
+           py::object method, py::object radius, py::object directions, py::object steps, py::object weighting, py::object falloff, py::object blur,
            py::object device, py::object threads, py::object preset, py::object layer, py::object camera,
            py::object fovDeg, py::object orthoWidth, py::object c2w, py::object depth, py::object normals,
            py::object skyDepth, py::object maxPixels, py::object outLayer, py::object outType, py::object badPixels, py::object reference,
@@ -1032,6 +1049,9 @@ Raises obscura.Error for a missing/unreadable file or missing passes.)doc");
            py::object sky, py::object envRotate, py::object envIntensity, py::object lights, py::object bounce,
            py::object bounceSource, py::object env, py::object envColorspace, py::object colorspace, py::object up,
            py::object timesAlbedo, py::object relitDirect, py::object write, const py::kwargs& own) {
+            checkPositional("process", extra, {"path", "out"}, "method=..., radius=...");
+            required("process", path, "path", "the input EXR's path");
+            required("process", out, "out", "the output EXR's path");
             return processPy(path, out,
                              FileArgs{preset, layer, camera, fovDeg, orthoWidth, c2w, depth, normals, skyDepth, maxPixels},
                              SettingArgs{quality, method, radius, directions, steps, weighting, falloff, blur, device,
@@ -1041,33 +1061,42 @@ Raises obscura.Error for a missing/unreadable file or missing passes.)doc");
                              JobSsdoArgs{bounce, bounceSource, env, envColorspace, colorspace, up, timesAlbedo,
                                          relitDirect});
         },
-        py::arg("path"), py::arg("out"), py::kw_only(), OBSCURA_SETTING_ARGS, OBSCURA_FILE_ARGS,
+        py::arg("path") = py::none(), py::arg("out") = py::none(), OBSCURA_SETTING_ARGS, OBSCURA_FILE_ARGS,
         py::arg("out_layer") = py::none(), py::arg("out_type") = py::none(), py::arg("bad_pixels") = py::none(),
         py::arg("reference") = py::none(), py::arg("report") = py::none(), py::arg("preview") = py::none(),
         py::arg("in_place") = py::none(), OBSCURA_SSDO_ARGS, py::arg("bounce") = py::none(),
         py::arg("bounce_source") = py::none(), py::arg("env") = py::none(), py::arg("env_colorspace") = py::none(),
         py::arg("colorspace") = py::none(), py::arg("up") = py::none(), py::arg("times_albedo") = py::none(),
         py::arg("relit_direct") = py::none(), py::arg("write") = py::none(),
-        R"doc(obscura PATH -o OUT [flags]: writes OUT, a copy of PATH with the AO layer added, and returns
+        R"doc(obscura PATH -o OUT [flags]: writes OUT, a copy of PATH with the new layers added, and returns
 the --report JSON as a dict (settings, camera, conventions, timings_s, stats, reference, warnings,
-plan, written).
+plan, written: the channels added).
+
+The layers written, by argument (the CLI's flags write the same):
+- always: the AO, obscura.AO.Y (out_layer='NAME' or {'ao': 'NAME'}: NAME.Y).
+- method='ssdo': also the directional occlusion obscura.DO.R/G/B ({'do': NAME} renames it).
+- method='ssdo', bounce=True: also the one bounce obscura.GI.R/G/B and the relit image
+  obscura.relit.R/G/B = albedo x (DO + GI) / pi (+ albedo x direct diffuse with
+  relit_direct=True). Needs the albedo pass and the bounce source's (bounce_source, default
+  'direct-diffuse', itself times the albedo); a file without them raises obscura.Error.
+- out_layer={'gi': NAME} or {'relit': NAME} (ssdo): names that layer and asks for it alone, so
+  out_layer={'gi': 'obscura.GI'} without bounce writes GI but no relit.
 
 Keywords are the CLI's flags with underscores: quality, method (a key of obscura.METHODS), radius,
 directions, steps, weighting, falloff, blur, device, threads; preset, layer={role: name}, camera
 (sidecar path), fov_deg, ortho_width, camera_to_world (4x4 or 16 numbers, row-major), depth
 ('planar' | 'radial'), normals ('world' | 'camera'), sky_depth, max_pixels (refuse a data or
-display window above it before allocating, as --max-pixels; default 16384^2); out_layer (name, or
-{'ao': .., 'do': .., 'gi': .., 'relit': ..}; naming gi or relit asks for it, as --out-layer
-does), out_type ('half' | 'float'), bad_pixels ('error' | 'skip'), reference (layer name), report
+display window above it before allocating, as --max-pixels; default 16384^2); out_layer (above),
+out_type ('half' | 'float'), bad_pixels ('error' | 'skip'), reference (layer name), report
 (also write the JSON there), preview (PNG path), in_place (bool), write ('copy': PATH plus the
 new layers, the default; 'new': only the new layers, with PATH's windows, camera and colour
 attributes; PATH's other channels are not decoded).
-method='ssdo' (directional occlusion; the DO layer obscura.DO.R/G/B is always written):
-samples (1-4096), interleave (1-8), bounce (bool: GI), bounce_source ('direct-diffuse' |
-'beauty' | layer), env (lat-long map path), env_rotate (degrees), env_intensity, env_colorspace,
-colorspace (of the input's colour passes), sky ((r, g, b) without env), lights (up to 4
-((x, y, z), (r, g, b)): world direction towards the light, irradiance), up ('y' | 'z'; default z
-for Blender renders), times_albedo (bool), relit_direct (bool).
+method='ssdo': samples (1-4096), interleave (1-8), bounce (bool, above), bounce_source
+('direct-diffuse' | 'beauty' | layer), env (lat-long map path), env_rotate (degrees),
+env_intensity, env_colorspace, colorspace (of the input's colour passes), sky ((r, g, b) without
+env), lights (up to 4 ((x, y, z), (r, g, b)): world direction towards the light, irradiance), up
+('y' | 'z'; default z for Blender renders), times_albedo (bool: DO and GI as albedo x E / pi),
+relit_direct (bool).
 A keyword the method does not read (obscura.METHODS[m]['params'] and ['options'] list those it
 does) or an output it cannot write raises ValueError naming the methods that do. So does out,
 report or preview naming a file the call reads (PATH, its sidecar, camera, env, the OpenColorIO
@@ -1076,17 +1105,36 @@ Outputs are written atomically; on obscura.Error nothing is left behind.)doc");
 
     m.def(
         "inspect",
-        [](const py::object& path, py::object preset, py::object layer, py::object camera, py::object fovDeg,
-           py::object orthoWidth, py::object c2w, py::object depth, py::object normals, py::object skyDepth,
-           py::object maxPixels, py::object device) {
+        [](const py::object& path, const py::args& extra, py::object preset, py::object layer, py::object camera,
+           py::object fovDeg, py::object orthoWidth, py::object c2w, py::object depth, py::object normals,
+           py::object skyDepth, py::object maxPixels, py::object device, const py::kwargs& unknown) {
+            checkFileCall("inspect", extra, unknown, path);
             return inspectPy(path, FileArgs{preset, layer, camera, fovDeg, orthoWidth, c2w, depth, normals, skyDepth,
                                             maxPixels},
                              device);
         },
-        py::arg("path"), py::kw_only(), OBSCURA_FILE_ARGS, py::arg("device") = py::none(),
-        "obscura PATH --inspect: the layers, roles, conventions, camera and device, as text.");
+        py::arg("path") = py::none(), OBSCURA_FILE_ARGS, py::arg("device") = py::none(),
+        R"doc(obscura PATH --inspect --json, as a dict: what obscura finds in the file, writing nothing.
 
-    m.def("read_layer", &readLayerPy, py::arg("path"), py::arg("name"), py::kw_only(), py::arg("max_pixels") = py::none(),
+'file'; 'parts' and 'multipart'; 'display_window', 'data_window' (x0, y0, x1, y1) half-open;
+'layers' [{'name', 'part', 'part_name', 'channels', 'type'}]; 'preset'; 'roles' {role: [channel
+names] or None}; 'conventions' {'depth', 'normals', 'normals_left_handed', 'sky_depth'}; 'deep'
+(None without deep input); 'camera' {'projection', 'fx', 'fy', 'cx', 'cy', 'source',
+'horizontal_fov_deg' or 'ortho_width', 'camera_to_world' (4 rows or None), 'fit_residual_px'
+when fitted} or None, then 'camera_error' says why; 'write' (how process() would write);
+'device' (or None and 'device_error'). Keywords as read_passes(), and device.)doc");
+
+    m.def(
+        "read_layer",
+        [](const py::object& path, const py::object& name, const py::args& extra, const py::object& maxPixels,
+           const py::kwargs& unknown) {
+            checkPositional("read_layer", extra, {"path", "name"}, "max_pixels=...");
+            checkNoKeywords("read_layer", unknown);
+            required("read_layer", path, "path", "the EXR's path");
+            required("read_layer", name, "name", "a channel ('obscura.AO.Y') or a layer ('ViewLayer.Normal')");
+            return readLayerPy(path, name, maxPixels);
+        },
+        py::arg("path") = py::none(), py::arg("name") = py::none(), py::arg("max_pixels") = py::none(),
           R"doc(One channel ('obscura.AO.Y') as float32 (H, W), or a layer ('ViewLayer.Normal') as float32
 (H, W, C) with its channels in R, G, B, A / X, Y, Z order, over its part's data window.
 max_pixels as process(). Raises obscura.Error when the file or the name is missing.)doc");

@@ -461,8 +461,8 @@ def test_process_bad_keywords_raise_value_error(tmp):
 
 
 def test_inspect_and_metadata():
-    text = obscura.inspect(ROOM)
-    assert "preset:  blender" in text and "ViewLayer.Depth.Z" in text
+    info = obscura.inspect(ROOM)
+    assert info["preset"] == "blender" and info["roles"]["depth"] == ["ViewLayer.Depth.Z"]
     assert obscura.__version__.count(".") == 2
     assert obscura.QUALITY_PRESETS["low"] == {"directions": 4, "steps": 4, "blur": 2}
     assert "blender" in obscura.PRESETS
