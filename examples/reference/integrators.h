@@ -1,5 +1,5 @@
 // Per-pixel estimators: primary hit, direct light, one-bounce indirect diffuse,
-// and the four ray-traced AO definitions of obscura's DESIGN.md.
+// and the four ray-traced AO definitions of docs/hbao.md (weighting x falloff).
 #pragma once
 #include "camera.h"
 #include "environment.h"

@@ -1,4 +1,4 @@
-// obscura_report: the error-against-run-time report (DESIGN.md, "Error report").
+// obscura_report: the error-against-run-time report (docs/accuracy.md).
 // For each scene: a converged ray-traced reference (cached), the ray tracer's own
 // error-versus-time curve, then every method x quality preset x device of obscura,
 // timed (median after a warm-up) and measured against the reference over non-sky

@@ -1,5 +1,5 @@
 // Error of a result against a reference over the pixels a mask selects
-// (non-sky pixels): the figures DESIGN.md's error report publishes.
+// (non-sky pixels): the figures docs/accuracy.md's error report publishes.
 #pragma once
 #include "core/image.h"
 

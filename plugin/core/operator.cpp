@@ -145,7 +145,7 @@ KernelParams makeKernelParams(const OperatorInputs& in, const Settings& s) {
     const bool finiteThickness = std::isfinite(p.thickness);
     // thickness auto: each occluder's depth is its width across the slice (k = 1; a cylinder's
     // depth is its width), at most 0.85 R; a depth change above 1.5 R between samples ends an
-    // occluder (docs/hbao.md has the sweeps on the report's scenes).
+    // occluder (docs/notes/2026-11-23-hbao-thickness-auto.md has the sweeps on the report's scenes).
     // Linear falloff weights by runs (kernels/hbao.glsl), also for a fixed T: k so large that
     // every run gets T.
     p.thicknessPerExtent = !finiteThickness                 ? 0.0f

@@ -1,5 +1,5 @@
 // Where the camera comes from: flags, a JSON sidecar, EXR header attributes, or a
-// fit to the world-position pass (first match wins; see DESIGN.md "Camera").
+// fit to the world-position pass (first match wins; see docs/conventions.md, "Camera sources").
 #pragma once
 #include "core/camera.h"
 #include "core/image.h"
