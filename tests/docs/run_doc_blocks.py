@@ -1,4 +1,4 @@
-"""Runs every fenced code block of README.md, docs/*.md and plugin/ofx/README.md (ctest:
+"""Runs every fenced code block of README.md, docs/ (notes included) and plugin/ofx/README.md (ctest:
 docs.blocks), so the docs cannot drift from what obscura does: a block that stops working fails.
 
 Each page runs in a directory of its own, its blocks in order as a reader would type them, with
@@ -69,7 +69,7 @@ def blocks_of(root, page):
 
 
 def pages(root):
-    names = ["README.md", *sorted(glob.glob("docs/*.md", root_dir=root)), "plugin/ofx/README.md"]
+    names = ["README.md", *sorted(glob.glob("docs/**/*.md", root_dir=root, recursive=True)), "plugin/ofx/README.md"]
     return [n for n in names if (root / n).exists()]
 
 
