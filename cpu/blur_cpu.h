@@ -1,7 +1,7 @@
 // CPU backend of the geometry-aware blur (kernels/blur.glsl): AO, DO or GI alike.
 #pragma once
-#include "core/image.h"
-#include "cpu/kernel_params.h"
+#include "base/image.h"
+#include "base/kernel_params.h"
 
 namespace obscura::cpu {
 

@@ -1,6 +1,6 @@
 #include "cpu/discs_cpu.h"
 
-#include "core/error.h"
+#include "base/error.h"
 #include "cpu/isa.h"
 #include "cpu/parallel.h"
 

@@ -2,8 +2,8 @@
 // and the traversal over tiles on all cores with the widest instruction set (cpu/isa.h).
 #pragma once
 #include "cpu/big_buffer.h"
-#include "core/image.h"
-#include "cpu/kernel_params.h"
+#include "base/image.h"
+#include "base/kernel_params.h"
 
 #include <memory>
 #include <string>

@@ -5,8 +5,8 @@
 // internal linkage, so no out-of-line copy compiled for one ISA can be picked by the linker for
 // another.
 #pragma once
-#include "core/image.h"
-#include "cpu/kernel_params.h"
+#include "base/image.h"
+#include "base/kernel_params.h"
 
 #include <glm/glm.hpp>
 #include <initializer_list>

@@ -1,9 +1,9 @@
 // CPU backend of the lane kernels that read depth and normals only (kernels/hbao.glsl,
 // kernels/ssao.glsl): the widest instruction set this CPU runs (cpu/isa.h), tiles over all cores.
 #pragma once
-#include "core/image.h"
+#include "base/image.h"
 #include "cpu/isa.h"
-#include "cpu/kernel_params.h"
+#include "base/kernel_params.h"
 
 #include <string>
 #include <vector>

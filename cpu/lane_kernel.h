@@ -5,7 +5,7 @@
 // has internal linkage.
 #pragma once
 #include "cpu/isa.h"
-#include "cpu/kernel_params.h"
+#include "base/kernel_params.h"
 
 #if OBSCURA_LANES == 1
 #include "cpu/lanes_scalar.h"

@@ -1,6 +1,6 @@
 // Tiles over all cores: the CPU backend's only scheduling primitive.
 #pragma once
-#include "core/image.h"
+#include "base/image.h"
 
 #include <functional>
 

@@ -1,6 +1,6 @@
 #include "cpu/rtao_cpu.h"
 
-#include "core/error.h"
+#include "base/error.h"
 #include "cpu/parallel.h"
 #include "cpu/rtao_mesh.h"
 

@@ -1,7 +1,7 @@
 // Ray-traced AO against the mesh of the depth pass (method rtao), with Embree, on the CPU.
 #pragma once
-#include "core/image.h"
-#include "cpu/kernel_params.h"
+#include "base/image.h"
+#include "base/kernel_params.h"
 
 namespace obscura::cpu {
 

@@ -3,8 +3,8 @@
 // depth discontinuities, judged against the local slope; optionally extruded away from the
 // eye so that thin objects occlude as solids of a given thickness.
 #pragma once
-#include "core/image.h"
-#include "cpu/kernel_params.h"
+#include "base/image.h"
+#include "base/kernel_params.h"
 
 #include <glm/glm.hpp>
 #include <cstdint>

@@ -1,7 +1,7 @@
 // CPU backend of the SSDO kernel (kernels/ssdo.glsl), in tiles over all cores.
 #pragma once
-#include "core/image.h"
-#include "cpu/kernel_params.h"
+#include "base/image.h"
+#include "base/kernel_params.h"
 
 namespace obscura::cpu {
 

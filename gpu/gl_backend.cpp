@@ -1,7 +1,7 @@
 #include "gpu/gl_backend.h"
 
-#include "core/error.h"
-#include "cpu/hbao_reach.h"
+#include "base/error.h"
+#include "base/hbao_reach.h"
 #include "gpu/gl_context.h"
 #include "gpu/gl_kernels.h"
 #include "gpu/gl_program.h"
@@ -117,7 +117,7 @@ void GlBackend::runTiled(const glsl::KernelParams& p, ConstPlane depth, ConstPla
     const GlApi& gl = context_->gl();
     const int W = p.width, H = p.height;
     // How far a pixel's result reads: its samples (radius plus snapping), then the blur.
-    const int apron = (int)std::ceil(std::min(cpu::hbaoReachPixels(p, depth), (float)std::max(W, H))) + 2 + std::max(blur, 0);
+    const int apron = (int)std::ceil(std::min(hbaoReachPixels(p, depth), (float)std::max(W, H))) + 2 + std::max(blur, 0);
     if (maxTexels <= 0) maxTexels = info().maxStorageBlockBytes / (3 * (long long)sizeof(float));  // 3-float planes
     std::vector<float> packed;
     for (const Tile& tile : planTiles(W, H, apron, maxTexels, info())) {

@@ -1,8 +1,8 @@
 // The GPU backend: the same kernels/ text as the CPU backend, compiled as GLSL
 // compute shaders, run in tiles (with an apron) sized to the context's limits.
 #pragma once
-#include "core/image.h"
-#include "cpu/kernel_params.h"
+#include "base/image.h"
+#include "base/kernel_params.h"
 #include "gpu/device_info.h"
 
 #include <functional>

@@ -1,6 +1,6 @@
 #include "gpu/gl_context.h"
 
-#include "core/error.h"
+#include "base/error.h"
 
 #include <EGL/egl.h>
 #include <EGL/eglext.h>

@@ -1,6 +1,6 @@
 #include "gpu/gl_program.h"
 
-#include "core/error.h"
+#include "base/error.h"
 
 #include <sstream>
 

@@ -1,7 +1,7 @@
 // Built instead of the OpenGL backend when its headers are missing: every GL device fails clearly.
 #include "gpu/gl_backend.h"
 
-#include "core/error.h"
+#include "base/error.h"
 
 namespace obscura::gpu {
 

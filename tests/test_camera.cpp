@@ -2,7 +2,7 @@
 // and the camera fit from a world-position pass (synthetic and real renders).
 #include "core/camera.h"
 #include "core/camera_fit.h"
-#include "core/error.h"
+#include "base/error.h"
 #include "io/camera_sources.h"
 
 #include <OpenEXR/ImfChannelList.h>

@@ -2,7 +2,7 @@
 // headers, conversions to and from the working space, output tagging and display previews.
 #include "io/colour.h"
 
-#include "core/error.h"
+#include "base/error.h"
 #include "io/exr_file.h"
 
 #include <OpenColorIO/OpenColorIO.h>

@@ -1,7 +1,7 @@
 // Deep EXR input (docs/deep.md): the reader (samples sorted, NaN and empty pixels counted,
 // touching samples merged, at most K surfaces), HBAO with hidden layers against a closed form
 // and against itself without them, and the command line end to end on a ray-traced scene.
-#include "core/error.h"
+#include "base/error.h"
 #include "core/operator.h"
 #include "io/deep_file.h"
 #include "support/cli_runner.h"

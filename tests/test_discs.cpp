@@ -1,6 +1,6 @@
 // Disc AO (kernels/discs.glsl): analytic properties on both devices, the instruction sets
 // against the pixel-at-a-time build and the corrections' switches (CPU/GL parity: test_gl_parity).
-#include "core/error.h"
+#include "base/error.h"
 #include "core/operator.h"
 #include "cpu/discs_cpu.h"
 #include "cpu/lane_cpu.h"

@@ -1,5 +1,5 @@
 // Farm chunking: a frame list cut into array-job tasks, and each chunk as a --frames text.
-#include "core/error.h"
+#include "base/error.h"
 #include "io/sequence.h"
 
 #include <gtest/gtest.h>

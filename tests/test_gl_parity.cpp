@@ -1,7 +1,7 @@
 // The GL path computes the same numbers as the CPU path: same kernels/ text, same
 // hash noise, same sample positions. These run on llvmpipe through OSMesa and
 // through Mesa's EGL device; a GL path that silently fell back to the CPU fails.
-#include "core/error.h"
+#include "base/error.h"
 #include "core/operator.h"
 #include "gpu/gl_backend.h"
 #include "gpu/gl_context.h"

@@ -1,5 +1,5 @@
 // File layer: EXR reading/writing and renderer preset detection.
-#include "core/error.h"
+#include "base/error.h"
 #include "io/exr_file.h"
 #include "io/layers.h"
 #include "support/exr_fixtures.h"

@@ -1,5 +1,5 @@
 // SSDO directional occlusion and its one-bounce indirect light, through the operator.
-#include "core/error.h"
+#include "base/error.h"
 #include "core/operator.h"
 #include "support/closed_forms.h"
 #include "support/scenes.h"

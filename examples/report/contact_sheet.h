@@ -5,7 +5,7 @@
 //                with a scale bar under it.
 // AO panels are data shown as grey levels with no transfer function (0.5 -> 128).
 #pragma once
-#include "core/image.h"
+#include "base/image.h"
 
 #include <string>
 

@@ -10,7 +10,7 @@
 #include "results_table.h"
 #include "timing.h"
 
-#include "core/error.h"
+#include "base/error.h"
 #include "core/methods.h"
 #include "core/settings.h"
 #include "io/deep_file.h"

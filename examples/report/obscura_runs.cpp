@@ -1,6 +1,6 @@
 #include "obscura_runs.h"
 
-#include "core/error.h"
+#include "base/error.h"
 #include "timing.h"
 
 #include <nlohmann/json.hpp>

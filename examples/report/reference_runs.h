@@ -2,7 +2,7 @@
 // the converged reference render (cached as an EXR) and the renderer's own
 // error-versus-time curve at a few AO ray counts.
 #pragma once
-#include "core/image.h"
+#include "base/image.h"
 #include "reference/camera.h"
 #include "reference/integrators.h"
 #include "reference/scene.h"

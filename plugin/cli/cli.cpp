@@ -1,7 +1,7 @@
 #include "cli.h"
 
 #include "core/devices.h"
-#include "core/error.h"
+#include "base/error.h"
 #include "core/methods.h"
 #include "io/frame_job.h"
 #include "io/inspect.h"

@@ -1,6 +1,6 @@
 // The obscura command-line host: parses a recipe of flags, runs the operator, writes files.
 #pragma once
-#include "core/error.h"
+#include "base/error.h"
 
 #include <string>
 #include <vector>

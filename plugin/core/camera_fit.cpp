@@ -7,7 +7,7 @@
 // by residual, refit -> pick perspective or orthographic by RMS.
 #include "camera_fit.h"
 
-#include "error.h"
+#include "base/error.h"
 
 #include <algorithm>
 #include <cmath>

@@ -2,7 +2,7 @@
 // correspondence between its centre (x + 0.5, y + 0.5) and a world point.
 #pragma once
 #include "camera.h"
-#include "image.h"
+#include "base/image.h"
 
 namespace obscura {
 

@@ -1,6 +1,6 @@
 #include "devices.h"
 
-#include "core/error.h"
+#include "base/error.h"
 #include "cpu/parallel.h"
 #include "gpu/gl_backend.h"
 

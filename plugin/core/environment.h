@@ -1,6 +1,6 @@
 // Lat-long environment maps for SSDO: prefiltering to a sample's footprint.
 #pragma once
-#include "core/image.h"
+#include "base/image.h"
 
 namespace obscura {
 

@@ -1,7 +1,7 @@
 #include "core/method_runs.h"
 
 #include "core/environment.h"
-#include "core/error.h"
+#include "base/error.h"
 #include "cpu/blur_cpu.h"
 #include "cpu/discs_cpu.h"
 #include "cpu/lane_cpu.h"

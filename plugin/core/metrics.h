@@ -1,7 +1,7 @@
 // Error of a result against a reference over the pixels a mask selects
 // (non-sky pixels): the figures docs/accuracy.md's error report publishes.
 #pragma once
-#include "core/image.h"
+#include "base/image.h"
 
 #include <vector>
 

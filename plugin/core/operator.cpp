@@ -2,7 +2,7 @@
 
 #include "devices.h"
 
-#include "core/error.h"
+#include "base/error.h"
 #include "core/method_runs.h"
 #include "core/methods.h"
 #include "cpu/parallel.h"

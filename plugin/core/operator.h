@@ -2,9 +2,9 @@
 // about files, argv, OFX clips or numpy; hosts adapt their data to these views.
 #pragma once
 #include "camera.h"
-#include "image.h"
+#include "base/image.h"
 #include "settings.h"
-#include "cpu/kernel_params.h"
+#include "base/kernel_params.h"
 
 #include <string>
 #include <vector>

@@ -1,7 +1,7 @@
 #include "camera_sources.h"
 
 #include "core/camera_fit.h"
-#include "core/error.h"
+#include "base/error.h"
 
 #include <OpenEXR/ImfDoubleAttribute.h>
 #include <OpenEXR/ImfFloatAttribute.h>

@@ -2,7 +2,7 @@
 // fit to the world-position pass (first match wins; see docs/conventions.md, "Camera sources").
 #pragma once
 #include "core/camera.h"
-#include "core/image.h"
+#include "base/image.h"
 
 #include <OpenEXR/ImfForward.h>
 

@@ -1,6 +1,6 @@
 #include "io/colour.h"
 
-#include "core/error.h"
+#include "base/error.h"
 #include "cpu/parallel.h"
 #include "io/preview.h"
 

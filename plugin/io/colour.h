@@ -7,7 +7,7 @@
 // configs, hence the shipped one. The working space is the config's scene_linear role
 // (lin_rec709 in the shipped config).
 #pragma once
-#include "core/image.h"
+#include "base/image.h"
 #include "io/exr_file.h"
 
 #include <OpenEXR/ImfChromaticities.h>

@@ -1,6 +1,6 @@
 #include "io/deep_file.h"
 
-#include "core/error.h"
+#include "base/error.h"
 
 #include "io/oiio_module.h"
 

@@ -2,7 +2,7 @@
 // depth planes the operator's HBAO reads (OperatorInputs::deepLayers). Scanline and tiled
 // deep files, through OpenImageIO's deep API.
 #pragma once
-#include "core/image.h"
+#include "base/image.h"
 #include "io/exr_file.h"
 #include "io/layers.h"
 

@@ -1,6 +1,6 @@
 #include "environment_map.h"
 
-#include "core/error.h"
+#include "base/error.h"
 #include "io/colour.h"
 #include "io/exr_file.h"
 #include "io/oiio_module.h"

@@ -2,7 +2,7 @@
 // OpenFX node): any format OpenImageIO reads, converted from its colour space to the
 // OpenColorIO working space, so one map lights a shot alike in each.
 #pragma once
-#include "core/image.h"
+#include "base/image.h"
 
 #include <string>
 #include <vector>

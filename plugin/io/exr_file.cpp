@@ -1,6 +1,6 @@
 #include "io/exr_file.h"
 
-#include "core/error.h"
+#include "base/error.h"
 
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>

@@ -1,7 +1,7 @@
 // EXR file layer: headers, pixel reading (wanted channels as float, everything
 // else raw for pass-through) and atomic writing of a copy with new channels.
 #pragma once
-#include "core/image.h"
+#include "base/image.h"
 
 #include <OpenEXR/ImfCompression.h>
 #include <OpenEXR/ImfHeader.h>

@@ -1,7 +1,7 @@
 #include "io/frame_job.h"
 #include "io/environment_map.h"
 
-#include "core/error.h"
+#include "base/error.h"
 #include "core/methods.h"
 #include "io/colour.h"
 #include "io/deep_file.h"

@@ -2,7 +2,7 @@
 // run the operator, write a copy of the input with the new layers. Shared by the
 // CLI and the Python module; the operator itself never sees a file.
 #pragma once
-#include "core/error.h"
+#include "base/error.h"
 #include "core/metrics.h"
 #include "core/operator.h"
 #include "io/camera_sources.h"

@@ -1,6 +1,6 @@
 #include "io/inspect.h"
 
-#include "core/error.h"
+#include "base/error.h"
 #include "core/operator.h"
 
 #include <cmath>

@@ -1,6 +1,6 @@
 #include "io/layers.h"
 
-#include "core/error.h"
+#include "base/error.h"
 
 #include <OpenEXR/ImfStringAttribute.h>
 

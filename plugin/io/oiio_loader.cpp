@@ -1,7 +1,7 @@
 // Finds and loads libobscura_oiio.so (io/oiio_module.h says why it is loaded late).
 #include "io/oiio_module.h"
 
-#include "core/error.h"
+#include "base/error.h"
 
 #include <dlfcn.h>
 

@@ -3,7 +3,7 @@
 // Why: OpenImageIO pulls in ~255 shared libraries (codecs, DICOM, video...), and loading them
 // cost every obscura process ~0.45 s of CPU at start, though most runs never call it.
 #pragma once
-#include "core/image.h"
+#include "base/image.h"
 #include "io/colour.h"
 
 #include <cstdint>

@@ -2,7 +2,7 @@
 #pragma once
 #include <string>
 
-#include "core/image.h"
+#include "base/image.h"
 
 namespace obscura {
 

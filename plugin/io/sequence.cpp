@@ -1,6 +1,6 @@
 #include "io/sequence.h"
 
-#include "core/error.h"
+#include "base/error.h"
 
 #include <algorithm>
 #include <cctype>

@@ -18,7 +18,7 @@
 
 #include "core/camera.h"
 #include "core/devices.h"
-#include "core/error.h"
+#include "base/error.h"
 #include "core/methods.h"
 #include "core/operator.h"
 #include "core/settings.h"

@@ -2,7 +2,7 @@
 // job (plugin/io) as the CLI. numpy arrays are viewed in place (strided planes), never
 // converted; the GIL is released while pixels are read, computed or written.
 #include "core/devices.h"
-#include "core/error.h"
+#include "base/error.h"
 #include "core/operator.h"
 #include "core/methods.h"
 #include "io/camera_sources.h"

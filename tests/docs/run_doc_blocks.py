@@ -17,6 +17,7 @@ rule below saying what it checks:
 
 - `bash scripts/NAME.sh` (demo.sh, test.sh install packages and build): the script exists and
   `bash -n` parses it.
+- `python3 tests/layers/NAME.py .` (a check of the source tree): run on the checkout itself.
 - `... python3 tests/bench/NAME.py FLAGS` (benchmarks taking minutes on an idle machine): the
   script runs with --help, and every --flag the block gives is in its help.
 - `obscura farm slurm` submits with sbatch: a stand-in sbatch first on PATH runs every array task
@@ -138,6 +139,8 @@ def stage(fixture, directory):
 
 REWRITES = [
     (re.compile(r"^bash\s+(scripts/[\w.-]+\.sh)\b.*$"), r'bash -n "$OBSCURA_ROOT/\1"'),
+    # A check of the source tree (the dependency rule): run for real, on the checkout.
+    (re.compile(r"^python3\s+(tests/layers/[\w.-]+\.py)\s+\.$"), r'python3 "$OBSCURA_ROOT/\1" "$OBSCURA_ROOT"'),
     (re.compile(r"^(?:\w+=\S+\s+)*\S*python3\s+(tests/bench/[\w.-]+\.py)\s*(.*?)\s*$"),
      r'docs-check-flags "$OBSCURA_ROOT/\1" \2'),
 ]

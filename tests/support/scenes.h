@@ -2,7 +2,7 @@
 // depth / normal / position planes, through the same camera conventions as obscura.
 #pragma once
 #include "core/camera.h"
-#include "core/image.h"
+#include "base/image.h"
 #include "core/operator.h"
 
 #include <glm/glm.hpp>

@@ -2,7 +2,7 @@
 // is a library of its own).
 #include "io/oiio_module.h"
 
-#include "core/error.h"
+#include "base/error.h"
 
 #include <OpenImageIO/deepdata.h>
 #include <OpenImageIO/imageio.h>

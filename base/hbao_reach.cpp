@@ -1,9 +1,9 @@
-#include "cpu/hbao_reach.h"
+#include "base/hbao_reach.h"
 
 #include <algorithm>
 #include <cmath>
 
-namespace obscura::cpu {
+namespace obscura {
 
 namespace {
 
@@ -37,4 +37,4 @@ float hbaoReachPixels(const glsl::KernelParams& p, ConstPlane depth) {
     return (float)std::max(radiusPixelsAt(p, nearest), 0.0);
 }
 
-} // namespace obscura::cpu
+} // namespace obscura
