@@ -28,6 +28,7 @@ protected:
         s.falloff = f;
         s.directions = dirs;
         s.steps = steps;
+        s.blur = 0;  // the kernel's own values at each pixel
         OperatorOutputs out = runOperator(sb.inputs(), s);
         EXPECT_EQ(out.stats.device.rfind(GetParam(), 0), 0u) << out.stats.device;
         return out;

@@ -158,7 +158,7 @@ std::vector<Flag> makeFlags() {
              if (!applyQualityPreset(v, o.job.settings))
                  throw UsageError("--quality expects low, medium, high or ultra, got '" + v + "'");
          }},
-        {"--blur", "N", "geometry-aware blur radius in pixels (default 0, off)",
+        {"--blur", "N", "geometry-aware blur radius in pixels, 0 = off (default 1, the medium preset's; ssdo: the interleave width)",
          [](Options& o, const std::string& v) { o.job.settings.blur = toInt("--blur", v); }},
         {"--fov-deg", "F", "perspective camera, horizontal field of view of the display window",
          [](Options& o, const std::string& v) { o.job.camera.fovDeg = toNumber("--fov-deg", v); }},

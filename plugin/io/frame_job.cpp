@@ -650,7 +650,7 @@ std::string frameReportJson(const FrameJob& job, const FrameReport& r) {
     j["settings"] = {{"method", s.method},          {"radius", s.radius},
                      {"directions", s.directions},  {"steps", s.steps},
                      {"weighting", toString(s.weighting)}, {"falloff", toString(s.falloff)},
-                     {"blur", s.blur},              {"threads", s.threads},
+                     {"blur", resolvedBlur(s)},     {"threads", s.threads},
                      {"device", s.device}};
     for (const MethodParam* p : paramsOf(s.method)) {
         json v = p->intField ? json(s.*(p->intField)) : p->floatField ? json(s.*(p->floatField)) : json(s.*(p->boolField));

@@ -905,7 +905,7 @@ camera: obscura.Camera. data_window: (x0, y0, x1, y1) the arrays cover in displa
 pixels (default (0, 0, W, H); larger than the display window for overscan). display_window:
 the frame's (x0, y0, x1, y1), default (0, 0, W, H).
 Settings (defaults as the CLI): radius=1.0 world units, directions=8, steps=8,
-weighting='uniform'|'cosine', falloff='linear'|'none', blur=0 px, quality=None ('low',
+weighting='uniform'|'cosine', falloff='linear'|'none', blur=1 px (the 'medium' preset's), quality=None ('low',
 'medium', 'high', 'ultra'; explicit directions/steps/blur override it), method='hbao'
 (or 'ssao', 'rtao', with their own keywords: ssao_samples=16, ssao_hemisphere=False,
 rtao_rays=16, rtao_grid=1), thickness='auto' (hbao and rtao: world units, 'auto' or 'inf'),
