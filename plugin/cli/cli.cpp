@@ -4,6 +4,7 @@
 #include "core/methods.h"
 #include "gpu/gl_backend.h"
 #include "io/frame_job.h"
+#include "io/preview.h"
 #include "io/sequence.h"
 
 #include <nlohmann/json.hpp>
@@ -66,6 +67,14 @@ std::vector<double> toNumbers(const std::string& flag, const std::string& v, siz
     if (out.size() != count)
         throw UsageError(flag + " expects " + std::to_string(count) + " comma-separated numbers, got '" + v + "'");
     return out;
+}
+
+float toPreviewExposure(const std::string& v) {
+    const double ev = toNumber("--preview-exposure", v);
+    if (std::abs(ev) > kMaxPreviewExposureEv)
+        throw UsageError("--preview-exposure must be between -" + std::to_string((int)kMaxPreviewExposureEv) + " and " +
+                         std::to_string((int)kMaxPreviewExposureEv) + " stops, got '" + v + "'");
+    return (float)ev;
 }
 
 std::pair<std::string, std::string> splitAssignment(const std::string& flag, const std::string& v) {
@@ -279,8 +288,11 @@ std::vector<Flag> makeFlags() {
          [](Options& o, const std::string& v) { o.job.referenceLayer = v; }},
         {"--report", "FILE.json", "write timings per stage, settings, camera and statistics",
          [](Options& o, const std::string& v) { o.reportPath = v; }},
-        {"--preview", "FILE.png", "write an 8-bit PNG of the AO (ssdo: of the DO, through the colour config's display view)",
+        {"--preview", "FILE.png", "write an 8-bit sRGB PNG of the AO (ssdo: of the relit layer when written, else the DO)",
          [](Options& o, const std::string& v) { o.job.previewPath = v; }},
+        {"--preview-exposure", "EV", "stops applied before the preview's encoding (default: AO 0; ssdo automatic, the "
+                                     "99th percentile at 0.8)",
+         [](Options& o, const std::string& v) { o.job.previewExposure = toPreviewExposure(v); }},
         {"--in-place", nullptr, "allow OUTPUT to be the input file (replaced atomically)",
          [](Options& o, const std::string&) { o.job.inPlace = true; }},
         {"--frames", "LIST", "frames of a sequence (INPUT and -o hold #### or %04d): 1-100, 1-100x2, 1,5,9-12 "
@@ -365,6 +377,7 @@ Options parseArgs(int argc, char** argv) {
         if (isFramePattern(o.job.deepInput) != isFramePattern(o.job.input))
             throw UsageError("the deep input and --flat must both be frame patterns (e.g. shot.####.exr), or neither");
     }
+    if (o.job.previewExposure && o.job.previewPath.empty()) throw UsageError("--preview-exposure needs --preview FILE.png");
     const MethodInfo& m = *findMethod(o.job.settings.method);
     const std::string& d = o.job.settings.device;
     if (!m.gl && d != "cpu" && d != "auto")
