@@ -121,7 +121,7 @@ std::string methodHelp() {
     return h;
 }
 std::string qualityHelp() {
-    std::string h = "sample-count preset per method; later flags override:";
+    std::string h = "sample-count preset per method (the defaults are medium, discs' k 1); later flags override:";
     for (const MethodInfo& m : methods()) {
         if (m.presets.empty()) continue;
         h += std::string("\n" + std::string(34, ' ')) + m.name + ":";
@@ -167,7 +167,8 @@ std::vector<Flag> makeFlags() {
              if (!applyQualityPreset(v, o.job.settings))
                  throw UsageError("--quality expects low, medium, high or ultra, got '" + v + "'");
          }},
-        {"--blur", "N", "geometry-aware blur radius in pixels, 0 = off (default 1, the medium preset's; ssdo: the interleave width)",
+        {"--blur", "N", "geometry-aware blur radius in pixels, 0 = off (default 1, the medium preset's; ssdo: 0 and the "
+                       "default are the interleave width)",
          [](Options& o, const std::string& v) { o.job.settings.blur = toInt("--blur", v); }},
         {"--fov-deg", "F", "perspective camera, horizontal field of view of the display window",
          [](Options& o, const std::string& v) { o.job.camera.fovDeg = toNumber("--fov-deg", v); }},
