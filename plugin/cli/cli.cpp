@@ -121,7 +121,7 @@ std::string methodHelp() {
     return h;
 }
 std::string qualityHelp() {
-    std::string h = "sample-count preset per method (the defaults are medium, discs' k 1); later flags override:";
+    std::string h = "sample-count preset per method (default medium; discs default to k 1); later flags override:";
     for (const MethodInfo& m : methods()) {
         if (m.presets.empty()) continue;
         h += std::string("\n" + std::string(34, ' ')) + m.name + ":";
