@@ -6,8 +6,8 @@ From a batch (batch_ao.py's or batch_relight.py's output directory; reads OUT/ba
     python3 examples/contact_sheet.py out --frame 12 -o sheet.png
 
 AO variants show their AO layer (grey); relighting setups (batch_relight.py) show their relit
-RGB layer through a plain sRGB encode (clipped to 0..1, --exposure stops first), each
-labelled with the setup's name.
+RGB layer (--exposure stops first, default 0, the same for every tile so setups compare),
+each labelled with the setup's name.
 
 or straight from one frame, computing each variant in memory with obscura's arrays
 (read_passes once, then ao_from_passes per variant; nothing but the PNG is written):
@@ -15,8 +15,11 @@ or straight from one frame, computing each variant in memory with obscura's arra
     python3 examples/contact_sheet.py shot.0012.exr --radii 0.25,0.5,1 \\
         --variant cos:radius=1,weighting=cosine,falloff=none -o sheet.png
 
-Tiles show the display window (overscan cropped), 8-bit with the sRGB transfer curve like
-obscura --preview, labelled with the variant name. --columns, --scale (nearest-neighbour
+Tiles show the display window (overscan cropped) in obscura's one display encoding, the one
+obscura --preview writes: clamped to 0..1, the sRGB OETF, 8-bit. An AO tile and the frame's AO
+preview agree to the 8-bit step; a relit tile and the relit preview agree when given the same
+stops (--exposure EV here, --preview-exposure EV there; the preview's default is automatic).
+Tiles are labelled with the variant name. --columns, --scale (nearest-neighbour
 downsampling by an integer factor) and --gap shape the sheet. Writes the PNG with Python's
 zlib (numpy only; no imaging library needed), atomically.
 """
@@ -86,7 +89,7 @@ def write_png(path, pixels8):
 
 
 def to_display(ao, exposure=0.0):
-    """Linear AO (or RGB) -> sRGB-encoded 0..1, as obscura --preview does; `exposure` in stops."""
+    """Linear AO (or RGB) -> sRGB-encoded 0..1, obscura's display encoding (plugin/io/preview.h)."""
     v = np.nan_to_num(np.asarray(ao, dtype=np.float64), nan=0.0) * (2.0 ** exposure)
     v = np.clip(v, 0.0, 1.0)
     return np.where(v <= 0.0031308, 12.92 * v, 1.055 * np.power(v, 1 / 2.4) - 0.055)

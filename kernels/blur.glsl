@@ -37,7 +37,9 @@ lvec4 blurLanes(lint x, lint y, ivec2 axis, int radius) {
     lvec3 n0 = blurNormal(x, y, computing);
     float sigma = 0.5f * float(radius) + 0.5f;
     float invTwoSigma2 = 1.0f / (2.0f * sigma * sigma);
-    lfloat invTolerance = 1.0f / (BLUR_DEPTH_TOLERANCE * d0);
+    // Capped: at a denormal depth the reciprocal overflows, and inf x 0 (a neighbour at the same
+    // depth) would be NaN. The cap leaves every depth above 5e-29 as it was.
+    lfloat invTolerance = min(1.0f / (BLUR_DEPTH_TOLERANCE * d0), 1e30f);
     lvec4 sum = centre;
     lfloat weightSum = lfloat(1.0f);
     for (int i = -radius; i <= radius; ++i) {

@@ -407,6 +407,8 @@ TEST(OfxDescribe, DeclaresContextsDepthsClipsAndParameters) {
         EXPECT_EQ(params.find(p)->props.string(kOfxParamPropParent), "ssdoGroup") << p;
     EXPECT_EQ(params.find("radius")->props.doubles(kOfxParamPropDefault), (std::vector<double>{1.0}));
     EXPECT_EQ(params.find("directions")->props.ints(kOfxParamPropDefault), (std::vector<int>{8}));
+    // The CLI's and Python's default blur (the method's own: medium's 1 px, ssdo's interleave width).
+    EXPECT_EQ(params.find("blur")->props.ints(kOfxParamPropDefault), (std::vector<int>{obscura::Settings().blur}));
     EXPECT_EQ(params.find("maxScreenRadius")->props.doubles(kOfxParamPropDefault), (std::vector<double>{256.0}));
     EXPECT_EQ(params.find("device")->props.strings(kOfxParamPropChoiceOption),
               (std::vector<std::string>{"cpu", "auto", "gl", "gl-egl", "gl-osmesa"}));

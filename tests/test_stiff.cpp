@@ -28,6 +28,7 @@ protected:
         s.falloff = f;
         s.directions = dirs;
         s.steps = steps;
+        s.blur = 0;  // the kernel's own values at each pixel
         OperatorOutputs out = runOperator(sb.inputs(), s);
         EXPECT_EQ(out.stats.device.rfind(GetParam(), 0), 0u) << out.stats.device;
         return out;
@@ -259,5 +260,22 @@ TEST_P(Stiff, EveryMethodStaysInRange) {
             }
             checkedMin(runOperator(edge.inputs(), s).ao);
         }
+    }
+}
+
+// The blur at the smallest positive depths (denormals, FLT_MIN), which a renderer's bad pixels
+// can hold and --bad-pixels skip lets through: its depth tolerance must not overflow into NaN
+// (a whole row of it, found by tests/fuzz once the default blur was 1).
+TEST_P(Stiff, BlurAtTinyDepthsStaysFinite) {
+    const int W = 48, H = 32;
+    SceneBuffers sb = renderScene(corner(), cornerCamera(W, H), W, H);
+    for (int x = 0; x < W; x += 3) *sb.depth.at(x, H / 2) = x % 2 ? 1e-45f : 1.17549435e-38f;
+    *sb.depth.at(W / 2 + 1, H / 2) = *sb.depth.at(W / 2, H / 2);  // a neighbour at the same tiny depth
+    Settings s;
+    s.device = GetParam();
+    s.radius = 0.5f;
+    for (int blur : {1, 3}) {
+        s.blur = blur;
+        checkedMin(runOperator(sb.inputs(), s).ao);
     }
 }

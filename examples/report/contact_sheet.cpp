@@ -1,5 +1,7 @@
 #include "contact_sheet.h"
 
+#include "io/preview.h"
+
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 
@@ -23,10 +25,9 @@ namespace {
 constexpr int kMargin = 6, kLabel = 22, kBarHeight = 12, kBarText = 18;
 const float kSkyGrey[3] = {0.35f, 0.35f, 0.35f};
 
-float srgbOetf(float v) {
-    v = std::clamp(std::isfinite(v) ? v : 0.0f, 0.0f, 1.0f);
-    return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
-}
+// obscura's one display encoding (io/preview.h), so a panel is what --preview shows. Infinite
+// values show as black here: a beauty's infinities are no light to show.
+float srgbOetf(float v) { return obscura::srgbOetf(std::isfinite(v) ? v : 0.0f); }
 
 ImageBuf rgbBuf(int w, int h) { return ImageBuf(ImageSpec(w, h, 3, TypeDesc::FLOAT)); }
 
@@ -54,7 +55,7 @@ ImageBuf greyPanel(const obscura::Image& img) {
     ImageBuf out = rgbBuf(img.width, img.height);
     for (int y = 0; y < img.height; ++y)
         for (int x = 0; x < img.width; ++x) {
-            const float v = std::clamp(std::isfinite(*img.at(x, y)) ? *img.at(x, y) : 0.0f, 0.0f, 1.0f);
+            const float v = srgbOetf(*img.at(x, y));
             const float px[3] = {v, v, v};
             out.setpixel(x, y, px, 3);
         }

@@ -1,9 +1,10 @@
 // The per-scene contact sheet: a 2 x 2 PNG of
-//   top-left  the input beauty (ViewLayer.Combined, clamped, sRGB OETF)
+//   top-left  the input beauty (ViewLayer.Combined)
 //   top-right obscura's AO           bottom-left the converged reference AO
 //   bottom-right |obscura - reference| as a heat map (inferno, 0 .. heatMax, sky grey),
 //                with a scale bar under it.
-// AO panels are data shown as grey levels with no transfer function (0.5 -> 128).
+// The beauty and AO panels are in obscura's display encoding (io/preview.h: clamped, sRGB
+// OETF), as --preview writes them; the heat map's colours are the colour map's own.
 #pragma once
 #include "base/image.h"
 

@@ -208,7 +208,7 @@ int main(int argc, char** argv) {
                         if (ssdo) {
                             r.samples = s.ssdoSamples;
                             r.interleave = s.interleave;
-                            r.blur = s.blur > 0 ? s.blur : (s.interleave > 1 ? s.interleave : 0);  // the operator's rule
+                            r.blur = obscura::resolvedBlur(s);
                         } else if (s.method == "hbao") {
                             r.directions = s.directions;
                             r.steps = s.steps;

@@ -5,6 +5,7 @@
 #include "core/methods.h"
 #include "io/frame_job.h"
 #include "io/inspect.h"
+#include "io/preview.h"
 #include "io/sequence.h"
 #include "io/write_guard.h"
 
@@ -94,6 +95,14 @@ std::vector<double> toNumbers(const std::string& flag, const std::string& v, siz
     return out;
 }
 
+float toPreviewExposure(const std::string& v) {
+    const double ev = toNumber("--preview-exposure", v);
+    if (std::abs(ev) > kMaxPreviewExposureEv)
+        throw UsageError("--preview-exposure must be between -" + std::to_string((int)kMaxPreviewExposureEv) + " and " +
+                         std::to_string((int)kMaxPreviewExposureEv) + " stops, got '" + v + "'");
+    return (float)ev;
+}
+
 std::pair<std::string, std::string> splitAssignment(const std::string& flag, const std::string& v) {
     const size_t eq = v.find('=');
     if (eq == std::string::npos || eq == 0 || eq + 1 == v.size())
@@ -138,7 +147,7 @@ std::string methodHelp() {
     return h;
 }
 std::string qualityHelp() {
-    std::string h = "sample-count preset per method; later flags override:";
+    std::string h = "sample-count preset per method (default medium; discs default to k 1); later flags override:";
     for (const MethodInfo& m : methods()) {
         if (m.presets.empty()) continue;
         h += std::string("\n" + std::string(34, ' ')) + m.name + ":";
@@ -181,7 +190,8 @@ std::vector<Flag> makeFlags() {
              if (!applyQualityPreset(v, o.job.settings))
                  throw UsageError("--quality expects low, medium, high or ultra, got '" + v + "'");
          }},
-        {"--blur", "N", "geometry-aware blur radius in pixels (default 0, off)",
+        {"--blur", "N", "geometry-aware blur radius in pixels, 0 = off (default 1, the medium preset's; ssdo: 0 and the "
+                       "default are the interleave width)",
          [](Options& o, const std::string& v) { o.job.settings.blur = toIntIn("--blur", v, 0, 64); }},
         {"--fov-deg", "F", "perspective camera, horizontal field of view of the display window",
          [](Options& o, const std::string& v) { o.job.camera.fovDeg = toNumberIn("--fov-deg", v, 0, false, 179.9); }},
@@ -308,8 +318,11 @@ std::vector<Flag> makeFlags() {
          [](Options& o, const std::string& v) { o.job.referenceLayer = v; }},
         {"--report", "FILE.json|DIR/", "write timings per stage, settings, camera and statistics (DIR/: OUTPUT's name .json there)",
          [](Options& o, const std::string& v) { o.reportPath = v; }},
-        {"--preview", "FILE.png|DIR/", "write an 8-bit PNG of the AO (ssdo: of the DO, through the colour config's display view)",
+        {"--preview", "FILE.png|DIR/", "write an 8-bit sRGB PNG of the AO (ssdo: of the relit layer when written, else the DO)",
          [](Options& o, const std::string& v) { o.job.previewPath = v; }},
+        {"--preview-exposure", "EV", "stops applied before the preview's encoding (default: AO 0; ssdo automatic, the "
+                                     "99th percentile at 0.8)",
+         [](Options& o, const std::string& v) { o.job.previewExposure = toPreviewExposure(v); }},
         {"--in-place", nullptr, "allow OUTPUT to be the input file (replaced atomically)",
          [](Options& o, const std::string&) { o.job.inPlace = true; }},
         {"--frames", "LIST", "frames of a sequence (INPUT and -o hold #### or %04d): 1-100, 1-100x2, 1,5,9-12 "
@@ -412,6 +425,7 @@ Options parseArgs(int argc, char** argv) {
             throw UsageError("the deep input and --flat must both be frame patterns (e.g. shot.####.exr), or neither");
     }
     refuseWhatTheMethodIgnores(o);
+    if (o.job.previewExposure && o.job.previewPath.empty()) throw UsageError("--preview-exposure needs --preview FILE.png");
     const MethodInfo& m = *findMethod(o.job.settings.method);
     const std::string& d = o.job.settings.device;
     if (!m.gl && d != "cpu" && d != "auto")

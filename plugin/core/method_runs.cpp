@@ -24,7 +24,7 @@ void recordGl(OperatorStats& st, const gpu::GlTimings& t) {
 // A lane kernel that reads depth and normals and writes AO (hbao, ssao), then the blur.
 void runLaneAo(const MethodRun& r, cpu::LaneKernel kernel, const char* name) {
     OperatorStats& st = r.out.stats;
-    const int blur = r.settings.blur;
+    const int blur = resolvedBlur(r.settings);
     const bool deep = kernel == cpu::LaneKernel::Hbao && r.params.deepLayers > 0;
     if (r.gl) {
         gpu::GlTimings t;
@@ -59,9 +59,9 @@ void runRtaoMethod(const MethodRun& r) {
     st.timings.push_back({"rtao-mesh", rs.meshSeconds});
     st.timings.push_back({"rtao-bvh", rs.bvhSeconds});
     st.timings.push_back({"rtao-trace", rs.traceSeconds});
-    if (s.blur > 0) {
+    if (const int blur = resolvedBlur(s); blur > 0) {
         const auto t0 = Clock::now();
-        cpu::runBlur(r.params, r.in.depth, r.in.normal, r.out.ao.view(), s.blur, r.threads);
+        cpu::runBlur(r.params, r.in.depth, r.in.normal, r.out.ao.view(), blur, r.threads);
         st.timings.push_back({"blur", secondsSince(t0)});
     }
 }
@@ -82,7 +82,7 @@ void runDiscsMethod(const MethodRun& r) {
             p.discVisibility = 1;
             st.timings.push_back({"discs-visibility", secondsSince(t0)});
         }
-        const int blur = pass + 1 == passes ? r.settings.blur : 0;
+        const int blur = pass + 1 == passes ? resolvedBlur(r.settings) : 0;
         if (r.gl) {
             gpu::GlTimings t;
             r.gl->runDiscs(p, pyramid.data.get(), pyramid.floats, r.in.depth, r.in.normal, r.out.ao.view(), blur, &t);
@@ -131,7 +131,7 @@ void runSsdoMethod(const MethodRun& r) {
     Image& indirect = p.bounce ? out.indirect : unusedIndirect;
     const ConstPlane environment = level.empty() ? ConstPlane{} : ConstPlane(level.view());
     // The interleaved subsets are gathered back by a blur as wide as the block (or --blur).
-    const int blur = s.blur > 0 ? s.blur : (s.interleave > 1 ? s.interleave : 0);
+    const int blur = resolvedBlur(s);
     if (gl) {
         gpu::GlTimings t;
         gl->runSsdo(p, {in.depth, in.normal, in.radiance, in.albedo, environment}, out.directional.view(),

@@ -43,7 +43,7 @@ void checkSettings(const Settings& s) {
         throw Error("at most 4 directional lights");
     if (!(std::isfinite(s.radius) && s.radius > 0.0f))
         throw Error("--radius must be a positive finite number of world units");
-    if (s.blur < 0 || s.blur > 64)
+    if ((s.blur < 0 && s.blur != kBlurAuto) || s.blur > 64)
         throw Error("--blur must be between 0 and 64 pixels");
     if (!(s.skyDepth > 0.0f))
         throw Error("the sky depth threshold must be positive");

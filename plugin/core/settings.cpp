@@ -10,7 +10,7 @@ const std::vector<QualityPreset>& qualityPresets() {
     // Each level roughly quadruples the samples; the blur hides the noise of the sparse ones.
     static const std::vector<QualityPreset> presets = {
         {"low", 4, 4, 2},
-        {"medium", 8, 8, 1},   // the defaults, plus a light blur
+        {"medium", 8, 8, 1},   // the defaults (Settings' kBlurAuto is this blur)
         {"high", 16, 12, 0},
         {"ultra", 32, 24, 0},
     };
@@ -18,6 +18,14 @@ const std::vector<QualityPreset>& qualityPresets() {
 }
 
 bool applyQualityPreset(const std::string& name, Settings& s) { return applyMethodPresets(name, s); }
+
+int resolvedBlur(const Settings& s) {
+    if (methodOutputs(s.method, "do")) return s.blur > 0 ? s.blur : (s.interleave > 1 ? s.interleave : 0);
+    if (s.blur != kBlurAuto) return s.blur;
+    for (const QualityPreset& q : qualityPresets())
+        if (std::string(q.name) == "medium") return q.blur;
+    return 0;
+}
 
 // auto: docs/hbao.md gives the reference scenes the share of R was chosen on (and hbao's
 // per-occluder rule, whose cap it is).

@@ -16,6 +16,8 @@ constexpr float kThicknessInfinite = std::numeric_limits<float>::infinity();
 constexpr float kThicknessAuto = -1.0f;
 // Settings::border: open sky past the edge, the edge texel's depth, or its tangent plane continued.
 constexpr int kBorderOpen = 0, kBorderClamp = 1, kBorderTangent = 2;
+// Settings::blur: the method's own default, resolvedBlur().
+constexpr int kBlurAuto = -1;
 
 struct Settings {
     std::string method = "hbao";
@@ -24,7 +26,7 @@ struct Settings {
     int steps = 8;              // N_s per direction
     Weighting weighting = Weighting::Uniform;
     Falloff falloff = Falloff::Linear;
-    int blur = 0;               // geometry-aware blur radius in pixels, 0 = off
+    int blur = kBlurAuto;       // geometry-aware blur radius in pixels, 0 = off; kBlurAuto: resolvedBlur()
     float skyDepth = 1e9f;      // depth at or beyond this (and inf/NaN/<=0) is background
     int threads = 0;            // 0 = all cores
     std::string device = "cpu";
@@ -81,6 +83,12 @@ struct QualityPreset {
 const std::vector<QualityPreset>& qualityPresets();  // low, medium, high, ultra
 // Applies every method's level `name` (core/methods.h) to `s`; false for an unknown name.
 bool applyQualityPreset(const std::string& name, Settings& s);
+
+// The blur radius in pixels that `s` asks for. kBlurAuto is the `medium` preset's blur, so the
+// default hbao (8 x 8), ssao (16 points) and rtao (16 rays) are medium; docs/cli.md measures
+// the grain it removes. ssdo gathers its M x M interleaving block instead: kBlurAuto or 0
+// give M (0 when M is 1).
+int resolvedBlur(const Settings& s);
 
 // The thickness in world units that `s` asks for: s.thickness, or for kThicknessAuto
 // kAutoThicknessPerRadius times R (hbao: the most a measured occluder gets); +inf for

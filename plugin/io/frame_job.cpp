@@ -14,6 +14,7 @@
 #include <chrono>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <cstdlib>
@@ -162,6 +163,24 @@ void addRgbLayer(std::vector<NewChannel>& add, int part, const std::string& laye
     }
 }
 
+// DO or GI as its layer holds it: irradiance E, or with --times-albedo albedo x E / pi.
+Image ssdoLayerImage(const FrameJob& job, const FramePasses& p, const Image& e) {
+    Image r = e;
+    if (job.timesAlbedo)
+        for (size_t i = 0; i < r.pixels.size(); ++i) r.pixels[i] *= p.albedo.pixels[i] * (float)(1.0 / M_PI);
+    return r;
+}
+
+// albedo x (DO + GI) / pi, plus the render's direct diffuse light with --relit-direct.
+Image relitImage(const FrameJob& job, const FramePasses& p, const OperatorOutputs& out) {
+    Image relit = out.directional;
+    for (size_t i = 0; i < relit.pixels.size(); ++i) {
+        relit.pixels[i] = p.albedo.pixels[i] * (relit.pixels[i] + out.indirect.pixels[i]) * (float)(1.0 / M_PI);
+        if (job.relitWithDirect) relit.pixels[i] += p.albedo.pixels[i] * p.directDiffuse.pixels[i];
+    }
+    return relit;
+}
+
 // DO, GI and relit as the request asks. Irradiance E by default; --times-albedo writes
 // albedo x E / pi, the outgoing radiance of the diffuse receiver. relit = albedo (DO + GI) / pi
 // (+ albedo x direct diffuse), the units a renderer's beauty uses for diffuse light.
@@ -169,28 +188,49 @@ std::vector<std::string> addSsdoLayers(const FrameJob& job, const FramePasses& p
                                        int outPart, Imf::PixelType type, std::vector<NewChannel>& add,
                                        std::vector<StringAttribute>& attrs) {
     std::vector<std::string> layers;
-    auto toRadiance = [&](const Image& e) {
-        Image r = e;
-        for (size_t i = 0; i < r.pixels.size(); ++i) r.pixels[i] *= p.albedo.pixels[i] * (float)(1.0 / M_PI);
-        return r;
-    };
     auto emit = [&](const std::string& layer, const Image& rgb) {
         addRgbLayer(add, outPart, layer, rgb, type);
         layers.push_back(layer);
         attrs.push_back({outPart, "obscura/" + layer + "/units", job.timesAlbedo ? "radiance (albedo E / pi)" : "irradiance E"});
     };
-    if (job.writeDirectional) emit(job.doLayer, job.timesAlbedo ? toRadiance(out.directional) : out.directional);
-    if (job.writeIndirect) emit(job.giLayer, job.timesAlbedo ? toRadiance(out.indirect) : out.indirect);
+    if (job.writeDirectional) emit(job.doLayer, ssdoLayerImage(job, p, out.directional));
+    if (job.writeIndirect) emit(job.giLayer, ssdoLayerImage(job, p, out.indirect));
     if (job.writeRelit) {
-        Image relit = out.directional;
-        for (size_t i = 0; i < relit.pixels.size(); ++i) {
-            relit.pixels[i] = p.albedo.pixels[i] * (relit.pixels[i] + out.indirect.pixels[i]) * (float)(1.0 / M_PI);
-            if (job.relitWithDirect) relit.pixels[i] += p.albedo.pixels[i] * p.directDiffuse.pixels[i];
-        }
-        addRgbLayer(add, outPart, job.relitLayer, relit, type);
+        addRgbLayer(add, outPart, job.relitLayer, relitImage(job, p, out), type);
         layers.push_back(job.relitLayer);
     }
     return layers;
+}
+
+// The part of a data-window plane inside the display window (all of it when they do not meet).
+Image displayPart(const Image& img, const FramePasses& p) {
+    const Box2i crop = intersect(p.data, p.display).empty() ? p.data : intersect(p.data, p.display);
+    Image part(crop.width(), crop.height(), img.channels);
+    for (int y = 0; y < crop.height(); ++y)
+        for (int x = 0; x < crop.width(); ++x)
+            for (int c = 0; c < img.channels; ++c)
+                part.at(x, y)[c] = img.at(x + crop.x0 - p.data.x0, y + crop.y0 - p.data.y0)[c];
+    return part;
+}
+
+// --preview: the display window's part of the frame (overscan is not part of it) of the AO, or
+// for ssdo of the relit layer when it is written, else of the DO layer, converted from the
+// working space to sRGB's primaries where the config has them. AO is a fraction, shown as it
+// is; light has no fixed scale (a sunlit floor is far above 1), so it is exposed automatically
+// unless --preview-exposure says how. Returns the report's plan line.
+std::string writeFramePreview(const FrameJob& job, const FramePasses& p, const OperatorOutputs& out, bool ssdo) {
+    const Image colour = !ssdo ? Image() : job.writeRelit ? relitImage(job, p, out) : ssdoLayerImage(job, p, out.directional);
+    Image view = displayPart(ssdo ? colour : out.ao, p);
+    if (ssdo) {
+        const ColourManager& cm = colourManager();
+        if (const std::string rec709 = cm.resolve("lin_rec709"); !rec709.empty()) cm.convert(view, cm.workingSpace(), rec709);
+    }
+    const float ev = job.previewExposure ? *job.previewExposure : ssdo ? autoExposureEv(view) : 0.0f;
+    writePreviewPng(job.previewPath, view, ev);
+    char line[160];
+    std::snprintf(line, sizeof line, "preview: %s, exposure %+.2f EV%s", !ssdo ? "AO" : job.writeRelit ? "relit" : "DO",
+                  ev, job.previewExposure || !ssdo ? "" : " (auto: the 99th percentile of the largest channel at 0.8)");
+    return line;
 }
 
 } // namespace
@@ -556,19 +596,7 @@ FrameReport runJob(const FrameJob& job) {
     }
     if (!job.previewPath.empty()) {
         StageTimer timer{&report.stages, "preview"};
-        // Preview the display window where the data covers it (overscan is not part of the frame).
-        const Box2i crop = intersect(p.data, p.display).empty() ? p.data : intersect(p.data, p.display);
-        // SSDO previews its DO through the config's display/view; AO is data, shown as is.
-        const Image& source = ssdo ? out.directional : out.ao;
-        Image view(crop.width(), crop.height(), source.channels);
-        for (int y = 0; y < crop.height(); ++y)
-            for (int x = 0; x < crop.width(); ++x)
-                for (int c = 0; c < source.channels; ++c)
-                    view.at(x, y)[c] = source.at(x + crop.x0 - p.data.x0, y + crop.y0 - p.data.y0)[c];
-        if (ssdo)
-            colourManager().writeDisplayPreview(job.previewPath, view);
-        else
-            writePreviewPng(job.previewPath, view, 0);
+        report.plan.push_back(writeFramePreview(job, p, out, ssdo));
     }
     return report;
 }
@@ -589,7 +617,7 @@ std::string frameReportJson(const FrameJob& job, const FrameReport& r) {
     j["settings"] = {{"method", s.method},          {"radius", s.radius},
                      {"directions", s.directions},  {"steps", s.steps},
                      {"weighting", toString(s.weighting)}, {"falloff", toString(s.falloff)},
-                     {"blur", s.blur},              {"threads", s.threads},
+                     {"blur", resolvedBlur(s)},     {"threads", s.threads},
                      {"device", s.device}};
     for (const MethodParam* p : paramsOf(s.method)) {
         json v = p->intField ? json(s.*(p->intField)) : p->floatField ? json(s.*(p->floatField)) : json(s.*(p->boolField));

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <system_error>
 #include <vector>
 
@@ -15,10 +16,6 @@ namespace obscura {
 namespace {
 
 float clamp01(float v) { return std::isnan(v) ? 0.0f : std::min(1.0f, std::max(0.0f, v)); }
-
-float srgbOetf(float v) {
-    return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
-}
 
 std::uint8_t quantise(float v) { return static_cast<std::uint8_t>(std::lround(v * 255.0f)); }
 
@@ -51,30 +48,50 @@ void requireImage(const Image& img, const std::string& path, const std::string& 
         throw FileError(path, what + "the image is empty");
 }
 
+// The channels a preview shows: 0..2 of an RGB image, else channel 0 as grey.
+int previewChannels(const Image& img) { return img.channels >= 3 ? 3 : 1; }
+
 } // namespace
 
-void writePreviewPng(const std::string& path, const Image& img, int channel) {
-    const std::string what = "cannot write the preview: ";
-    requireImage(img, path, what);
-    if (channel >= img.channels)
-        throw FileError(path, what + "channel " + std::to_string(channel) + " does not exist (the image has " +
-                    std::to_string(img.channels) + ")");
+float srgbOetf(float v) {
+    v = clamp01(v);
+    return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+}
 
-    const bool rgb = channel < 0 && img.channels >= 3;
-    const int first = channel < 0 ? 0 : channel;
-    const int outChannels = rgb ? 3 : 1;
-
-    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(img.width) * img.height * outChannels);
-    std::size_t k = 0;
+float previewPercentile99(const Image& img) {
+    const int shown = previewChannels(img);
+    std::vector<float> peaks;
+    peaks.reserve(static_cast<std::size_t>(img.width) * img.height);
     for (int y = 0; y < img.height; ++y)
         for (int x = 0; x < img.width; ++x) {
-            const float* p = img.at(x, y);
-            for (int c = 0; c < outChannels; ++c) {
-                float v = clamp01(p[first + c]);
-                bytes[k++] = quantise(rgb ? srgbOetf(v) : v);
-            }
+            float peak = -std::numeric_limits<float>::infinity();
+            for (int c = 0; c < shown; ++c)
+                if (std::isfinite(img.at(x, y)[c])) peak = std::max(peak, img.at(x, y)[c]);
+            if (std::isfinite(peak)) peaks.push_back(peak);
         }
-    writePngBytes(path, what, img.width, img.height, outChannels, bytes, rgb ? "sRGB" : "");
+    if (peaks.empty()) return 0.0f;
+    const std::size_t rank = static_cast<std::size_t>(std::ceil(0.99 * peaks.size())) - 1;
+    std::nth_element(peaks.begin(), peaks.begin() + rank, peaks.end());
+    return peaks[rank];
+}
+
+float autoExposureEv(const Image& img) {
+    const float p99 = previewPercentile99(img);
+    if (!(p99 > 0.0f)) return 0.0f;
+    return std::clamp(std::log2(kAutoExposurePeak / p99), -kMaxPreviewExposureEv, kMaxPreviewExposureEv);
+}
+
+void writePreviewPng(const std::string& path, const Image& img, float exposureEv) {
+    const std::string what = "cannot write the preview: ";
+    requireImage(img, path, what);
+    const int shown = previewChannels(img);
+    const float scale = std::exp2(exposureEv);
+    std::vector<std::uint8_t> bytes(static_cast<std::size_t>(img.width) * img.height * shown);
+    std::size_t k = 0;
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x)
+            for (int c = 0; c < shown; ++c) bytes[k++] = quantise(srgbOetf(img.at(x, y)[c] * scale));
+    writePngBytes(path, what, img.width, img.height, shown, bytes, "sRGB");
 }
 
 void writeEncodedPreviewPng(const std::string& path, const Image& img, const std::string& colourSpaceTag) {

@@ -459,8 +459,7 @@ float radiusCap(const Params& p, const FrameMap& f) {
 // by the cap: orthographic, that reach is exactly R * pixels-per-unit; in perspective the cap
 // stands for it, which holds wherever r_max projects within the cap (surfaces farther from
 // the eye than about fx r_max / cap + r_max). Its blur gathers the interleaving block (the
-// interleave width, or Blur when set), and the bounce reads Source under the same apron.
-int ssdoBlur(const Settings& s) { return s.blur > 0 ? s.blur : (s.interleave > 1 ? s.interleave : 0); }
+// interleave width, or Blur when set: resolvedBlur), and the bounce reads Source under the same apron.
 
 int apronPixels(const Params& p, const Camera& cam, float cap) {
     const bool ssdo = p.settings.method == "ssdo";
@@ -468,7 +467,7 @@ int apronPixels(const Params& p, const Camera& cam, float cap) {
     if (cam.projection == Projection::Orthographic)
         reach = ssdo ? std::min<double>((double)p.settings.radius * cam.fx, 1e7)
                      : std::min<double>(p.settings.radius * cam.fx, cap);
-    const int blur = ssdo ? ssdoBlur(p.settings) : p.settings.blur;
+    const int blur = resolvedBlur(p.settings);
     const MethodInfo* m = findMethod(p.settings.method);
     const int extra = m && m->extraApron ? m->extraApron(p.settings) : 0;
     return (int)std::ceil(reach) + 2 + std::max(blur, 0) + extra;
@@ -737,7 +736,10 @@ OfxStatus onDescribeInContext(OfxImageEffectHandle effect, OfxPropertySetHandle 
              {kWeightings[0], kWeightings[1]}, 0);
     d.choice(kParamFalloff, "Falloff", "linear: W(r) = 1 - r/R; none: binary visibility within R (--falloff)",
              {kFalloffs[0], kFalloffs[1]}, 0);
-    d.integer(kParamBlur, "Blur", "Geometry-aware blur radius in pixels, 0 = off (--blur)", 0, 0, 64, 0, 16);
+    d.integer(kParamBlur, "Blur",
+              "Geometry-aware blur radius in pixels, 0 = off; -1: the default, 1 (the medium preset's), and for "
+              "ssdo as wide as the interleave block (--blur)",
+              kBlurAuto, kBlurAuto, 64, kBlurAuto, 16);
 
     d.group(kGroupCamera, "Camera");
     d.choice(kParamProjection, "Projection", "Perspective (field of view) or orthographic (width) camera",

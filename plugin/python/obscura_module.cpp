@@ -8,6 +8,7 @@
 #include "io/camera_sources.h"
 #include "io/frame_job.h"
 #include "io/inspect.h"
+#include "io/preview.h"
 #include "io/write_guard.h"
 #include "python/call_args.h"
 
@@ -583,7 +584,7 @@ py::dict readPassesPy(const py::object& path, const FileArgs& f) {
 }
 
 struct OutputArgs {
-    py::object outLayer, outType, badPixels, reference, report, preview, inPlace, write;
+    py::object outLayer, outType, badPixels, reference, report, preview, inPlace, write, previewExposure;
 };
 
 // process()'s SSDO keywords beyond the operator's: what to write and where the light comes from.
@@ -648,6 +649,14 @@ py::object processPy(const py::object& path, const py::object& out, const FileAr
                                                                                        : BadPixelPolicy::Error;
     if (!o.reference.is_none()) job.referenceLayer = strArg(o.reference, "reference");
     if (!o.preview.is_none()) job.previewPath = pathArg(o.preview, "preview");
+    if (!o.previewExposure.is_none()) {
+        if (job.previewPath.empty()) valueError("preview_exposure needs preview=PATH");
+        const double ev = floatArg(o.previewExposure, "preview_exposure");
+        if (std::abs(ev) > kMaxPreviewExposureEv)
+            valueError("preview_exposure must be between -" + std::to_string((int)kMaxPreviewExposureEv) + " and " +
+                       std::to_string((int)kMaxPreviewExposureEv) + " stops, got " + std::to_string(ev));
+        job.previewExposure = (float)ev;
+    }
     if (!o.inPlace.is_none()) job.inPlace = py::bool_(o.inPlace);
     if (!o.write.is_none()) parse(choiceArg(o.write, "write", {"copy", "new"}), job.write);
     if (job.write == WriteMode::New && job.inPlace)
@@ -941,7 +950,7 @@ camera: obscura.Camera, required. data_window: (x0, y0, x1, y1) the arrays cover
 pixels (default (0, 0, W, H); larger than the display window for overscan). display_window:
 the frame's (x0, y0, x1, y1), default (0, 0, W, H).
 Settings (defaults as the CLI): radius=1.0 world units, directions=8, steps=8,
-weighting='uniform'|'cosine', falloff='linear'|'none', blur=0 px, quality=None ('low',
+weighting='uniform'|'cosine', falloff='linear'|'none', blur=1 px (the 'medium' preset's), quality=None ('low',
 'medium', 'high', 'ultra'; explicit directions/steps/blur override it), method='hbao'
 (or 'ssao', 'rtao', with their own keywords: ssao_samples=16, ssao_hemisphere=False,
 rtao_rays=16, rtao_grid=1), thickness='auto' (hbao and rtao: world units, 'auto' or 'inf'),
@@ -1048,7 +1057,8 @@ Raises obscura.Error for a missing/unreadable file or missing passes.)doc");
            py::object report, py::object preview, py::object inPlace, py::object samples, py::object interleave,
            py::object sky, py::object envRotate, py::object envIntensity, py::object lights, py::object bounce,
            py::object bounceSource, py::object env, py::object envColorspace, py::object colorspace, py::object up,
-           py::object timesAlbedo, py::object relitDirect, py::object write, const py::kwargs& own) {
+           py::object timesAlbedo, py::object relitDirect, py::object write, py::object previewExposure,
+           const py::kwargs& own) {
             checkPositional("process", extra, {"path", "out"}, "method=..., radius=...");
             required("process", path, "path", "the input EXR's path");
             required("process", out, "out", "the output EXR's path");
@@ -1056,7 +1066,8 @@ Raises obscura.Error for a missing/unreadable file or missing passes.)doc");
                              FileArgs{preset, layer, camera, fovDeg, orthoWidth, c2w, depth, normals, skyDepth, maxPixels},
                              SettingArgs{quality, method, radius, directions, steps, weighting, falloff, blur, device,
                                          threads, own},
-                             OutputArgs{outLayer, outType, badPixels, reference, report, preview, inPlace, write},
+                             OutputArgs{outLayer, outType, badPixels, reference, report, preview, inPlace, write,
+                                        previewExposure},
                              SsdoArgs{samples, interleave, sky, envRotate, envIntensity, lights},
                              JobSsdoArgs{bounce, bounceSource, env, envColorspace, colorspace, up, timesAlbedo,
                                          relitDirect});
@@ -1067,7 +1078,7 @@ Raises obscura.Error for a missing/unreadable file or missing passes.)doc");
         py::arg("in_place") = py::none(), OBSCURA_SSDO_ARGS, py::arg("bounce") = py::none(),
         py::arg("bounce_source") = py::none(), py::arg("env") = py::none(), py::arg("env_colorspace") = py::none(),
         py::arg("colorspace") = py::none(), py::arg("up") = py::none(), py::arg("times_albedo") = py::none(),
-        py::arg("relit_direct") = py::none(), py::arg("write") = py::none(),
+        py::arg("relit_direct") = py::none(), py::arg("write") = py::none(), py::arg("preview_exposure") = py::none(),
         R"doc(obscura PATH -o OUT [flags]: writes OUT, a copy of PATH with the new layers added, and returns
 the --report JSON as a dict (settings, camera, conventions, timings_s, stats, reference, warnings,
 plan, written: the channels added).
@@ -1088,7 +1099,9 @@ directions, steps, weighting, falloff, blur, device, threads; preset, layer={rol
 ('planar' | 'radial'), normals ('world' | 'camera'), sky_depth, max_pixels (refuse a data or
 display window above it before allocating, as --max-pixels; default 16384^2); out_layer (above),
 out_type ('half' | 'float'), bad_pixels ('error' | 'skip'), reference (layer name), report
-(also write the JSON there), preview (PNG path), in_place (bool), write ('copy': PATH plus the
+(also write the JSON there), preview (PNG path: 8-bit sRGB of the AO, or for 'ssdo' of the relit
+layer when written, else the DO), preview_exposure (stops before the preview's encoding; default
+AO 0, ssdo automatic: the 99th percentile at 0.8), in_place (bool), write ('copy': PATH plus the
 new layers, the default; 'new': only the new layers, with PATH's windows, camera and colour
 attributes; PATH's other channels are not decoded).
 method='ssdo': samples (1-4096), interleave (1-8), bounce (bool, above), bounce_source

@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
     s.radius = 0.05f;  // a few pixels at this resolution: the point is the frame size, not the radius
     s.directions = 4;
     s.steps = 4;
+    s.blur = 0;  // the kernel alone
     Image reference;
     for (const char* device : {"cpu", "gl-osmesa", "gl-egl"}) {
         s.device = device;

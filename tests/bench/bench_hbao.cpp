@@ -91,6 +91,7 @@ Settings settingsFor(Weighting w, Falloff f, int threads, const std::string& dev
     s.steps = envInt("OBSCURA_BENCH_STEPS", 8);
     s.weighting = w;
     s.falloff = f;
+    s.blur = 0;  // the kernel alone (and what builds before the default blur ran)
     s.threads = threads;
     return s;
 }

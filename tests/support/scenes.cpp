@@ -213,6 +213,7 @@ Settings hbaoSettings(Weighting w, Falloff f, float radius, int dirs, int steps)
     s.steps = steps;
     s.weighting = w;
     s.falloff = f;
+    s.blur = 0;  // the kernel alone: closed forms and bounds hold per pixel, not for a blurred neighbourhood
     s.threads = 2;
     return s;
 }

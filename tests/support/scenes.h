@@ -80,7 +80,7 @@ const CornerCrop& cornerCrop();
 // along +Z (70 degree pinhole, or an orthographic view `dist` wide).
 SceneBuffers tiltedPlaneView(double tiltDeg, double dist, bool ortho, int width, int height);
 
-// HBAO settings for analytic tests: weighting, falloff, radius, slices x steps, 2 threads.
+// HBAO settings for analytic tests: weighting, falloff, radius, slices x steps, no blur, 2 threads.
 Settings hbaoSettings(Weighting w, Falloff f, float radius, int dirs = 8, int steps = 8);
 
 // Deep input layers (OperatorInputs::deepLayers) from a depth plane: layer k's (front, back)
