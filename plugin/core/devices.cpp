@@ -1,6 +1,8 @@
 #include "devices.h"
 
 #include "base/error.h"
+#include "core/backend_cpu.h"
+#include "core/backend_gl.h"
 #include "cpu/parallel.h"
 #include "gpu/gl_backend.h"
 
@@ -57,6 +59,17 @@ DeviceChoice chooseDevice(const Settings& s) {
     c.hardware = gl && !gl->info().software;
     c.description = deviceDescription(gl, cpu::resolveThreads(s.threads));
     return c;
+}
+
+std::unique_ptr<Backend> chooseBackend(const Settings& s, bool methodRunsOnGl, int threads,
+                                       std::vector<std::string>& notes) {
+    gpu::GlBackend* gl = selectGlBackend(s.device, notes);
+    if (gl && !methodRunsOnGl) {
+        if (s.device != "auto") throw Error("--method " + s.method + " runs on the CPU only; use --device cpu");
+        notes.push_back("--device auto: --method " + s.method + " runs on the CPU only");
+        gl = nullptr;
+    }
+    return gl ? makeGlBackend(*gl) : makeCpuBackend(threads);
 }
 
 } // namespace obscura

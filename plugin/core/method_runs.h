@@ -6,16 +6,15 @@
 #include <chrono>
 
 namespace obscura {
-namespace gpu {
-class GlBackend;
-}
+
+class Backend;
 
 struct MethodRun {
     const OperatorInputs& in;
     const Settings& settings;
     const KernelParams& params;   // makeKernelParams(in, settings)
-    gpu::GlBackend* gl;           // nullptr: the CPU
-    int threads;
+    const Backend& backend;       // where the kernels run (core/backend.h)
+    int threads;                  // CPU threads for the work around the kernels (the disc pyramid)
     OperatorOutputs& out;         // out.ao is allocated (1 everywhere)
 };
 

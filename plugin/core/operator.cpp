@@ -1,6 +1,7 @@
 #include "operator.h"
 
-#include "devices.h"
+#include "core/backend.h"
+#include "core/devices.h"
 
 #include "base/error.h"
 #include "core/method_runs.h"
@@ -196,14 +197,8 @@ OperatorOutputs runOperator(const OperatorInputs& in, const Settings& s) {
     OperatorStats& st = out.stats;
     const int threads = cpu::resolveThreads(s.threads);
     const MethodInfo& method = *findMethod(s.method);
-    gpu::GlBackend* gl = selectGlBackend(s.device, st.notes);
-    if (gl && !method.gl) {
-        if (s.device != "auto")
-            throw Error("--method " + s.method + " runs on the CPU only; use --device cpu");
-        st.notes.push_back("--device auto: --method " + s.method + " runs on the CPU only");
-        gl = nullptr;
-    }
-    st.device = deviceDescription(gl, threads);
+    const std::unique_ptr<Backend> backend = chooseBackend(s, method.gl, threads, st.notes);
+    st.device = backend->description();
     st.pixels = in.dataWindow.area();
 
     auto t0 = Clock::now();
@@ -224,7 +219,7 @@ OperatorOutputs runOperator(const OperatorInputs& in, const Settings& s) {
     st.timings.push_back({"scan", secondsSince(t0)});
 
     out.ao = Image(in.dataWindow.width(), in.dataWindow.height(), 1, 1.0f);
-    method.run(MethodRun{in, s, params, gl, threads, out});
+    method.run(MethodRun{in, s, params, *backend, threads, out});
     return out;
 }
 
