@@ -3,6 +3,7 @@
 #include "core/devices.h"
 #include "base/error.h"
 #include "core/methods.h"
+#include "core/settings_schema.h"
 #include "io/frame_job.h"
 #include "io/inspect.h"
 #include "io/preview.h"
@@ -15,6 +16,7 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -57,24 +59,22 @@ int toInt(const std::string& flag, const std::string& v) {
     return (int)n;
 }
 
-// A number above `lo` (or at least `lo` with `closed`), at most `hi` when hi is finite.
-double toNumberIn(const std::string& flag, const std::string& v, double lo, bool closed,
-                  double hi = std::numeric_limits<double>::infinity()) {
-    const double d = toNumber(flag, v);
-    if (d < lo || (!closed && d == lo) || d > hi) {
-        std::ostringstream range;
-        range << flag << " must be " << (closed ? "at least " : "above ") << lo;
-        if (std::isfinite(hi)) range << " and at most " << hi;
-        throw UsageError(range.str() + ", got '" + v + "'");
+// A shared numeric setting (core/settings_schema.h): parsed here, checked against core's range.
+double toSetting(const std::string& flag, const std::string& v) {
+    const NumberSetting& setting = numberSetting(flag);
+    double x = 0;
+    if (setting.integer) {
+        char* end = nullptr;
+        errno = 0;
+        const long long n = std::strtoll(v.c_str(), &end, 10);
+        if (v.empty() || *end != '\0' || errno == ERANGE) throw UsageError(flag + " expects a whole number, got '" + v + "'");
+        x = (double)n;
+    } else {
+        x = toNumber(flag, v);
     }
-    return d;
-}
-
-int toIntIn(const std::string& flag, const std::string& v, int lo, int hi) {
-    const int n = toInt(flag, v);
-    if (n < lo || n > hi)
-        throw UsageError(flag + " must be between " + std::to_string(lo) + " and " + std::to_string(hi) + ", got '" + v + "'");
-    return n;
+    const std::string problem = numberProblem(setting, x, Spelling::Flag);
+    if (!problem.empty()) throw UsageError(problem);
+    return x;
 }
 
 template <class E>
@@ -95,13 +95,6 @@ std::vector<double> toNumbers(const std::string& flag, const std::string& v, siz
     return out;
 }
 
-float toPreviewExposure(const std::string& v) {
-    const double ev = toNumber("--preview-exposure", v);
-    if (std::abs(ev) > kMaxPreviewExposureEv)
-        throw UsageError("--preview-exposure must be between -" + std::to_string((int)kMaxPreviewExposureEv) + " and " +
-                         std::to_string((int)kMaxPreviewExposureEv) + " stops, got '" + v + "'");
-    return (float)ev;
-}
 
 std::pair<std::string, std::string> splitAssignment(const std::string& flag, const std::string& v) {
     const size_t eq = v.find('=');
@@ -178,7 +171,7 @@ std::vector<Flag> makeFlags() {
              o.job.settings.method = v;
          }},
         {"--radius", "R", "occlusion radius in world units (default 1)",
-         [](Options& o, const std::string& v) { o.job.settings.radius = (float)toNumberIn("--radius", v, 0, false, 1e30); }},
+         [](Options& o, const std::string& v) { o.job.settings.radius = (float)toSetting("--radius", v); }},
         {"--weighting", "uniform|cosine", "solid angle (HBAO paper, default) or projected solid angle (ray-traced AO)",
          [](Options& o, const std::string& v) {
              o.job.settings.weighting = toEnum<Weighting>("--weighting", v, "uniform or cosine");
@@ -192,11 +185,11 @@ std::vector<Flag> makeFlags() {
          }},
         {"--blur", "N", "geometry-aware blur radius in pixels, 0 = off (default 1, the medium preset's; ssdo: 0 and the "
                        "default are the interleave width)",
-         [](Options& o, const std::string& v) { o.job.settings.blur = toIntIn("--blur", v, 0, 64); }},
+         [](Options& o, const std::string& v) { o.job.settings.blur = (int)toSetting("--blur", v); }},
         {"--fov-deg", "F", "perspective camera, horizontal field of view of the display window",
-         [](Options& o, const std::string& v) { o.job.camera.fovDeg = toNumberIn("--fov-deg", v, 0, false, 179.9); }},
+         [](Options& o, const std::string& v) { o.job.camera.fovDeg = toSetting("--fov-deg", v); }},
         {"--ortho-width", "W", "orthographic camera, W world units across the display window",
-         [](Options& o, const std::string& v) { o.job.camera.orthoWidth = toNumberIn("--ortho-width", v, 0, false); }},
+         [](Options& o, const std::string& v) { o.job.camera.orthoWidth = toSetting("--ortho-width", v); }},
         {"--camera-to-world", "m00,...,m33", "16 numbers, row-major, OpenGL convention (camera looks down -Z)",
          [](Options& o, const std::string& v) {
              const std::vector<double> rows = toNumbers("--camera-to-world", v, 16);
@@ -213,7 +206,7 @@ std::vector<Flag> makeFlags() {
              o.job.normalSpace = toEnum<NormalSpace>("--normals", v, "world or camera");
          }},
         {"--sky-depth", "D", "depth at or beyond which a pixel is sky (default: the preset's, 1e9)",
-         [](Options& o, const std::string& v) { o.job.skyDepth = (float)toNumberIn("--sky-depth", v, 0, false); }},
+         [](Options& o, const std::string& v) { o.job.skyDepth = (float)toSetting("--sky-depth", v); }},
         {"--preset", "NAME", "renderer naming: auto (default), blender, arnold, renderman, vray, karma, generic",
          [](Options& o, const std::string& v) {
              const auto& names = presetNames();
@@ -254,9 +247,9 @@ std::vector<Flag> makeFlags() {
         {"--env", "FILE", "ssdo: lat-long environment map (EXR, HDR, ...) lighting the open directions",
          [](Options& o, const std::string& v) { o.job.envPath = v; }},
         {"--env-rotate", "DEG", "turn the environment about the up axis",
-         [](Options& o, const std::string& v) { o.job.settings.envRotationDeg = (float)toNumber("--env-rotate", v); }},
+         [](Options& o, const std::string& v) { o.job.settings.envRotationDeg = (float)toSetting("--env-rotate", v); }},
         {"--env-intensity", "X", "multiply the environment (or sky) radiance (default 1)",
-         [](Options& o, const std::string& v) { o.job.settings.envIntensity = (float)toNumberIn("--env-intensity", v, 0, true); }},
+         [](Options& o, const std::string& v) { o.job.settings.envIntensity = (float)toSetting("--env-intensity", v); }},
         {"--sky", "R,G,B", "ssdo: constant sky radiance when there is no --env (default 1,1,1)",
          [](Options& o, const std::string& v) {
              const std::vector<double> c = toNumbers("--sky", v, 3);
@@ -300,14 +293,11 @@ std::vector<Flag> makeFlags() {
              o.job.settings.device = v;
          }},
         {"--threads", "N", "CPU threads (default 0 = all cores)",
-         [](Options& o, const std::string& v) { o.job.settings.threads = toIntIn("--threads", v, 0, 1 << 16); }},
+         [](Options& o, const std::string& v) { o.job.settings.threads = (int)toSetting("--threads", v); }},
         {"--max-pixels", "N", "refuse an input or environment map with a window above N pixels, before allocating "
                                "(default 268435456 = 16384 x 16384)",
          [](Options& o, const std::string& v) {
-             char* end = nullptr;
-             const long long n = std::strtoll(v.c_str(), &end, 10);
-             if (v.empty() || *end != '\0' || n < 1) throw UsageError("--max-pixels expects a positive whole number, got '" + v + "'");
-             o.job.maxPixels = n;
+             o.job.maxPixels = (long long)toSetting("--max-pixels", v);
          }},
         {"--bad-pixels", "error|skip", "NaN/negative depth or missing normals: fail (default) or treat as holes",
          [](Options& o, const std::string& v) {
@@ -322,7 +312,7 @@ std::vector<Flag> makeFlags() {
          [](Options& o, const std::string& v) { o.job.previewPath = v; }},
         {"--preview-exposure", "EV", "stops applied before the preview's encoding (default: AO 0; ssdo automatic, the "
                                      "99th percentile at 0.8)",
-         [](Options& o, const std::string& v) { o.job.previewExposure = toPreviewExposure(v); }},
+         [](Options& o, const std::string& v) { o.job.previewExposure = (float)toSetting("--preview-exposure", v); }},
         {"--in-place", nullptr, "allow OUTPUT to be the input file (replaced atomically)",
          [](Options& o, const std::string&) { o.job.inPlace = true; }},
         {"--frames", "LIST", "frames of a sequence (INPUT and -o hold #### or %04d): 1-100, 1-100x2, 1,5,9-12 "

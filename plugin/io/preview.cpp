@@ -1,7 +1,7 @@
 #include "io/preview.h"
 
 #include "base/error.h"
-
+#include "core/settings_schema.h"
 #include "io/oiio_module.h"
 
 #include <algorithm>
@@ -78,7 +78,8 @@ float previewPercentile99(const Image& img) {
 float autoExposureEv(const Image& img) {
     const float p99 = previewPercentile99(img);
     if (!(p99 > 0.0f)) return 0.0f;
-    return std::clamp(std::log2(kAutoExposurePeak / p99), -kMaxPreviewExposureEv, kMaxPreviewExposureEv);
+    return std::clamp(std::log2(kAutoExposurePeak / p99), (float)numberSetting("preview_exposure").min,
+                      (float)numberSetting("preview_exposure").max);
 }
 
 void writePreviewPng(const std::string& path, const Image& img, float exposureEv) {

@@ -14,9 +14,6 @@ namespace obscura {
 // The sRGB OETF of v clamped to [0, 1]; NaN gives 0.
 float srgbOetf(float v);
 
-// --preview-exposure accepts stops in [-kMaxPreviewExposureEv, kMaxPreviewExposureEv].
-constexpr float kMaxPreviewExposureEv = 24.0f;
-
 // The 99th percentile (nearest rank) of each pixel's largest channel among 0..2 (channel 0
 // alone with fewer than 3), NaN and infinities left out; 0 when no pixel has a finite value.
 float previewPercentile99(const Image& img);
@@ -26,7 +23,7 @@ float previewPercentile99(const Image& img);
 // shading, while the top 1 % (highlights) keeps 1/0.8 = 1.25x of headroom. The largest
 // channel, not luminance, because a saturated colour (a sunlit red wall) clips its strongest
 // channel before its luminance reaches 1. 0 for an image with nothing above 0; within
-// +-kMaxPreviewExposureEv.
+// the range --preview-exposure accepts (core/settings_schema.h).
 constexpr float kAutoExposurePeak = 0.8f;
 float autoExposureEv(const Image& img);
 

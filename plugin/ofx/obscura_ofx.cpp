@@ -22,6 +22,7 @@
 #include "core/methods.h"
 #include "core/operator.h"
 #include "core/settings.h"
+#include "core/settings_schema.h"
 #include "io/environment_map.h"
 #include "io/exr_file.h"
 
@@ -638,6 +639,10 @@ void defineClip(OfxImageEffectHandle effect, const char* name, std::initializer_
     if (hint) gProp->propSetString(c, kOfxPropLabel, 0, hint);
 }
 
+// A shared numeric setting's range as the node stores it (core/settings_schema.h).
+double lo(const char* ofx) { return numberSetting(ofx).ofxMin; }
+double hi(const char* ofx) { return numberSetting(ofx).max; }
+
 struct ParamDef {
     OfxParamSetHandle set;
     std::vector<std::string> topLevel;
@@ -727,7 +732,7 @@ OfxStatus onDescribeInContext(OfxImageEffectHandle effect, OfxPropertySetHandle 
     for (const MethodInfo& m : methods()) methodChoices.push_back(m.name);
     d.choice(kParamMethod, "Method", "Occlusion method for the AO outputs (--method); DO, GI and Relit always use ssdo",
              methodChoices, 0);
-    d.real(kParamRadius, "Radius", "Radius in world units (--radius)", 1.0, 1e-6, 1e9, 0.01, 10.0);
+    d.real(kParamRadius, "Radius", "Radius in world units (--radius)", 1.0, lo(kParamRadius), hi(kParamRadius), 0.01, 10.0);
     d.integer(kParamDirections, "Directions", "Slices per pixel (--directions)", 8, 1, 256, 1, 32);
     d.integer(kParamSteps, "Steps", "Samples per slice (--steps)", 8, 1, 256, 1, 32);
     d.choice(kParamWeighting, "Weighting",
@@ -739,14 +744,14 @@ OfxStatus onDescribeInContext(OfxImageEffectHandle effect, OfxPropertySetHandle 
     d.integer(kParamBlur, "Blur",
               "Geometry-aware blur radius in pixels, 0 = off; -1: the default, 1 (the medium preset's), and for "
               "ssdo as wide as the interleave block (--blur)",
-              kBlurAuto, kBlurAuto, 64, kBlurAuto, 16);
+              kBlurAuto, (int)lo(kParamBlur), (int)hi(kParamBlur), kBlurAuto, 16);
 
     d.group(kGroupCamera, "Camera");
     d.choice(kParamProjection, "Projection", "Perspective (field of view) or orthographic (width) camera",
              {kProjections[0], kProjections[1]}, 0, kGroupCamera);
     d.real(kParamFov, "Field of View", "Horizontal field of view across the project format, degrees (--fov-deg)",
-           39.5977, 1e-3, 179.999, 1.0, 120.0, kGroupCamera, kOfxParamDoubleTypeAngle);
-    d.real(kParamOrthoWidth, "Ortho Width", "World units across the project format (--ortho-width)", 10.0, 1e-9, 1e12,
+           39.5977, lo(kParamFov), hi(kParamFov), 1.0, 120.0, kGroupCamera, kOfxParamDoubleTypeAngle);
+    d.real(kParamOrthoWidth, "Ortho Width", "World units across the project format (--ortho-width)", 10.0, lo(kParamOrthoWidth), hi(kParamOrthoWidth),
            0.1, 100.0, kGroupCamera);
     {
         OfxPropertySetHandle p = d.define(kOfxParamTypeString, kParamCameraToWorld, "Camera to World",
@@ -763,7 +768,7 @@ OfxStatus onDescribeInContext(OfxImageEffectHandle effect, OfxPropertySetHandle 
              {kNormalSpaces[0], kNormalSpaces[1]}, 0, kGroupCamera);
 
     d.group(kGroupAdvanced, "Advanced");
-    d.real(kParamSkyDepth, "Sky Depth", "Depth at or beyond which a pixel is sky (--sky-depth)", 1e9, 1e-6, 1e38, 1.0,
+    d.real(kParamSkyDepth, "Sky Depth", "Depth at or beyond which a pixel is sky (--sky-depth)", 1e9, lo(kParamSkyDepth), hi(kParamSkyDepth), 1.0,
            1e10, kGroupAdvanced);
     d.real(kParamMaxScreenRadius, "Max Screen Radius",
            "Cap on the projected radius in pixels; it is also the apron requested around each tile. "
@@ -773,7 +778,8 @@ OfxStatus onDescribeInContext(OfxImageEffectHandle effect, OfxPropertySetHandle 
     for (const DeviceName& dn : deviceNames()) deviceChoices.push_back(dn.name);
     d.choice(kParamDevice, "Device", "Compute device (--device); auto = a hardware GPU if present, else the CPU",
              deviceChoices, 1, kGroupAdvanced);
-    d.integer(kParamThreads, "Threads", "CPU threads, 0 = all cores (--threads)", 0, 0, 1024, 0, 64, kGroupAdvanced);
+    d.integer(kParamThreads, "Threads", "CPU threads, 0 = all cores (--threads)", 0, (int)lo(kParamThreads),
+              (int)hi(kParamThreads), 0, 64, kGroupAdvanced);
 
     d.group(kGroupSsdo, "SSDO");
     d.integer(kParamSsdoSamples, "Samples", "Sample set N shared by an interleaving block (--samples)", 64, 1, 4096, 1,
@@ -797,8 +803,8 @@ OfxStatus onDescribeInContext(OfxImageEffectHandle effect, OfxPropertySetHandle 
         gProp->propSetInt(p, kOfxParamPropAnimates, 0, 0);
     }
     d.real(kParamEnvRotation, "Env Rotation", "Turns the environment about the up axis, degrees (--env-rotate)", 0.0,
-           -36000.0, 36000.0, -180.0, 180.0, kGroupSsdo, kOfxParamDoubleTypeAngle);
-    d.real(kParamEnvIntensity, "Env Intensity", "Multiplies the environment map (--env-intensity)", 1.0, 0.0, 1e9, 0.0,
+           lo(kParamEnvRotation), hi(kParamEnvRotation), -180.0, 180.0, kGroupSsdo, kOfxParamDoubleTypeAngle);
+    d.real(kParamEnvIntensity, "Env Intensity", "Multiplies the environment map (--env-intensity)", 1.0, lo(kParamEnvIntensity), hi(kParamEnvIntensity), 0.0,
            4.0, kGroupSsdo);
     d.choice(kParamUpAxis, "Up Axis", "World up axis for the environment: y, or z for Blender renders (--up)",
              {kUpAxes[0], kUpAxes[1]}, 0, kGroupSsdo);

@@ -5,6 +5,7 @@
 #include "base/error.h"
 #include "core/operator.h"
 #include "core/methods.h"
+#include "core/settings_schema.h"
 #include "io/camera_sources.h"
 #include "io/frame_job.h"
 #include "io/inspect.h"
@@ -86,6 +87,22 @@ int intInRange(const py::handle& obj, const char* what, long long lo, long long 
         valueError(std::string(what) + " must be between " + std::to_string(lo) + " and " + std::to_string(hi) +
                    ", got " + std::to_string(v));
     return (int)v;
+}
+
+// A shared numeric setting (core/settings_schema.h), checked against core's range.
+double numberArg(const py::handle& obj, const char* key) {
+    const NumberSetting& setting = numberSetting(key);
+    const double v = setting.integer ? (double)intArg(obj, key) : floatArg(obj, key);
+    const std::string problem = numberProblem(setting, v, Spelling::Key);
+    if (!problem.empty()) valueError(problem);
+    return v;
+}
+
+// A method's own integer parameter (core/methods.h), checked against the table's range.
+int methodIntArg(const py::handle& obj, const char* key) {
+    for (const MethodParam* p : allMethodParams())
+        if (std::string(p->key) == key) return intInRange(obj, key, (long long)p->min, (long long)p->max);
+    throw std::logic_error(std::string("no method parameter ") + key);
 }
 
 template <class E>
@@ -256,21 +273,18 @@ Settings settingsFrom(const SettingArgs& a, const char* method = nullptr) {
         for (const MethodInfo& m : methods()) names.push_back(m.name);
         s.method = choiceArg(a.method, "method", names);
     }
-    if (!a.radius.is_none()) {
-        s.radius = (float)floatArg(a.radius, "radius");
-        if (!(s.radius > 0.0f)) valueError("radius must be a positive number of world units, got " + std::to_string(s.radius));
-    }
-    if (!a.directions.is_none()) s.directions = intInRange(a.directions, "directions", 1, 256);
-    if (!a.steps.is_none()) s.steps = intInRange(a.steps, "steps", 1, 256);
+    if (!a.radius.is_none()) s.radius = (float)numberArg(a.radius, "radius");
+    if (!a.directions.is_none()) s.directions = methodIntArg(a.directions, "directions");
+    if (!a.steps.is_none()) s.steps = methodIntArg(a.steps, "steps");
     if (!a.weighting.is_none()) s.weighting = enumArg<Weighting>(a.weighting, "weighting", "'uniform' or 'cosine'");
     if (!a.falloff.is_none()) s.falloff = enumArg<Falloff>(a.falloff, "falloff", "'linear' or 'none'");
-    if (!a.blur.is_none()) s.blur = intInRange(a.blur, "blur", 0, 64);
+    if (!a.blur.is_none()) s.blur = (int)numberArg(a.blur, "blur");
     if (!a.device.is_none()) {
         s.device = strArg(a.device, "device");
         if (!isDeviceName(s.device))
             valueError("device must be one of " + deviceNameList(", ", " or ") + ", got '" + s.device + "'");
     }
-    if (!a.threads.is_none()) s.threads = intInRange(a.threads, "threads", 0, 1 << 16);
+    if (!a.threads.is_none()) s.threads = (int)numberArg(a.threads, "threads");
     for (const auto& item : a.own) applyMethodParam(py::str(item.first), item.second, s);
     if (method) s.method = method;
     refuseIgnored(s.method, "directions", a.directions);
@@ -305,8 +319,8 @@ void applySsdo(const SsdoArgs& a, Settings& s) {
                                      {"interleave", &a.interleave}, {"sky", &a.sky}, {"env_rotate", &a.envRotate},
                                      {"env_intensity", &a.envIntensity}, {"lights", &a.lights}})
         refuseIgnored(s.method, key, *value);
-    if (!a.samples.is_none()) s.ssdoSamples = intInRange(a.samples, "samples", 1, 4096);
-    if (!a.interleave.is_none()) s.interleave = intInRange(a.interleave, "interleave", 1, 8);
+    if (!a.samples.is_none()) s.ssdoSamples = methodIntArg(a.samples, "samples");
+    if (!a.interleave.is_none()) s.interleave = methodIntArg(a.interleave, "interleave");
     if (s.interleave * s.interleave > s.ssdoSamples)
         valueError("interleave " + std::to_string(s.interleave) + " splits " + std::to_string(s.ssdoSamples) +
                    " samples over " + std::to_string(s.interleave * s.interleave) +
@@ -315,11 +329,8 @@ void applySsdo(const SsdoArgs& a, Settings& s) {
         const std::array<float, 3> c = tripleArg(a.sky, "sky", true);
         std::copy(c.begin(), c.end(), s.skyRadiance);
     }
-    if (!a.envRotate.is_none()) s.envRotationDeg = (float)floatArg(a.envRotate, "env_rotate");
-    if (!a.envIntensity.is_none()) {
-        s.envIntensity = (float)floatArg(a.envIntensity, "env_intensity");
-        if (s.envIntensity < 0) valueError("env_intensity must not be negative");
-    }
+    if (!a.envRotate.is_none()) s.envRotationDeg = (float)numberArg(a.envRotate, "env_rotate");
+    if (!a.envIntensity.is_none()) s.envIntensity = (float)numberArg(a.envIntensity, "env_intensity");
     if (!a.lights.is_none()) {
         if (!py::isinstance<py::sequence>(a.lights) || py::isinstance<py::str>(a.lights))
             valueError("lights must be a list of ((x, y, z), (r, g, b)), got " + typeName(a.lights));
@@ -380,10 +391,7 @@ OperatorInputs viewInputs(const py::object& depthObj, const py::object& normalOb
     in.displayWindow = v.displayWindow.is_none() ? full : boxArg(v.displayWindow, "display_window");
     if (!v.normals.is_none()) in.normalSpace = enumArg<NormalSpace>(v.normals, "normals", "'world' or 'camera'");
     if (!v.depthKind.is_none()) in.depthKind = enumArg<DepthKind>(v.depthKind, "depth_kind", "'planar' or 'radial'");
-    if (!v.skyDepth.is_none()) {
-        settings.skyDepth = (float)floatArg(v.skyDepth, "sky_depth");
-        if (!(settings.skyDepth > 0.0f)) valueError("sky_depth must be positive");
-    }
+    if (!v.skyDepth.is_none()) settings.skyDepth = (float)numberArg(v.skyDepth, "sky_depth");
     in.camera = cameraArg(v.camera);
     if (!in.camera.valid()) valueError("the camera has no valid projection (focal length or orthographic width)");
     if (in.normalSpace == NormalSpace::World && !in.camera.hasPose)
@@ -488,9 +496,7 @@ struct FileArgs {
 // max_pixels=, as --max-pixels: a window above it is refused before anything is allocated.
 long long maxPixelsArg(const py::object& obj) {
     if (obj.is_none()) return kDefaultMaxPixels;
-    const long long n = intArg(obj, "max_pixels");
-    if (n < 1) valueError("max_pixels must be a positive whole number, got " + std::to_string(n));
-    return n;
+    return (long long)numberArg(obj, "max_pixels");
 }
 
 FrameJob jobFrom(const py::object& path, const FileArgs& f) {
@@ -511,25 +517,13 @@ FrameJob jobFrom(const py::object& path, const FileArgs& f) {
         }
     }
     if (!f.camera.is_none()) job.camera.sidecarPath = pathArg(f.camera, "camera");
-    if (!f.fovDeg.is_none()) {
-        const double fov = floatArg(f.fovDeg, "fov_deg");
-        if (!(fov > 0 && fov < 180)) valueError("fov_deg must be between 0 and 180, got " + std::to_string(fov));
-        job.camera.fovDeg = fov;
-    }
-    if (!f.orthoWidth.is_none()) {
-        const double w = floatArg(f.orthoWidth, "ortho_width");
-        if (!(w > 0)) valueError("ortho_width must be positive, got " + std::to_string(w));
-        job.camera.orthoWidth = w;
-    }
+    if (!f.fovDeg.is_none()) job.camera.fovDeg = numberArg(f.fovDeg, "fov_deg");
+    if (!f.orthoWidth.is_none()) job.camera.orthoWidth = numberArg(f.orthoWidth, "ortho_width");
     if (job.camera.fovDeg && job.camera.orthoWidth) valueError("give either fov_deg or ortho_width, not both");
     if (!f.cameraToWorld.is_none()) job.camera.cameraToWorld = matrixRowsArg(f.cameraToWorld, "camera_to_world");
     if (!f.depth.is_none()) job.depthKind = enumArg<DepthKind>(f.depth, "depth", "'planar' or 'radial'");
     if (!f.normals.is_none()) job.normalSpace = enumArg<NormalSpace>(f.normals, "normals", "'world' or 'camera'");
-    if (!f.skyDepth.is_none()) {
-        const double d = floatArg(f.skyDepth, "sky_depth");
-        if (!(d > 0)) valueError("sky_depth must be positive");
-        job.skyDepth = (float)d;
-    }
+    if (!f.skyDepth.is_none()) job.skyDepth = (float)numberArg(f.skyDepth, "sky_depth");
     return job;
 }
 
@@ -651,11 +645,7 @@ py::object processPy(const py::object& path, const py::object& out, const FileAr
     if (!o.preview.is_none()) job.previewPath = pathArg(o.preview, "preview");
     if (!o.previewExposure.is_none()) {
         if (job.previewPath.empty()) valueError("preview_exposure needs preview=PATH");
-        const double ev = floatArg(o.previewExposure, "preview_exposure");
-        if (std::abs(ev) > kMaxPreviewExposureEv)
-            valueError("preview_exposure must be between -" + std::to_string((int)kMaxPreviewExposureEv) + " and " +
-                       std::to_string((int)kMaxPreviewExposureEv) + " stops, got " + std::to_string(ev));
-        job.previewExposure = (float)ev;
+        job.previewExposure = (float)numberArg(o.previewExposure, "preview_exposure");
     }
     if (!o.inPlace.is_none()) job.inPlace = py::bool_(o.inPlace);
     if (!o.write.is_none()) parse(choiceArg(o.write, "write", {"copy", "new"}), job.write);
@@ -1175,5 +1165,11 @@ max_pixels as process(). Raises obscura.Error when the file or the name is missi
                                            "params"_a = params);
     }
     m.attr("METHODS") = table;
+    // The shared numeric settings (core/settings_schema.h): every host's one range.
+    py::dict numbers;
+    for (const NumberSetting& n : numberSettings())
+        numbers[py::str(n.key)] = py::dict("min"_a = n.min, "max"_a = n.max, "min_excluded"_a = n.minExcluded,
+                                           "integer"_a = n.integer, "flag"_a = n.flag);
+    m.attr("NUMBER_SETTINGS") = numbers;
     m.attr("PRESETS") = py::tuple(py::cast(presetNames()));
 }

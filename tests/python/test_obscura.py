@@ -207,13 +207,13 @@ def test_messages_say_what_is_expected(scene):
 
 
 @pytest.mark.parametrize("kwargs, match", [
-    (dict(radius=0), "radius must be a positive"),
-    (dict(radius=-1.0), "radius must be a positive"),
+    (dict(radius=0), "radius must be above 0 and at most"),
+    (dict(radius=-1.0), "radius must be above 0 and at most"),
     (dict(radius=float("nan")), "radius must be finite"),
     (dict(directions=0), "directions must be between 1 and 256"),
     (dict(steps=1000), "steps must be between 1 and 256"),
-    (dict(blur=-1), "blur must be between 0 and 64"),
-    (dict(threads=-2), "threads must be between"),
+    (dict(blur=-1), "blur must be a whole number at least 0 and at most 64"),
+    (dict(threads=-2), "threads must be a whole number at least 0 and at most"),
     (dict(weighting="cos"), "weighting must be 'uniform' or 'cosine'"),
     (dict(falloff="exp"), "falloff must be 'linear' or 'none'"),
     (dict(quality="max"), "quality must be"),
@@ -221,7 +221,7 @@ def test_messages_say_what_is_expected(scene):
     (dict(device="cuda"), "device must be"),
     (dict(normals="object"), "normals must be 'world' or 'camera'"),
     (dict(depth_kind="z"), "depth_kind must be 'planar' or 'radial'"),
-    (dict(sky_depth=0.0), "sky_depth must be positive"),
+    (dict(sky_depth=0.0), "sky_depth must be above 0"),
     (dict(data_window=(0, 0, 10, 10)), "data_window is 10x10"),
     (dict(data_window=(0, 0, 1)), "data_window must be"),
     (dict(method="rtao", thickness=-1.0), "thickness must be 0 or more"),

@@ -40,7 +40,7 @@ def test_ao_preview_matches_the_contact_sheet_tile(tmp):
 
 @pytest.mark.parametrize("kwargs, message", [
     (dict(preview_exposure=1.0), "preview_exposure needs preview"),
-    (dict(preview="p.png", preview_exposure=99), "preview_exposure must be between -24 and 24"),
+    (dict(preview="p.png", preview_exposure=99), "preview_exposure must be at least -24 and at most 24"),
 ])
 def test_preview_exposure_is_checked(tmp, kwargs, message):
     if "preview" in kwargs:

@@ -1,0 +1,31 @@
+// The numeric settings every host offers beside the methods' own parameters (core/methods.h):
+// one name, range and spelling each for the CLI's flag, Python's keyword and the OpenFX
+// parameter. Hosts parse the value, then ask numberProblem; none keeps a range of its own.
+#pragma once
+#include "core/methods.h"
+
+#include <string>
+#include <vector>
+
+namespace obscura {
+
+struct NumberSetting {
+    const char* key;      // Python keyword ("radius")
+    const char* flag;     // CLI flag ("--radius")
+    const char* ofx;      // OpenFX parameter, nullptr where the node has none
+    double min, max;      // the range, both ends included unless minExcluded
+    bool minExcluded;
+    bool integer;
+    // OpenFX ranges are closed: the least value the node stores. Where min is excluded it is the
+    // smallest meaningful value above it; below min it is a word's stand-in (blur -1: auto).
+    double ofxMin;
+};
+
+const std::vector<NumberSetting>& numberSettings();
+// The entry named `name` (key, flag or OpenFX name); throws obscura::Error for none.
+const NumberSetting& numberSetting(const std::string& name);
+// "" when `value` is in the setting's range (and whole, for an integer setting), else the
+// one-line refusal in the host's spelling: "--radius must be above 0, got 0".
+std::string numberProblem(const NumberSetting& s, double value, Spelling spelling);
+
+} // namespace obscura

@@ -1,0 +1,49 @@
+"""One settings schema for every host (issue 29): Python refuses each shared numeric setting of
+obscura.NUMBER_SETTINGS (core/settings_schema.h) just outside its range with the same words as
+the CLI, so no host keeps a range of its own. Generated from the table."""
+import pytest
+
+import obscura
+from conftest import FOV_DEG, pose_matrix, synthetic_scene, write_exr
+
+
+@pytest.fixture
+def scene(tmp):
+    depth, normal = synthetic_scene()
+    src = tmp / "scene.exr"
+    write_exr(src, depth, normal)
+    return src
+
+
+def call(src, out, key, value):
+    kw = {key: value}
+    if key in ("env_rotate", "env_intensity"):
+        kw["method"] = "ssdo"
+    if key == "preview_exposure":
+        kw["preview"] = str(out.with_suffix(".png"))
+    if key not in ("fov_deg", "ortho_width"):
+        kw["fov_deg"] = FOV_DEG
+    return obscura.process(str(src), str(out), camera_to_world=pose_matrix().reshape(-1), preset="generic", **kw)
+
+
+def test_every_setting_is_refused_outside_its_range(tmp, scene):
+    assert len(obscura.NUMBER_SETTINGS) >= 10
+    for key, n in obscura.NUMBER_SETTINGS.items():
+        below = n["min"] if n["min_excluded"] else n["min"] - 1
+        above = n["max"] * 2 + 1
+        for bad in (below, above):
+            value = int(bad) if n["integer"] else float(bad)
+            with pytest.raises(ValueError, match=rf"^{key} must be .*at most .*, got "):
+                call(scene, tmp / "never.exr", key, value)
+        assert not (tmp / "never.exr").exists()
+
+
+def test_the_cli_says_the_same(tmp, scene):
+    """The CLI's refusal of radius 0 names the flag where Python names the keyword, nothing else."""
+    import subprocess
+    from conftest import CLI
+    proc = subprocess.run([CLI, str(scene), "-o", str(tmp / "o.exr"), "--radius", "0"], capture_output=True, text=True)
+    with pytest.raises(ValueError) as e:
+        call(scene, tmp / "o.exr", "radius", 0.0)
+    assert proc.returncode == 2
+    assert proc.stderr.strip() == "obscura: " + str(e.value).replace("radius", "--radius", 1)
