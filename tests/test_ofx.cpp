@@ -136,9 +136,10 @@ Scene makeScene(const Config& c, int w = kW, int h = kH) {
 }
 
 // The CLI's AO (or `channels`, interleaved) over the data window, y down (EXR rows), from
-// --out-type float; `extra` flags follow the scene's.
+// --out-type float; `extra` flags follow the scene's. viaPython: the same command line through
+// the Python module's process() (tests/support/cli_as_python.py).
 std::vector<float> runCli(const Config& c, const Scene& s, const fs::path& dir, const std::vector<std::string>& extra = {},
-                          const std::vector<std::string>& channels = {"obscura.AO.Y"}) {
+                          const std::vector<std::string>& channels = {"obscura.AO.Y"}, bool viaPython = false) {
     using namespace fixtures;
     const Box2i data = s.buf.data;
     FixturePart part;
@@ -153,7 +154,7 @@ std::vector<float> runCli(const Config& c, const Scene& s, const fs::path& dir, 
     };
     part.channels = {channel("Z", s.buf.depth, 0), channel("N.X", s.buf.normal, 0), channel("N.Y", s.buf.normal, 1),
                      channel("N.Z", s.buf.normal, 2)};
-    const fs::path in = dir / "planes.exr", out = dir / "ao.exr";
+    const fs::path in = dir / "planes.exr", out = dir / (viaPython ? "ao_python.exr" : "ao.exr");
     writeFixture(in.string(), {part});
 
     std::vector<std::string> args = {in.string(), "-o", out.string(), "--out-type", "float", "--quiet",
@@ -179,7 +180,11 @@ std::vector<float> runCli(const Config& c, const Scene& s, const fs::path& dir, 
         args.insert(args.end(), {"--fov-deg", num(s.fovDeg)});
     }
     args.insert(args.end(), extra.begin(), extra.end());
-    const test::CliResult r = test::runProgram(OBSCURA_CLI_PATH, args);
+    if (viaPython) {
+        ::setenv("PYTHONPATH", OBSCURA_PYTHON_MODULE_DIR, 1);
+        args.insert(args.begin(), std::string(OBSCURA_SOURCE_DIR) + "/tests/support/cli_as_python.py");
+    }
+    const test::CliResult r = test::runProgram(viaPython ? OBSCURA_PYTHON : OBSCURA_CLI_PATH, args);
     EXPECT_EQ(r.exitCode, 0) << r.err;
     if (r.exitCode != 0) return {};
 
@@ -1042,9 +1047,10 @@ TEST(OfxSsdo, FurnaceOpenPlaneUnderWhiteSkyGivesPi) {
 
 // An environment map read from a file equals the operator given the same pixels; the
 // per-instance cache sees a changed file.
-// One map lights a shot alike in the node and the CLI: both read it through plugin/io, which
-// converts an sRGB-encoded PNG to the working space (a linear read would differ by up to ~4x).
-TEST(OfxSsdo, EnvironmentMapLightsTheNodeAsTheCli) {
+// One map lights a shot alike in the node, the CLI and Python: all read it through plugin/io,
+// which converts an sRGB-encoded PNG to the working space (a linear read would differ by up to
+// ~4x), and the same settings give the same DO in each host.
+TEST(OfxSsdo, EnvironmentMapLightsTheNodeAsTheCliAndPython) {
     const fs::path dir = testDir();
     const std::string png = (dir / "env.png").string();
     {
@@ -1073,10 +1079,12 @@ TEST(OfxSsdo, EnvironmentMapLightsTheNodeAsTheCli) {
     std::vector<std::string> problems;
     const HostImage node = l.inst->renderFrame(0, 0, 1, problems);
     EXPECT_EQ(joined(problems), "");
-    const std::vector<float> cli =
-        runCli(c, s, dir, {"--env", png, "--samples", "64", "--interleave", "2", "--env-rotate", "40", "--env-intensity", "1.5",
-                           "--up", "z"},
-               {"obscura.DO.R", "obscura.DO.G", "obscura.DO.B"});
+    const std::vector<std::string> flags = {"--env", png, "--samples", "64", "--interleave", "2", "--env-rotate", "40",
+                                            "--env-intensity", "1.5", "--up", "z"};
+    const std::vector<std::string> doChannels = {"obscura.DO.R", "obscura.DO.G", "obscura.DO.B"};
+    const std::vector<float> cli = runCli(c, s, dir, flags, doChannels);
+    const std::vector<float> python = runCli(c, s, dir, flags, doChannels, true);
+    EXPECT_TRUE(python == cli) << "Python's process() and the CLI differ on the same settings";
     const Box2i data = s.buf.data;
     ASSERT_EQ(cli.size(), (size_t)data.width() * data.height() * 3);
     double worst = 0, mean = 0;
