@@ -1047,6 +1047,25 @@ TEST(OfxSsdo, FurnaceOpenPlaneUnderWhiteSkyGivesPi) {
 
 // An environment map read from a file equals the operator given the same pixels; the
 // per-instance cache sees a changed file.
+// A map turned 40 degrees about a Z up axis, at 1.5x.
+SsdoOptions rotatedZUpMap() {
+    SsdoOptions o;
+    o.envRotation = 40, o.envIntensity = 1.5, o.zUp = true;
+    return o;
+}
+
+// The SSDO node over the scene with `c` and `o`, lit by the map at `path`, outputting DO.
+Loaded ssdoNodeWithMap(const Config& c, const Scene& s, const HostImage& albedo, const SsdoOptions& o,
+                       const std::string& path) {
+    Loaded l = instantiateSsdo(s, albedo);
+    if (!l.inst) return l;
+    applyConfig(*l.inst, c, s);
+    applySsdo(*l.inst, o);
+    EXPECT_EQ(l.inst->setString("envMap", path), kOfxStatOK);
+    EXPECT_EQ(l.inst->setInt("output", kOutDo), kOfxStatOK);
+    return l;
+}
+
 // One map lights a shot alike in the node, the CLI and Python: all read it through plugin/io,
 // which converts an sRGB-encoded PNG to the working space (a linear read would differ by up to
 // ~4x), and the same settings give the same DO in each host.
@@ -1068,14 +1087,9 @@ TEST(OfxSsdo, EnvironmentMapLightsTheNodeAsTheCliAndPython) {
     c.method = 1;
     const Scene s = makeScene(c);
     const HostImage albedo = albedoClipOf(s);
-    SsdoOptions o;
-    o.envRotation = 40, o.envIntensity = 1.5, o.zUp = true;
-    Loaded l = instantiateSsdo(s, albedo);
+    const SsdoOptions o = rotatedZUpMap();
+    Loaded l = ssdoNodeWithMap(c, s, albedo, o, png);
     ASSERT_TRUE(l.inst);
-    applyConfig(*l.inst, c, s);
-    applySsdo(*l.inst, o);
-    ASSERT_EQ(l.inst->setString("envMap", png), kOfxStatOK);
-    ASSERT_EQ(l.inst->setInt("output", kOutDo), kOfxStatOK);
     std::vector<std::string> problems;
     const HostImage node = l.inst->renderFrame(0, 0, 1, problems);
     EXPECT_EQ(joined(problems), "");
@@ -1125,14 +1139,9 @@ TEST(OfxSsdo, EnvironmentMapFromFileMatchesOperator) {
         return env;
     };
     const Image env1 = writeEnv(32, 16, 1.0f);
-    SsdoOptions o;
-    o.envRotation = 40, o.envIntensity = 1.5, o.zUp = true;
-    Loaded l = instantiateSsdo(s, albedo);
+    const SsdoOptions o = rotatedZUpMap();
+    Loaded l = ssdoNodeWithMap(c, s, albedo, o, (dir / "env.exr").string());
     ASSERT_TRUE(l.inst);
-    applyConfig(*l.inst, c, s);
-    applySsdo(*l.inst, o);
-    ASSERT_EQ(l.inst->setString("envMap", (dir / "env.exr").string()), kOfxStatOK);
-    ASSERT_EQ(l.inst->setInt("output", kOutDo), kOfxStatOK);
     std::vector<std::string> problems;
     const HostImage a = l.inst->renderFrame(0, 0, 1, problems);
     expectSsdoPixels(a, {kOutDo, false}, ssdoReference(c, s, o, false, &env1), s, albedo, "env 1");

@@ -118,3 +118,12 @@ def run_cli(*args):
 
 def cli_matrix(m):
     return ",".join(repr(float(x)) for x in np.asarray(m).reshape(-1))
+
+
+@pytest.fixture
+def scene_file(tmp):
+    """The synthetic scene as an EXR (depth Z and normals N, no camera in it), in tmp."""
+    depth, normal = synthetic_scene()
+    src = tmp / "scene.exr"
+    write_exr(src, depth, normal)
+    return src

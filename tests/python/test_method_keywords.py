@@ -5,7 +5,7 @@ CLI refuses the flags (tests/test_method_flags.cpp). A refused call writes nothi
 import pytest
 
 import obscura
-from conftest import FOV_DEG, pose_matrix, synthetic_scene, write_exr
+from conftest import FOV_DEG, pose_matrix
 
 # A value each keyword accepts; a keyword added to the table without one fails the test.
 VALUES = {
@@ -32,20 +32,12 @@ def test_every_keyword_has_a_sample_value():
     assert set(readers()) <= set(VALUES), set(readers()) - set(VALUES)
 
 
-@pytest.fixture
-def scene(tmp):
-    depth, normal = synthetic_scene()
-    src = tmp / "scene.exr"
-    write_exr(src, depth, normal)
-    return src
-
-
 def process(src, out, **kw):
     return obscura.process(str(src), str(out), fov_deg=FOV_DEG, camera_to_world=pose_matrix().reshape(-1),
                            preset="generic", **kw)
 
 
-def test_keywords_of_other_methods_are_refused(tmp, scene):
+def test_keywords_of_other_methods_are_refused(tmp, scene_file):
     refused = 0
     for method in obscura.METHODS:
         for key, methods in readers().items():
@@ -53,37 +45,37 @@ def test_keywords_of_other_methods_are_refused(tmp, scene):
                 continue
             out = tmp / f"{method}_{key}.exr"
             with pytest.raises(ValueError, match=rf"^{key} is read by method='\w+'.* only, not by method='{method}'$"):
-                process(scene, out, method=method, **{key: VALUES[key]})
+                process(scene_file, out, method=method, **{key: VALUES[key]})
             assert not out.exists()
             refused += 1
     assert refused > 30
 
 
-def test_outputs_the_method_cannot_write_are_refused(tmp, scene):
+def test_outputs_the_method_cannot_write_are_refused(tmp, scene_file):
     for method, m in obscura.METHODS.items():
         for output in ("do", "gi", "relit"):
             if output in m["outputs"]:
                 continue
             out = tmp / "never.exr"
             with pytest.raises(ValueError, match=rf"out_layer '{output}' is written by method='ssdo' only"):
-                process(scene, out, method=method, out_layer={output: "X"})
+                process(scene_file, out, method=method, out_layer={output: "X"})
             assert not out.exists()
 
 
-def test_defaults_ask_for_nothing(tmp, scene):
+def test_defaults_ask_for_nothing(tmp, scene_file):
     """False and None are what the keywords default to: passing them is not a request."""
-    process(scene, tmp / "a.exr", method="hbao", bounce=False, times_albedo=False, env=None, quality="low")
+    process(scene_file, tmp / "a.exr", method="hbao", bounce=False, times_albedo=False, env=None, quality="low")
     assert (tmp / "a.exr").exists()
 
 
-def test_collisions_are_refused_like_the_cli(tmp, scene):
+def test_collisions_are_refused_like_the_cli(tmp, scene_file):
     sidecar = tmp / "scene.json"
     sidecar.write_text("{}")
     before = sidecar.read_bytes()
     with pytest.raises(ValueError, match="report '.*scene.json' is the same file as the camera sidecar"):
-        process(scene, tmp / "o.exr", report=str(sidecar))
+        process(scene_file, tmp / "o.exr", report=str(sidecar))
     with pytest.raises(ValueError, match="preview '.*scene.exr' is the same file as the input"):
-        process(scene, tmp / "o.exr", preview=str(scene))
+        process(scene_file, tmp / "o.exr", preview=str(scene_file))
     with pytest.raises(ValueError, match="out '.*o.png': the output is an OpenEXR file"):
-        process(scene, tmp / "o.png")
+        process(scene_file, tmp / "o.png")
     assert sidecar.read_bytes() == before and not (tmp / "o.exr").exists()

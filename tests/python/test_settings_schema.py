@@ -4,15 +4,7 @@ the CLI, so no host keeps a range of its own. Generated from the table."""
 import pytest
 
 import obscura
-from conftest import FOV_DEG, pose_matrix, synthetic_scene, write_exr
-
-
-@pytest.fixture
-def scene(tmp):
-    depth, normal = synthetic_scene()
-    src = tmp / "scene.exr"
-    write_exr(src, depth, normal)
-    return src
+from conftest import FOV_DEG, pose_matrix
 
 
 def call(src, out, key, value):
@@ -26,7 +18,7 @@ def call(src, out, key, value):
     return obscura.process(str(src), str(out), camera_to_world=pose_matrix().reshape(-1), preset="generic", **kw)
 
 
-def test_every_setting_is_refused_outside_its_range(tmp, scene):
+def test_every_setting_is_refused_outside_its_range(tmp, scene_file):
     assert len(obscura.NUMBER_SETTINGS) >= 10
     for key, n in obscura.NUMBER_SETTINGS.items():
         below = n["min"] if n["min_excluded"] else n["min"] - 1
@@ -34,16 +26,16 @@ def test_every_setting_is_refused_outside_its_range(tmp, scene):
         for bad in (below, above):
             value = int(bad) if n["integer"] else float(bad)
             with pytest.raises(ValueError, match=rf"^{key} must be .*at most .*, got "):
-                call(scene, tmp / "never.exr", key, value)
+                call(scene_file, tmp / "never.exr", key, value)
         assert not (tmp / "never.exr").exists()
 
 
-def test_the_cli_says_the_same(tmp, scene):
+def test_the_cli_says_the_same(tmp, scene_file):
     """The CLI's refusal of radius 0 names the flag where Python names the keyword, nothing else."""
     import subprocess
     from conftest import CLI
-    proc = subprocess.run([CLI, str(scene), "-o", str(tmp / "o.exr"), "--radius", "0"], capture_output=True, text=True)
+    proc = subprocess.run([CLI, str(scene_file), "-o", str(tmp / "o.exr"), "--radius", "0"], capture_output=True, text=True)
     with pytest.raises(ValueError) as e:
-        call(scene, tmp / "o.exr", "radius", 0.0)
+        call(scene_file, tmp / "o.exr", "radius", 0.0)
     assert proc.returncode == 2
     assert proc.stderr.strip() == "obscura: " + str(e.value).replace("radius", "--radius", 1)
