@@ -326,44 +326,41 @@ TEST(Colour, StridedPlanesConvertInPlace) {
     EXPECT_THROW(cm.convert(grey, "ACEScg", "lin_rec709"), Error);
 }
 
-TEST(Colour, TaggingKeepsTheInputsChromaticitiesWhenItIsAnotherSpace) {
+TEST(Colour, NewColourLayersAreInTheFilesSpaceWhenItsPrimariesAreKnown) {
+    const ColourManager& cm = shipped();
+    EXPECT_EQ(cm.layerSpace("lin_rec709"), "lin_rec709");
+    EXPECT_EQ(cm.layerSpace("ACEScg"), "ACEScg");
+    EXPECT_EQ(cm.layerSpace("lin_ap1"), "ACEScg");  // a spelling resolves to the config's name
+    // sRGB-encoded or data: no primaries obscura knows for a linear layer, the working space.
+    EXPECT_EQ(cm.layerSpace("srgb_display"), cm.workingSpace());
+    EXPECT_EQ(cm.layerSpace("raw"), cm.workingSpace());
+}
+
+TEST(Colour, TaggingNamesEachLayersSpaceAndPrimaries) {
     const ColourManager& cm = shipped();
     const std::vector<std::string> colour = {"obscura.DO.B", "obscura.DO.G", "obscura.DO.R"};
     const std::vector<std::string> data = {"obscura.AO.Y"};
-
-    // Input in the working space (here: no chromaticities, i.e. Rec.709): the part gets them.
-    Imf::Header plain = headerWith(nullptr);
     std::string note;
-    auto attrs = cm.tagOutputPart(plain, 0, "lin_rec709", colour, data, &note);
-    ASSERT_TRUE(Imf::hasChromaticities(plain));
-    EXPECT_EQ(Imf::chromaticities(plain).green, kRec709.green);
-    EXPECT_EQ(Imf::chromaticities(plain).white, kRec709.white);
-    ASSERT_EQ(attrs.size(), 4u);
-    EXPECT_EQ(attrs[0].name, "obscura/obscura.DO.B/colorspace");
-    EXPECT_EQ(attrs[0].value, "lin_rec709");
-    EXPECT_EQ(attrs[3].name, "obscura/obscura.AO.Y/colorspace");
-    EXPECT_EQ(attrs[3].value, "raw");
-    EXPECT_NE(note.find("set"), std::string::npos) << note;
-
-    // Input in ACEScg: its chromaticities stay (they describe the beauty); the new layers
-    // carry their own space and primaries.
-    Imf::Header ap1 = headerWith(&kAP1);
-    attrs = cm.tagOutputPart(ap1, 2, "ACEScg", colour, data, &note);
-    EXPECT_EQ(Imf::chromaticities(ap1).red, kAP1.red);
-    EXPECT_EQ(Imf::chromaticities(ap1).white, kAP1.white);
+    auto attrs = cm.tagOutputPart(2, "ACEScg", colour, data, &note);
     ASSERT_EQ(attrs.size(), 7u);
     for (const auto& a : attrs) EXPECT_EQ(a.part, 2);
-    EXPECT_EQ(attrs[0].value, "lin_rec709");
+    EXPECT_EQ(attrs[0].name, "obscura/obscura.DO.B/colorspace");
+    EXPECT_EQ(attrs[0].value, "ACEScg");
     EXPECT_EQ(attrs[1].name, "obscura/obscura.DO.B/chromaticities");
-    EXPECT_EQ(attrs[1].value, "0.64 0.33 0.3 0.6 0.15 0.06 0.3127 0.329");
+    const Imf::Chromaticities ap1 = *cm.chromaticitiesOf("ACEScg");
+    char want[160];
+    std::snprintf(want, sizeof want, "%g %g %g %g %g %g %g %g", ap1.red.x, ap1.red.y, ap1.green.x, ap1.green.y,
+                  ap1.blue.x, ap1.blue.y, ap1.white.x, ap1.white.y);
+    EXPECT_EQ(attrs[1].value, want);
+    EXPECT_EQ(attrs[6].name, "obscura/obscura.AO.Y/colorspace");
     EXPECT_EQ(attrs[6].value, "raw");
-    EXPECT_NE(note.find("kept"), std::string::npos) << note;
+    EXPECT_NE(note.find("ACEScg"), std::string::npos) << note;
 
-    // Data only: nothing about colour changes.
-    Imf::Header dataOnly = headerWith(&kAP1);
-    attrs = cm.tagOutputPart(dataOnly, 0, "lin_rec709", {}, data);
-    EXPECT_EQ(Imf::chromaticities(dataOnly).red, kAP1.red);
+    // Data only: no colour tags, no note.
+    attrs = cm.tagOutputPart(0, "lin_rec709", {}, data, &note);
     ASSERT_EQ(attrs.size(), 1u);
+    EXPECT_TRUE(note.empty()) << note;
+    EXPECT_THROW(cm.tagOutputPart(0, "no such space", colour, data), Error);
 }
 
 TEST(Colour, TaggedLayersSurviveTheExrWriter) {
@@ -400,8 +397,8 @@ TEST(Colour, TaggedLayersSurviveTheExrWriter) {
     std::vector<NewChannel> add;
     for (const char* c : {"obscura.GI.R", "obscura.GI.G", "obscura.GI.B"}) add.push_back({0, c, Image(8, 4, 1, 0.5f), Imf::HALF});
     add.push_back({0, "obscura.AO.Y", Image(8, 4, 1, 1.0f), Imf::HALF});
-    auto attrs = cm.tagOutputPart(raw.info.parts[0].header, 0, inputSpace,
-                                  {"obscura.GI.R", "obscura.GI.G", "obscura.GI.B"}, {"obscura.AO.Y"});
+    auto attrs = cm.tagOutputPart(0, cm.layerSpace(inputSpace), {"obscura.GI.R", "obscura.GI.G", "obscura.GI.B"},
+                                  {"obscura.AO.Y"});
     writeExrWithNewChannels(out, raw, add, false, attrs);
 
     ExrInfo back = readExrInfo(out);
@@ -411,8 +408,9 @@ TEST(Colour, TaggedLayersSurviveTheExrWriter) {
         const auto* a = h.findTypedAttribute<Imf::StringAttribute>(n);
         return a ? a->value() : std::string("<missing>");
     };
-    EXPECT_EQ(attr("obscura/obscura.GI.R/colorspace"), "lin_rec709");
-    EXPECT_EQ(attr("obscura/obscura.GI.G/chromaticities"), "0.64 0.33 0.3 0.6 0.15 0.06 0.3127 0.329");
+    EXPECT_EQ(Imf::chromaticities(h).red, kAP1.red);    // the file's chromaticities are untouched
+    EXPECT_EQ(attr("obscura/obscura.GI.R/colorspace"), "ACEScg");
+    EXPECT_EQ(attr("obscura/obscura.GI.G/chromaticities"), "0.713 0.293 0.165 0.83 0.128 0.044 0.32168 0.33767");
     EXPECT_EQ(attr("obscura/obscura.AO.Y/colorspace"), "raw");
 }
 

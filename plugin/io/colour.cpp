@@ -399,40 +399,28 @@ void ColourManager::convert(const MutablePlane& plane, const std::string& from, 
     }
 }
 
-std::vector<StringAttribute> ColourManager::tagOutputPart(Imf::Header& header, int part, const std::string& inputSpace,
+std::string ColourManager::layerSpace(const std::string& inputSpace) const {
+    const std::string input = resolve(inputSpace);
+    return !input.empty() && chromaticitiesOf(input) ? input : impl_->working;
+}
+
+std::vector<StringAttribute> ColourManager::tagOutputPart(int part, const std::string& layerSpace,
                                                           const std::vector<std::string>& colourNames,
                                                           const std::vector<std::string>& dataNames,
                                                           std::string* note) const {
     std::vector<StringAttribute> attrs;
-    const std::string& working = impl_->working;
-    const std::optional<Imf::Chromaticities> workingChroma = chromaticitiesOf(working);
-    const std::string input = resolve(inputSpace);
-
-    // The rule: `chromaticities` describes every RGB channel of the part. Set it only when
-    // the part's existing colour is in the working space already (then it says what we
-    // assumed and changes nothing); otherwise the part keeps its own and the new colour
-    // channels say what they are per channel.
-    const bool partIsWorking = !input.empty() && input == working;
-    const bool setPart = partIsWorking && workingChroma && !colourNames.empty();
-    if (setPart) Imf::addChromaticities(header, *workingChroma);
-
+    const std::string space = require(layerSpace, "the new colour layers");
+    const std::optional<Imf::Chromaticities> chroma = chromaticitiesOf(space);
     for (const std::string& ch : colourNames) {
-        attrs.push_back({part, "obscura/" + ch + "/colorspace", working});
-        if (!setPart && workingChroma)
-            attrs.push_back({part, "obscura/" + ch + "/chromaticities", chromaticitiesString(*workingChroma)});
+        attrs.push_back({part, "obscura/" + ch + "/colorspace", space});
+        if (chroma) attrs.push_back({part, "obscura/" + ch + "/chromaticities", chromaticitiesString(*chroma)});
     }
     for (const std::string& ch : dataNames) attrs.push_back({part, "obscura/" + ch + "/colorspace", impl_->data});
-
     if (note) {
-        if (colourNames.empty())
-            *note = "";
-        else if (setPart)
-            *note = "part chromaticities set to " + working + "'s";
-        else if (!workingChroma)
-            *note = "working space " + working + " has no known primaries: colour layers tagged by name only";
-        else
-            *note = "input is " + (input.empty() ? inputSpace : input) + ", not the working space " + working +
-                    ": its chromaticities are kept, the new colour layers are tagged per channel";
+        *note = colourNames.empty() ? ""
+                : chroma           ? "colour layers written in " + space + ", the file's space"
+                                   : "colour layers written in the working space " + space +
+                                         " (the file's space has no known primaries), tagged per layer";
     }
     return attrs;
 }

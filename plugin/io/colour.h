@@ -86,25 +86,21 @@ public:
     void toWorkingSpace(Image& rgb, const std::string& fromSpace) const { convert(rgb, fromSpace, workingSpace()); }
     void fromWorkingSpace(Image& rgb, const std::string& toSpace) const { convert(rgb, workingSpace(), toSpace); }
 
-    // Tags for new layers of output part `part`, whose existing colour channels are in
-    // `inputSpace` (the detectColourSpace() result for that part). Returns one string
-    // attribute per name, "obscura/<name>/colorspace" = the working space (colour names) or
-    // the data space ("raw", data names). Names are used verbatim: give RGB layers by layer
-    // name ("obscura.DO", as frame_job.cpp tags them) and single channels by channel name
-    // ("obscura.AO.Y", the key the AO channel has always had).
-    //
-    // The standard `chromaticities` attribute belongs to the part, i.e. to every RGB
-    // channel in it, including the renderer's own. It is written (set to the working
-    // space's primaries) only when the input's colour channels are already in the working
-    // space, so it states what was assumed and changes the meaning of nothing (a missing
-    // attribute means Rec.709 in OpenEXR, which is the shipped working space). When the
-    // input is in another space (an ACEScg beauty, say), the part's chromaticities are
-    // left alone and the new colour layers are described by their own attributes only:
-    // besides the colour-space name they get "obscura/<name>/chromaticities" =
-    // "rx ry gx gy bx by wx wy" (when the working space's primaries are known). With no
-    // colour names the header is never touched. `note` (optional) says which was done.
-    std::vector<StringAttribute> tagOutputPart(Imf::Header& partHeader, int part,
-                                               const std::string& inputSpace,
+    // The space DO, GI and relit are written in, for a file whose colour passes are in
+    // `inputSpace` (detectColourSpace() of the part, or --colorspace): that space when it is
+    // scene-linear with primaries obscura knows, so the file's own `chromaticities` (which
+    // every part of a file shares, and obscura never changes) describe the new layers as they
+    // describe the beauty; else the working space.
+    std::string layerSpace(const std::string& inputSpace) const;
+
+    // Tags for new layers of output part `part`: one string attribute per name,
+    // "obscura/<name>/colorspace" = `layerSpace` (colour names) or the data space ("raw",
+    // data names), and for colour names "obscura/<name>/chromaticities" = "rx ry gx gy bx by
+    // wx wy" when that space's primaries are known. Names are used verbatim: give RGB layers
+    // by layer name ("obscura.DO", as frame_job.cpp tags them) and single channels by channel
+    // name ("obscura.AO.Y"). No header attribute is touched: the standard `chromaticities`
+    // belongs to the file. `note` (optional) says in which space the colour layers are.
+    std::vector<StringAttribute> tagOutputPart(int part, const std::string& layerSpace,
                                                const std::vector<std::string>& colourNames,
                                                const std::vector<std::string>& dataNames,
                                                std::string* note = nullptr) const;

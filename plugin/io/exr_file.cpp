@@ -556,12 +556,35 @@ Imf::Header outputHeader(const ExrPart& part, const std::vector<const NewChannel
     return h;
 }
 
+// The attributes OpenEXR requires the parts of one file to share (MultiPartOutputFile checks
+// each part's against the first's): the display window, the pixel aspect ratio, and when
+// present the chromaticities and the time code (looked up under both spellings OpenEXR uses).
+bool isSharedAttribute(const char* name) {
+    return std::strcmp(name, "chromaticities") == 0 || std::strcmp(name, "timeCode") == 0 ||
+           std::strcmp(name, "timecode") == 0;
+}
+
+// Every part after the first takes the first's shared attributes: a part obscura adds is a
+// copy of the depth's part, whose values a valid input shares already; an input whose parts
+// disagree gets the first part's.
+void shareFirstPartsAttributes(std::vector<Imf::Header>& headers) {
+    for (size_t i = 1; i < headers.size(); ++i) {
+        Imf::Header h = headerWithout(headers[i], isSharedAttribute);
+        h.displayWindow() = headers[0].displayWindow();
+        h.pixelAspectRatio() = headers[0].pixelAspectRatio();
+        for (auto it = headers[0].begin(); it != headers[0].end(); ++it)
+            if (isSharedAttribute(it.name())) h.insert(it.name(), it.attribute());
+        headers[i] = std::move(h);
+    }
+}
+
 void writeParts(const std::string& tmp, const ExrPixels& in,
                 const std::vector<std::vector<const NewChannel*>>& byPart,
                 const std::vector<StringAttribute>& attrs) {
     const int nParts = (int)in.info.parts.size();
     std::vector<Imf::Header> headers;
     for (int p = 0; p < nParts; ++p) headers.push_back(outputHeader(in.info.parts[p], byPart[p], attrs, p));
+    shareFirstPartsAttributes(headers);
     // OpenEXR does not convert on output: new planes go to their channel's type first.
     std::vector<std::vector<std::vector<char>>> converted(nParts);
     for (int p = 0; p < nParts; ++p)

@@ -93,7 +93,9 @@ struct StringAttribute {
 
 // Writes every input part/channel/attribute/compression unchanged plus `add` (a new channel
 // with the name of an existing one replaces it) and `attrs`. Tiled mip/rip-mapped parts are
-// written as ONE_LEVEL (only level 0 is read). Written to "<out>.tmp-<pid>" and renamed; on
+// written as ONE_LEVEL (only level 0 is read). In a multipart file every part gets the first
+// part's display window, pixel aspect ratio, chromaticities and time code, the attributes
+// OpenEXR requires parts to share. Written to "<out>.tmp-<pid>" and renamed; on
 // failure the temp file is removed. Refuses to replace the input unless allowOverwriteInput.
 void writeExrWithNewChannels(const std::string& outPath, const ExrPixels& in,
                              const std::vector<NewChannel>& add, bool allowOverwriteInput,

@@ -134,10 +134,13 @@ std::vector<std::string> rgbChannels(const ExrPart& part, const std::string& lay
     return names;
 }
 
-std::vector<std::string> roleRgb(const LayerPlan& plan, Role role) {
+// The R, G, B of a role's layer, in whichever part holds it (a part per layer, as Nuke writes).
+std::vector<ChannelRef> roleRgb(const LayerPlan& plan, Role role) {
     const LayerBinding* b = plan.find(role);
     if (!b) return {};
-    return {b->channels.begin(), b->channels.begin() + std::min<size_t>(3, b->channels.size())};
+    std::vector<ChannelRef> refs;
+    for (size_t c = 0; c < std::min<size_t>(3, b->channels.size()); ++c) refs.push_back({b->part, b->channels[c]});
+    return refs;
 }
 
 // The map through plugin/io's one reader, its colour decisions in the report.
@@ -184,21 +187,22 @@ Image relitImage(const FrameJob& job, const FramePasses& p, const OperatorOutput
 // DO, GI and relit as the request asks. Irradiance E by default; --times-albedo writes
 // albedo x E / pi, the outgoing radiance of the diffuse receiver. relit = albedo (DO + GI) / pi
 // (+ albedo x direct diffuse), the units a renderer's beauty uses for diffuse light.
+// Each layer is converted from the working space into `space` (ColourManager::layerSpace).
 std::vector<std::string> addSsdoLayers(const FrameJob& job, const FramePasses& p, const OperatorOutputs& out,
-                                       int outPart, Imf::PixelType type, std::vector<NewChannel>& add,
-                                       std::vector<StringAttribute>& attrs) {
+                                       int outPart, Imf::PixelType type, const std::string& space,
+                                       std::vector<NewChannel>& add, std::vector<StringAttribute>& attrs) {
     std::vector<std::string> layers;
-    auto emit = [&](const std::string& layer, const Image& rgb) {
+    const ColourManager& cm = colourManager();
+    auto emit = [&](const std::string& layer, Image rgb, const char* units) {
+        cm.convert(rgb, cm.workingSpace(), space);
         addRgbLayer(add, outPart, layer, rgb, type);
         layers.push_back(layer);
-        attrs.push_back({outPart, "obscura/" + layer + "/units", job.timesAlbedo ? "radiance (albedo E / pi)" : "irradiance E"});
+        if (units) attrs.push_back({outPart, "obscura/" + layer + "/units", units});
     };
-    if (job.writeDirectional) emit(job.doLayer, ssdoLayerImage(job, p, out.directional));
-    if (job.writeIndirect) emit(job.giLayer, ssdoLayerImage(job, p, out.indirect));
-    if (job.writeRelit) {
-        addRgbLayer(add, outPart, job.relitLayer, relitImage(job, p, out), type);
-        layers.push_back(job.relitLayer);
-    }
+    const char* units = job.timesAlbedo ? "radiance (albedo E / pi)" : "irradiance E";
+    if (job.writeDirectional) emit(job.doLayer, ssdoLayerImage(job, p, out.directional), units);
+    if (job.writeIndirect) emit(job.giLayer, ssdoLayerImage(job, p, out.indirect), units);
+    if (job.writeRelit) emit(job.relitLayer, relitImage(job, p, out), nullptr);
     return layers;
 }
 
@@ -275,7 +279,8 @@ SsdoReads planSsdoReads(const FrameJob& job, const FramePasses& p) {
             r.radiance = roleRgb(p.plan, Role::Beauty);
             if (r.radiance.empty()) throw FileError(job.input, "no beauty layer for the bounce");
         } else {
-            r.radiance = rgbChannels(part, job.bounceSource, p.info, "bounce source");
+            for (const std::string& c : rgbChannels(part, job.bounceSource, p.info, "bounce source"))
+                r.radiance.push_back({p.part, c});
         }
     }
     if ((bounce && r.senderAlbedo) || job.writeRelit || job.timesAlbedo) {
@@ -397,8 +402,11 @@ FramePasses loadPasses(const FrameJob& job, bool keepAll, std::vector<StageTimin
     if (!job.referenceLayer.empty())
         wanted.push_back({p.part, findReferenceChannel(part, job.referenceLayer, p.info)});
     const SsdoReads ssdo = planSsdoReads(job, p);
-    for (const std::vector<std::string>* rgb : {&ssdo.radiance, &ssdo.albedo, &ssdo.directDiffuse})
-        for (const std::string& c : *rgb) wanted.push_back({p.part, c});
+    for (const std::vector<ChannelRef>* rgb : {&ssdo.radiance, &ssdo.albedo, &ssdo.directDiffuse}) {
+        if (!rgb->empty() && p.info.parts[rgb->front().part].dataWindow != p.data)
+            throw FileError(job.input, "the colour pass '" + rgb->front().name + "' covers a different data window than the depth");
+        wanted.insert(wanted.end(), rgb->begin(), rgb->end());
+    }
 
     // The passes obscura computes from are read at full resolution only.
     for (const ChannelRef& c : wanted) {
@@ -471,6 +479,43 @@ Image readDeepInput(const FrameJob& job, const FramePasses& p, FrameReport& repo
             report.warnings.push_back(std::to_string(deep.unsortedPixels) + " deep pixels with unsorted samples sorted by Z");
         return deepPlanesOver(std::move(deep), p.data);
     });
+}
+
+// Copy: the input plus the new layers, in the depth's part or, when that part's codec is lossy
+// (AO, DO and GI are data), a part of their own. New: the layers in the one part of a fresh file.
+void writeOutput(const FrameJob& job, FramePasses& p, const OperatorOutputs& out, bool ssdo, FrameReport& report) {
+    const bool copy = job.write == WriteMode::Copy;
+    StageTimer timer{&report.stages, "write"};
+    const Imf::PixelType type = job.aoFloat ? Imf::FLOAT : Imf::HALF;
+    ExrPixels fresh;
+    if (!copy) fresh = layersOnlyFile(p.info, p.part);
+    ExrPixels& target = copy ? p.raw : fresh;
+    const bool ownPart = !copy || isLossy(p.info.parts[p.part].header.compression());
+    const int outPart = !copy ? 0 : ownPart ? addLayersPart(target, p.part) : p.part;
+    report.writeDescription = describeWrite(job, p.info, p.part);
+    std::vector<NewChannel> add(1);
+    add[0].part = outPart;
+    add[0].name = report.aoChannel;
+    add[0].plane = out.ao;
+    add[0].type = type;
+    std::vector<StringAttribute> attrs = {
+        {outPart, "obscura/version", OBSCURA_VERSION_STRING},
+        {outPart, "obscura/settings", frameReportJson(job, FrameReport{})},
+    };
+    // AO is data (raw); DO, GI and relit are written in the file's colour space where
+    // obscura knows its primaries, so the chromaticities every part shares describe them.
+    const ColourManager& cm = colourManager();
+    const std::string space = cm.layerSpace(report.inputColourSpace.empty()
+                                                ? cm.detectColourSpace(p.info.parts[p.part].header, job.colourSpace).name
+                                                : report.inputColourSpace);
+    std::vector<std::string> colourLayers;
+    if (ssdo) colourLayers = addSsdoLayers(job, p, out, outPart, type, space, add, attrs);
+    std::string note;
+    for (StringAttribute& a : cm.tagOutputPart(outPart, space, colourLayers, {report.aoChannel}, &note))
+        attrs.push_back(std::move(a));
+    if (!note.empty()) report.plan.push_back(note);
+    for (const NewChannel& c : add) report.written.push_back(c.name);
+    writeExrWithNewChannels(job.output, target, add, job.inPlace, attrs);
 }
 
 FrameReport runJob(const FrameJob& job) {
@@ -557,43 +602,7 @@ FrameReport runJob(const FrameJob& job) {
     }
 
     report.aoChannel = aoChannelName(job.aoLayer);
-    {
-        StageTimer timer{&report.stages, "write"};
-        const Imf::PixelType type = job.aoFloat ? Imf::FLOAT : Imf::HALF;
-        // Copy: into the depth's part of the input, or a part of their own when that part's
-        // codec is lossy (AO, DO and GI are data). New: into the one part of a fresh file.
-        ExrPixels fresh;
-        if (!copy) fresh = layersOnlyFile(p.info, p.part);
-        ExrPixels& target = copy ? p.raw : fresh;
-        const bool ownPart = !copy || isLossy(p.info.parts[p.part].header.compression());
-        const int outPart = !copy ? 0 : ownPart ? addLayersPart(target, p.part) : p.part;
-        report.writeDescription = describeWrite(job, p.info, p.part);
-        std::vector<NewChannel> add(1);
-        add[0].part = outPart;
-        add[0].name = report.aoChannel;
-        add[0].plane = out.ao;
-        add[0].type = type;
-        std::vector<StringAttribute> attrs = {
-            {outPart, "obscura/version", OBSCURA_VERSION_STRING},
-            {outPart, "obscura/settings", frameReportJson(job, FrameReport{})},
-        };
-        std::vector<std::string> colourLayers;
-        if (ssdo) colourLayers = addSsdoLayers(job, p, out, outPart, type, add, attrs);
-        // AO is data (raw); DO, GI and relit are in the config's working space.
-        std::string note;
-        const ColourManager& cm = colourManager();
-        // A part of our own holds no colour channels but ours, in the working space.
-        const std::string inputSpace = ownPart ? cm.workingSpace()
-                                       : report.inputColourSpace.empty()
-                                           ? cm.detectColourSpace(p.info.parts[p.part].header, job.colourSpace).name
-                                           : report.inputColourSpace;
-        for (StringAttribute& a : cm.tagOutputPart(target.info.parts[outPart].header, outPart, inputSpace,
-                                                   colourLayers, {report.aoChannel}, &note))
-            attrs.push_back(std::move(a));
-        if (!note.empty()) report.plan.push_back(note);
-        for (const NewChannel& c : add) report.written.push_back(c.name);
-        writeExrWithNewChannels(job.output, target, add, job.inPlace, attrs);
-    }
+    writeOutput(job, p, out, ssdo, report);
     if (!job.previewPath.empty()) {
         StageTimer timer{&report.stages, "preview"};
         report.plan.push_back(writeFramePreview(job, p, out, ssdo));

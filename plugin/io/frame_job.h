@@ -102,11 +102,11 @@ struct FrameReport {
 // layer alone.
 void requestBounce(FrameJob& job);
 
-// The colour passes an SSDO request reads (channel names in the depth's part); empty for HBAO.
+// The colour passes an SSDO request reads (R, G, B, in the part that holds each); empty for HBAO.
 struct SsdoReads {
-    std::vector<std::string> radiance;       // the bounce source, when GI or relit is asked for
-    std::vector<std::string> albedo;         // sender albedo (direct-diffuse source), relit, --times-albedo
-    std::vector<std::string> directDiffuse;  // --relit-direct
+    std::vector<ChannelRef> radiance;       // the bounce source, when GI or relit is asked for
+    std::vector<ChannelRef> albedo;         // sender albedo (direct-diffuse source), relit, --times-albedo
+    std::vector<ChannelRef> directDiffuse;  // --relit-direct
     bool senderAlbedo = false;               // senders radiate source x albedo
 };
 SsdoReads planSsdoReads(const FrameJob& job, const FramePasses& passes);

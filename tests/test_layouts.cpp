@@ -1,0 +1,226 @@
+// Every method with every output (AO, DO, GI, relit) on the layouts production files come in:
+// a part per layer (as Nuke writes them), a tiled mip-mapped part, lossy codecs (DWAA, B44),
+// and a multipart file with a lossy codec. Each run writes; every input channel is kept (its
+// values exactly where the codec is lossless); the parts of the output agree on the
+// attributes OpenEXR requires them to share; and the colour tags of the new layers name the
+// space the file's chromaticities describe.
+#include "core/methods.h"
+#include "io/colour.h"
+#include "io/exr_file.h"
+#include "support/cli_runner.h"
+#include "support/exr_fixtures.h"
+#include "support/scenes.h"
+#include "support/scratch.h"
+
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfInputPart.h>
+#include <OpenEXR/ImfMultiPartInputFile.h>
+#include <OpenEXR/ImfStandardAttributes.h>
+#include <OpenEXR/ImfStringAttribute.h>
+#include <OpenEXR/ImfTiledInputPart.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+using namespace obscura;
+using namespace obscura::fixtures;
+
+namespace {
+
+constexpr int kW = 48, kH = 36;
+const Imath::Box2i kWindow(Imath::V2i(0, 0), Imath::V2i(kW - 1, kH - 1));
+const Imf::Chromaticities kAP1(Imath::V2f(0.713f, 0.293f), Imath::V2f(0.165f, 0.830f), Imath::V2f(0.128f, 0.044f),
+                               Imath::V2f(0.32168f, 0.33767f));
+
+struct Layout {
+    const char* name;
+    bool partPerLayer;          // a part per layer, else one part
+    bool tiled;
+    Imf::Compression codec;
+    bool ap1;                   // the file's chromaticities are ACEScg's; else absent (Rec.709)
+};
+
+const obscura::test::SceneBuffers& scene() {
+    static const auto sb = obscura::test::renderScene(obscura::test::studioScene(),
+                                                      obscura::test::studioCamera(kW, kH), kW, kH);
+    return sb;
+}
+
+std::vector<std::string> cameraFlags() {
+    const Camera& cam = scene().camera;
+    std::string m;
+    char buf[40];
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) {
+            std::snprintf(buf, sizeof buf, "%.17g", cam.cameraToWorld[c][r]);
+            m += (m.empty() ? "" : ",") + std::string(buf);
+        }
+    std::snprintf(buf, sizeof buf, "%.17g", cam.horizontalFovRad(kW) * 180.0 / M_PI);
+    return {"--fov-deg", buf, "--camera-to-world", m};
+}
+
+FixtureChannel channel(const std::string& name, Imf::PixelType type, int c, const Image* img, float scale = 1) {
+    return {name, type, 1, 1, [img, c, scale](int x, int y) { return scale * std::abs(img->at(x, y)[c]) + 0.05f; }};
+}
+
+// Beauty (R, G, B, A), depth, normals and albedo, grouped into parts as the layout says.
+std::vector<FixturePart> layoutParts(const Layout& l) {
+    const auto& sb = scene();
+    FixtureChannel depth{"Z", Imf::FLOAT, 1, 1, [&sb](int x, int y) { return sb.depth.at(x, y)[0]; }};
+    std::vector<std::vector<FixtureChannel>> groups(4);
+    for (int c = 0; c < 3; ++c) {
+        groups[0].push_back(channel(std::string(1, "RGB"[c]), Imf::HALF, c, &sb.normal, 0.8f));
+        groups[2].push_back({std::string("N.") + "XYZ"[c], Imf::FLOAT, 1, 1,
+                             [&sb, c](int x, int y) { return sb.normal.at(x, y)[c]; }});
+        groups[3].push_back(channel(std::string("albedo.") + "RGB"[c], Imf::HALF, 2 - c, &sb.normal, 0.5f));
+    }
+    groups[0].push_back({"A", Imf::HALF, 1, 1, [](int, int) { return 1.0f; }});
+    groups[1].push_back(depth);
+    const char* names[] = {"rgba", "depth", "N", "albedo"};
+    std::vector<FixturePart> parts;
+    for (size_t g = 0; g < groups.size(); ++g) {
+        if (!l.partPerLayer && g > 0) {
+            parts[0].channels.insert(parts[0].channels.end(), groups[g].begin(), groups[g].end());
+            continue;
+        }
+        FixturePart part;
+        part.name = l.partPerLayer ? names[g] : "";
+        part.channels = groups[g];
+        part.displayWindow = part.dataWindow = kWindow;
+        part.compression = l.codec;
+        part.tiled = l.tiled;
+        part.levelMode = l.tiled ? Imf::MIPMAP_LEVELS : Imf::ONE_LEVEL;
+        const bool ap1 = l.ap1;
+        part.editHeader = [ap1](Imf::Header& h) {
+            Imf::addTimeCode(h, Imf::TimeCode(1, 2, 3, 4));
+            if (ap1) Imf::addChromaticities(h, kAP1);
+        };
+        parts.push_back(std::move(part));
+    }
+    return parts;
+}
+
+// One channel of one part, converted to float by OpenEXR, over the part's data window.
+std::vector<float> channelOf(const std::string& path, int part, const std::string& name) {
+    Imf::MultiPartInputFile file(path.c_str());
+    const Imf::Header& h = file.header(part);
+    const Imath::Box2i dw = h.dataWindow();
+    std::vector<float> v((size_t)(dw.max.x - dw.min.x + 1) * (dw.max.y - dw.min.y + 1), NAN);
+    Imf::FrameBuffer fb;
+    fb.insert(name, Imf::Slice::Make(Imf::FLOAT, v.data(), dw));
+    if (h.hasTileDescription()) {
+        Imf::TiledInputPart in(file, part);
+        in.setFrameBuffer(fb);
+        in.readTiles(0, in.numXTiles(0) - 1, 0, in.numYTiles(0) - 1, 0, 0);
+    } else {
+        Imf::InputPart in(file, part);
+        in.setFrameBuffer(fb);
+        in.readPixels(dw.min.y, dw.max.y);
+    }
+    return v;
+}
+
+std::string stringAttr(const Imf::Header& h, const std::string& name) {
+    const auto* a = h.findTypedAttribute<Imf::StringAttribute>(name);
+    return a ? a->value() : "<missing>";
+}
+
+// Every channel of every input part, in the output's part of the same index, with its type and,
+// for a lossless codec, its values; a lossy codec re-encodes what it decoded, within 1%.
+void expectInputKept(const std::string& in, const std::string& out) {
+    const ExrInfo a = readExrInfo(in), b = readExrInfo(out);
+    ASSERT_GE(b.parts.size(), a.parts.size());
+    for (size_t p = 0; p < a.parts.size(); ++p)
+        for (const ExrChannel& ch : a.parts[p].channels) {
+            const int i = b.parts[p].findChannel(ch.name);
+            ASSERT_GE(i, 0) << ch.name << " of part " << p << " was dropped";
+            EXPECT_EQ(b.parts[p].channels[i].type, ch.type) << ch.name;
+            const std::vector<float> va = channelOf(in, (int)p, ch.name), vb = channelOf(out, (int)p, ch.name);
+            const bool lossy = isLossy(a.parts[p].header.compression());
+            for (size_t k = 0; k < va.size(); ++k)
+                ASSERT_NEAR(vb[k], va[k], lossy ? 0.01 * std::max(1.0f, std::abs(va[k])) : 0.0) << ch.name << " at " << k;
+        }
+}
+
+// The attributes OpenEXR requires parts to share are the first part's in every part.
+void expectSharedAttributesAgree(const std::string& out) {
+    Imf::MultiPartInputFile file(out.c_str());
+    const Imf::Header& first = file.header(0);
+    for (int p = 1; p < file.parts(); ++p) {
+        const Imf::Header& h = file.header(p);
+        EXPECT_EQ(h.displayWindow(), first.displayWindow()) << "part " << p;
+        EXPECT_EQ(h.pixelAspectRatio(), first.pixelAspectRatio()) << "part " << p;
+        ASSERT_EQ(Imf::hasChromaticities(h), Imf::hasChromaticities(first)) << "part " << p;
+        if (Imf::hasChromaticities(h)) {
+            EXPECT_EQ(Imf::chromaticities(h).red, Imf::chromaticities(first).red);
+            EXPECT_EQ(Imf::chromaticities(h).white, Imf::chromaticities(first).white);
+        }
+        ASSERT_EQ(Imf::hasTimeCode(h), Imf::hasTimeCode(first)) << "part " << p;
+        if (Imf::hasTimeCode(h)) {
+            EXPECT_EQ(Imf::timeCode(h).timeAndFlags(), Imf::timeCode(first).timeAndFlags());
+        }
+    }
+}
+
+// The part holding `channel`, or -1.
+int partHolding(const std::string& path, const std::string& channel) {
+    const ExrInfo info = readExrInfo(path);
+    for (size_t p = 0; p < info.parts.size(); ++p)
+        if (info.parts[p].findChannel(channel) >= 0) return (int)p;
+    return -1;
+}
+
+// The new layers: AO finite in [0, 1]; DO, GI and relit finite (a colour the file's primaries hold but
+// the working space's do not is negative there, and albedo x light need not come back), each tagged
+// with the space the part's own chromaticities describe.
+void expectNewLayers(const std::string& out, const std::vector<std::string>& colourLayers) {
+    const int part = partHolding(out, "obscura.AO.Y");
+    ASSERT_GE(part, 0) << "no AO written";
+    for (float v : channelOf(out, part, "obscura.AO.Y")) ASSERT_TRUE(v >= 0.0f && v <= 1.0f) << v;
+    const Imf::Header h = Imf::MultiPartInputFile(out.c_str()).header(part);
+    const std::string fileSpace = colourManager().detectColourSpace(h).name;
+    for (const std::string& layer : colourLayers) {
+        for (const char* c : {".R", ".G", ".B"})
+            for (float v : channelOf(out, part, layer + c)) ASSERT_TRUE(std::isfinite(v)) << layer << c;
+        EXPECT_EQ(stringAttr(h, "obscura/" + layer + "/colorspace"), fileSpace) << layer;
+    }
+}
+
+class Layouts : public ::testing::TestWithParam<Layout> {};
+
+TEST_P(Layouts, EveryMethodAndOutputWritesAndKeepsTheInput) {
+    const Layout& l = GetParam();
+    const fs::path dir = obscura::test::testDir("layouts");
+    const std::string in = (dir / "in.exr").string();
+    writeFixture(in, layoutParts(l));
+    for (const MethodInfo& m : methods()) {
+        SCOPED_TRACE(m.name);
+        const std::string out = (dir / (std::string(m.name) + ".exr")).string();
+        std::vector<std::string> args = {in, "-o", out, "--quiet", "--threads", "2", "--method", m.name};
+        const bool colour = methodOutputs(m.name, "do");
+        if (colour) args.insert(args.end(), {"--bounce", "--bounce-source", "beauty", "--samples", "8"});
+        for (const std::string& f : cameraFlags()) args.push_back(f);
+        const obscura::test::CliResult r = obscura::test::runProgram(OBSCURA_CLI_PATH, args);
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+        expectInputKept(in, out);
+        expectSharedAttributesAgree(out);
+        expectNewLayers(out, colour ? std::vector<std::string>{"obscura.DO", "obscura.GI", "obscura.relit"}
+                                    : std::vector<std::string>{});
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Files, Layouts,
+    ::testing::Values(Layout{"part_per_layer", true, false, Imf::ZIP_COMPRESSION, false},
+                      Layout{"part_per_layer_ap1", true, false, Imf::PIZ_COMPRESSION, true},
+                      Layout{"tiled_mipmapped_ap1", false, true, Imf::ZIP_COMPRESSION, true},
+                      Layout{"dwaa", false, false, Imf::DWAA_COMPRESSION, false},
+                      Layout{"b44_ap1", false, false, Imf::B44_COMPRESSION, true},
+                      Layout{"part_per_layer_dwab", true, false, Imf::DWAB_COMPRESSION, false}),
+    [](const ::testing::TestParamInfo<Layout>& info) { return std::string(info.param.name); });
+
+} // namespace
