@@ -74,6 +74,7 @@ struct DiscsCpuKernel {
 #endif
 
 #include "kernels/common.glsl"
+#include "kernels/depth_normal.glsl"
 #include "kernels/discs.glsl"
 };
 

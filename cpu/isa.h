@@ -1,4 +1,4 @@
-// The CPU kernels (HBAO, SSAO, SSDO, the blur, discs) instantiated once per instruction set, and the
+// The CPU kernels (HBAO, SSAO, SSDO, the blur, discs, depth normals) instantiated once per instruction set, and the
 // one place that picks among them. cpu/isa_kernels.cpp and cpu/isa_lane_kernels.cpp are compiled
 // once per ISA, each in its own namespace (scalar, baseline, x86_64_v3, x86_64_v4); everything
 // there except the `kernels` table and the entry points it names (all in that namespace) has
@@ -38,6 +38,8 @@ struct IsaKernels {
                            const Box2i& tile);
     void (*discsTile)(const glsl::KernelParams& p, const float* pyramid, ConstPlane normal, MutablePlane ao,
                       const Box2i& tile);
+    // View-space normals from the depth alone (kernels/depth_normal.glsl), 3 channels.
+    void (*depthNormalTile)(const glsl::KernelParams& p, ConstPlane depth, MutablePlane normal, const Box2i& tile);
     // HBAO with deep input: `deep` holds p.deepLayers (front, back) depth pairs per texel (kernels/hbao.glsl).
     void (*hbaoDeepTile)(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep,
                          ConstPlane edges, MutablePlane ao, const Box2i& tile);

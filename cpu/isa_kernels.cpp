@@ -3,6 +3,7 @@
 // matching -march. Nothing here may have external linkage but the `kernels` table and the
 // lane kernels' entry points (see cpu/isa.h), all in the ISA's own namespace.
 #include "cpu/blur_tile_impl.h"
+#include "cpu/depth_normal_tile_impl.h"
 #include "cpu/discs_tile_impl.h"
 #include "cpu/ssdo_tile_impl.h"
 
@@ -14,5 +15,6 @@ void ssaoTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, Mutabl
 void hbaoDeepTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, ConstPlane edges,
                   MutablePlane ao, const Box2i& tile);
 
-const IsaKernels kernels{&hbaoTile, &ssaoTile, &ssdoTile, &blurTile, &discsBaseTile, &discsTile, &hbaoDeepTile};
+const IsaKernels kernels{&hbaoTile,      &ssaoTile,  &ssdoTile,        &blurTile,
+                         &discsBaseTile, &discsTile, &depthNormalTile, &hbaoDeepTile};
 } // namespace obscura::cpu::OBSCURA_ISA

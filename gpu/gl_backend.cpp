@@ -81,14 +81,16 @@ std::string hex(unsigned v) {
 GlBackend::GlBackend(ContextKind kind, bool hardwareOnly) : context_(GlContext::create(kind, hardwareOnly)) {
     const GlApi& gl = context_->gl();
     for (const GlKernel& k : glKernels()) {
-        const std::vector<ShaderPart> parts = {
+        // depth_normal.glsl in every program: disc AO's elements use it too.
+        std::vector<ShaderPart> parts = {
             {"glsl_prelude.glsl", kernelText("glsl_prelude.glsl")},
             {"kernel_params.glsl", kernelText("kernel_params.glsl")},
             {"gl_kernels.cpp (bindings)", kGlBindings},
             {"common.glsl", kernelText("common.glsl")},
-            {k.file, kernelText(k.file)},
-            {"gl_kernels.cpp (main)", k.main},
+            {"depth_normal.glsl", kernelText("depth_normal.glsl")},
         };
+        if (std::strcmp(k.file, "depth_normal.glsl") != 0) parts.push_back({k.file, kernelText(k.file)});
+        parts.push_back({"gl_kernels.cpp (main)", k.main});
         programs_[k.name] = buildComputeProgram(gl, k.name, parts);
     }
     gl.GenBuffers(kBufferCount, buffers_);
@@ -107,7 +109,7 @@ GlBackend::~GlBackend() {
     }
 }
 
-// Shared by every kernel: tiles, uploads the depth/normal (and whatever `upload` adds),
+// Shared by every kernel: tiles, uploads the depth/normal (normal when valid; and whatever `upload` adds),
 // dispatches `run`, then `readback` copies each tile's inner texels out.
 void GlBackend::runTiled(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, int blur, long long maxTexels,
                          GlTimings& t, const std::function<void(const Box2i& buf, const glsl::KernelParams& q)>& upload,
@@ -130,8 +132,10 @@ void GlBackend::runTiled(const glsl::KernelParams& p, ConstPlane depth, ConstPla
         uploadBuffer(kParams, GL_UNIFORM_BUFFER, &q, sizeof(q));
         pack(depth, tile.buf, 1, packed);
         uploadBuffer(kDepth, GL_SHADER_STORAGE_BUFFER, packed.data(), packed.size() * sizeof(float));
-        pack(normal, tile.buf, 3, packed);
-        uploadBuffer(kNormal, GL_SHADER_STORAGE_BUFFER, packed.data(), packed.size() * sizeof(float));
+        if (normal.valid()) {  // none for the depth's own normals
+            pack(normal, tile.buf, 3, packed);
+            uploadBuffer(kNormal, GL_SHADER_STORAGE_BUFFER, packed.data(), packed.size() * sizeof(float));
+        }
         upload(tile.buf, q);
         t.upload += since(t0);
 
@@ -223,6 +227,20 @@ void GlBackend::runAoWith(const char* program, const glsl::KernelParams& p, Cons
             blurBuffer(kSignalOut, 1, blur, q);
         },
         [&](const Box2i& inner, const Box2i& buf) { readInner(kSignalOut, 1, inner, buf, ao); });
+    if (timings) *timings = t;
+}
+
+void GlBackend::runDepthNormals(const glsl::KernelParams& p, ConstPlane depth, MutablePlane normal, GlTimings* timings) {
+    GlTimings t;
+    glsl::KernelParams q = p;
+    q.maxRadiusPixels = 0.0f;  // a texel reads two neighbours each way: runTiled's least apron, 2
+    runTiled(
+        q, depth, ConstPlane{}, 0, 0, t,
+        [&](const Box2i& buf, const glsl::KernelParams&) {
+            uploadBuffer(kSignalOut, GL_SHADER_STORAGE_BUFFER, nullptr, (size_t)buf.width() * buf.height() * 3 * sizeof(float));
+        },
+        [&](const glsl::KernelParams& r) { dispatch("depth_normals", r); },
+        [&](const Box2i& inner, const Box2i& buf) { readInner(kSignalOut, 3, inner, buf, normal); });
     if (timings) *timings = t;
 }
 

@@ -47,6 +47,9 @@ public:
         runAoWith("hbao", p, depth, normal, deep, ao, blur, timings, maxTexels);
     }
 
+    // View-space unit normals from the depth alone (kernels/depth_normal.glsl), 3 channels.
+    void runDepthNormals(const glsl::KernelParams& p, ConstPlane depth, MutablePlane normal, GlTimings* timings = nullptr);
+
     // One pass of disc AO (kernels/discs.glsl) over the whole frame from the host's pyramid
     // (cpu/discs_cpu.h; p's disc fields describe it), then `blur` passes.
     void runDiscs(const glsl::KernelParams& p, const float* pyramid, size_t pyramidFloats, ConstPlane depth, ConstPlane normal,

@@ -83,6 +83,8 @@ const std::vector<GlKernel>& glKernels() {
         {"ssao", "ssao.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; signalOut[texelIndex(t)] = ssaoLanes(t.x, t.y); }"},
         {"discs", "discs.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; signalOut[texelIndex(t)] = discsLanes(t.x, t.y); }"},
         {"blur", "blur.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; storeSignal(t, blurLanes(t.x, t.y, blurAxis, blurRadius)); }"},
+        // Every program holds depth_normal.glsl (GlBackend's constructor); this one runs only it.
+        {"depth_normals", "depth_normal.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; vec3 n = depthNormalLanes(t.x, t.y); int i = texelIndex(t); for (int c = 0; c < 3; ++c) signalOut[3 * i + c] = n[c]; }"},
         {"ssdo", "ssdo.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; vec3 d; vec3 g; float a; ssdoLanes(t.x, t.y, d, g, a); int i = texelIndex(t); signalOut[i] = a; for (int c = 0; c < 3; ++c) { directionalOut[3 * i + c] = d[c]; indirectOut[3 * i + c] = g[c]; } }"},
     };
     return kernels;

@@ -59,51 +59,7 @@ void discAxes(lvec3 ray, lvec3 pos, lvec3 n, OUT(lvec3) du, OUT(lvec3) dv) {
     dv = b * (t * P.invFy);
 }
 
-// The offset to a neighbouring texel's surface point (side: +-1 along x or y), and whether
-// it is a surface. viewOffset keeps it exact where the depth is large.
-lvec3 discStep(lint x, lint y, lvec3 ray, lfloat depth, int sx, int sy, OUT(lbool) surface) {
-    lfloat depthS = surfaceDepth(x + sx, y + sy, surface);
-    return viewOffset(ray, depth, lvec2(lfloat(float(sx) * P.invFx), lfloat(-float(sy) * P.invFy)), depthS);
-}
-
-// w: 1/z under perspective, z orthographic. On a plane it is affine in the pixel coordinates,
-// so its second difference along a row is 0 and grows only across a crease or a step.
-lfloat discW(lint x, lint y, lfloat depth) {
-    if (P.orthographic != 0) {
-        return depth;
-    }
-    lvec3 ray = viewRay(lvec2(lfloat(x + P.originX) + 0.5f, lfloat(y + P.originY) + 0.5f));
-    return -1.0f / positionOnRay(ray, depth).z;
-}
-
-// w of the texels 1 and 2 steps (sx, sy) from texel (x, y), and whether they are surfaces:
-// read once per side, for the normal's side (discBend) and the walls (discDrop).
-void discSide(lint x, lint y, int sx, int sy, OUT(lfloat) w1, OUT(lbool) ok1, OUT(lfloat) w2, OUT(lbool) ok2) {
-    w1 = discW(x + sx, y + sy, surfaceDepth(x + sx, y + sy, ok1));
-    w2 = discW(x + 2 * sx, y + 2 * sy, surfaceDepth(x + 2 * sx, y + 2 * sy, ok2));
-}
-
-// How far a texel (w0) and its neighbours at 1 and 2 steps on one side are from one plane:
-// the second difference of w; 1e30 where either neighbour is not a surface.
-lfloat discBend(lfloat w0, lfloat w1, lbool ok1, lfloat w2, lbool ok2) {
-    return select(ok1 && ok2, abs(w2 - 2.0f * w1 + w0), lfloat(1e30f));
-}
-
-// Of the steps to the two neighbours along one axis that are surfaces, the one on the side
-// that continues the texel's plane (the smaller bend): next to a crease the step across it
-// would tilt the normal halfway to the other face. On equal bends (a plane, or no second
-// neighbours) the shorter (across a depth step, the far side is the longer). `found`: at
-// least one neighbour is a surface.
-lvec3 discPlaneStep(lvec3 back, lbool backOk, lfloat backBend, lvec3 ahead, lbool aheadOk, lfloat aheadBend,
-                    OUT(lbool) found) {
-    found = backOk || aheadOk;
-    lbool shorter = dot(ahead, ahead) < dot(back, back);
-    lbool flatter = aheadBend < backBend || (!(aheadBend > backBend) && shorter);
-    lbool takeAhead = aheadOk && (!backOk || flatter);
-    return select(takeAhead, ahead, back * -1.0f);
-}
-
-// z of w (discW), 1e30 for w <= 0 under perspective (a plane continued past the horizon).
+// z of w (depthW, kernels/depth_normal.glsl), 1e30 for w <= 0 under perspective (a plane continued past the horizon).
 lfloat discZ(lfloat w) {
     if (P.orthographic != 0) {
         return w;
@@ -159,7 +115,7 @@ lfloat discWidthTexels(lint x, lint y, lfloat z0, lfloat drop, int sx, int sy) {
         lint qx = x - k * sx;
         lint qy = y - k * sy;
         lbool ok;
-        lfloat w = discW(qx, qy, surfaceDepth(qx, qy, ok));
+        lfloat w = depthW(qx, qy, surfaceDepth(qx, qy, ok));
         lfloat z = w;
         if (P.orthographic == 0) {
             z = 1.0f / w;
@@ -195,7 +151,7 @@ lfloat discWallLength(lint x, lint y, lfloat z0, lfloat drop, lfloat zLen, lfloa
 // the four edges are one element: areas add per axis and in quadrature across axes (a
 // diagonal silhouette's pixel stands for sqrt 2 pixels of edge), the normal lies across the
 // ray towards the drops, signed into one half-space so walls facing apart still merge.
-// The sides' w come from discSide (L: left, R: right, U: up, D: down; 1 and 2 steps).
+// The sides' w come from depthSide (L: left, R: right, U: up, D: down; 1 and 2 steps).
 void discWall(lint x, lint y, lvec3 ray, lvec3 pos, lfloat w0, lbool surface, lfloat wL1, lbool okL1, lfloat wL2,
               lbool okL2, lfloat wR1, lbool okR1, lfloat wR2, lbool okR2, lfloat wU1, lbool okU1, lfloat wU2, lbool okU2,
               lfloat wD1, lbool okD1, lfloat wD2, lbool okD2, OUT(lvec3) wallPos, OUT(lvec3) wallN,
@@ -308,8 +264,8 @@ void discCreaseStrip(lint x, lint y, lfloat w0, int sx, int sy, lfloat w1, lbool
 }
 
 // The level-0 element of buffer texel (x, y) and its wall; area 0 where it is not a surface.
-// Its normal is the depth's own (the cross product of the steps to its neighbours on the
-// sides that continue its plane) wherever those steps are no longer than three footprints of
+// Its normal is the depth's own (kernels/depth_normal.glsl: the cross product of the steps to
+// its neighbours on the sides that continue its plane) wherever those steps are no longer than three footprints of
 // the shading normal: elements must lie in each other's tangent planes where the surface is
 // smooth, and shading normals need not (a smooth-shaded cylinder averages its caps into its
 // sides; a facet bends them). Elsewhere (edges, one-pixel features) the pass's normal stays.
@@ -329,13 +285,13 @@ void discBase(lint x, lint y, OUT(lvec3) pos, OUT(lvec3) n, OUT(lfloat) area, OU
     lbool rightOk;
     lbool upOk;
     lbool downOk;
-    lvec3 left = discStep(x, y, ray, depth, -1, 0, leftOk);
-    lvec3 right = discStep(x, y, ray, depth, 1, 0, rightOk);
-    lvec3 up = discStep(x, y, ray, depth, 0, -1, upOk);
-    lvec3 down = discStep(x, y, ray, depth, 0, 1, downOk);
+    lvec3 left = depthStep(x, y, ray, depth, -1, 0, leftOk);
+    lvec3 right = depthStep(x, y, ray, depth, 1, 0, rightOk);
+    lvec3 up = depthStep(x, y, ray, depth, 0, -1, upOk);
+    lvec3 down = depthStep(x, y, ray, depth, 0, 1, downOk);
     lbool alongX;
     lbool alongY;
-    lfloat w0 = discW(x, y, depth);
+    lfloat w0 = depthW(x, y, depth);
     lfloat wL1;
     lfloat wL2;
     lfloat wR1;
@@ -352,20 +308,18 @@ void discBase(lint x, lint y, OUT(lvec3) pos, OUT(lvec3) n, OUT(lfloat) area, OU
     lbool okU2;
     lbool okD1;
     lbool okD2;
-    discSide(x, y, -1, 0, wL1, okL1, wL2, okL2);
-    discSide(x, y, 1, 0, wR1, okR1, wR2, okR2);
-    discSide(x, y, 0, -1, wU1, okU1, wU2, okU2);
-    discSide(x, y, 0, 1, wD1, okD1, wD2, okD2);
-    lvec3 sx = discPlaneStep(left, leftOk, discBend(w0, wL1, okL1, wL2, okL2), right, rightOk,
-                             discBend(w0, wR1, okR1, wR2, okR2), alongX);
-    lvec3 sy = discPlaneStep(up, upOk, discBend(w0, wU1, okU1, wU2, okU2), down, downOk,
-                             discBend(w0, wD1, okD1, wD2, okD2), alongY);
-    lvec3 g = cross(sy, sx);
-    lfloat g2 = dot(g, g);
-    lbool fromDepth = surface && alongX && alongY && g2 > 0.0f && dot(sx, sx) < 9.0f * dot(du, du) &&
+    depthSide(x, y, -1, 0, wL1, okL1, wL2, okL2);
+    depthSide(x, y, 1, 0, wR1, okR1, wR2, okR2);
+    depthSide(x, y, 0, -1, wU1, okU1, wU2, okU2);
+    depthSide(x, y, 0, 1, wD1, okD1, wD2, okD2);
+    lvec3 sx = depthPlaneStep(left, leftOk, depthBend(w0, wL1, okL1, wL2, okL2), right, rightOk,
+                             depthBend(w0, wR1, okR1, wR2, okR2), alongX);
+    lvec3 sy = depthPlaneStep(up, upOk, depthBend(w0, wU1, okU1, wU2, okU2), down, downOk,
+                             depthBend(w0, wD1, okD1, wD2, okD2), alongY);
+    lbool usable;
+    lvec3 g = depthNormalOfSteps(sx, sy, V, usable);
+    lbool fromDepth = surface && alongX && alongY && usable && dot(sx, sx) < 9.0f * dot(du, du) &&
                     dot(sy, sy) < 9.0f * dot(dv, dv);
-    g = g * inversesqrt(select(fromDepth, g2, lfloat(1.0f)));
-    g = select(dot(g, V) < 0.0f, g * -1.0f, g);
     n = select(fromDepth, g, n);
     discAxes(ray, pos, n, du, dv);
     lvec3 c = cross(du, dv);

@@ -272,7 +272,8 @@ void applyConfig(Instance& inst, const Config& c, const Scene& s) {
         EXPECT_EQ(inst.setDouble("fovDeg", s.fovDeg), kOfxStatOK);
     EXPECT_EQ(inst.setString("cameraToWorld", rowsOf(s.cam.cameraToWorld)), kOfxStatOK);
     EXPECT_EQ(inst.setInt("depthKind", c.depth == DepthKind::Radial ? 1 : 0), kOfxStatOK);
-    EXPECT_EQ(inst.setInt("normalSpace", c.normals == NormalSpace::Camera ? 1 : 0), kOfxStatOK);
+    EXPECT_EQ(inst.setInt("normalSpace", c.normals == NormalSpace::Camera ? 1 : c.normals == NormalSpace::Depth ? 2 : 0),
+              kOfxStatOK);
     EXPECT_EQ(inst.setDouble("maxScreenRadius", c.maxScreenRadius), kOfxStatOK);
     EXPECT_EQ(inst.setInt("device", 0), kOfxStatOK);  // cpu: the CLI runs on the CPU too
 }
@@ -368,7 +369,7 @@ TEST(OfxDescribe, DeclaresContextsDepthsClipsAndParameters) {
         const char* name;
         int optional;
     };
-    for (ClipWant c : {ClipWant{"Source", 1}, {"Depth", 0}, {"Normal", 0}, {"Position", 1}, {"Albedo", 1}, {"Output", 0}}) {
+    for (ClipWant c : {ClipWant{"Source", 1}, {"Depth", 0}, {"Normal", 1}, {"Position", 1}, {"Albedo", 1}, {"Output", 0}}) {
         const Clip* clip = host.descriptor().clip(c.name);
         ASSERT_NE(clip, nullptr) << c.name;
         EXPECT_EQ(clip->props.integer(kOfxImageClipPropOptional), c.optional) << c.name;
@@ -432,7 +433,8 @@ TEST_P(OfxMatchesCli, WholeFrameAndTilesAreTheCliPixels) {
     const std::vector<float> cli = runCli(c, s, dir);
     ASSERT_FALSE(cli.empty());
 
-    Loaded l = instantiate(s);
+    // Normals from the depth: no Normal clip at all (the CLI's file has them; --normals depth ignores them).
+    Loaded l = c.normals == NormalSpace::Depth ? instantiateIn(s, project(kW, kH), {"Depth"}) : instantiate(s);
     ASSERT_TRUE(l.inst);
     applyConfig(*l.inst, c, s);
     OfxRectD rod{};
@@ -478,6 +480,16 @@ INSTANTIATE_TEST_SUITE_P(Configs, OfxMatchesCli,
                                                Config c = cfg("radial_camera_normals");
                                                c.depth = DepthKind::Radial, c.normals = NormalSpace::Camera;
                                                c.blur = 1, c.overscan = 3;
+                                               return c;
+                                           }(),
+                                           [] {
+                                               Config c = cfg("no_normal_clip_normals_from_depth");
+                                               c.normals = NormalSpace::Depth, c.blur = 1, c.overscan = 3;
+                                               return c;
+                                           }(),
+                                           [] {
+                                               Config c = cfg("ssao_normals_from_depth");
+                                               c.method = 2, c.normals = NormalSpace::Depth;
                                                return c;
                                            }(),
                                            [] {

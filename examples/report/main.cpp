@@ -167,7 +167,7 @@ int main(int argc, char** argv) {
                 overscanFrame = loadFrame(path, o.definition.exrLayer());
             }
             const LoadedFrame& used = o.overscan > 0 ? overscanFrame : frame;
-            const obscura::OperatorInputs in = operatorInputs(used);
+            const obscura::OperatorInputs in = operatorInputs(used, false, o.depthNormals);
             // hbao+deep: the same inputs plus the deep reference's layers, read as the CLI's --flat reads them.
             const bool anyDeep = anyMethod(o.methods, usesDeep);
             obscura::Image deepPlanes;
@@ -197,7 +197,7 @@ int main(int argc, char** argv) {
                         s.falloff = def.falloff;
                         s.skyDepth = f.skyDepth;
                         s.device = device;
-                        TimedOperator t = timeOperator(ssdo ? operatorInputs(f, bounce) : usesDeep(method) ? deepIn : in, s, rs.runs,
+                        TimedOperator t = timeOperator(ssdo ? operatorInputs(f, bounce, o.depthNormals) : usesDeep(method) ? deepIn : in, s, rs.runs,
                                                        rs.runBudgetSeconds);
                         ResultRow r = base;
                         r.method = method;

@@ -40,7 +40,7 @@ LoadedFrame loadFrame(const std::string& exrPath, const std::string& referenceLa
     return f;
 }
 
-obscura::OperatorInputs operatorInputs(const LoadedFrame& f, bool withBounce) {
+obscura::OperatorInputs operatorInputs(const LoadedFrame& f, bool withBounce, bool depthNormals) {
     obscura::OperatorInputs in;
     in.displayWindow = f.passes.display;
     in.dataWindow = f.passes.data;
@@ -48,6 +48,10 @@ obscura::OperatorInputs operatorInputs(const LoadedFrame& f, bool withBounce) {
     in.normal = f.passes.normal.view();
     in.depthKind = f.passes.plan.depthKind;
     in.normalSpace = f.passes.plan.normalSpace;
+    if (depthNormals) {
+        in.normal = obscura::ConstPlane{};
+        in.normalSpace = obscura::NormalSpace::Depth;
+    }
     in.camera = f.camera;
     if (withBounce) {
         in.radiance = f.passes.radiance.view();

@@ -26,8 +26,9 @@ struct LoadedFrame {
 // with `withBounce`, also the bounce source, the albedo and DiffInd.
 LoadedFrame loadFrame(const std::string& exrPath, const std::string& referenceLayer, bool withBounce = false);
 // The operator's inputs: views into `frame`, valid while it lives; with `withBounce`, the bounce
-// source (radiance = DiffDir, albedo = DiffCol: senders radiate DiffDir x DiffCol).
-obscura::OperatorInputs operatorInputs(const LoadedFrame& frame, bool withBounce = false);
+// source (radiance = DiffDir, albedo = DiffCol: senders radiate DiffDir x DiffCol); with
+// `depthNormals`, no normal pass (the operator reconstructs the normals from the depth).
+obscura::OperatorInputs operatorInputs(const LoadedFrame& frame, bool withBounce = false, bool depthNormals = false);
 
 struct TimedOperator {
     int runs = 0;              // timed runs (fewer than asked when over the budget)

@@ -46,6 +46,8 @@ void usage(FILE* to) {
         "  --overscan N           obscura reads passes rendered N pixels past each edge of the frame\n"
         "                         (cached, 1 AO ray: passes only) and its AO is compared over the\n"
         "                         display window; SSDO keeps the frame alone (0)\n"
+        "  --normals given|depth  the normal pass (given, default), or normals reconstructed from the\n"
+        "                         depth (what obscura does for a file without a normal layer)\n"
         "  --quick                tiny run: corner at 64x48, 64 converged rays, curve 1,4,\n"
         "                         preset low, cpu, 1 run (flags after it override it)\n");
     std::string all;
@@ -151,6 +153,11 @@ ReportOptions parseReportOptions(int argc, char** argv) {
         else if (a == "--python") o.python = value();
         else if (a == "--no-plot") o.plot = false;
         else if (a == "--overscan") o.overscan = toInt(a, value(), 0, 4096);
+        else if (a == "--normals") {
+            const std::string n = value();
+            if (n != "given" && n != "depth") fail("--normals expects given or depth, got '" + n + "'");
+            o.depthNormals = n == "depth";
+        }
         else if (a == "--quick") {
             o.scenes = {"corner"};
             o.presets = {"low"};

@@ -18,6 +18,7 @@ struct ReportOptions {
     std::string plotScript, python;  // python: /usr/bin/python3 when present (Debian's, with matplotlib), else python3
     bool plot = true;
     int overscan = 0;  // > 0: obscura reads passes rendered this many pixels past each display edge
+    bool depthNormals = false;  // --normals depth: obscura reconstructs the normals from the depth
 };
 
 // Parses argv; prints usage and exits (0 for --help, 2 for a bad command line).

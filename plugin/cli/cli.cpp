@@ -201,9 +201,11 @@ std::vector<Flag> makeFlags() {
          [](Options& o, const std::string& v) { o.job.camera.sidecarPath = v; }},
         {"--depth", "planar|radial", "depth convention (default: the renderer preset's)",
          [](Options& o, const std::string& v) { o.job.depthKind = toEnum<DepthKind>("--depth", v, "planar or radial"); }},
-        {"--normals", "world|camera", "normal space (default: the renderer preset's)",
+        {"--normals", "world|camera|depth",
+         "normal space (default: the renderer preset's); depth: reconstructed from the depth and the camera, "
+         "as they are when the file has no normal layer",
          [](Options& o, const std::string& v) {
-             o.job.normalSpace = toEnum<NormalSpace>("--normals", v, "world or camera");
+             o.job.normalSpace = toEnum<NormalSpace>("--normals", v, "world, camera or depth");
          }},
         {"--sky-depth", "D", "depth at or beyond which a pixel is sky (default: the preset's, 1e9)",
          [](Options& o, const std::string& v) { o.job.skyDepth = (float)toSetting("--sky-depth", v); }},
@@ -431,7 +433,8 @@ void printSummary(const Options& o, const FrameReport& r) {
     for (size_t i = 0; i < r.stages.size(); ++i)
         std::fprintf(stderr, "%s%s %.3f", i ? ", " : "", r.stages[i].name.c_str(), r.stages[i].seconds);
     std::fprintf(stderr, ")\n");
-    std::fprintf(stderr, "obscura: camera from %s; %s\n", r.camera.source.c_str(), r.stats.device.c_str());
+    std::fprintf(stderr, "obscura: camera from %s; %s%s\n", r.camera.source.c_str(), r.stats.device.c_str(),
+                 r.stats.normalsFromDepth ? "; normals reconstructed from depth" : "");
     for (const std::string& w : r.warnings) std::fprintf(stderr, "obscura: warning: %s\n", w.c_str());
 }
 

@@ -30,6 +30,9 @@ public:
     virtual ~Backend() = default;
     // "cpu (N threads)" or the GL renderer, for the report.
     virtual std::string description() const = 0;
+    // View-space unit normals of the depth's surfaces (kernels/depth_normal.glsl), for inputs
+    // without a normal pass.
+    virtual void depthNormals(const KernelParams& p, ConstPlane depth, MutablePlane normal, OperatorStats& st) const = 0;
     // HBAO (with deep layers when `deep` is valid) or SSAO into `ao`, then the blur.
     virtual void ao(AoKernel kernel, const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep,
                     MutablePlane ao, int blur, OperatorStats& st) const = 0;

@@ -4,6 +4,7 @@
 #include "core/devices.h"
 #include "core/method_runs.h"
 #include "cpu/blur_cpu.h"
+#include "cpu/depth_normal_cpu.h"
 #include "cpu/discs_cpu.h"
 #include "cpu/lane_cpu.h"
 #include "cpu/rtao_cpu.h"
@@ -18,6 +19,12 @@ public:
     explicit CpuBackend(int threads) : threads_(threads) {}
 
     std::string description() const override { return deviceDescription(nullptr, threads_); }
+
+    void depthNormals(const KernelParams& p, ConstPlane depth, MutablePlane normal, OperatorStats& st) const override {
+        const auto t0 = Clock::now();
+        cpu::runDepthNormals(p, depth, normal, threads_);
+        st.timings.push_back({"depth-normals", secondsSince(t0)});
+    }
 
     void ao(AoKernel kernel, const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep,
             MutablePlane ao, int blur, OperatorStats& st) const override {

@@ -23,6 +23,12 @@ public:
 
     std::string description() const override { return deviceDescription(&gl_, 0); }
 
+    void depthNormals(const KernelParams& p, ConstPlane depth, MutablePlane normal, OperatorStats& st) const override {
+        gpu::GlTimings t;
+        gl_.runDepthNormals(p, depth, normal, &t);
+        record(st, t);
+    }
+
     void ao(AoKernel kernel, const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep,
             MutablePlane ao, int blur, OperatorStats& st) const override {
         gpu::GlTimings t;

@@ -178,12 +178,41 @@ KernelParams makeKernelParams(const OperatorInputs& in, const Settings& s) {
     return p;
 }
 
-OperatorOutputs runOperator(const OperatorInputs& in, const Settings& s) {
+namespace {
+
+// Counts sky, holes and surface pixels without a usable normal.
+void scanPasses(const OperatorInputs& in, const Settings& s, OperatorStats& st) {
+    for (int y = 0; y < in.depth.height; ++y) {
+        for (int x = 0; x < in.depth.width; ++x) {
+            const float d = *in.depth.at(x, y);
+            if (d > 0.0f && d < s.skyDepth) {
+                const float* n = in.normal.at(x, y);
+                const float len2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+                if (!(len2 > 1e-12f && len2 < 1e30f)) ++st.zeroNormalPixels;
+            } else if (std::isnan(d) || d < 0.0f) {
+                ++st.invalidDepthPixels; // holes: skipped like sky, but worth reporting
+            } else {
+                ++st.skyPixels;          // 0, +inf or beyond the sky threshold: a sky convention
+            }
+        }
+    }
+}
+
+} // namespace
+
+OperatorOutputs runOperator(const OperatorInputs& given, const Settings& s) {
     checkSettings(s);
-    if (in.dataWindow.empty())
+    if (given.dataWindow.empty())
         throw Error("the data window is empty (0 pixels)");
-    checkPlane(in.depth, 1, in.dataWindow, "depth");
-    checkPlane(in.normal, 3, in.dataWindow, "normal");
+    checkPlane(given.depth, 1, given.dataWindow, "depth");
+    const bool fromDepth = given.normalSpace == NormalSpace::Depth;
+    if (!fromDepth) checkPlane(given.normal, 3, given.dataWindow, "normal");
+    OperatorInputs in = given;
+    Image reconstructed;
+    if (fromDepth) {  // view-space normals, filled in once the backend is chosen
+        reconstructed = Image(in.dataWindow.width(), in.dataWindow.height(), 3, 0.0f);
+        in.normal = reconstructed.view();
+    }
     if (in.deepLayers.valid()) {
         if (!methodReads(s.method, "deep")) throw Error("--method " + s.method + " does not read deep layers");
         checkPlane(in.deepLayers, 2, in.dataWindow, "deep layers");
@@ -201,21 +230,12 @@ OperatorOutputs runOperator(const OperatorInputs& in, const Settings& s) {
     st.device = backend->description();
     st.pixels = in.dataWindow.area();
 
-    auto t0 = Clock::now();
-    for (int y = 0; y < in.depth.height; ++y) {
-        for (int x = 0; x < in.depth.width; ++x) {
-            const float d = *in.depth.at(x, y);
-            if (d > 0.0f && d < s.skyDepth) {
-                const float* n = in.normal.at(x, y);
-                const float len2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
-                if (!(len2 > 1e-12f && len2 < 1e30f)) ++st.zeroNormalPixels;
-            } else if (std::isnan(d) || d < 0.0f) {
-                ++st.invalidDepthPixels; // holes: skipped like sky, but worth reporting
-            } else {
-                ++st.skyPixels;          // 0, +inf or beyond the sky threshold: a sky convention
-            }
-        }
+    if (fromDepth) {
+        backend->depthNormals(params, in.depth, reconstructed.view(), st);
+        st.normalsFromDepth = true;
     }
+    auto t0 = Clock::now();
+    scanPasses(in, s, st);
     st.timings.push_back({"scan", secondsSince(t0)});
 
     out.ao = Image(in.dataWindow.width(), in.dataWindow.height(), 1, 1.0f);

@@ -15,9 +15,11 @@ struct OperatorInputs {
     Box2i displayWindow;        // display window, origin (0,0) by convention
     Box2i dataWindow;           // the rectangle the planes cover (may exceed the display window)
     ConstPlane depth;           // 1 channel, required
-    ConstPlane normal;          // 3 channels, required
+    ConstPlane normal;          // 3 channels; not read (may be invalid) with NormalSpace::Depth
     ConstPlane position;        // 3 channels, optional (world space)
     DepthKind depthKind = DepthKind::Planar;
+    // Depth: the normals are reconstructed from the depth and the camera
+    // (kernels/depth_normal.glsl) on the device the method runs on, for every method alike.
     NormalSpace normalSpace = NormalSpace::World;
     Camera camera;
     // HBAO, optional (docs/deep.md): 2L channels per texel, L surfaces along the texel's ray as
@@ -41,6 +43,7 @@ struct OperatorStats {
     long long skyPixels = 0;          // 0, +inf or >= sky depth: skipped, AO = 1
     long long invalidDepthPixels = 0; // NaN or negative: treated as holes (skipped, AO = 1)
     long long zeroNormalPixels = 0;   // non-sky pixels whose normal has ~zero length
+    bool normalsFromDepth = false;    // the normals were reconstructed from the depth
     std::string device;               // "cpu (N threads)", "gl-osmesa: llvmpipe ..., OpenGL 4.5 ..."
     std::vector<std::string> notes;   // e.g. why --device auto fell back to the CPU
     std::vector<StageTiming> timings;

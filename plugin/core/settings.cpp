@@ -36,7 +36,9 @@ float resolvedThickness(const Settings& s) {
 const char* toString(Weighting w) { return w == Weighting::Uniform ? "uniform" : "cosine"; }
 const char* toString(Falloff f) { return f == Falloff::Linear ? "linear" : "none"; }
 const char* toString(DepthKind d) { return d == DepthKind::Planar ? "planar" : "radial"; }
-const char* toString(NormalSpace n) { return n == NormalSpace::World ? "world" : "camera"; }
+const char* toString(NormalSpace n) {
+    return n == NormalSpace::World ? "world" : n == NormalSpace::Camera ? "camera" : "depth";
+}
 
 namespace {
 template <class E>
@@ -50,6 +52,12 @@ bool parseEnum(const std::string& s, E& out, const char* a, E ea, const char* b,
 bool parse(const std::string& s, Weighting& w) { return parseEnum(s, w, "uniform", Weighting::Uniform, "cosine", Weighting::Cosine); }
 bool parse(const std::string& s, Falloff& f) { return parseEnum(s, f, "linear", Falloff::Linear, "none", Falloff::None); }
 bool parse(const std::string& s, DepthKind& d) { return parseEnum(s, d, "planar", DepthKind::Planar, "radial", DepthKind::Radial); }
-bool parse(const std::string& s, NormalSpace& n) { return parseEnum(s, n, "world", NormalSpace::World, "camera", NormalSpace::Camera); }
+bool parse(const std::string& s, NormalSpace& n) {
+    if (s == "depth") {
+        n = NormalSpace::Depth;
+        return true;
+    }
+    return parseEnum(s, n, "world", NormalSpace::World, "camera", NormalSpace::Camera);
+}
 
 } // namespace obscura

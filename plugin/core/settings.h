@@ -10,7 +10,9 @@ namespace obscura {
 enum class Weighting { Uniform, Cosine };   // HBAO paper's solid angle / projected solid angle (ray-traced AO)
 enum class Falloff { Linear, None };        // W(r) = max(0, 1 - r/R) / binary visibility within R
 enum class DepthKind { Planar, Radial };    // camera-space Z / distance to the eye
-enum class NormalSpace { World, Camera };   // camera space is OpenGL's: looking down -Z, +Y up
+// Camera space is OpenGL's: looking down -Z, +Y up. Depth: no normals are given (or they are
+// ignored); the operator reconstructs them from the depth (kernels/depth_normal.glsl).
+enum class NormalSpace { World, Camera, Depth };
 
 constexpr float kThicknessInfinite = std::numeric_limits<float>::infinity();
 constexpr float kThicknessAuto = -1.0f;

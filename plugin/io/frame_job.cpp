@@ -68,7 +68,8 @@ std::string sidecarFor(const FrameJob& job) {
 
 bool cameraFullyGiven(const FrameJob& job) {
     const bool lens = job.camera.fovDeg || job.camera.orthoWidth;
-    const bool pose = job.camera.cameraToWorld || job.normalSpace == NormalSpace::Camera;
+    // Normals in camera space or from the depth need no pose.
+    const bool pose = job.camera.cameraToWorld || (job.normalSpace && job.normalSpace != NormalSpace::World);
     return (lens && pose) || !sidecarFor(job).empty();
 }
 
@@ -89,7 +90,7 @@ void validatePixels(const FrameJob& job, const FramePasses& p, float sky, FrameR
             if (badDepth++ == 0) firstBadDepth = i;
             continue;
         }
-        if (!isSurface(d, sky)) continue;
+        if (!isSurface(d, sky) || p.normalsFromDepth) continue;
         ++surface;
         const float* nv = &p.normal.pixels[i * 3];
         const float len2 = nv[0] * nv[0] + nv[1] * nv[1] + nv[2] * nv[2];
@@ -258,6 +259,20 @@ std::string describeWrite(const FrameJob& job, const ExrInfo& info, int part) {
     return "copy: the input plus the new layers, " + codec;
 }
 
+bool normalsFromDepth(const FrameJob& job, const LayerPlan& plan) {
+    return job.normalSpace == NormalSpace::Depth || !plan.find(Role::Normal);
+}
+
+std::string normalsSourceLine(const FrameJob& job, const LayerPlan& plan) {
+    if (!normalsFromDepth(job, plan)) {
+        const LayerBinding& b = *plan.find(Role::Normal);
+        return "normals: layer '" + (b.layer.empty() ? b.channels[0] : b.layer) + "', " +
+               toString(job.normalSpace.value_or(plan.normalSpace)) + " space";
+    }
+    return std::string("normals: reconstructed from depth (") +
+           (job.normalSpace == NormalSpace::Depth ? "--normals depth" : "no normal layer") + ")";
+}
+
 void requestBounce(FrameJob& job) {
     job.writeIndirect = true;
     job.writeRelit = true;
@@ -374,9 +389,10 @@ FramePasses loadPasses(const FrameJob& job, bool keepAll, std::vector<StageTimin
     FramePasses p;
     p.info = readExrInfo(job.input, job.maxPixels);
     p.plan = planLayers(p.info, job.preset, job.layerOverrides);
-    requireRoles(p.plan, p.info, {Role::Depth, Role::Normal});
+    requireRoles(p.plan, p.info, {Role::Depth});
     const LayerBinding& depth = *p.plan.find(Role::Depth);
-    const LayerBinding& normal = *p.plan.find(Role::Normal);
+    p.normalsFromDepth = normalsFromDepth(job, p.plan);
+    const LayerBinding* normal = p.normalsFromDepth ? nullptr : p.plan.find(Role::Normal);
     p.part = depth.part;
     const ExrPart& part = p.info.parts[p.part];
     p.display = part.displayWindow;
@@ -388,10 +404,11 @@ FramePasses loadPasses(const FrameJob& job, bool keepAll, std::vector<StageTimin
             throw FileError(job.input, std::string("the ") + roleName(b.role) + " layer '" + b.layer +
                         "' covers a different data window than the depth");
     };
-    samePixels(normal);
-
     std::vector<ChannelRef> wanted = channelRefs(depth);
-    for (const ChannelRef& c : channelRefs(normal)) wanted.push_back(c);
+    if (normal) {
+        samePixels(*normal);
+        for (const ChannelRef& c : channelRefs(*normal)) wanted.push_back(c);
+    }
     const LayerBinding* position = p.plan.find(Role::Position);
     const bool readPosition = position && (alwaysReadPosition ? p.info.parts[position->part].dataWindow == p.data
                                                               : !cameraFullyGiven(job));
@@ -420,8 +437,10 @@ FramePasses loadPasses(const FrameJob& job, bool keepAll, std::vector<StageTimin
     std::vector<Image> planes = readExrChannels(job.input, p.info, wanted, keepAll, keepAll ? &p.raw : nullptr);
     size_t next = 0;
     p.depth = std::move(planes[next++]);
-    p.normal = interleavePlanes(planes, next, 3);
-    next += 3;
+    if (normal) {
+        p.normal = interleavePlanes(planes, next, 3);
+        next += 3;
+    }
     if (readPosition) {
         p.position = interleavePlanes(planes, next, 3);
         next += 3;
@@ -538,7 +557,8 @@ FrameReport runJob(const FrameJob& job) {
         report.camera = resolveFrameCamera(job, p);
     }
     report.depthKind = job.depthKind.value_or(p.plan.depthKind);
-    report.normalSpace = job.normalSpace.value_or(p.plan.normalSpace);
+    report.normalSpace = p.normalsFromDepth ? NormalSpace::Depth : job.normalSpace.value_or(p.plan.normalSpace);
+    if (p.normalsFromDepth) report.plan.push_back(normalsSourceLine(job, p.plan));
     report.skyDepth = job.skyDepth.value_or(p.plan.skyDepth);
     // Left-handed camera-space normals (+z forward) become OpenGL's (-z forward).
     if (p.plan.normalsLeftHanded && report.normalSpace == NormalSpace::Camera && !job.normalSpace)
@@ -549,7 +569,7 @@ FrameReport runJob(const FrameJob& job) {
     in.displayWindow = p.display;
     in.dataWindow = p.data;
     in.depth = p.depth.view();
-    in.normal = p.normal.view();
+    if (!p.normalsFromDepth) in.normal = p.normal.view();
     in.depthKind = report.depthKind;
     in.normalSpace = report.normalSpace;
     in.camera = report.camera;

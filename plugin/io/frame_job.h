@@ -37,7 +37,7 @@ struct FrameJob {
     std::string preset = "auto";
     std::map<Role, std::string> layerOverrides;
     std::optional<DepthKind> depthKind;   // overrides the preset
-    std::optional<NormalSpace> normalSpace;
+    std::optional<NormalSpace> normalSpace;  // Depth: reconstruct them even where a normal pass exists
     std::optional<float> skyDepth;        // overrides the preset's sky threshold
     CameraRequest camera;                 // sidecarPath "" = NAME.json next to the input, if any
     Settings settings;
@@ -69,6 +69,7 @@ struct FramePasses {
     ExrInfo info;
     LayerPlan plan;
     int part = 0;                         // the part holding depth
+    bool normalsFromDepth = false;        // no normal pass read: the operator reconstructs them
     Box2i display, data;
     double pixelAspect = 1.0;
     Image depth, normal, position, reference;  // position/reference empty when not read
@@ -95,6 +96,13 @@ struct FrameReport {
     std::optional<ErrorMetrics> reference;
     std::vector<std::string> warnings;
 };
+
+// Whether the normals come from the depth: --normals depth (Python normals='depth'), or the file
+// has no normal layer.
+bool normalsFromDepth(const FrameJob& job, const LayerPlan& plan);
+// "normals: reconstructed from depth (no normal layer)", or the layer used and its space: the
+// line the report's plan, --inspect and the log give.
+std::string normalsSourceLine(const FrameJob& job, const LayerPlan& plan);
 
 // --bounce and Python's bounce=True: relight the frame. One rule for both hosts: the bounce asks
 // for the GI layer and the relit image, albedo x (DO + GI) / pi, since relighting is what the one

@@ -34,8 +34,10 @@ json rolesJson(const LayerPlan& plan) {
 }
 
 json conventionsJson(const FrameJob& job, const FramePasses& p) {
+    const NormalSpace normals = p.normalsFromDepth ? NormalSpace::Depth : job.normalSpace.value_or(p.plan.normalSpace);
     return {{"depth", toString(job.depthKind.value_or(p.plan.depthKind))},
-            {"normals", toString(job.normalSpace.value_or(p.plan.normalSpace))},
+            {"normals", toString(normals)},
+            {"normals_source", normalsSourceLine(job, p.plan)},
             {"normals_left_handed", p.plan.normalsLeftHanded},
             {"sky_depth", job.skyDepth.value_or(p.plan.skyDepth)}};
 }
@@ -160,6 +162,7 @@ std::string inspectText(const json& j) {
     os << "depth:   " << conv["depth"].get<std::string>() << "   normals: " << conv["normals"].get<std::string>()
        << (conv["normals_left_handed"].get<bool>() ? " (left-handed, z flipped)" : "")
        << "   sky depth >= " << conv["sky_depth"].get<double>() << "\n";
+    os << conv["normals_source"].get<std::string>() << "\n";
     if (!j["deep"].is_null()) writeDeep(os, j["deep"]);
     writeCamera(os, j);
     os << "write:   " << j["write"].get<std::string>() << "\n";

@@ -127,7 +127,7 @@ const char* const kWeightings[] = {"uniform", "cosine"};
 const char* const kFalloffs[] = {"linear", "none"};
 const char* const kProjections[] = {"perspective", "orthographic"};
 const char* const kDepthKinds[] = {"planar", "radial"};
-const char* const kNormalSpaces[] = {"world", "camera"};
+const char* const kNormalSpaces[] = {"world", "camera", "depth"};
 
 template <class T, size_t N>
 constexpr int countOf(const T (&)[N]) {
@@ -319,7 +319,9 @@ Params readParams(const Instance& in, OfxTime t) {
     p.orthoWidth = doubleAt(in.orthoWidth, t);
     p.cameraToWorld = stringAt(in.cameraToWorld, t);
     p.depthKind = choiceAt(in.depthKind, t, 2) == 0 ? DepthKind::Planar : DepthKind::Radial;
-    p.normalSpace = choiceAt(in.normalSpace, t, 2) == 0 ? NormalSpace::World : NormalSpace::Camera;
+    // Without a Normal clip the normals come from the depth, as the CLI's for a file without a normal layer.
+    const NormalSpace spaces[] = {NormalSpace::World, NormalSpace::Camera, NormalSpace::Depth};
+    p.normalSpace = connected(in.normal) ? spaces[choiceAt(in.normalSpace, t, 3)] : NormalSpace::Depth;
     p.maxScreenRadius = std::max(0.0, doubleAt(in.maxScreenRadius, t));
     return p;
 }
@@ -471,7 +473,9 @@ int apronPixels(const Params& p, const Camera& cam, float cap) {
     const int blur = resolvedBlur(p.settings);
     const MethodInfo* m = findMethod(p.settings.method);
     const int extra = m && m->extraApron ? m->extraApron(p.settings) : 0;
-    return (int)std::ceil(reach) + 2 + std::max(blur, 0) + extra;
+    // Normals from the depth read two texels each way: the apron's texels get theirs as the whole frame's.
+    const int normals = p.normalSpace == NormalSpace::Depth ? 2 : 0;
+    return (int)std::ceil(reach) + 2 + std::max(blur, 0) + extra + normals;
 }
 
 // The depth/normal pixels a render window reads.
@@ -599,7 +603,8 @@ OfxStatus onDescribe(OfxImageEffectHandle effect) {
     gProp->propSetString(p, kOfxPropPluginDescription, 0,
                          "Screen-space ambient occlusion (HBAO), and directional occlusion with one bounce "
                          "(SSDO), from the depth and normal passes of a render. Shuffle each pass into its "
-                         "clip: Depth (first channel), Normal (RGB), optional Albedo (RGB) and Position; "
+                         "clip: Depth (first channel), Normal (RGB; optional: without it the normals are "
+                         "reconstructed from the depth), optional Albedo (RGB) and Position; "
                          "Source is the beauty (also the bounce source).");
     gProp->propSetInt(p, kOfxPropVersion, 0, (int)kVersionMajor);
     gProp->propSetInt(p, kOfxPropVersion, 1, (int)kVersionMinor);
@@ -711,7 +716,7 @@ OfxStatus onDescribeInContext(OfxImageEffectHandle effect, OfxPropertySetHandle 
         return kOfxStatErrMissingHostFeature;
     defineClip(effect, kClipSource, {kOfxImageComponentRGBA, kOfxImageComponentAlpha}, true, nullptr);
     defineClip(effect, kClipDepth, {kOfxImageComponentRGBA, kOfxImageComponentAlpha}, false, nullptr);
-    defineClip(effect, kClipNormal, {kOfxImageComponentRGBA}, false, nullptr);
+    defineClip(effect, kClipNormal, {kOfxImageComponentRGBA}, true, nullptr);
     defineClip(effect, kClipPosition, {kOfxImageComponentRGBA}, true, nullptr);
     defineClip(effect, kClipAlbedo, {kOfxImageComponentRGBA}, true, nullptr);
     defineClip(effect, kClipOutput, {kOfxImageComponentRGBA, kOfxImageComponentAlpha}, false, nullptr);
@@ -764,8 +769,10 @@ OfxStatus onDescribeInContext(OfxImageEffectHandle effect, OfxPropertySetHandle 
     }
     d.choice(kParamDepthKind, "Depth", "planar: camera-space Z; radial: distance to the eye (--depth)",
              {kDepthKinds[0], kDepthKinds[1]}, 0, kGroupCamera);
-    d.choice(kParamNormalSpace, "Normals", "Space of the Normal clip's RGB (--normals)",
-             {kNormalSpaces[0], kNormalSpaces[1]}, 0, kGroupCamera);
+    d.choice(kParamNormalSpace, "Normals",
+             "Space of the Normal clip's RGB, or depth: reconstructed from the Depth clip, as they are without "
+             "a Normal clip (--normals)",
+             {kNormalSpaces[0], kNormalSpaces[1], kNormalSpaces[2]}, 0, kGroupCamera);
 
     d.group(kGroupAdvanced, "Advanced");
     d.real(kParamSkyDepth, "Sky Depth", "Depth at or beyond which a pixel is sky (--sky-depth)", 1e9, lo(kParamSkyDepth), hi(kParamSkyDepth), 1.0,
@@ -1000,7 +1007,7 @@ OfxStatus onGetRegionsOfInterest(OfxImageEffectHandle effect, OfxPropertySetHand
         }
         dataRoi = f.toCanonical(data);
         setRoi(kClipDepth, dataRoi);
-        setRoi(kClipNormal, dataRoi);
+        setRoi(kClipNormal, ps.normalSpace == NormalSpace::Depth ? none : dataRoi);
     }
     // Inputs the chosen output does not read are not requested at all. The bounce reads
     // Source (its senders) wherever the depth is read; Albedo is read under the window.
@@ -1066,8 +1073,7 @@ OfxStatus onRender(OfxImageEffectHandle effect, OfxPropertySetHandle inArgs) {
     check(gProp->propGetIntN(inArgs, kOfxImageEffectPropRenderWindow, 4, w));
     const PixRect window{w[0], w[1], w[2], w[3]};
     // Required inputs first: without them a render would be black, not an answer.
-    for (const auto& [clipHandle, name] : {std::pair{in.depth, kClipDepth}, std::pair{in.normal, kClipNormal}})
-        if (!connected(clipHandle)) throw Error(std::string("the ") + name + " clip is not connected; it is required");
+    if (!connected(in.depth)) throw Error(std::string("the ") + kClipDepth + " clip is not connected; it is required");
     const FrameMap f = frameMap(in, t, inArgs);
     const Params p = paramsAt(in, t, f);
     const OutputOption& option = optionOf(p);
@@ -1094,11 +1100,12 @@ OfxStatus onRender(OfxImageEffectHandle effect, OfxPropertySetHandle inArgs) {
         const OfxRectD region = f.toCanonical(data);
         ClipImage depth, normal, radiance;
         if (!depth.fetch(in.depth, t, &region, "Depth")) throw Error("the Depth clip gave no image");
-        if (!normal.fetch(in.normal, t, &region, "Normal")) throw Error("the Normal clip gave no image");
-        if (normal.components() < 3) throw Error("the Normal clip must be RGB(A): normals are three channels");
+        const bool normals = p.normalSpace != NormalSpace::Depth;
+        if (normals && !normal.fetch(in.normal, t, &region, "Normal")) throw Error("the Normal clip gave no image");
+        if (normals && normal.components() < 3) throw Error("the Normal clip must be RGB(A): normals are three channels");
         // Holes outside what the host delivered read as sky (depth 0) and missing normals.
         const Image depthPlane = toDisplayPlane(depth, data, f, 1, 0.0f);
-        const Image normalPlane = toDisplayPlane(normal, data, f, 3, 0.0f);
+        const Image normalPlane = normals ? toDisplayPlane(normal, data, f, 3, 0.0f) : Image();
         Image radiancePlane;
         if (option.bounce) {
             if (!radiance.fetch(in.source, t, &region, "Source")) throw Error("the Source clip gave no image");
@@ -1115,7 +1122,7 @@ OfxStatus onRender(OfxImageEffectHandle effect, OfxPropertySetHandle inArgs) {
         oi.displayWindow = Box2i{0, 0, f.displayW, f.displayH};
         oi.dataWindow = f.toDisplay(data);
         oi.depth = depthPlane.view();
-        oi.normal = normalPlane.view();
+        if (normals) oi.normal = normalPlane.view();
         oi.depthKind = p.depthKind;
         oi.normalSpace = p.normalSpace;
         oi.camera = makeCamera(p, f);

@@ -28,10 +28,12 @@ void required(const char* function, const py::object& value, const char* name, c
 }
 
 void checkArrayCall(const char* function, const py::args& extra, const py::object& depth, const py::object& normal,
-                    const py::object& camera) {
+                    const py::object& camera, const py::object& normals) {
     checkPositional(function, extra, {"depth", "normal"}, "camera=..., radius=...");
     required(function, depth, "depth", "a float32 numpy array (H, W) of camera depth");
-    required(function, normal, "normal", "a float32 numpy array (H, W, 3) of normals");
+    const bool fromDepth = py::isinstance<py::str>(normals) && normals.cast<std::string>() == "depth";
+    if (!fromDepth)
+        required(function, normal, "normal", "a float32 numpy array (H, W, 3) of normals, or normals='depth'");
     required(function, camera, "camera=",
              "an obscura.Camera (Camera.perspective(fov_deg, width, height, camera_to_world=m), "
              "Camera.from_sidecar(path, width, height) or read_passes(path)['camera'])");

@@ -23,9 +23,10 @@ void checkNoKeywords(const char* function, const py::kwargs& unknown);
 // A required argument left out (or None): a TypeError naming it and what it should be.
 void required(const char* function, const py::object& value, const char* name, const char* what);
 
-// compute_ao, compute_ssdo: depth and normal (by position or keyword) and camera= are required.
+// compute_ao, compute_ssdo: depth and normal (by position or keyword) and camera= are required;
+// normal not with normals='depth'.
 void checkArrayCall(const char* function, const py::args& extra, const py::object& depth, const py::object& normal,
-                    const py::object& camera);
+                    const py::object& camera, const py::object& normals);
 
 // read_passes, inspect: a path, then the file keywords.
 void checkFileCall(const char* function, const py::args& extra, const py::kwargs& unknown, const py::object& path);

@@ -377,8 +377,10 @@ OperatorInputs viewInputs(const py::object& depthObj, const py::object& normalOb
                           Settings& settings) {
     OperatorInputs in;
     in.depth = planeArg(depthObj, "depth", 1);
-    in.normal = planeArg(normalObj, "normal", 3);
-    if (in.normal.width != in.depth.width || in.normal.height != in.depth.height)
+    if (!v.normals.is_none()) in.normalSpace = enumArg<NormalSpace>(v.normals, "normals", "'world', 'camera' or 'depth'");
+    // normals='depth': reconstructed from the depth; a normal array, if given, is not read.
+    if (in.normalSpace != NormalSpace::Depth) in.normal = planeArg(normalObj, "normal", 3);
+    if (in.normal.valid() && (in.normal.width != in.depth.width || in.normal.height != in.depth.height))
         valueError("normal covers " + std::to_string(in.normal.height) + "x" + std::to_string(in.normal.width) +
                    " pixels (H x W) but depth covers " + std::to_string(in.depth.height) + "x" +
                    std::to_string(in.depth.width) + "; they must be the same size");
@@ -389,7 +391,6 @@ OperatorInputs viewInputs(const py::object& depthObj, const py::object& normalOb
                    std::to_string(in.dataWindow.height()) + " (W x H) but the arrays are " +
                    std::to_string(in.depth.width) + "x" + std::to_string(in.depth.height));
     in.displayWindow = v.displayWindow.is_none() ? full : boxArg(v.displayWindow, "display_window");
-    if (!v.normals.is_none()) in.normalSpace = enumArg<NormalSpace>(v.normals, "normals", "'world' or 'camera'");
     if (!v.depthKind.is_none()) in.depthKind = enumArg<DepthKind>(v.depthKind, "depth_kind", "'planar' or 'radial'");
     if (!v.skyDepth.is_none()) settings.skyDepth = (float)numberArg(v.skyDepth, "sky_depth");
     in.camera = cameraArg(v.camera);
@@ -522,7 +523,7 @@ FrameJob jobFrom(const py::object& path, const FileArgs& f) {
     if (job.camera.fovDeg && job.camera.orthoWidth) valueError("give either fov_deg or ortho_width, not both");
     if (!f.cameraToWorld.is_none()) job.camera.cameraToWorld = matrixRowsArg(f.cameraToWorld, "camera_to_world");
     if (!f.depth.is_none()) job.depthKind = enumArg<DepthKind>(f.depth, "depth", "'planar' or 'radial'");
-    if (!f.normals.is_none()) job.normalSpace = enumArg<NormalSpace>(f.normals, "normals", "'world' or 'camera'");
+    if (!f.normals.is_none()) job.normalSpace = enumArg<NormalSpace>(f.normals, "normals", "'world', 'camera' or 'depth'");
     if (!f.skyDepth.is_none()) job.skyDepth = (float)numberArg(f.skyDepth, "sky_depth");
     return job;
 }
@@ -550,7 +551,7 @@ py::dict readPassesPy(const py::object& path, const FileArgs& f) {
             cameraError = e.what();
         }
         depthKind = job.depthKind.value_or(p.plan.depthKind);
-        normalSpace = job.normalSpace.value_or(p.plan.normalSpace);
+        normalSpace = p.normalsFromDepth ? NormalSpace::Depth : job.normalSpace.value_or(p.plan.normalSpace);
         sky = job.skyDepth.value_or(p.plan.skyDepth);
         // Left-handed camera-space normals (+z forward) become OpenGL's, as runFrameJob does.
         if (p.plan.normalsLeftHanded && normalSpace == NormalSpace::Camera && !job.normalSpace)
@@ -560,7 +561,7 @@ py::dict readPassesPy(const py::object& path, const FileArgs& f) {
     for (const LayerBinding& b : p.plan.bindings) layers[py::str(roleName(b.role))] = py::cast(b.channels);
     py::dict d;
     d["depth"] = imageToArray(std::move(p.depth), true);
-    d["normal"] = imageToArray(std::move(p.normal), false);
+    d["normal"] = p.normalsFromDepth ? py::object(py::none()) : py::object(imageToArray(std::move(p.normal), false));
     if (!p.position.empty()) d["position"] = imageToArray(std::move(p.position), false);
     d["camera"] = camera ? py::cast(*camera) : py::none();
     d["camera_error"] = camera ? py::none() : py::cast(cameraError);
@@ -912,7 +913,7 @@ when the file is missing or invalid.)doc")
            py::object displayWindow, py::object quality, py::object method, py::object radius, py::object directions,
            py::object steps, py::object weighting, py::object falloff, py::object blur, py::object device,
            py::object threads, py::object deep, const py::kwargs& own) {
-            checkArrayCall("compute_ao", extra, depth, normal, camera);
+            checkArrayCall("compute_ao", extra, depth, normal, camera, normals);
             return computeAo(depth, normal, ViewArgs{camera, normals, depthKind, skyDepth, dataWindow, displayWindow},
                              SettingArgs{quality, method, radius, directions, steps, weighting, falloff, blur, device,
                                          threads, own},
@@ -926,7 +927,8 @@ when the file is missing or invalid.)doc")
 
 depth: float32 (H, W), planar camera depth (or distance to the eye with depth_kind='radial').
 normal: float32 (H, W, 3), world space (normals='world', needs camera.camera_to_world) or
-OpenGL camera space (normals='camera').
+OpenGL camera space (normals='camera'); with normals='depth' it is not needed (nor read): the
+normals are reconstructed from the depth and the camera.
 Both are read in place, without a copy, whatever their strides (slices, transposes, broadcasts),
 as long as strides are whole float32 elements and a normal's 3 components are adjacent.
 Anything else raises ValueError (no silent conversion: use .astype(numpy.float32) or
@@ -954,7 +956,7 @@ device='cpu', threads=0 (all cores). The GIL is released while computing.)doc");
            py::object displayWindow, py::object radius, py::object blur, py::object device, py::object threads,
            py::object samples, py::object interleave, py::object sky, py::object envRotate, py::object envIntensity,
            py::object lights, const py::kwargs& unknown) {
-            checkArrayCall("compute_ssdo", extra, depth, normal, camera);
+            checkArrayCall("compute_ssdo", extra, depth, normal, camera, normals);
             checkNoKeywords("compute_ssdo", unknown);
             const py::object none = py::none();
             return computeSsdo(depth, normal, ViewArgs{camera, normals, depthKind, skyDepth, dataWindow, displayWindow},
@@ -1026,8 +1028,10 @@ Raises obscura.Error when the passes have no camera (see passes['camera_error'])
         R"doc(The passes of a multilayer EXR, found as the CLI finds them, as a dict:
 
 'depth' float32 (H, W); 'normal' float32 (H, W, 3) (RenderMan's left-handed camera normals
-already flipped to OpenGL's); 'position' float32 (H, W, 3) when the file has one;
-'camera' obscura.Camera or None ('camera_error' then says why); 'normals' 'world'|'camera';
+already flipped to OpenGL's), None when the normals are to be reconstructed from the depth
+(normals='depth', or the file has no normal layer); 'position' float32 (H, W, 3) when the file
+has one; 'camera' obscura.Camera or None ('camera_error' then says why); 'normals'
+'world'|'camera'|'depth';
 'depth_kind' 'planar'|'radial'; 'sky_depth'; 'data_window' and 'display_window'
 (x0, y0, x1, y1), half-open, display min = (0, 0); 'pixel_aspect'; 'preset'; 'layers'
 {role: [channel names]}; 'part'; 'path'. Arrays cover the data window.
