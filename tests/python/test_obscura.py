@@ -219,7 +219,7 @@ def test_messages_say_what_is_expected(scene):
     (dict(quality="max"), "quality must be"),
     (dict(method="nope"), "method must be one of .hbao."),
     (dict(device="cuda"), "device must be"),
-    (dict(normals="object"), "normals must be 'world' or 'camera'"),
+    (dict(normals="object"), "normals must be 'world', 'camera' or 'depth'"),
     (dict(depth_kind="z"), "depth_kind must be 'planar' or 'radial'"),
     (dict(sky_depth=0.0), "sky_depth must be above 0"),
     (dict(data_window=(0, 0, 10, 10)), "data_window is 10x10"),
