@@ -28,9 +28,14 @@ std::string text(const NumberSetting& n, double v) {
     return s.str();
 }
 
-// --inspect with the flag (and what it needs to be read: its method, a preview to expose).
+// --inspect with the flag (and what it needs to be read: its method, a preview to expose, the
+// depth encoding it is for). A setting of two values gets `value` first and the other end of the
+// range second (a range's two ends must differ).
 CliResult inspectWith(const NumberSetting& n, double value) {
-    std::vector<std::string> args = {kRoom, "--inspect", n.flag, text(n, value)};
+    const double other = value == n.max ? n.min + (n.minExcluded ? 1 : 0) : n.max;
+    const std::string values = n.count == 2 ? text(n, value) + "," + text(n, other) : text(n, value);
+    std::vector<std::string> args = {kRoom, "--inspect", n.flag, values};
+    if (std::string(n.flag) == "--depth-range") args.insert(args.end(), {"--depth", "normalized"});
     const std::vector<std::string> readers = methodsReading(n.flag);
     if (!readers.empty()) args.insert(args.end(), {"--method", readers.front()});
     if (std::string(n.flag) == "--preview-exposure") args.insert(args.end(), {"--preview", "unused.png"});

@@ -199,8 +199,19 @@ std::vector<Flag> makeFlags() {
          }},
         {"--camera", "FILE.json", "camera sidecar (default: NAME.json next to the input, if present)",
          [](Options& o, const std::string& v) { o.job.camera.sidecarPath = v; }},
-        {"--depth", "planar|radial", "depth convention (default: the renderer preset's)",
-         [](Options& o, const std::string& v) { o.job.depthKind = toEnum<DepthKind>("--depth", v, "planar or radial"); }},
+        {"--depth", "planar|radial|inverse|normalized",
+         "how the depth is stored (default: the renderer preset's): camera Z, distance to the eye, 1/Z, or "
+         "normalised over --depth-range",
+         [](Options& o, const std::string& v) {
+             o.job.depthEncoding = toEnum<DepthEncoding>("--depth", v, "planar, radial, inverse or normalized");
+         }},
+        {"--depth-range", "A,B", "--depth normalized: the distances stored as 0 and 1 (A > B: white is near)",
+         [](Options& o, const std::string& v) {
+             const std::vector<double> ends = toNumbers("--depth-range", v, 2);
+             const std::string problem = depthRangeProblem(ends[0], ends[1], Spelling::Flag);
+             if (!problem.empty()) throw UsageError(problem);
+             o.job.depthRange = std::array<double, 2>{ends[0], ends[1]};
+         }},
         {"--normals", "world|camera|depth",
          "normal space (default: the renderer preset's); depth: reconstructed from the depth and the camera, "
          "as they are when the file has no normal layer",
@@ -418,6 +429,8 @@ Options parseArgs(int argc, char** argv) {
     }
     refuseWhatTheMethodIgnores(o);
     if (o.job.previewExposure && o.job.previewPath.empty()) throw UsageError("--preview-exposure needs --preview FILE.png");
+    if (o.job.depthRange && o.job.depthEncoding != DepthEncoding::Normalized)
+        throw UsageError("--depth-range is read by --depth normalized only");
     const MethodInfo& m = *findMethod(o.job.settings.method);
     const std::string& d = o.job.settings.device;
     if (!m.gl && d != "cpu" && d != "auto")

@@ -36,6 +36,23 @@ float resolvedThickness(const Settings& s) {
 const char* toString(Weighting w) { return w == Weighting::Uniform ? "uniform" : "cosine"; }
 const char* toString(Falloff f) { return f == Falloff::Linear ? "linear" : "none"; }
 const char* toString(DepthKind d) { return d == DepthKind::Planar ? "planar" : "radial"; }
+
+namespace {
+const char* const kDepthEncodings[] = {"planar", "radial", "inverse", "normalized"};
+} // namespace
+
+const char* toString(DepthEncoding e) { return kDepthEncodings[(int)e]; }
+
+bool parse(const std::string& s, DepthEncoding& e) {
+    for (int i = 0; i < 4; ++i)
+        if (s == kDepthEncodings[i]) {
+            e = (DepthEncoding)i;
+            return true;
+        }
+    return false;
+}
+
+DepthKind decodedKind(DepthEncoding e) { return e == DepthEncoding::Radial ? DepthKind::Radial : DepthKind::Planar; }
 const char* toString(NormalSpace n) {
     return n == NormalSpace::World ? "world" : n == NormalSpace::Camera ? "camera" : "depth";
 }

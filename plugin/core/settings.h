@@ -10,6 +10,10 @@ namespace obscura {
 enum class Weighting { Uniform, Cosine };   // HBAO paper's solid angle / projected solid angle (ray-traced AO)
 enum class Falloff { Linear, None };        // W(r) = max(0, 1 - r/R) / binary visibility within R
 enum class DepthKind { Planar, Radial };    // camera-space Z / distance to the eye
+// How a file stores its depth (--depth): as the operator reads it (planar, radial), or encoded,
+// which plugin/io decodes to planar before the operator: inverse 1/z (Nuke's ScanlineRender),
+// normalized (z - A) / (B - A) over --depth-range A,B (A > B: white is near).
+enum class DepthEncoding { Planar, Radial, Inverse, Normalized };
 // Camera space is OpenGL's: looking down -Z, +Y up. Depth: no normals are given (or they are
 // ignored); the operator reconstructs them from the depth (kernels/depth_normal.glsl).
 enum class NormalSpace { World, Camera, Depth };
@@ -101,11 +105,15 @@ float resolvedThickness(const Settings& s);
 const char* toString(Weighting);
 const char* toString(Falloff);
 const char* toString(DepthKind);
+const char* toString(DepthEncoding);
 const char* toString(NormalSpace);
 // Parse helpers: return false on an unknown spelling.
 bool parse(const std::string&, Weighting&);
 bool parse(const std::string&, Falloff&);
 bool parse(const std::string&, DepthKind&);
+bool parse(const std::string&, DepthEncoding&);
+// The kind the operator reads once the encoding is decoded: radial for radial, else planar.
+DepthKind decodedKind(DepthEncoding);
 bool parse(const std::string&, NormalSpace&);
 
 } // namespace obscura

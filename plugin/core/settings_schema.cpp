@@ -20,6 +20,7 @@ const std::vector<NumberSetting>& numberSettings() {
         {"env_intensity", "--env-intensity", "envIntensity", 0, 1e9, false, false, 0},
         {"preview_exposure", "--preview-exposure", nullptr, -24, 24, false, false, -24},
         {"max_pixels", "--max-pixels", nullptr, 1, 1e15, false, true, 1},
+        {"depth_range", "--depth-range", nullptr, 0, 1e38, false, false, 0, 2},
     };
     return table;
 }
@@ -36,6 +37,19 @@ std::string numberProblem(const NumberSetting& s, double v, Spelling spelling) {
     std::ostringstream m;
     m << (spelling == Spelling::Flag ? s.flag : s.key) << " must be " << (s.integer ? "a whole number " : "")
       << (s.minExcluded ? "above " : "at least ") << s.min << " and at most " << s.max << ", got " << v;
+    return m.str();
+}
+
+std::string depthRangeProblem(double a, double b, Spelling spelling) {
+    const NumberSetting& s = numberSetting("depth_range");
+    for (double v : {a, b}) {
+        const std::string problem = numberProblem(s, v, spelling);
+        if (!problem.empty()) return problem;
+    }
+    if (a != b) return "";
+    std::ostringstream m;
+    m << (spelling == Spelling::Flag ? s.flag : s.key) << " needs two different ends (NEAR,FAR, or FAR,NEAR for white near), got "
+      << a << " twice";
     return m.str();
 }
 

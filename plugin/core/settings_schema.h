@@ -19,6 +19,9 @@ struct NumberSetting {
     // OpenFX ranges are closed: the least value the node stores. Where min is excluded it is the
     // smallest meaningful value above it; below min it is a word's stand-in (blur -1: auto).
     double ofxMin;
+    // Values the setting takes, each in the range: 2 for --depth-range NEAR,FAR (the CLI's
+    // comma-separated pair, Python's tuple, the node's 2D parameter).
+    int count = 1;
 };
 
 const std::vector<NumberSetting>& numberSettings();
@@ -27,5 +30,8 @@ const NumberSetting& numberSetting(const std::string& name);
 // "" when `value` is in the setting's range (and whole, for an integer setting), else the
 // one-line refusal in the host's spelling: "--radius must be above 0, got 0".
 std::string numberProblem(const NumberSetting& s, double value, Spelling spelling);
+// "" when --depth-range A,B is usable: each end in the table's range, and A != B (A > B is the
+// reversed form, white near); else the one-line refusal in the host's spelling.
+std::string depthRangeProblem(double a, double b, Spelling spelling);
 
 } // namespace obscura

@@ -5,6 +5,7 @@
 #include "core/methods.h"
 #include "io/colour.h"
 #include "io/deep_file.h"
+#include "io/depth_encoding.h"
 #include "io/oiio_module.h"
 #include "io/preview.h"
 
@@ -384,16 +385,67 @@ std::string aoChannelName(const std::string& layer) {
 }
 
 namespace {
+
+// The channel's pixel type as --inspect names it.
+std::string pixelTypeName(const FramePasses& p, const ChannelRef& c) {
+    const ExrPart& part = p.info.parts[c.part];
+    const int i = part.findChannel(c.name);
+    const Imf::PixelType t = i < 0 ? Imf::FLOAT : part.channels[i].type;
+    return t == Imf::HALF ? "half" : t == Imf::UINT ? "uint" : "float";
+}
+
+// The depth the operator reads, from the stored depth (its statistics kept for --inspect,
+// then decoded: --depth, --depth-range) or, with no depth layer, from the position pass and the
+// camera.
+void finishDepth(const FrameJob& job, FramePasses& p) {
+    const float sky = job.skyDepth.value_or(p.plan.skyDepth);
+    if (p.depthFromPosition) {
+        p.depthEncoding = DepthEncoding::Planar;
+        p.depth = depthFromPositions(p.position, resolveFrameCamera(job, p));
+        p.depthStats = depthStatistics(p.depth, sky, pixelTypeName(p, channelRefs(*p.plan.find(Role::Position))[0]));
+        return;
+    }
+    p.depthStats = depthStatistics(p.depth, sky, pixelTypeName(p, channelRefs(*p.plan.find(Role::Depth))[0]));
+    if (p.depthEncoding == DepthEncoding::Inverse || p.depthEncoding == DepthEncoding::Normalized) p.depthStats.hint.clear();
+    decodeDepth(p.depth, DepthDecoding{p.depthEncoding, job.depthRange});
+}
+
+// The colour passes' channels, checked to cover the depth's pixels.
+void addSsdoChannels(const FrameJob& job, const FramePasses& p, const SsdoReads& ssdo, std::vector<ChannelRef>& wanted) {
+    for (const std::vector<ChannelRef>* rgb : {&ssdo.radiance, &ssdo.albedo, &ssdo.directDiffuse}) {
+        if (!rgb->empty() && p.info.parts[rgb->front().part].dataWindow != p.data)
+            throw FileError(job.input, "the colour pass '" + rgb->front().name + "' covers a different data window than the depth");
+        wanted.insert(wanted.end(), rgb->begin(), rgb->end());
+    }
+}
+
+// The passes obscura computes from are read at full resolution only.
+void requireFullResolution(const FrameJob& job, const FramePasses& p, const std::vector<ChannelRef>& wanted) {
+    for (const ChannelRef& c : wanted) {
+        const ExrPart& owner = p.info.parts[c.part];
+        const int i = owner.findChannel(c.name);
+        if (i >= 0 && (owner.channels[i].xSampling != 1 || owner.channels[i].ySampling != 1))
+            throw FileError(job.input, "channel '" + c.name + "' is subsampled (" +
+                        std::to_string(owner.channels[i].xSampling) + "x" + std::to_string(owner.channels[i].ySampling) +
+                        "); obscura reads the passes it computes from at full resolution only");
+    }
+}
+
 FramePasses loadPasses(const FrameJob& job, bool keepAll, std::vector<StageTiming>* stages, bool alwaysReadPosition) {
     StageTimer timer{stages, "read"};
     FramePasses p;
     p.info = readExrInfo(job.input, job.maxPixels);
     p.plan = planLayers(p.info, job.preset, job.layerOverrides);
-    requireRoles(p.plan, p.info, {Role::Depth});
-    const LayerBinding& depth = *p.plan.find(Role::Depth);
+    const LayerBinding* depth = p.plan.find(Role::Depth);
+    const LayerBinding* position = p.plan.find(Role::Position);
+    if (!depth && !position) requireRoles(p.plan, p.info, {Role::Depth});
+    p.depthFromPosition = !depth;  // a position pass and a camera, no depth: the depth from them
+    p.depthEncoding = job.depthEncoding.value_or(p.plan.depthKind == DepthKind::Radial ? DepthEncoding::Radial
+                                                                                       : DepthEncoding::Planar);
+    if (depth) requireDecodable(DepthDecoding{p.depthEncoding, job.depthRange});
     p.normalsFromDepth = normalsFromDepth(job, p.plan);
     const LayerBinding* normal = p.normalsFromDepth ? nullptr : p.plan.find(Role::Normal);
-    p.part = depth.part;
+    p.part = depth ? depth->part : position->part;
     const ExrPart& part = p.info.parts[p.part];
     p.display = part.displayWindow;
     p.data = part.dataWindow;
@@ -404,14 +456,14 @@ FramePasses loadPasses(const FrameJob& job, bool keepAll, std::vector<StageTimin
             throw FileError(job.input, std::string("the ") + roleName(b.role) + " layer '" + b.layer +
                         "' covers a different data window than the depth");
     };
-    std::vector<ChannelRef> wanted = channelRefs(depth);
+    std::vector<ChannelRef> wanted = depth ? channelRefs(*depth) : std::vector<ChannelRef>{};
     if (normal) {
         samePixels(*normal);
         for (const ChannelRef& c : channelRefs(*normal)) wanted.push_back(c);
     }
-    const LayerBinding* position = p.plan.find(Role::Position);
-    const bool readPosition = position && (alwaysReadPosition ? p.info.parts[position->part].dataWindow == p.data
-                                                              : !cameraFullyGiven(job));
+    const bool readPosition =
+        position && (p.depthFromPosition || (alwaysReadPosition ? p.info.parts[position->part].dataWindow == p.data
+                                                                : !cameraFullyGiven(job)));
     if (readPosition) {
         samePixels(*position);
         for (const ChannelRef& c : channelRefs(*position)) wanted.push_back(c);
@@ -419,24 +471,11 @@ FramePasses loadPasses(const FrameJob& job, bool keepAll, std::vector<StageTimin
     if (!job.referenceLayer.empty())
         wanted.push_back({p.part, findReferenceChannel(part, job.referenceLayer, p.info)});
     const SsdoReads ssdo = planSsdoReads(job, p);
-    for (const std::vector<ChannelRef>* rgb : {&ssdo.radiance, &ssdo.albedo, &ssdo.directDiffuse}) {
-        if (!rgb->empty() && p.info.parts[rgb->front().part].dataWindow != p.data)
-            throw FileError(job.input, "the colour pass '" + rgb->front().name + "' covers a different data window than the depth");
-        wanted.insert(wanted.end(), rgb->begin(), rgb->end());
-    }
-
-    // The passes obscura computes from are read at full resolution only.
-    for (const ChannelRef& c : wanted) {
-        const ExrPart& owner = p.info.parts[c.part];
-        const int i = owner.findChannel(c.name);
-        if (i >= 0 && (owner.channels[i].xSampling != 1 || owner.channels[i].ySampling != 1))
-            throw FileError(job.input, "channel '" + c.name + "' is subsampled (" +
-                        std::to_string(owner.channels[i].xSampling) + "x" + std::to_string(owner.channels[i].ySampling) +
-                        "); obscura reads the passes it computes from at full resolution only");
-    }
+    addSsdoChannels(job, p, ssdo, wanted);
+    requireFullResolution(job, p, wanted);
     std::vector<Image> planes = readExrChannels(job.input, p.info, wanted, keepAll, keepAll ? &p.raw : nullptr);
     size_t next = 0;
-    p.depth = std::move(planes[next++]);
+    if (depth) p.depth = std::move(planes[next++]);
     if (normal) {
         p.normal = interleavePlanes(planes, next, 3);
         next += 3;
@@ -452,6 +491,7 @@ FramePasses loadPasses(const FrameJob& job, bool keepAll, std::vector<StageTimin
         *image = interleavePlanes(planes, next, 3);
         next += 3;
     }
+    finishDepth(job, p);
     return p;
 }
 
@@ -556,7 +596,9 @@ FrameReport runJob(const FrameJob& job) {
         StageTimer timer{&report.stages, "camera"};
         report.camera = resolveFrameCamera(job, p);
     }
-    report.depthKind = job.depthKind.value_or(p.plan.depthKind);
+    report.depthKind = decodedKind(p.depthEncoding);
+    report.depthEncoding = p.depthEncoding;
+    if (p.depthFromPosition) report.plan.push_back("depth: from the position pass and the camera (no depth layer)");
     report.normalSpace = p.normalsFromDepth ? NormalSpace::Depth : job.normalSpace.value_or(p.plan.normalSpace);
     if (p.normalsFromDepth) report.plan.push_back(normalsSourceLine(job, p.plan));
     report.skyDepth = job.skyDepth.value_or(p.plan.skyDepth);
@@ -678,8 +720,9 @@ std::string frameReportJson(const FrameJob& job, const FrameReport& r) {
             if (job.writeIndirect) j["output_channels"]["gi"] = job.giLayer;
             if (job.writeRelit) j["output_channels"]["relit"] = job.relitLayer;
         }
-        j["conventions"] = {{"depth", toString(r.depthKind)}, {"normals", toString(r.normalSpace)},
+        j["conventions"] = {{"depth", toString(r.depthEncoding)}, {"normals", toString(r.normalSpace)},
                             {"sky_depth", r.skyDepth}};
+        if (job.depthRange) j["conventions"]["depth_range"] = {(*job.depthRange)[0], (*job.depthRange)[1]};
         json cam = {{"projection", r.camera.projection == Projection::Perspective ? "perspective" : "orthographic"},
                     {"fx", r.camera.fx}, {"fy", r.camera.fy}, {"cx", r.camera.cx}, {"cy", r.camera.cy},
                     {"source", r.camera.source}};

@@ -7,9 +7,11 @@
 #include "core/operator.h"
 #include "io/camera_sources.h"
 #include "io/deep_file.h"
+#include "io/depth_encoding.h"
 #include "io/exr_file.h"
 #include "io/layers.h"
 
+#include <array>
 #include <map>
 #include <new>
 #include <optional>
@@ -36,7 +38,8 @@ struct FrameJob {
     bool inPlace = false;                 // allow output == input
     std::string preset = "auto";
     std::map<Role, std::string> layerOverrides;
-    std::optional<DepthKind> depthKind;   // overrides the preset
+    std::optional<DepthEncoding> depthEncoding;        // --depth: overrides the preset's planar or radial
+    std::optional<std::array<double, 2>> depthRange;   // --depth-range A,B: normalized's 0 and 1
     std::optional<NormalSpace> normalSpace;  // Depth: reconstruct them even where a normal pass exists
     std::optional<float> skyDepth;        // overrides the preset's sky threshold
     CameraRequest camera;                 // sidecarPath "" = NAME.json next to the input, if any
@@ -70,6 +73,9 @@ struct FramePasses {
     LayerPlan plan;
     int part = 0;                         // the part holding depth
     bool normalsFromDepth = false;        // no normal pass read: the operator reconstructs them
+    bool depthFromPosition = false;       // no depth layer: the depth comes from the position pass and the camera
+    DepthEncoding depthEncoding = DepthEncoding::Planar;  // how the file stored it; `depth` is decoded
+    DepthStatistics depthStats;           // of the depth as stored (from the position pass: as computed)
     Box2i display, data;
     double pixelAspect = 1.0;
     Image depth, normal, position, reference;  // position/reference empty when not read
@@ -84,7 +90,8 @@ struct FrameReport {
     std::vector<std::string> plan;        // what ran, in order (passes read, kernels, maps loaded)
     std::string inputColourSpace;         // of the colour passes, when any was read
     Camera camera;
-    DepthKind depthKind = DepthKind::Planar;
+    DepthKind depthKind = DepthKind::Planar;       // as the operator read it
+    DepthEncoding depthEncoding = DepthEncoding::Planar;  // as the file stored it
     NormalSpace normalSpace = NormalSpace::World;
     float skyDepth = 1e9f;
     OperatorStats stats;

@@ -4,6 +4,7 @@
 #include "core/operator.h"
 
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 
 namespace obscura {
@@ -35,11 +36,28 @@ json rolesJson(const LayerPlan& plan) {
 
 json conventionsJson(const FrameJob& job, const FramePasses& p) {
     const NormalSpace normals = p.normalsFromDepth ? NormalSpace::Depth : job.normalSpace.value_or(p.plan.normalSpace);
-    return {{"depth", toString(job.depthKind.value_or(p.plan.depthKind))},
+    return {{"depth", toString(p.depthEncoding)},
+            {"depth_source", p.depthFromPosition ? "position pass and camera" : "depth layer"},
             {"normals", toString(normals)},
             {"normals_source", normalsSourceLine(job, p.plan)},
             {"normals_left_handed", p.plan.normalsLeftHanded},
             {"sky_depth", job.skyDepth.value_or(p.plan.skyDepth)}};
+}
+
+// The depth as stored (from the position pass: as computed from it).
+json depthStatisticsJson(const DepthStatistics& d) {
+    return {{"min", d.min}, {"max", d.max}, {"sky_share", d.skyShare}, {"type", d.type},
+            {"hint", d.hint.empty() ? json(nullptr) : json(d.hint)}};
+}
+
+void writeDepthStatistics(std::ostream& os, const json& conv, const json& d) {
+    char line[200];
+    std::snprintf(line, sizeof line, "depth values: min %g, max %g, sky %.1f%%, %s", d["min"].get<double>(),
+                  d["max"].get<double>(), 100.0 * d["sky_share"].get<double>(), d["type"].get<std::string>().c_str());
+    os << line;
+    if (conv["depth_source"] != "depth layer") os << " (from the " << conv["depth_source"].get<std::string>() << ")";
+    os << "\n";
+    if (!d["hint"].is_null()) os << "  looks like " << d["hint"].get<std::string>() << "\n";
 }
 
 json deepJson(const FrameJob& job, const FramePasses& p) {
@@ -127,6 +145,7 @@ json inspectFrameJson(const FrameJob& job) {
               {"preset", p.plan.preset},
               {"roles", rolesJson(p.plan)},
               {"conventions", conventionsJson(job, p)},
+              {"depth_statistics", depthStatisticsJson(p.depthStats)},
               {"deep", job.deepInput.empty() ? json(nullptr) : deepJson(job, p)},
               {"camera", nullptr},
               {"camera_error", nullptr},
@@ -162,6 +181,7 @@ std::string inspectText(const json& j) {
     os << "depth:   " << conv["depth"].get<std::string>() << "   normals: " << conv["normals"].get<std::string>()
        << (conv["normals_left_handed"].get<bool>() ? " (left-handed, z flipped)" : "")
        << "   sky depth >= " << conv["sky_depth"].get<double>() << "\n";
+    writeDepthStatistics(os, conv, j["depth_statistics"]);
     os << conv["normals_source"].get<std::string>() << "\n";
     if (!j["deep"].is_null()) writeDeep(os, j["deep"]);
     writeCamera(os, j);

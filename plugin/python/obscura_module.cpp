@@ -301,6 +301,16 @@ struct SsdoArgs {
     py::object samples, interleave, sky, envRotate, envIntensity, lights;
 };
 
+// `count` numbers (a tuple or list), unchecked: the caller checks them against core's table.
+std::vector<double> numbersArg(const py::handle& obj, const char* what, size_t count) {
+    if (!py::isinstance<py::sequence>(obj) || py::isinstance<py::str>(obj) || py::len(obj) != count)
+        valueError(std::string(what) + " must be " + std::to_string(count) + " numbers, got " + typeName(obj));
+    py::sequence seq = py::reinterpret_borrow<py::sequence>(obj);
+    std::vector<double> v;
+    for (size_t i = 0; i < count; ++i) v.push_back(floatArg(seq[i], what));
+    return v;
+}
+
 std::array<float, 3> tripleArg(const py::handle& obj, const char* what, bool nonNegative) {
     if (!py::isinstance<py::sequence>(obj) || py::isinstance<py::str>(obj) || py::len(obj) != 3)
         valueError(std::string(what) + " must be 3 numbers, got " + typeName(obj));
@@ -491,7 +501,7 @@ py::dict computeSsdo(const py::object& depthObj, const py::object& normalObj, co
 // File-level jobs: a FrameJob built from keyword arguments named like the CLI's flags.
 
 struct FileArgs {
-    py::object preset, layer, camera, fovDeg, orthoWidth, cameraToWorld, depth, normals, skyDepth, maxPixels;
+    py::object preset, layer, camera, fovDeg, orthoWidth, cameraToWorld, depth, depthRange, normals, skyDepth, maxPixels;
 };
 
 // max_pixels=, as --max-pixels: a window above it is refused before anything is allocated.
@@ -522,7 +532,14 @@ FrameJob jobFrom(const py::object& path, const FileArgs& f) {
     if (!f.orthoWidth.is_none()) job.camera.orthoWidth = numberArg(f.orthoWidth, "ortho_width");
     if (job.camera.fovDeg && job.camera.orthoWidth) valueError("give either fov_deg or ortho_width, not both");
     if (!f.cameraToWorld.is_none()) job.camera.cameraToWorld = matrixRowsArg(f.cameraToWorld, "camera_to_world");
-    if (!f.depth.is_none()) job.depthKind = enumArg<DepthKind>(f.depth, "depth", "'planar' or 'radial'");
+    if (!f.depth.is_none())
+        job.depthEncoding = enumArg<DepthEncoding>(f.depth, "depth", "'planar', 'radial', 'inverse' or 'normalized'");
+    if (!f.depthRange.is_none()) {
+        const std::vector<double> ends = numbersArg(f.depthRange, "depth_range", 2);
+        const std::string problem = depthRangeProblem(ends[0], ends[1], Spelling::Key);
+        if (!problem.empty()) valueError(problem);
+        job.depthRange = std::array<double, 2>{ends[0], ends[1]};
+    }
     if (!f.normals.is_none()) job.normalSpace = enumArg<NormalSpace>(f.normals, "normals", "'world', 'camera' or 'depth'");
     if (!f.skyDepth.is_none()) job.skyDepth = (float)numberArg(f.skyDepth, "sky_depth");
     return job;
@@ -531,7 +548,8 @@ FrameJob jobFrom(const py::object& path, const FileArgs& f) {
 #define OBSCURA_FILE_ARGS                                                                                           \
     py::arg("preset") = py::none(), py::arg("layer") = py::none(), py::arg("camera") = py::none(),                 \
         py::arg("fov_deg") = py::none(), py::arg("ortho_width") = py::none(),                                      \
-        py::arg("camera_to_world") = py::none(), py::arg("depth") = py::none(), py::arg("normals") = py::none(),  \
+        py::arg("camera_to_world") = py::none(), py::arg("depth") = py::none(), py::arg("depth_range") = py::none(), \
+        py::arg("normals") = py::none(),                                                                           \
         py::arg("sky_depth") = py::none(), py::arg("max_pixels") = py::none()
 
 py::dict readPassesPy(const py::object& path, const FileArgs& f) {
@@ -550,7 +568,7 @@ py::dict readPassesPy(const py::object& path, const FileArgs& f) {
         } catch (const Error& e) {
             cameraError = e.what();
         }
-        depthKind = job.depthKind.value_or(p.plan.depthKind);
+        depthKind = decodedKind(p.depthEncoding);
         normalSpace = p.normalsFromDepth ? NormalSpace::Depth : job.normalSpace.value_or(p.plan.normalSpace);
         sky = job.skyDepth.value_or(p.plan.skyDepth);
         // Left-handed camera-space normals (+z forward) become OpenGL's, as runFrameJob does.
@@ -567,6 +585,7 @@ py::dict readPassesPy(const py::object& path, const FileArgs& f) {
     d["camera_error"] = camera ? py::none() : py::cast(cameraError);
     d["normals"] = toString(normalSpace);
     d["depth_kind"] = toString(depthKind);
+    d["depth_encoding"] = toString(p.depthEncoding);
     d["sky_depth"] = (double)sky;
     d["data_window"] = boxToTuple(p.data);
     d["display_window"] = boxToTuple(p.display);
@@ -1018,27 +1037,31 @@ Raises obscura.Error when the passes have no camera (see passes['camera_error'])
     m.def(
         "read_passes",
         [](const py::object& path, const py::args& extra, py::object preset, py::object layer, py::object camera,
-           py::object fovDeg, py::object orthoWidth, py::object c2w, py::object depth, py::object normals,
+           py::object fovDeg, py::object orthoWidth, py::object c2w, py::object depth, py::object depthRange, py::object normals,
            py::object skyDepth, py::object maxPixels, const py::kwargs& unknown) {
             checkFileCall("read_passes", extra, unknown, path);
-            return readPassesPy(path, FileArgs{preset, layer, camera, fovDeg, orthoWidth, c2w, depth, normals, skyDepth,
+            return readPassesPy(path, FileArgs{preset, layer, camera, fovDeg, orthoWidth, c2w, depth, depthRange, normals, skyDepth,
                                                maxPixels});
         },
         py::arg("path") = py::none(), OBSCURA_FILE_ARGS,
         R"doc(The passes of a multilayer EXR, found as the CLI finds them, as a dict:
 
-'depth' float32 (H, W); 'normal' float32 (H, W, 3) (RenderMan's left-handed camera normals
+'depth' float32 (H, W), decoded to planar (or radial) depth, sky +inf (from the position pass and
+the camera when the file has no depth layer); 'normal' float32 (H, W, 3) (RenderMan's left-handed camera normals
 already flipped to OpenGL's), None when the normals are to be reconstructed from the depth
 (normals='depth', or the file has no normal layer); 'position' float32 (H, W, 3) when the file
 has one; 'camera' obscura.Camera or None ('camera_error' then says why); 'normals'
 'world'|'camera'|'depth';
-'depth_kind' 'planar'|'radial'; 'sky_depth'; 'data_window' and 'display_window'
+'depth_kind' 'planar'|'radial' (of 'depth'); 'depth_encoding' 'planar'|'radial'|'inverse'|'normalized'
+(how the file stores it); 'sky_depth'; 'data_window' and 'display_window'
 (x0, y0, x1, y1), half-open, display min = (0, 0); 'pixel_aspect'; 'preset'; 'layers'
 {role: [channel names]}; 'part'; 'path'. Arrays cover the data window.
 
 Keywords as process(): preset ('auto', 'blender', 'arnold', 'renderman', 'vray', 'karma',
 'generic'), layer={role: name}, camera (sidecar path; default NAME.json next to the file),
-fov_deg, ortho_width, camera_to_world (4x4 row-major), depth, normals, sky_depth, max_pixels.
+fov_deg, ortho_width, camera_to_world (4x4 row-major), depth ('planar', 'radial', 'inverse',
+'normalized'), depth_range ((A, B): normalized's 0 and 1, A > B for white near), normals,
+sky_depth, max_pixels.
 Raises obscura.Error for a missing/unreadable file or missing passes.)doc");
 
     m.def(
@@ -1046,7 +1069,7 @@ Raises obscura.Error for a missing/unreadable file or missing passes.)doc");
         [](const py::object& path, const py::object& out, const py::args& extra, py::object quality,
            py::object method, py::object radius, py::object directions, py::object steps, py::object weighting, py::object falloff, py::object blur,
            py::object device, py::object threads, py::object preset, py::object layer, py::object camera,
-           py::object fovDeg, py::object orthoWidth, py::object c2w, py::object depth, py::object normals,
+           py::object fovDeg, py::object orthoWidth, py::object c2w, py::object depth, py::object depthRange, py::object normals,
            py::object skyDepth, py::object maxPixels, py::object outLayer, py::object outType, py::object badPixels, py::object reference,
            py::object report, py::object preview, py::object inPlace, py::object samples, py::object interleave,
            py::object sky, py::object envRotate, py::object envIntensity, py::object lights, py::object bounce,
@@ -1057,7 +1080,7 @@ Raises obscura.Error for a missing/unreadable file or missing passes.)doc");
             required("process", path, "path", "the input EXR's path");
             required("process", out, "out", "the output EXR's path");
             return processPy(path, out,
-                             FileArgs{preset, layer, camera, fovDeg, orthoWidth, c2w, depth, normals, skyDepth, maxPixels},
+                             FileArgs{preset, layer, camera, fovDeg, orthoWidth, c2w, depth, depthRange, normals, skyDepth, maxPixels},
                              SettingArgs{quality, method, radius, directions, steps, weighting, falloff, blur, device,
                                          threads, own},
                              OutputArgs{outLayer, outType, badPixels, reference, report, preview, inPlace, write,
@@ -1113,10 +1136,10 @@ Outputs are written atomically; on obscura.Error nothing is left behind.)doc");
     m.def(
         "inspect",
         [](const py::object& path, const py::args& extra, py::object preset, py::object layer, py::object camera,
-           py::object fovDeg, py::object orthoWidth, py::object c2w, py::object depth, py::object normals,
+           py::object fovDeg, py::object orthoWidth, py::object c2w, py::object depth, py::object depthRange, py::object normals,
            py::object skyDepth, py::object maxPixels, py::object device, const py::kwargs& unknown) {
             checkFileCall("inspect", extra, unknown, path);
-            return inspectPy(path, FileArgs{preset, layer, camera, fovDeg, orthoWidth, c2w, depth, normals, skyDepth,
+            return inspectPy(path, FileArgs{preset, layer, camera, fovDeg, orthoWidth, c2w, depth, depthRange, normals, skyDepth,
                                             maxPixels},
                              device);
         },
@@ -1173,7 +1196,7 @@ max_pixels as process(). Raises obscura.Error when the file or the name is missi
     py::dict numbers;
     for (const NumberSetting& n : numberSettings())
         numbers[py::str(n.key)] = py::dict("min"_a = n.min, "max"_a = n.max, "min_excluded"_a = n.minExcluded,
-                                           "integer"_a = n.integer, "flag"_a = n.flag);
+                                           "integer"_a = n.integer, "flag"_a = n.flag, "count"_a = n.count);
     m.attr("NUMBER_SETTINGS") = numbers;
     m.attr("PRESETS") = py::tuple(py::cast(presetNames()));
 }

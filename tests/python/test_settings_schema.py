@@ -15,6 +15,8 @@ def call(src, out, key, value):
         kw["preview"] = str(out.with_suffix(".png"))
     if key not in ("fov_deg", "ortho_width"):
         kw["fov_deg"] = FOV_DEG
+    if key == "depth_range":
+        kw["depth"] = "normalized"
     return obscura.process(str(src), str(out), camera_to_world=pose_matrix().reshape(-1), preset="generic", **kw)
 
 
@@ -25,6 +27,8 @@ def test_every_setting_is_refused_outside_its_range(tmp, scene_file):
         above = n["max"] * 2 + 1
         for bad in (below, above):
             value = int(bad) if n["integer"] else float(bad)
+            if n["count"] == 2:  # a pair (depth_range): the bad end first, the other end in range
+                value = (value, float(n["max"]))
             with pytest.raises(ValueError, match=rf"^{key} must be .*at most .*, got "):
                 call(scene_file, tmp / "never.exr", key, value)
         assert not (tmp / "never.exr").exists()
