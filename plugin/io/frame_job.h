@@ -23,7 +23,9 @@ enum class BadPixelPolicy { Error, Skip };
 
 // Copy: the input with the new layers added (every channel decoded and re-encoded).
 // New: a file holding only the new layers; the input's other channels are never decoded.
-enum class WriteMode { Copy, New };
+// Append: the input's parts copied as compressed chunks (never decoded), the new layers in a
+// part of their own (io/exr_append.h).
+enum class WriteMode { Copy, New, Append };
 bool parse(const std::string& s, WriteMode& out);
 const char* toString(WriteMode m);
 

@@ -647,7 +647,7 @@ py::object processPy(const py::object& path, const py::object& out, const FileAr
     if (!o.reference.is_none()) job.referenceLayer = strArg(o.reference, "reference");
     if (!o.preview.is_none()) job.previewPath = pathArg(o.preview, "preview");
     if (!o.inPlace.is_none()) job.inPlace = py::bool_(o.inPlace);
-    if (!o.write.is_none()) parse(choiceArg(o.write, "write", {"copy", "new"}), job.write);
+    if (!o.write.is_none()) parse(choiceArg(o.write, "write", {"copy", "new", "append"}), job.write);
     if (job.write == WriteMode::New && job.inPlace)
         valueError("write='new' and in_place=True do not go together: the output holds only the new layers");
     const std::string reportPath = o.report.is_none() ? std::string() : pathArg(o.report, "report");
@@ -1061,7 +1061,8 @@ display window above it before allocating, as --max-pixels; default 16384^2); ou
 does), out_type ('half' | 'float'), bad_pixels ('error' | 'skip'), reference (layer name), report
 (also write the JSON there), preview (PNG path), in_place (bool), write ('copy': PATH plus the
 new layers, the default; 'new': only the new layers, with PATH's windows, camera and colour
-attributes; PATH's other channels are not decoded).
+attributes; PATH's other channels are not decoded; 'append': PATH's parts copied as compressed
+chunks, untouched, plus a part holding the new layers).
 method='ssdo' (directional occlusion; the DO layer obscura.DO.R/G/B is always written):
 samples (1-4096), interleave (1-8), bounce (bool: GI), bounce_source ('direct-diffuse' |
 'beauty' | layer), env (lat-long map path), env_rotate (degrees), env_intensity, env_colorspace,
