@@ -3,7 +3,7 @@
 // timed as `oiiotool in -o out`, `obscura --write copy`, `--write new` and `--write append`
 // (median of several runs, interleaved), with obscura's stages from --report (read, compute,
 // write; append: copy for the input's chunks, append for the new part).
-// Not a ctest. Usage: bench_files [runs (3)] [threads (0 = all cores)] [work dir]
+// Not a ctest. Usage: bench_files [runs (3; 0: only write the render)] [threads (0 = all cores)] [work dir]
 #include "support/cli_runner.h"
 #include "support/scenes.h"
 
@@ -139,7 +139,7 @@ void run(const std::string& program, const std::vector<std::string>& args, const
 } // namespace
 
 int main(int argc, char** argv) {
-    const int runs = argc > 1 ? std::max(1, std::atoi(argv[1])) : 3;
+    const int runs = argc > 1 ? std::max(0, std::atoi(argv[1])) : 3;
     const std::string threads = argc > 2 ? argv[2] : "0";
     const fs::path dir = argc > 3 ? fs::path(argv[3]) : fs::temp_directory_path() / "obscura_bench_files";
     fs::create_directories(dir);
@@ -151,6 +151,7 @@ int main(int argc, char** argv) {
     std::printf("input: %s, %dx%d, 23 float channels, zip, %.1f MB (generated in %.1f s)\n", in.c_str(), kWidth,
                 kHeight, fs::file_size(in) / 1e6,
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    if (runs == 0) return 0;  // bench_farm.py --render copies it as its frames
 
     const std::vector<std::string> settings = {"--radius", "0.5", "--weighting", "cosine", "--falloff", "none",
                                                "--threads", threads, "--quiet"};
