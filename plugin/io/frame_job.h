@@ -91,7 +91,7 @@ struct FrameReport {
     // Deep input (docs/deep.md): layers used, and what the reader skipped, sorted or merged.
     int deepLayers = 0;
     long long deepEmptyPixels = 0, deepDroppedSamples = 0, deepUnsortedPixels = 0, deepTruncatedPixels = 0;
-    std::vector<StageTiming> stages;      // read, camera, compute, write, preview
+    std::vector<StageTiming> stages;      // read, camera, compute, write (append: copy, append), preview
     std::optional<ErrorMetrics> reference;
     std::vector<std::string> warnings;
 };
