@@ -1,7 +1,10 @@
 // --write append: the input's parts copied as compressed chunks (compared chunk by chunk, raw,
 // not as pixels), every attribute kept, every channel reading back equal, and the AO in one
 // new part with the input's windows, camera attributes and colour tags. Single-part with
-// overscan, multipart, tiled (mip-mapped), lossy and deep inputs; a corrupt chunk table.
+// overscan, multipart, tiled (mip-mapped), lossy and deep inputs; a corrupt chunk table; the
+// chunk table check on every layout.
+#include "core/error.h"
+#include "io/exr_chunk_table.h"
 #include "io/exr_file.h"
 #include "support/cli_runner.h"
 #include "support/exr_fixtures.h"
@@ -21,6 +24,8 @@
 #include <OpenEXR/ImfPartType.h>
 #include <OpenEXR/ImfStandardAttributes.h>
 #include <OpenEXR/ImfStdIO.h>
+#include <OpenEXR/ImfTiledInputPart.h>
+#include <OpenEXR/ImfTiledOutputPart.h>
 #include <OpenEXR/ImfVersion.h>
 #include <OpenEXR/openexr.h>
 #include <gtest/gtest.h>
@@ -492,4 +497,79 @@ TEST(WriteAppend, FramesResumeAndInPlaceWorkAsWithCopy) {
     fs::copy_file(in, before);
     runAppend(in, in, {"--in-place"});
     expectAppended(before, in, 0, Imf::ZIP_COMPRESSION);
+}
+
+// The check walks every layout's table in OpenEXR's order: line blocks of each codec's height in
+// either line order, mip levels, rip levels (y level outer), deep parts; a valid file passes,
+// and an entry pointing at another tile is named.
+TEST(AppendChunkTables, EveryLayoutPassesAndAMisplacedTileIsNamed) {
+    const fs::path dir = obscura::test::testDir("write-append");
+    std::vector<std::string> valid;
+    for (Imf::Compression codec : {Imf::NO_COMPRESSION, Imf::ZIP_COMPRESSION, Imf::PIZ_COMPRESSION, Imf::DWAB_COMPRESSION})
+        for (Imf::LineOrder order : {Imf::INCREASING_Y, Imf::DECREASING_Y}) {
+            FixturePart part = renderPart(codec, false);
+            part.lineOrder = order;
+            valid.push_back((dir / ("s" + std::to_string(codec) + "-" + std::to_string(order) + ".exr")).string());
+            writeFixture(valid.back(), {part});
+        }
+    FixturePart mip = renderPart(Imf::ZIPS_COMPRESSION, false);
+    mip.tiled = true;
+    mip.levelMode = Imf::MIPMAP_LEVELS;
+    valid.push_back((dir / "mip.exr").string());
+    writeFixture(valid.back(), {mip});
+    FixturePart flat = renderPart(Imf::RLE_COMPRESSION, false);
+    flat.name = "flat";
+    valid.push_back((dir / "deep.exr").string());
+    writeWithDeepParts(valid.back(), {flat}, false);
+
+    const std::string rip = (dir / "rip.exr").string();
+    {
+        Imf::Header h(kDisplay, kData);
+        h.channels().insert("Z", Imf::Channel(Imf::FLOAT));
+        h.setTileDescription(Imf::TileDescription(8, 4, Imf::RIPMAP_LEVELS, Imf::ROUND_UP));
+        h.setType(Imf::TILEDIMAGE);
+        Imf::MultiPartOutputFile file(rip.c_str(), &h, 1);
+        Imf::TiledOutputPart out(file, 0);
+        for (int ly = 0; ly < out.numYLevels(); ++ly)
+            for (int lx = 0; lx < out.numXLevels(); ++lx) {
+                const Imath::Box2i w = out.dataWindowForLevel(lx, ly);
+                std::vector<float> z((size_t)(w.max.x - w.min.x + 1) * (w.max.y - w.min.y + 1), 1.0f + lx + 10.0f * ly);
+                Imf::FrameBuffer fb;
+                fb.insert("Z", Imf::Slice::Make(Imf::FLOAT, z.data(), w));
+                out.setFrameBuffer(fb);
+                out.writeTiles(0, out.numXTiles(lx) - 1, 0, out.numYTiles(ly) - 1, lx, ly);
+            }
+    }
+    valid.push_back(rip);
+    for (const std::string& path : valid) {
+        const ExrInfo info = readExrInfo(path, kDefaultMaxPixels, true);
+        EXPECT_NO_THROW(checkChunkTables(path, info)) << path;
+    }
+
+    // The rip-mapped file's last entry pointed at its first tile.
+    std::ifstream f(rip, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    size_t chunks = 0;
+    {
+        Imf::MultiPartInputFile file(rip.c_str());
+        Imf::TiledInputPart in(file, 0);
+        for (int ly = 0; ly < in.numYLevels(); ++ly)
+            for (int lx = 0; lx < in.numXLevels(); ++lx) chunks += (size_t)in.numXTiles(lx) * in.numYTiles(ly);
+    }
+    size_t table = 0;  // the table follows the header; its first tile was written first
+    for (size_t at = 8; at + 8 <= bytes.size() && !table; ++at) {
+        uint64_t v;
+        std::memcpy(&v, bytes.data() + at, 8);
+        if (v == at + 8 * chunks) table = at;
+    }
+    ASSERT_NE(table, 0u);
+    std::memcpy(bytes.data() + table + 8 * (chunks - 1), bytes.data() + table, 8);
+    const std::string bad = (dir / "rip-bad.exr").string();
+    std::ofstream(bad, std::ios::binary) << bytes;
+    try {
+        checkChunkTables(bad, readExrInfo(bad, kDefaultMaxPixels, true));
+        ADD_FAILURE() << "a misplaced tile passed";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("leads to tile (0,0) of level (0,0)"), std::string::npos) << e.what();
+    }
 }
