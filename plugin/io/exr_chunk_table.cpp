@@ -161,8 +161,10 @@ struct TableReader {
         if (multipart && ints[0] != p) fail(entry + " leads to a chunk of part " + std::to_string(ints[0]));
         if (!(found == want)) fail(entry + " leads to " + keyText(found, tiled));
         const long long data = offset + 4 * nInts + (deep ? 24 : 4);
-        const long long bytes = deep ? sizes[0] + sizes[1] : sizes[0];
-        if (sizes[0] < 0 || sizes[1] < 0 || sizes[2] < 0 || bytes > fileBytes - data)
+        // The stored sizes, each within the file before they are added; deep data's unpacked size
+        // may exceed the file's.
+        if (sizes[0] < 0 || sizes[0] > fileBytes || sizes[1] < 0 || sizes[1] > fileBytes || sizes[2] < 0 ||
+            (deep ? sizes[0] + sizes[1] : sizes[0]) > fileBytes - data)
             fail(entry + ": its chunk's data run past the end of the file");
     }
 };
