@@ -324,7 +324,7 @@ TEST(WriteNew, BadCombinationsAreUsageErrors) {
     const std::string in = writeSinglePart(dir, studio(), Imf::ZIP_COMPRESSION);
     const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
         {{in, "-o", in, "--in-place", "--write", "new"}, "--write new and --in-place"},
-        {{in, "-o", (dir / "o.exr").string(), "--write", "layers"}, "--write expects copy or new, got 'layers'"},
+        {{in, "-o", (dir / "o.exr").string(), "--write", "layers"}, "--write expects copy, new or append, got 'layers'"},
         {{in, "-o", (dir / "o.exr").string(), "--write"}, "--write needs a value"},
     };
     const auto before = fs::file_size(in);

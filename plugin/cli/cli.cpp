@@ -161,11 +161,12 @@ std::vector<Flag> makeFlags() {
     std::vector<Flag> table = {
         {"-o", "OUTPUT.exr", "output file: a copy of the input with the new layers added (see --write)",
          [](Options& o, const std::string& v) { o.job.output = v; }},
-        {"--write", "copy|new",
+        {"--write", "copy|new|append",
          "copy: every input channel plus the new layers (default); new: only the new layers, with the "
          "input's windows, camera and colour attributes, and its codec unless lossy (then zip); the "
-         "input's other channels are not decoded, so it is faster",
-         [](Options& o, const std::string& v) { o.job.write = toEnum<WriteMode>("--write", v, "copy or new"); }},
+         "input's other channels are not decoded, so it is faster; append: the input's parts copied "
+         "as compressed chunks, untouched, plus a part holding the new layers (fastest for a full file)",
+         [](Options& o, const std::string& v) { o.job.write = toEnum<WriteMode>("--write", v, "copy, new or append"); }},
         {"--method", "NAME", methodHelp(), [](Options& o, const std::string& v) {
              if (!findMethod(v)) throw UsageError("--method expects " + methodNames(", ") + ", got '" + v + "'");
              o.job.settings.method = v;
@@ -557,7 +558,7 @@ bool outputComplete(const std::string& path, const std::string& aoChannel) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) return false;
     try {
-        for (const ExrPart& part : readExrInfo(path).parts)
+        for (const ExrPart& part : readExrInfo(path, kDefaultMaxPixels, true).parts)  // append keeps deep parts
             if (part.findChannel(aoChannel) >= 0) return true;
     } catch (const Error&) {
     }

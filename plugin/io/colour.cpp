@@ -402,7 +402,7 @@ void ColourManager::convert(const MutablePlane& plane, const std::string& from, 
 std::vector<StringAttribute> ColourManager::tagOutputPart(Imf::Header& header, int part, const std::string& inputSpace,
                                                           const std::vector<std::string>& colourNames,
                                                           const std::vector<std::string>& dataNames,
-                                                          std::string* note) const {
+                                                          std::string* note, bool sharedChromaticities) const {
     std::vector<StringAttribute> attrs;
     const std::string& working = impl_->working;
     const std::optional<Imf::Chromaticities> workingChroma = chromaticitiesOf(working);
@@ -413,7 +413,7 @@ std::vector<StringAttribute> ColourManager::tagOutputPart(Imf::Header& header, i
     // assumed and changes nothing); otherwise the part keeps its own and the new colour
     // channels say what they are per channel.
     const bool partIsWorking = !input.empty() && input == working;
-    const bool setPart = partIsWorking && workingChroma && !colourNames.empty();
+    const bool setPart = partIsWorking && workingChroma && !colourNames.empty() && !sharedChromaticities;
     if (setPart) Imf::addChromaticities(header, *workingChroma);
 
     for (const std::string& ch : colourNames) {
@@ -430,6 +430,8 @@ std::vector<StringAttribute> ColourManager::tagOutputPart(Imf::Header& header, i
             *note = "part chromaticities set to " + working + "'s";
         else if (!workingChroma)
             *note = "working space " + working + " has no known primaries: colour layers tagged by name only";
+        else if (sharedChromaticities)
+            *note = "the part shares the input's chromaticities: the new colour layers are tagged per channel";
         else
             *note = "input is " + (input.empty() ? inputSpace : input) + ", not the working space " + working +
                     ": its chromaticities are kept, the new colour layers are tagged per channel";

@@ -103,11 +103,14 @@ public:
     // besides the colour-space name they get "obscura/<name>/chromaticities" =
     // "rx ry gx gy bx by wx wy" (when the working space's primaries are known). With no
     // colour names the header is never touched. `note` (optional) says which was done.
+    // sharedChromaticities: the part's chromaticities are the file's other parts' (OpenEXR
+    // requires one value per file), so they are never set; the new colour layers are then
+    // described by their own attributes.
     std::vector<StringAttribute> tagOutputPart(Imf::Header& partHeader, int part,
                                                const std::string& inputSpace,
                                                const std::vector<std::string>& colourNames,
                                                const std::vector<std::string>& dataNames,
-                                               std::string* note = nullptr) const;
+                                               std::string* note = nullptr, bool sharedChromaticities = false) const;
 
     // The config's default display and its default view, when not given.
     std::string defaultDisplay() const;

@@ -5,6 +5,7 @@
 #include "core/methods.h"
 #include "io/colour.h"
 #include "io/deep_file.h"
+#include "io/exr_append.h"
 #include "io/oiio_module.h"
 #include "io/preview.h"
 
@@ -238,11 +239,12 @@ std::string writeFramePreview(const FrameJob& job, const FramePasses& p, const O
 bool parse(const std::string& s, WriteMode& out) {
     if (s == "copy") out = WriteMode::Copy;
     else if (s == "new") out = WriteMode::New;
+    else if (s == "append") out = WriteMode::Append;
     else return false;
     return true;
 }
 
-const char* toString(WriteMode m) { return m == WriteMode::New ? "new" : "copy"; }
+const char* toString(WriteMode m) { return m == WriteMode::New ? "new" : m == WriteMode::Append ? "append" : "copy"; }
 
 std::string describeWrite(const FrameJob& job, const ExrInfo& info, int part) {
     const Imf::Compression in = info.parts.at(part).header.compression();
@@ -250,6 +252,9 @@ std::string describeWrite(const FrameJob& job, const ExrInfo& info, int part) {
     std::string codec = compressionName(out);
     if (out != in) codec += " (the input's " + compressionName(in) + " is lossy)";
     if (job.write == WriteMode::New) return "new: only the new layers, " + codec;
+    if (job.write == WriteMode::Append)
+        return "append: the input's parts copied as compressed chunks, the new layers in a part of their own ('" +
+               layersPartName(info) + "'), " + codec;
     if (out != in) return "copy: the input plus the new layers in a part of their own ('" + layersPartName(info) + "'), " + codec;
     return "copy: the input plus the new layers, " + codec;
 }
@@ -367,7 +372,7 @@ namespace {
 FramePasses loadPasses(const FrameJob& job, bool keepAll, std::vector<StageTiming>* stages, bool alwaysReadPosition) {
     StageTimer timer{stages, "read"};
     FramePasses p;
-    p.info = readExrInfo(job.input, job.maxPixels);
+    p.info = readExrInfo(job.input, job.maxPixels, job.write == WriteMode::Append);  // deep parts: copied
     p.plan = planLayers(p.info, job.preset, job.layerOverrides);
     requireRoles(p.plan, p.info, {Role::Depth, Role::Normal});
     const LayerBinding& depth = *p.plan.find(Role::Depth);
@@ -557,11 +562,13 @@ FrameReport runJob(const FrameJob& job) {
     }
 
     report.aoChannel = aoChannelName(job.aoLayer);
+    const bool append = job.write == WriteMode::Append;
     {
-        StageTimer timer{&report.stages, "write"};
+        StageTimer timer{append ? nullptr : &report.stages, "write"};  // append times its own stages
         const Imf::PixelType type = job.aoFloat ? Imf::FLOAT : Imf::HALF;
         // Copy: into the depth's part of the input, or a part of their own when that part's
-        // codec is lossy (AO, DO and GI are data). New: into the one part of a fresh file.
+        // codec is lossy (AO, DO and GI are data). New and append: into the one part of a fresh
+        // file, which append adds to the input's parts.
         ExrPixels fresh;
         if (!copy) fresh = layersOnlyFile(p.info, p.part);
         ExrPixels& target = copy ? p.raw : fresh;
@@ -582,17 +589,21 @@ FrameReport runJob(const FrameJob& job) {
         // AO is data (raw); DO, GI and relit are in the config's working space.
         std::string note;
         const ColourManager& cm = colourManager();
-        // A part of our own holds no colour channels but ours, in the working space.
-        const std::string inputSpace = ownPart ? cm.workingSpace()
+        // A part of our own holds no colour channels but ours, in the working space; an appended
+        // one shares the input's chromaticities, so it is tagged as the depth's part would be.
+        const std::string inputSpace = ownPart && !append ? cm.workingSpace()
                                        : report.inputColourSpace.empty()
                                            ? cm.detectColourSpace(p.info.parts[p.part].header, job.colourSpace).name
                                            : report.inputColourSpace;
         for (StringAttribute& a : cm.tagOutputPart(target.info.parts[outPart].header, outPart, inputSpace,
-                                                   colourLayers, {report.aoChannel}, &note))
+                                                   colourLayers, {report.aoChannel}, &note, append))
             attrs.push_back(std::move(a));
         if (!note.empty()) report.plan.push_back(note);
         for (const NewChannel& c : add) report.written.push_back(c.name);
-        writeExrWithNewChannels(job.output, target, add, job.inPlace, attrs);
+        if (append)
+            writeAppended(job.output, p.info, target, add, attrs, job.inPlace, &report.stages);
+        else
+            writeExrWithNewChannels(job.output, target, add, job.inPlace, attrs);
     }
     if (!job.previewPath.empty()) {
         StageTimer timer{&report.stages, "preview"};

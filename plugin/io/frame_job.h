@@ -24,7 +24,9 @@ enum class BadPixelPolicy { Error, Skip };
 
 // Copy: the input with the new layers added (every channel decoded and re-encoded).
 // New: a file holding only the new layers; the input's other channels are never decoded.
-enum class WriteMode { Copy, New };
+// Append: the input's parts copied as compressed chunks (never decoded), the new layers in a
+// part of their own (io/exr_append.h).
+enum class WriteMode { Copy, New, Append };
 bool parse(const std::string& s, WriteMode& out);
 const char* toString(WriteMode m);
 
@@ -91,7 +93,7 @@ struct FrameReport {
     // Deep input (docs/deep.md): layers used, and what the reader skipped, sorted or merged.
     int deepLayers = 0;
     long long deepEmptyPixels = 0, deepDroppedSamples = 0, deepUnsortedPixels = 0, deepTruncatedPixels = 0;
-    std::vector<StageTiming> stages;      // read, camera, compute, write, preview
+    std::vector<StageTiming> stages;      // read, camera, compute, write (append: copy, append), preview
     std::optional<ErrorMetrics> reference;
     std::vector<std::string> warnings;
 };

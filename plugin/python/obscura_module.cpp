@@ -648,7 +648,7 @@ py::object processPy(const py::object& path, const py::object& out, const FileAr
         job.previewExposure = (float)numberArg(o.previewExposure, "preview_exposure");
     }
     if (!o.inPlace.is_none()) job.inPlace = py::bool_(o.inPlace);
-    if (!o.write.is_none()) parse(choiceArg(o.write, "write", {"copy", "new"}), job.write);
+    if (!o.write.is_none()) parse(choiceArg(o.write, "write", {"copy", "new", "append"}), job.write);
     if (job.write == WriteMode::New && job.inPlace)
         valueError("write='new' and in_place=True do not go together: the output holds only the new layers");
     const std::string reportPath = o.report.is_none() ? std::string() : pathArg(o.report, "report");
@@ -1093,7 +1093,8 @@ out_type ('half' | 'float'), bad_pixels ('error' | 'skip'), reference (layer nam
 layer when written, else the DO), preview_exposure (stops before the preview's encoding; default
 AO 0, ssdo automatic: the 99th percentile at 0.8), in_place (bool), write ('copy': PATH plus the
 new layers, the default; 'new': only the new layers, with PATH's windows, camera and colour
-attributes; PATH's other channels are not decoded).
+attributes; PATH's other channels are not decoded; 'append': PATH's parts copied as compressed
+chunks, untouched, plus a part holding the new layers).
 method='ssdo': samples (1-4096), interleave (1-8), bounce (bool, above), bounce_source
 ('direct-diffuse' | 'beauty' | layer), env (lat-long map path), env_rotate (degrees),
 env_intensity, env_colorspace, colorspace (of the input's colour passes), sky ((r, g, b) without

@@ -105,6 +105,31 @@ def test_process_write_new_holds_only_the_new_layers(tmp):
     assert not (tmp / "o.exr").exists()
 
 
+def test_process_write_append_copies_the_input_and_adds_a_part(tmp):
+    import OpenImageIO as oiio
+    depth, normal = synthetic_scene()
+    src = tmp / "scene.exr"
+    write_exr(src, depth, normal, sidecar=True)
+    copy, appended = tmp / "copy.exr", tmp / "appended.exr"
+    obscura.process(src, copy, radius=0.8)
+    report = obscura.process(src, appended, radius=0.8, write="append")
+    assert report["write"]["mode"] == "append"
+    assert {"read", "compute", "copy", "append"} <= set(report["timings_s"]) and "write" not in report["timings_s"]
+    inp = oiio.ImageInput.open(str(appended))
+    first = list(inp.spec().channelnames)
+    assert inp.seek_subimage(1, 0) and list(inp.spec().channelnames) == ["obscura.AO.Y"]
+    assert inp.spec().getattribute("name") == "obscura" and not inp.seek_subimage(2, 0)
+    inp.close()
+    assert sorted(first) == ["N.X", "N.Y", "N.Z", "Z"]  # OpenImageIO lists Z first
+    for name in first:
+        np.testing.assert_array_equal(read_channel(appended, name), read_channel(src, name))
+    ao = oiio.ImageBuf(str(appended), 1, 0)
+    np.testing.assert_array_equal(ao.get_pixels(oiio.FLOAT)[..., 0], read_channel(copy, "obscura.AO.Y"))
+    # In place: the file becomes itself plus the AO part.
+    obscura.process(src, src, radius=0.8, write="append", in_place=True)
+    assert oiio.ImageInput.open(str(src)).seek_subimage(1, 0)
+
+
 def test_huge_window_in_a_header_is_refused_before_allocating(tmp):
     import struct
     depth, normal = synthetic_scene()
