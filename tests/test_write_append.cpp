@@ -8,6 +8,8 @@
 #include "io/exr_file.h"
 #include "support/cli_runner.h"
 #include "support/exr_fixtures.h"
+#include "support/read_back.h"
+#include "support/studio_render.h"
 #include "support/scenes.h"
 #include "support/scratch.h"
 
@@ -44,58 +46,13 @@
 namespace fs = std::filesystem;
 using namespace obscura;
 using namespace obscura::fixtures;
-using obscura::test::CliResult;
+using namespace obscura::test;
 
 namespace {
 
-CliResult cli(std::vector<std::string> args) { return obscura::test::runProgram(OBSCURA_CLI_PATH, args); }
-std::string describe(const CliResult& r) { return "exit " + std::to_string(r.exitCode) + "\n" + r.out + r.err; }
-
-const Imath::Box2i kDisplay(Imath::V2i(0, 0), Imath::V2i(47, 35));
-const Imath::Box2i kData(Imath::V2i(-4, -3), Imath::V2i(51, 38));  // overscan
-const Imath::M44f kWorldToCamera(1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0.5f, -1.5f, 3, 1);
-const Imf::Chromaticities kAcesCg(Imath::V2f(0.713f, 0.293f), Imath::V2f(0.165f, 0.830f), Imath::V2f(0.128f, 0.044f),
-                                  Imath::V2f(0.32168f, 0.33767f));
-
-struct Scene {
-    obscura::test::SceneBuffers buffers;
-    std::vector<std::string> cameraFlags;
-};
-
-const Scene& studio() {
-    static const Scene s = [] {
-        const int w = kDisplay.max.x + 1, h = kDisplay.max.y + 1;
-        const Camera cam = obscura::test::studioCamera(w, h);
-        Scene s{obscura::test::renderScene(obscura::test::studioScene(), cam, Box2i{0, 0, w, h},
-                                           Box2i{kData.min.x, kData.min.y, kData.max.x + 1, kData.max.y + 1}),
-                {}};
-        std::string m;
-        char buf[40];
-        for (int r = 0; r < 4; ++r)
-            for (int c = 0; c < 4; ++c) {
-                std::snprintf(buf, sizeof buf, "%.17g", cam.cameraToWorld[c][r]);
-                m += (m.empty() ? "" : ",") + std::string(buf);
-            }
-        std::snprintf(buf, sizeof buf, "%.17g", cam.horizontalFovRad(w) * 180.0 / M_PI);
-        s.cameraFlags = {"--fov-deg", buf, "--camera-to-world", m};
-        return s;
-    }();
-    return s;
-}
-
-FixtureChannel planeChannel(const std::string& name, const Image& img, int c) {
-    return {name, Imf::FLOAT, 1, 1, [&img, c](int x, int y) { return img.at(x - kData.min.x, y - kData.min.y)[c]; }};
-}
-
 // Geometry (Z, N) and a half beauty with a subsampled channel, camera and colour attributes.
 FixturePart renderPart(Imf::Compression compression, bool beauty = true) {
-    const Scene& s = studio();
-    FixturePart part;
-    part.displayWindow = kDisplay;
-    part.dataWindow = kData;
-    part.compression = compression;
-    part.channels.push_back(planeChannel("Z", s.buffers.depth, 0));
-    for (int c = 0; c < 3; ++c) part.channels.push_back(planeChannel(std::string("N.") + "XYZ"[c], s.buffers.normal, c));
+    FixturePart part = studioGeometryPart(compression);
     if (beauty) {
         for (const char* c : {"R", "G", "B", "A"}) part.channels.push_back({c, Imf::HALF, 1, 1, {}});
         part.channels.push_back({"crypto", Imf::UINT, 1, 1, {}});
@@ -103,8 +60,8 @@ FixturePart renderPart(Imf::Compression compression, bool beauty = true) {
     part.stringAttributes = {{"renderer", "test"}, {"cryptomatte/abc1234/manifest", "{}"}};
     part.floatAttributes = {{"cameraFov", 52.5f}};
     part.editHeader = [](Imf::Header& h) {
-        Imf::addWorldToCamera(h, kWorldToCamera);
-        Imf::addChromaticities(h, kAcesCg);
+        Imf::addWorldToCamera(h, kStudioWorldToCamera);
+        Imf::addChromaticities(h, kAcesCgPrimaries);
     };
     return part;
 }
@@ -175,29 +132,16 @@ std::vector<std::string> channelNames(const Imf::Header& h) {
 }
 
 std::vector<float> aoOf(const std::string& path, int part, const std::string& channel = "obscura.AO.Y") {
-    Imf::MultiPartInputFile file(path.c_str());
-    Imf::InputPart in(file, part);
-    const Imath::Box2i dw = in.header().dataWindow();
-    std::vector<float> v((size_t)(dw.max.x - dw.min.x + 1) * (dw.max.y - dw.min.y + 1), -1.0f);
-    Imf::FrameBuffer fb;
-    fb.insert(channel, Imf::Slice::Make(Imf::FLOAT, v.data(), dw));
-    in.setFrameBuffer(fb);
-    in.readPixels(dw.min.y, dw.max.y);
-    return v;
-}
-
-nlohmann::json readJson(const fs::path& p) {
-    std::ifstream f(p);
-    return nlohmann::json::parse(f);
+    return partChannel(path, part, channel);
 }
 
 // Runs `obscura in -o out --write append` with the studio camera; expects success.
 void runAppend(const std::string& in, const std::string& out, std::vector<std::string> extra = {}) {
     std::vector<std::string> args = {in, "-o", out, "--write", "append", "--quiet", "--threads", "2"};
-    args.insert(args.end(), studio().cameraFlags.begin(), studio().cameraFlags.end());
+    args.insert(args.end(), studioRender().cameraFlags.begin(), studioRender().cameraFlags.end());
     args.insert(args.end(), extra.begin(), extra.end());
-    const CliResult r = cli(args);
-    ASSERT_EQ(r.exitCode, 0) << describe(r);
+    const CliResult r = runObscura(args);
+    ASSERT_EQ(r.exitCode, 0) << outcome(r);
 }
 
 // The input's parts come first, chunk for chunk and attribute for attribute (a single part
@@ -243,9 +187,9 @@ void expectAppended(const std::string& in, const std::string& out, int depthPart
     EXPECT_EQ(ao.dataWindow(), depth.dataWindow());
     EXPECT_EQ(ao.hasTileDescription(), depth.hasTileDescription());
     ASSERT_TRUE(Imf::hasWorldToCamera(ao));
-    EXPECT_EQ(Imf::worldToCamera(ao), kWorldToCamera);
+    EXPECT_EQ(Imf::worldToCamera(ao), kStudioWorldToCamera);
     ASSERT_TRUE(Imf::hasChromaticities(ao));  // the input's: a file has one
-    EXPECT_EQ(Imf::chromaticities(ao).red, kAcesCg.red);
+    EXPECT_EQ(Imf::chromaticities(ao).red, kAcesCgPrimaries.red);
     EXPECT_NE(ao.findTypedAttribute<Imf::FloatAttribute>("cameraFov"), nullptr);
     EXPECT_EQ(ao.findTypedAttribute<Imf::StringAttribute>("cryptomatte/abc1234/manifest"), nullptr);
     EXPECT_NE(ao.findTypedAttribute<Imf::StringAttribute>("obscura/version"), nullptr);
@@ -268,18 +212,18 @@ void writeWithDeepParts(const std::string& path, std::vector<FixturePart> flat, 
     if (versionEverywhere)
         for (Imf::Header& h : headers) h.insert("version", Imf::IntAttribute(1));
     for (const std::string& type : {Imf::DEEPSCANLINE, Imf::DEEPTILE}) {
-        Imf::Header h(kDisplay, kData);
+        Imf::Header h(kStudioDisplay, kStudioData);
         h.setName(type);
         h.setType(type);
         h.compression() = Imf::ZIPS_COMPRESSION;
         h.channels().insert("Z", Imf::Channel(Imf::FLOAT));
         h.insert("version", Imf::IntAttribute(1));  // deep data version 1: OpenEXR's readers require it
         if (type == Imf::DEEPTILE) h.setTileDescription(Imf::TileDescription(16, 16));
-        Imf::addChromaticities(h, kAcesCg);
+        Imf::addChromaticities(h, kAcesCgPrimaries);
         headers.push_back(h);
     }
     Imf::MultiPartOutputFile file(path.c_str(), headers.data(), (int)headers.size());
-    const int w = kData.max.x - kData.min.x + 1, h = kData.max.y - kData.min.y + 1;
+    const int w = kStudioData.max.x - kStudioData.min.x + 1, h = kStudioData.max.y - kStudioData.min.y + 1;
     std::vector<unsigned> counts((size_t)w * h);
     std::vector<std::vector<float>> samples(counts.size());
     std::vector<float*> pointers(counts.size());
@@ -289,7 +233,7 @@ void writeWithDeepParts(const std::string& path, std::vector<FixturePart> flat, 
         pointers[i] = samples[i].data();
     }
     Imf::DeepFrameBuffer fb;
-    const size_t origin = (size_t)(-kData.min.y) * w + (size_t)(-kData.min.x);
+    const size_t origin = (size_t)(-kStudioData.min.y) * w + (size_t)(-kStudioData.min.x);
     fb.insertSampleCountSlice(Imf::Slice(Imf::UINT, (char*)(counts.data() + origin), 4, 4 * w));
     fb.insert("Z", Imf::DeepSlice(Imf::FLOAT, (char*)(pointers.data() + origin), sizeof(float*), sizeof(float*) * w, 4));
     for (size_t p = 0; p + 2 < headers.size(); ++p) {  // flat float parts: the fixture's values again
@@ -299,8 +243,8 @@ void writeWithDeepParts(const std::string& path, std::vector<FixturePart> flat, 
         for (const FixtureChannel& ch : part.channels) {
             std::vector<float>& v = planes.emplace_back((size_t)w * h);
             for (int y = 0; y < h; ++y)
-                for (int x = 0; x < w; ++x) v[(size_t)y * w + x] = storedValue(ch, x + kData.min.x, y + kData.min.y);
-            ffb.insert(ch.name, Imf::Slice::Make(Imf::FLOAT, v.data(), kData));
+                for (int x = 0; x < w; ++x) v[(size_t)y * w + x] = storedValue(ch, x + kStudioData.min.x, y + kStudioData.min.y);
+            ffb.insert(ch.name, Imf::Slice::Make(Imf::FLOAT, v.data(), kStudioData));
         }
         Imf::OutputPart out(file, (int)p);
         out.setFrameBuffer(ffb);
@@ -326,8 +270,8 @@ TEST(WriteAppend, SinglePartWithOverscanKeepsEveryChunkAndAddsTheAoPart) {
 
     // The AO is the one --write copy computes.
     std::vector<std::string> args = {in, "-o", copy, "--quiet", "--threads", "2"};
-    args.insert(args.end(), studio().cameraFlags.begin(), studio().cameraFlags.end());
-    ASSERT_EQ(cli(args).exitCode, 0);
+    args.insert(args.end(), studioRender().cameraFlags.begin(), studioRender().cameraFlags.end());
+    ASSERT_EQ(runObscura(args).exitCode, 0);
     EXPECT_EQ(aoOf(out, 1), aoOf(copy, 0));
 
     const nlohmann::json report = readJson(dir / "out.json");
@@ -384,9 +328,9 @@ TEST(WriteAppend, DeepPartsAreCopiedAsTheyAre) {
     writeWithDeepParts(in, {geometry});
     // copy must decode every part to re-encode it, and refuses deep ones.
     std::vector<std::string> args = {in, "-o", (dir / "copy.exr").string()};
-    args.insert(args.end(), studio().cameraFlags.begin(), studio().cameraFlags.end());
-    const CliResult copy = cli(args);
-    EXPECT_EQ(copy.exitCode, 1) << describe(copy);
+    args.insert(args.end(), studioRender().cameraFlags.begin(), studioRender().cameraFlags.end());
+    const CliResult copy = runObscura(args);
+    EXPECT_EQ(copy.exitCode, 1) << outcome(copy);
     EXPECT_NE(copy.err.find("deep data"), std::string::npos) << copy.err;
 
     runAppend(in, out);
@@ -411,9 +355,9 @@ TEST(WriteAppend, DeepInputWithFlatPasses) {
     writeWithDeepParts(deep, {});
     writeFixture(flat, {renderPart(Imf::PIZ_COMPRESSION)});
     std::vector<std::string> args = {deep, "--flat", flat, "-o", out, "--write", "append", "--quiet"};
-    args.insert(args.end(), studio().cameraFlags.begin(), studio().cameraFlags.end());
-    const CliResult r = cli(args);
-    ASSERT_EQ(r.exitCode, 0) << describe(r);
+    args.insert(args.end(), studioRender().cameraFlags.begin(), studioRender().cameraFlags.end());
+    const CliResult r = runObscura(args);
+    ASSERT_EQ(r.exitCode, 0) << outcome(r);
     expectAppended(flat, out, 0, Imf::PIZ_COMPRESSION);
 }
 
@@ -426,7 +370,7 @@ TEST(WriteAppend, ColourLayersAreTaggedPerChannel) {
     runAppend(in, out, {"--method", "ssdo", "--samples", "4", "--colorspace", "lin_rec709"});
     expectAppended(in, out, 0, Imf::ZIP_COMPRESSION, {"obscura.AO.Y", "obscura.DO.B", "obscura.DO.G", "obscura.DO.R"});
     const Imf::Header ao = headersOf(out).back();
-    EXPECT_EQ(Imf::chromaticities(ao).red, kAcesCg.red);
+    EXPECT_EQ(Imf::chromaticities(ao).red, kAcesCgPrimaries.red);
     const auto* space = ao.findTypedAttribute<Imf::StringAttribute>("obscura/obscura.DO/colorspace");
     ASSERT_NE(space, nullptr);
     EXPECT_EQ(space->value(), "lin_rec709");
@@ -443,7 +387,7 @@ TEST(WriteAppend, CorruptChunkTableIsRefusedAndNothingIsWritten) {
     std::ifstream f(good, std::ios::binary);
     std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
     // The table follows the header: its first entry is the offset right after it.
-    const int chunks = (kData.max.y - kData.min.y + 1 + 15) / 16;  // ZIP: 16 lines a chunk
+    const int chunks = (kStudioData.max.y - kStudioData.min.y + 1 + 15) / 16;  // ZIP: 16 lines a chunk
     size_t table = 0;
     for (size_t at = 8; at + 8 <= bytes.size() && !table; ++at) {
         uint64_t v;
@@ -466,11 +410,11 @@ TEST(WriteAppend, CorruptChunkTableIsRefusedAndNothingIsWritten) {
     for (const std::string& in : inputs) {
         const std::string out = (dir / "out.exr").string();
         std::vector<std::string> args = {in, "-o", out, "--write", "append"};
-        args.insert(args.end(), studio().cameraFlags.begin(), studio().cameraFlags.end());
-        const CliResult r = cli(args);
-        EXPECT_EQ(r.exitCode, 1) << describe(r);
-        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << describe(r);
-        EXPECT_EQ(r.err.rfind("obscura: '" + in + "': truncated or corrupt", 0), 0u) << describe(r);
+        args.insert(args.end(), studioRender().cameraFlags.begin(), studioRender().cameraFlags.end());
+        const CliResult r = runObscura(args);
+        EXPECT_EQ(r.exitCode, 1) << outcome(r);
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << outcome(r);
+        EXPECT_EQ(r.err.rfind("obscura: '" + in + "': truncated or corrupt", 0), 0u) << outcome(r);
         EXPECT_FALSE(fs::exists(out)) << in;
         for (const auto& e : fs::directory_iterator(dir))
             EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
@@ -487,9 +431,9 @@ TEST(WriteAppend, FramesResumeAndInPlaceWorkAsWithCopy) {
                        (dir / ("out." + std::to_string(f) + ".exr")).string(), 0, Imf::ZIP_COMPRESSION);
     const auto stamp = fs::last_write_time(dir / "out.1.exr");
     std::vector<std::string> args = {pattern, "-o", outs, "--write", "append", "--frames", "1-2", "--resume"};
-    args.insert(args.end(), studio().cameraFlags.begin(), studio().cameraFlags.end());
-    const CliResult again = cli(args);
-    ASSERT_EQ(again.exitCode, 0) << describe(again);
+    args.insert(args.end(), studioRender().cameraFlags.begin(), studioRender().cameraFlags.end());
+    const CliResult again = runObscura(args);
+    ASSERT_EQ(again.exitCode, 0) << outcome(again);
     EXPECT_EQ(fs::last_write_time(dir / "out.1.exr"), stamp) << "a finished frame was written again";
 
     // In place: the file becomes itself plus the AO part.
@@ -524,7 +468,7 @@ TEST(AppendChunkTables, EveryLayoutPassesAndAMisplacedTileIsNamed) {
 
     const std::string rip = (dir / "rip.exr").string();
     {
-        Imf::Header h(kDisplay, kData);
+        Imf::Header h(kStudioDisplay, kStudioData);
         h.channels().insert("Z", Imf::Channel(Imf::FLOAT));
         h.setTileDescription(Imf::TileDescription(8, 4, Imf::RIPMAP_LEVELS, Imf::ROUND_UP));
         h.setType(Imf::TILEDIMAGE);

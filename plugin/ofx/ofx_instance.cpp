@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <memory>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -62,42 +63,48 @@ void updateEnabled(const Instance& in) {
 }
 
 void bindClips(Instance& in, OfxImageEffectHandle effect) {
-    in.source = clip(effect, kClipSource);
-    in.depth = clip(effect, kClipDepth);
-    in.normal = clip(effect, kClipNormal);
-    in.position = clip(effect, kClipPosition);
-    in.albedo = clip(effect, kClipAlbedo);
-    in.output = clip(effect, kClipOutput);
+    const std::pair<OfxImageClipHandle Instance::*, const char*> clips[] = {
+        {&Instance::source, kClipSource},
+        {&Instance::depth, kClipDepth},
+        {&Instance::normal, kClipNormal},
+        {&Instance::position, kClipPosition},
+        {&Instance::albedo, kClipAlbedo},
+        {&Instance::output, kClipOutput},
+    };
+    for (const auto& [member, name] : clips) in.*member = clip(effect, name);
 }
 
 void bindParams(Instance& in, OfxParamSetHandle set) {
-    in.output_ = param(set, kParamOutput);
-    in.strength = param(set, kParamStrength);
-    in.method = param(set, kParamMethod);
-    in.radius = param(set, kParamRadius);
-    in.directions = param(set, kParamDirections);
-    in.steps = param(set, kParamSteps);
-    in.weighting = param(set, kParamWeighting);
-    in.falloff = param(set, kParamFalloff);
-    in.blur = param(set, kParamBlur);
-    in.projection = param(set, kParamProjection);
-    in.fov = param(set, kParamFov);
-    in.orthoWidth = param(set, kParamOrthoWidth);
-    in.cameraToWorld = param(set, kParamCameraToWorld);
-    in.depthKind = param(set, kParamDepthKind);
-    in.normalSpace = param(set, kParamNormalSpace);
-    in.skyDepth = param(set, kParamSkyDepth);
-    in.maxScreenRadius = param(set, kParamMaxScreenRadius);
-    in.device = param(set, kParamDevice);
-    in.threads = param(set, kParamThreads);
-    in.ssdoSamples = param(set, kParamSsdoSamples);
-    in.interleave = param(set, kParamInterleave);
-    in.skyColour = param(set, kParamSkyColour);
-    in.envMap = param(set, kParamEnvMap);
-    in.envRotation = param(set, kParamEnvRotation);
-    in.envIntensity = param(set, kParamEnvIntensity);
-    in.upAxis = param(set, kParamUpAxis);
-    in.timesAlbedo = param(set, kParamTimesAlbedo);
+    const std::pair<OfxParamHandle Instance::*, const char*> params[] = {
+        {&Instance::output_, kParamOutput},
+        {&Instance::strength, kParamStrength},
+        {&Instance::method, kParamMethod},
+        {&Instance::radius, kParamRadius},
+        {&Instance::directions, kParamDirections},
+        {&Instance::steps, kParamSteps},
+        {&Instance::weighting, kParamWeighting},
+        {&Instance::falloff, kParamFalloff},
+        {&Instance::blur, kParamBlur},
+        {&Instance::projection, kParamProjection},
+        {&Instance::fov, kParamFov},
+        {&Instance::orthoWidth, kParamOrthoWidth},
+        {&Instance::cameraToWorld, kParamCameraToWorld},
+        {&Instance::depthKind, kParamDepthKind},
+        {&Instance::normalSpace, kParamNormalSpace},
+        {&Instance::skyDepth, kParamSkyDepth},
+        {&Instance::maxScreenRadius, kParamMaxScreenRadius},
+        {&Instance::device, kParamDevice},
+        {&Instance::threads, kParamThreads},
+        {&Instance::ssdoSamples, kParamSsdoSamples},
+        {&Instance::interleave, kParamInterleave},
+        {&Instance::skyColour, kParamSkyColour},
+        {&Instance::envMap, kParamEnvMap},
+        {&Instance::envRotation, kParamEnvRotation},
+        {&Instance::envIntensity, kParamEnvIntensity},
+        {&Instance::upAxis, kParamUpAxis},
+        {&Instance::timesAlbedo, kParamTimesAlbedo},
+    };
+    for (const auto& [member, name] : params) in.*member = param(set, name);
     for (const MethodParam* mp : allMethodParams()) in.methodParams.push_back(mp->ofx ? param(set, mp->key) : nullptr);
 }
 

@@ -85,14 +85,21 @@ def test_process_options(tmp):
         obscura.process(src, src)
 
 
-def test_process_write_new_holds_only_the_new_layers(tmp):
+def copy_and(tmp, mode):
+    """The synthetic scene (with its sidecar) written with write='copy' and with `mode`:
+    (input, depth, the copy, the other output, its report)."""
     depth, normal = synthetic_scene()
     src = tmp / "scene.exr"
     write_exr(src, depth, normal, sidecar=True)
-    copy, new = tmp / "copy.exr", tmp / "new.exr"
+    copy, out = tmp / "copy.exr", tmp / f"{mode}.exr"
     obscura.process(src, copy, radius=0.8)
-    report = obscura.process(src, new, radius=0.8, write="new")
-    assert report["write"]["mode"] == "new"
+    report = obscura.process(src, out, radius=0.8, write=mode)
+    assert report["write"]["mode"] == mode
+    return src, depth, copy, out, report
+
+
+def test_process_write_new_holds_only_the_new_layers(tmp):
+    src, depth, copy, new, report = copy_and(tmp, "new")
     import OpenImageIO as oiio
     spec = oiio.ImageInput.open(str(new)).spec()
     assert list(spec.channelnames) == ["obscura.AO.Y"]
@@ -107,13 +114,7 @@ def test_process_write_new_holds_only_the_new_layers(tmp):
 
 def test_process_write_append_copies_the_input_and_adds_a_part(tmp):
     import OpenImageIO as oiio
-    depth, normal = synthetic_scene()
-    src = tmp / "scene.exr"
-    write_exr(src, depth, normal, sidecar=True)
-    copy, appended = tmp / "copy.exr", tmp / "appended.exr"
-    obscura.process(src, copy, radius=0.8)
-    report = obscura.process(src, appended, radius=0.8, write="append")
-    assert report["write"]["mode"] == "append"
+    src, depth, copy, appended, report = copy_and(tmp, "append")
     assert {"read", "compute", "copy", "append"} <= set(report["timings_s"]) and "write" not in report["timings_s"]
     inp = oiio.ImageInput.open(str(appended))
     first = list(inp.spec().channelnames)
