@@ -114,7 +114,10 @@ TEST(HeaderLimits, MaxPixelsIsTheUsersLimit) {
     EXPECT_EQ(ok.exitCode, 0) << ok.err;
     const CliResult bad = cli(run(in, dir, {"--max-pixels", "lots"}));
     EXPECT_EQ(bad.exitCode, 2) << bad.err;
-    EXPECT_NE(bad.err.find("--max-pixels expects a positive whole number"), std::string::npos) << bad.err;
+    EXPECT_NE(bad.err.find("--max-pixels expects a whole number"), std::string::npos) << bad.err;
+    const CliResult zero = cli(run(in, dir, {"--max-pixels", "0"}));
+    EXPECT_EQ(zero.exitCode, 2) << zero.err;
+    EXPECT_NE(zero.err.find("--max-pixels must be a whole number at least 1"), std::string::npos) << zero.err;
 }
 
 TEST(HeaderLimits, EnvironmentMapAboveTheLimitIsRefused) {

@@ -14,6 +14,7 @@
 
 using namespace obscura;
 using obscura::test::CliResult;
+using obscura::test::outcome;
 
 namespace {
 
@@ -22,8 +23,6 @@ const std::string kRoom = std::string(OBSCURA_TEST_DATA_DIR) + "/room.exr";
 const std::string kNever = std::string(OBSCURA_TEST_TMP) + "/never.exr";
 
 CliResult cli(const std::vector<std::string>& args) { return obscura::test::runProgram(OBSCURA_CLI_PATH, args); }
-
-std::string describe(const CliResult& r) { return "exit " + std::to_string(r.exitCode) + "\n" + r.out + r.err; }
 
 // A value each option's flag accepts; an option added to the table without one fails below.
 const std::map<std::string, std::string> kOptionValues = {
@@ -73,9 +72,9 @@ TEST(MethodFlags, EveryFlagOfAnotherMethodIsRefused) {
             for (const std::string& a : flagWithValue(s.flag, s.value)) args.push_back(a);
             const CliResult r = cli(args);
             SCOPED_TRACE(std::string(m.name) + " " + s.flag);
-            EXPECT_EQ(r.exitCode, 2) << describe(r);
-            EXPECT_NE(r.err.find(s.flag + " is read by --method " + s.readers.front()), std::string::npos) << describe(r);
-            EXPECT_NE(r.err.find("not by --method " + std::string(m.name)), std::string::npos) << describe(r);
+            EXPECT_EQ(r.exitCode, 2) << outcome(r);
+            EXPECT_NE(r.err.find(s.flag + " is read by --method " + s.readers.front()), std::string::npos) << outcome(r);
+            EXPECT_NE(r.err.find("not by --method " + std::string(m.name)), std::string::npos) << outcome(r);
             ++refused;
         }
     EXPECT_GT(refused, 30);  // the table has settings of several methods
@@ -89,7 +88,7 @@ TEST(MethodFlags, EveryFlagOfTheMethodIsAccepted) {
             std::vector<std::string> args = {kRoom, "--inspect", "--method", m.name};
             for (const std::string& a : flagWithValue(s.flag, s.value)) args.push_back(a);
             const CliResult r = cli(args);
-            EXPECT_EQ(r.exitCode, 0) << m.name << " " << s.flag << "\n" << describe(r);
+            EXPECT_EQ(r.exitCode, 0) << m.name << " " << s.flag << "\n" << outcome(r);
         }
 }
 
@@ -102,12 +101,12 @@ TEST(MethodFlags, OutputsTheMethodCannotWriteAreRefused) {
             const CliResult r = cli(args);
             const bool writes = methodOutputs(m.name, output);
             if (writes) {
-                EXPECT_EQ(r.exitCode, 0) << m.name << " " << output << "\n" << describe(r);
+                EXPECT_EQ(r.exitCode, 0) << m.name << " " << output << "\n" << outcome(r);
                 continue;
             }
-            EXPECT_EQ(r.exitCode, 2) << m.name << " " << output << "\n" << describe(r);
+            EXPECT_EQ(r.exitCode, 2) << m.name << " " << output << "\n" << outcome(r);
             EXPECT_NE(r.err.find("the " + std::string(output) + " output is written by --method ssdo only"), std::string::npos)
-                << describe(r);
+                << outcome(r);
         }
 }
 
@@ -120,6 +119,6 @@ TEST(MethodFlags, NumbersAreRangeChecked) {
         std::vector<std::string> args = {kRoom, "-o", kNever};
         args.insert(args.end(), bad.begin(), bad.end());
         const CliResult r = cli(args);
-        EXPECT_EQ(r.exitCode, 2) << bad.back() << "\n" << describe(r);
+        EXPECT_EQ(r.exitCode, 2) << bad.back() << "\n" << outcome(r);
     }
 }

@@ -3,6 +3,8 @@
 // --write copy adds. Copy mode with a lossy input codec: the layers in a lossless part of their own.
 #include "support/cli_runner.h"
 #include "support/exr_fixtures.h"
+#include "support/read_back.h"
+#include "support/studio_render.h"
 #include "support/scenes.h"
 #include "support/scratch.h"
 
@@ -28,80 +30,41 @@
 namespace fs = std::filesystem;
 using namespace obscura;
 using namespace obscura::fixtures;
-using obscura::test::CliResult;
+using namespace obscura::test;
 
 namespace {
 
-CliResult cli(std::vector<std::string> args) { return obscura::test::runProgram(OBSCURA_CLI_PATH, args); }
-
-std::string describe(const CliResult& r) { return "exit " + std::to_string(r.exitCode) + "\n" + r.out + r.err; }
-
-// The studio scene under generic names, with an overscan data window and the attributes a
+// The studio render (tests/support/studio_render.h) under generic names, with the attributes a
 // renderer leaves: camera matrices, V-Ray-style camera values, chromaticities, a cryptomatte
 // manifest, plus beauty channels that --write new must not carry.
-const Imath::Box2i kDisplay(Imath::V2i(0, 0), Imath::V2i(47, 35));
-const Imath::Box2i kData(Imath::V2i(-4, -3), Imath::V2i(51, 38));
-const Imath::M44f kWorldToCamera(1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0.5f, -1.5f, 3, 1);
 const Imath::M44f kWorldToNdc(2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 1, 1, 0, 0, -0.1f, 0);
-const Imf::Chromaticities kChroma(Imath::V2f(0.713f, 0.293f), Imath::V2f(0.165f, 0.830f),
-                                  Imath::V2f(0.128f, 0.044f), Imath::V2f(0.32168f, 0.33767f));
 
-struct Scene {
-    obscura::test::SceneBuffers buffers;
-    std::vector<std::string> cameraFlags;
-};
+using Scene = obscura::test::StudioRender;
 
-Scene studio() {
-    const int w = kDisplay.max.x + 1, h = kDisplay.max.y + 1;
-    const Camera cam = obscura::test::studioCamera(w, h);
-    Scene s{obscura::test::renderScene(obscura::test::studioScene(), cam, Box2i{0, 0, w, h},
-                                       Box2i{kData.min.x, kData.min.y, kData.max.x + 1, kData.max.y + 1}),
-            {}};
-    std::string m;
-    char buf[40];
-    for (int r = 0; r < 4; ++r)
-        for (int c = 0; c < 4; ++c) {
-            std::snprintf(buf, sizeof buf, "%.17g", cam.cameraToWorld[c][r]);
-            m += (m.empty() ? "" : ",") + std::string(buf);
-        }
-    std::snprintf(buf, sizeof buf, "%.17g", cam.horizontalFovRad(w) * 180.0 / M_PI);
-    s.cameraFlags = {"--fov-deg", buf, "--camera-to-world", m};
-    return s;
-}
-
-FixtureChannel planeChannel(const std::string& name, const Image& img, int c) {
-    return {name, Imf::FLOAT, 1, 1, [&img, c](int x, int y) { return img.at(x - kData.min.x, y - kData.min.y)[c]; }};
-}
-
-FixturePart geometryPart(const Scene& s, Imf::Compression compression) {
-    FixturePart part;
-    part.displayWindow = kDisplay;
-    part.dataWindow = kData;
-    part.compression = compression;
-    part.channels.push_back(planeChannel("Z", s.buffers.depth, 0));
-    for (int c = 0; c < 3; ++c) part.channels.push_back(planeChannel(std::string("N.") + "XYZ"[c], s.buffers.normal, c));
+FixturePart geometryPart(Imf::Compression compression) {
+    FixturePart part = studioGeometryPart(compression);
     part.stringAttributes = {{"cryptomatte/abc1234/manifest", "{}"}, {"renderer", "test"}};
     part.floatAttributes = {{"cameraFov", 52.5f}, {"cameraFocalLength", 35.0f}};
     part.editHeader = [](Imf::Header& h) {
-        Imf::addWorldToCamera(h, kWorldToCamera);
+        Imf::addWorldToCamera(h, kStudioWorldToCamera);
         Imf::addWorldToNDC(h, kWorldToNdc);
-        Imf::addChromaticities(h, kChroma);
+        Imf::addChromaticities(h, kAcesCgPrimaries);
     };
     return part;
 }
 
 FixturePart beautyPart(Imf::Compression compression) {
     FixturePart part;
-    part.displayWindow = kDisplay;
-    part.dataWindow = kData;
+    part.displayWindow = kStudioDisplay;
+    part.dataWindow = kStudioData;
     part.compression = compression;
     for (const char* c : {"R", "G", "B", "A"}) part.channels.push_back({c, Imf::HALF, 1, 1, {}});
     return part;
 }
 
 // One part holding geometry and beauty.
-std::string writeSinglePart(const fs::path& dir, const Scene& s, Imf::Compression compression) {
-    FixturePart part = geometryPart(s, compression);
+std::string writeSinglePart(const fs::path& dir, Imf::Compression compression) {
+    FixturePart part = geometryPart(compression);
     for (const FixtureChannel& c : beautyPart(compression).channels) part.channels.push_back(c);
     const std::string path = (dir / "in.exr").string();
     writeFixture(path, {part});
@@ -124,25 +87,6 @@ std::vector<PartData> partsOf(const std::string& path) {
     return parts;
 }
 
-// One channel, converted to float by OpenEXR, over its part's data window.
-std::vector<float> channelOf(const std::string& path, int part, const std::string& name) {
-    Imf::MultiPartInputFile file(path.c_str());
-    Imf::InputPart in(file, part);
-    const Imath::Box2i dw = in.header().dataWindow();
-    const int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
-    std::vector<float> v((size_t)w * h, -1.0f);
-    Imf::FrameBuffer fb;
-    fb.insert(name, Imf::Slice::Make(Imf::FLOAT, v.data(), dw));
-    in.setFrameBuffer(fb);
-    in.readPixels(dw.min.y, dw.max.y);
-    return v;
-}
-
-nlohmann::json readJson(const fs::path& p) {
-    std::ifstream f(p);
-    return nlohmann::json::parse(f);
-}
-
 std::vector<std::string> withCamera(const Scene& s, std::vector<std::string> args) {
     args.insert(args.end(), s.cameraFlags.begin(), s.cameraFlags.end());
     return args;
@@ -158,9 +102,9 @@ std::string expectNewEqualsCopy(const fs::path& dir, const Scene& s, const std::
     std::vector<std::string> copyArgs = base, newArgs = base;
     copyArgs.insert(copyArgs.end(), {"-o", copy});
     newArgs.insert(newArgs.end(), {"-o", fresh, "--write", "new", "--report", (dir / "new.json").string()});
-    const CliResult rc = cli(copyArgs), rn = cli(newArgs);
-    EXPECT_EQ(rc.exitCode, 0) << describe(rc);
-    EXPECT_EQ(rn.exitCode, 0) << describe(rn);
+    const CliResult rc = runObscura(copyArgs), rn = runObscura(newArgs);
+    EXPECT_EQ(rc.exitCode, 0) << outcome(rc);
+    EXPECT_EQ(rn.exitCode, 0) << outcome(rn);
     if (rc.exitCode || rn.exitCode) return fresh;
 
     const std::vector<PartData> parts = partsOf(fresh);
@@ -169,7 +113,7 @@ std::string expectNewEqualsCopy(const fs::path& dir, const Scene& s, const std::
     std::sort(want.begin(), want.end());
     EXPECT_EQ(parts[0].channels, want);  // OpenEXR lists channels sorted
     for (const std::string& name : layers) {
-        const std::vector<float> a = channelOf(copy, depthPart, name), b = channelOf(fresh, 0, name);
+        const std::vector<float> a = partChannel(copy, depthPart, name), b = partChannel(fresh, 0, name);
         EXPECT_EQ(a, b) << name << " differs between --write copy and --write new";
     }
     return fresh;
@@ -177,22 +121,22 @@ std::string expectNewEqualsCopy(const fs::path& dir, const Scene& s, const std::
 
 TEST(WriteNew, HoldsOnlyTheAoWithTheInputsWindowsAndCameraAttributes) {
     const fs::path dir = obscura::test::testDir("write-new");
-    const Scene s = studio();
-    const std::string in = writeSinglePart(dir, s, Imf::PIZ_COMPRESSION);
+    const Scene s = studioRender();
+    const std::string in = writeSinglePart(dir, Imf::PIZ_COMPRESSION);
     const std::string out = expectNewEqualsCopy(dir, s, in, 0, {}, {"obscura.AO.Y"});
     if (HasFailure()) return;
 
     const Imf::Header h = partsOf(out)[0].header;
-    EXPECT_EQ(h.displayWindow(), kDisplay);
-    EXPECT_EQ(h.dataWindow(), kData);
+    EXPECT_EQ(h.displayWindow(), kStudioDisplay);
+    EXPECT_EQ(h.dataWindow(), kStudioData);
     EXPECT_EQ(h.compression(), Imf::PIZ_COMPRESSION);
     ASSERT_TRUE(Imf::hasWorldToCamera(h));
-    EXPECT_EQ(Imf::worldToCamera(h), kWorldToCamera);
+    EXPECT_EQ(Imf::worldToCamera(h), kStudioWorldToCamera);
     ASSERT_TRUE(Imf::hasWorldToNDC(h));
     EXPECT_EQ(Imf::worldToNDC(h), kWorldToNdc);
     ASSERT_TRUE(Imf::hasChromaticities(h));
-    EXPECT_EQ(Imf::chromaticities(h).red, kChroma.red);
-    EXPECT_EQ(Imf::chromaticities(h).white, kChroma.white);
+    EXPECT_EQ(Imf::chromaticities(h).red, kAcesCgPrimaries.red);
+    EXPECT_EQ(Imf::chromaticities(h).white, kAcesCgPrimaries.white);
     ASSERT_NE(h.findTypedAttribute<Imf::FloatAttribute>("cameraFov"), nullptr);
     EXPECT_EQ(h.typedAttribute<Imf::FloatAttribute>("cameraFov").value(), 52.5f);
     ASSERT_NE(h.findTypedAttribute<Imf::StringAttribute>("renderer"), nullptr);
@@ -209,8 +153,8 @@ TEST(WriteNew, HoldsOnlyTheAoWithTheInputsWindowsAndCameraAttributes) {
 
 TEST(WriteNew, SsdoLayersEqualTheCopys) {
     const fs::path dir = obscura::test::testDir("write-new");
-    const Scene s = studio();
-    const std::string in = writeSinglePart(dir, s, Imf::ZIPS_COMPRESSION);
+    const Scene s = studioRender();
+    const std::string in = writeSinglePart(dir, Imf::ZIPS_COMPRESSION);
     const std::string out = expectNewEqualsCopy(
         // GI without relit (--bounce would add relit, which needs an albedo pass this file lacks).
         dir, s, in, 0,
@@ -223,10 +167,10 @@ TEST(WriteNew, SsdoLayersEqualTheCopys) {
 
 TEST(WriteNew, LossyCodecsBecomeZip) {
     const fs::path dir = obscura::test::testDir("write-new");
-    const Scene s = studio();
-    const std::string in = writeSinglePart(dir, s, Imf::DWAA_COMPRESSION), out = (dir / "new.exr").string();
-    const CliResult r = cli(withCamera(s, {in, "-o", out, "--write", "new", "--report", (dir / "new.json").string()}));
-    ASSERT_EQ(r.exitCode, 0) << describe(r);
+    const Scene s = studioRender();
+    const std::string in = writeSinglePart(dir, Imf::DWAA_COMPRESSION), out = (dir / "new.exr").string();
+    const CliResult r = runObscura(withCamera(s, {in, "-o", out, "--write", "new", "--report", (dir / "new.json").string()}));
+    ASSERT_EQ(r.exitCode, 0) << outcome(r);
     EXPECT_EQ(partsOf(out)[0].header.compression(), Imf::ZIP_COMPRESSION);
     const std::string description = readJson(dir / "new.json")["write"]["description"];
     EXPECT_NE(description.find("zip (the input's dwaa is lossy)"), std::string::npos) << description;
@@ -235,30 +179,30 @@ TEST(WriteNew, LossyCodecsBecomeZip) {
 // The beauty part is cut short: --write new never decodes it, --write copy must and fails.
 TEST(WriteNew, DecodesOnlyThePartsItNeeds) {
     const fs::path dir = obscura::test::testDir("write-new");
-    const Scene s = studio();
-    FixturePart geometry = geometryPart(s, Imf::ZIP_COMPRESSION), beauty = beautyPart(Imf::NO_COMPRESSION);
+    const Scene s = studioRender();
+    FixturePart geometry = geometryPart(Imf::ZIP_COMPRESSION), beauty = beautyPart(Imf::NO_COMPRESSION);
     geometry.name = "geometry";
     beauty.name = "beauty";
     const std::string whole = (dir / "whole.exr").string(), in = (dir / "in.exr").string();
     writeFixture(whole, {geometry, beauty});  // beauty's chunks come last
     truncatedCopy(whole, in, fileSize(whole) - 200);
 
-    const CliResult copy = cli(withCamera(s, {in, "-o", (dir / "copy.exr").string()}));
-    EXPECT_EQ(copy.exitCode, 1) << describe(copy);
+    const CliResult copy = runObscura(withCamera(s, {in, "-o", (dir / "copy.exr").string()}));
+    EXPECT_EQ(copy.exitCode, 1) << outcome(copy);
     EXPECT_NE(copy.err.find("truncated or corrupt"), std::string::npos) << copy.err;
     const std::string out = (dir / "new.exr").string();
-    const CliResult fresh = cli(withCamera(s, {in, "-o", out, "--write", "new", "--quiet"}));
-    ASSERT_EQ(fresh.exitCode, 0) << describe(fresh);
+    const CliResult fresh = runObscura(withCamera(s, {in, "-o", out, "--write", "new", "--quiet"}));
+    ASSERT_EQ(fresh.exitCode, 0) << outcome(fresh);
     EXPECT_EQ(partsOf(out)[0].channels, std::vector<std::string>{"obscura.AO.Y"});
-    EXPECT_EQ(partsOf(out)[0].header.dataWindow(), kData);
+    EXPECT_EQ(partsOf(out)[0].header.dataWindow(), kStudioData);
 }
 
 TEST(WriteNew, InspectSaysWhichModeWouldRun) {
     const fs::path dir = obscura::test::testDir("write-new");
-    const std::string in = writeSinglePart(dir, studio(), Imf::B44_COMPRESSION);
-    const CliResult copy = cli({in, "--inspect"}), fresh = cli({in, "--inspect", "--write", "new"});
-    ASSERT_EQ(copy.exitCode, 0) << describe(copy);
-    ASSERT_EQ(fresh.exitCode, 0) << describe(fresh);
+    const std::string in = writeSinglePart(dir, Imf::B44_COMPRESSION);
+    const CliResult copy = runObscura({in, "--inspect"}), fresh = runObscura({in, "--inspect", "--write", "new"});
+    ASSERT_EQ(copy.exitCode, 0) << outcome(copy);
+    ASSERT_EQ(fresh.exitCode, 0) << outcome(fresh);
     EXPECT_NE(copy.out.find("write:   copy"), std::string::npos) << copy.out;
     EXPECT_NE(fresh.out.find("write:   new: only the new layers, zip (the input's b44 is lossy)"), std::string::npos)
         << fresh.out;
@@ -276,15 +220,15 @@ std::string codecName(const ::testing::TestParamInfo<Imf::Compression>& info) {
 
 TEST_P(InputCodec, CopyWritesTheAoWithinHalfPrecision) {
     const fs::path dir = obscura::test::testDir("write-new");
-    const Scene s = studio();
+    const Scene s = studioRender();
     const Imf::Compression codec = GetParam();
     const bool lossy = codec >= Imf::PXR24_COMPRESSION;  // PXR24, B44, B44A, DWAA, DWAB
-    const std::string in = writeSinglePart(dir, s, codec), copy = (dir / "copy.exr").string(),
+    const std::string in = writeSinglePart(dir, codec), copy = (dir / "copy.exr").string(),
                       exact = (dir / "exact.exr").string();
-    const CliResult rc = cli(withCamera(s, {in, "-o", copy, "--report", (dir / "copy.json").string()}));
-    const CliResult re = cli(withCamera(s, {in, "-o", exact, "--write", "new", "--out-type", "float"}));
-    ASSERT_EQ(rc.exitCode, 0) << describe(rc);
-    ASSERT_EQ(re.exitCode, 0) << describe(re);
+    const CliResult rc = runObscura(withCamera(s, {in, "-o", copy, "--report", (dir / "copy.json").string()}));
+    const CliResult re = runObscura(withCamera(s, {in, "-o", exact, "--write", "new", "--out-type", "float"}));
+    ASSERT_EQ(rc.exitCode, 0) << outcome(rc);
+    ASSERT_EQ(re.exitCode, 0) << outcome(re);
 
     const std::vector<PartData> parts = partsOf(copy);
     ASSERT_EQ(parts.size(), lossy ? 2u : 1u);
@@ -294,14 +238,14 @@ TEST_P(InputCodec, CopyWritesTheAoWithinHalfPrecision) {
     if (lossy) {
         EXPECT_EQ(parts[1].channels, std::vector<std::string>{"obscura.AO.Y"});
         EXPECT_EQ(parts[1].header.name(), "obscura");
-        EXPECT_EQ(parts[1].header.dataWindow(), kData);
+        EXPECT_EQ(parts[1].header.dataWindow(), kStudioData);
         EXPECT_EQ(parts[0].header.compression(), codec);
         EXPECT_TRUE(Imf::hasWorldToCamera(parts[1].header));
     }
     const std::string description = readJson(dir / "copy.json")["write"]["description"];
     EXPECT_EQ(description.find("part of their own") != std::string::npos, lossy) << description;
 
-    const std::vector<float> ao = channelOf(copy, aoPart, "obscura.AO.Y"), ref = channelOf(exact, 0, "obscura.AO.Y");
+    const std::vector<float> ao = partChannel(copy, aoPart, "obscura.AO.Y"), ref = partChannel(exact, 0, "obscura.AO.Y");
     ASSERT_EQ(ao.size(), ref.size());
     float worst = 0;
     for (size_t i = 0; i < ao.size(); ++i) {
@@ -321,19 +265,19 @@ INSTANTIATE_TEST_SUITE_P(AllCodecs, InputCodec,
 // One line, exit 2, nothing written.
 TEST(WriteNew, BadCombinationsAreUsageErrors) {
     const fs::path dir = obscura::test::testDir("write-new");
-    const std::string in = writeSinglePart(dir, studio(), Imf::ZIP_COMPRESSION);
+    const std::string in = writeSinglePart(dir, Imf::ZIP_COMPRESSION);
     const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
         {{in, "-o", in, "--in-place", "--write", "new"}, "--write new and --in-place"},
-        {{in, "-o", (dir / "o.exr").string(), "--write", "layers"}, "--write expects copy or new, got 'layers'"},
+        {{in, "-o", (dir / "o.exr").string(), "--write", "layers"}, "--write expects copy, new or append, got 'layers'"},
         {{in, "-o", (dir / "o.exr").string(), "--write"}, "--write needs a value"},
     };
     const auto before = fs::file_size(in);
     for (const auto& [args, message] : cases) {
-        const CliResult r = cli(args);
-        EXPECT_EQ(r.exitCode, 2) << describe(r);
-        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << describe(r);
-        EXPECT_EQ(r.err.rfind("obscura: ", 0), 0u) << describe(r);
-        EXPECT_NE(r.err.find(message), std::string::npos) << describe(r);
+        const CliResult r = runObscura(args);
+        EXPECT_EQ(r.exitCode, 2) << outcome(r);
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << outcome(r);
+        EXPECT_EQ(r.err.rfind("obscura: ", 0), 0u) << outcome(r);
+        EXPECT_NE(r.err.find(message), std::string::npos) << outcome(r);
     }
     EXPECT_FALSE(fs::exists(dir / "o.exr"));
     EXPECT_EQ(fs::file_size(in), before);

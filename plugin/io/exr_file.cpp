@@ -397,7 +397,7 @@ void checkWindowsBeforeOpening(const std::string& path, long long maxPixels) {
     }
 }
 
-ExrInfo readExrInfo(const std::string& path, long long maxPixels) {
+ExrInfo readExrInfo(const std::string& path, long long maxPixels, bool allowDeep) {
     checkMagic(path);
     checkAttributeSizes(path);
     checkWindowsBeforeOpening(path, maxPixels);
@@ -411,7 +411,8 @@ ExrInfo readExrInfo(const std::string& path, long long maxPixels) {
         for (int p = 0; p < n; ++p) {
             const Imf::Header& h = file.header(p);
             std::string type = h.hasType() ? h.type() : Imf::SCANLINEIMAGE;
-            if (type == Imf::DEEPSCANLINE || type == Imf::DEEPTILE)
+            const bool deep = type == Imf::DEEPSCANLINE || type == Imf::DEEPTILE;
+            if (deep && !allowDeep)
                 throw FileError(path, "holds deep data (part " + std::to_string(p) +
                             "); give the flat passes as --flat FILE and the deep file as the input (docs/deep.md)");
             // Again here: a header the core API refused was not checked before opening.
@@ -420,8 +421,9 @@ ExrInfo readExrInfo(const std::string& path, long long maxPixels) {
             ExrPart part;
             part.header = h;
             part.name = h.hasName() ? h.name() : "";
-            part.tiled = type == Imf::TILEDIMAGE || (!h.hasType() && h.hasTileDescription());
-            for (auto it = h.channels().begin(); it != h.channels().end(); ++it)
+            part.tiled = type == Imf::TILEDIMAGE || type == Imf::DEEPTILE || (!h.hasType() && h.hasTileDescription());
+            part.deep = deep;
+            for (auto it = h.channels().begin(); !deep && it != h.channels().end(); ++it)
                 part.channels.push_back({it.name(), it.channel().type, it.channel().xSampling,
                                          it.channel().ySampling});
             part.displayWindow = toDisplayBox(h.displayWindow(), h.displayWindow());
@@ -461,7 +463,7 @@ std::vector<Image> readExrChannels(const std::string& path, const ExrInfo& info,
     for (int p = 0; p < nParts; ++p) {
         const ExrPart& part = info.parts[p];
         raw[p].resize(part.channels.size());
-        if (!keepAll) continue;
+        if (!keepAll || part.deep) continue;  // deep parts list no channels: nothing to decode
         readIt[p] = true;
         for (size_t c = 0; c < part.channels.size(); ++c) {
             const ExrChannel& ch = part.channels[c];
@@ -532,28 +534,10 @@ std::vector<char> encodePlane(const Image& img, Imf::PixelType type) {
     return buf;
 }
 
-// One part's output header: the input header plus new channels and attributes.
-Imf::Header outputHeader(const ExrPart& part, const std::vector<const NewChannel*>& add,
-                         const std::vector<StringAttribute>& attrs, int p) {
-    // chunkCount: the writer counts its own, and a corrupt input's may have the wrong type.
-    Imf::Header h = headerWithout(part.header, [](const char* name) { return std::strcmp(name, "chunkCount") == 0; });
-    Imf::ChannelList list;  // ChannelList has no erase: rebuild it, dropping replaced channels
-    for (auto it = h.channels().begin(); it != h.channels().end(); ++it) {
-        bool replaced = false;
-        for (const NewChannel* nc : add) replaced |= nc->name == it.name();
-        if (!replaced) list.insert(it.name(), it.channel());
-    }
-    for (const NewChannel* nc : add) list.insert(nc->name, Imf::Channel(nc->type));
-    h.channels() = list;
-    for (const StringAttribute& a : attrs)
-        if (a.part == p) h.insert(a.name, Imf::StringAttribute(a.value));
-    if (h.hasTileDescription() && h.tileDescription().mode != Imf::ONE_LEVEL) {
-        // Only level 0 was read; lower levels would have to be rebuilt.
-        Imf::TileDescription td = h.tileDescription();
-        td.mode = Imf::ONE_LEVEL;
-        h.setTileDescription(td);
-    }
-    return h;
+bool replacedBy(const std::vector<const NewChannel*>& add, const std::string& name) {
+    for (const NewChannel* nc : add)
+        if (nc->name == name) return true;
+    return false;
 }
 
 // The attributes OpenEXR requires the parts of one file to share (MultiPartOutputFile checks
@@ -583,38 +567,10 @@ void writeParts(const std::string& tmp, const ExrPixels& in,
                 const std::vector<StringAttribute>& attrs) {
     const int nParts = (int)in.info.parts.size();
     std::vector<Imf::Header> headers;
-    for (int p = 0; p < nParts; ++p) headers.push_back(outputHeader(in.info.parts[p], byPart[p], attrs, p));
+    for (int p = 0; p < nParts; ++p) headers.push_back(headerWithNewChannels(in.info.parts[p], byPart[p], attrs, p));
     shareFirstPartsAttributes(headers);
-    // OpenEXR does not convert on output: new planes go to their channel's type first.
-    std::vector<std::vector<std::vector<char>>> converted(nParts);
-    for (int p = 0; p < nParts; ++p)
-        for (const NewChannel* nc : byPart[p]) converted[p].push_back(encodePlane(nc->plane, nc->type));
     Imf::MultiPartOutputFile file(tmp.c_str(), headers.data(), nParts);
-    for (int p = 0; p < nParts; ++p) {
-        const ExrPart& part = in.info.parts[p];
-        Imf::FrameBuffer fb;
-        for (size_t c = 0; c < part.channels.size(); ++c) {
-            const ExrChannel& ch = part.channels[c];
-            bool replaced = false;
-            for (const NewChannel* nc : byPart[p]) replaced |= nc->name == ch.name;
-            if (!replaced) fb.insert(ch.name, makeSlice(part, ch, ch.type, in.raw[p][c].data()));
-        }
-        for (size_t i = 0; i < byPart[p].size(); ++i) {
-            const NewChannel* nc = byPart[p][i];
-            ExrChannel ch{nc->name, nc->type, 1, 1};
-            fb.insert(nc->name, makeSlice(part, ch, nc->type, converted[p][i].data()));
-        }
-        if (part.dataWindow.empty()) continue;
-        if (part.tiled) {
-            Imf::TiledOutputPart outPart(file, p);
-            outPart.setFrameBuffer(fb);
-            outPart.writeTiles(0, outPart.numXTiles(0) - 1, 0, outPart.numYTiles(0) - 1, 0, 0);
-        } else {
-            Imf::OutputPart outPart(file, p);
-            outPart.setFrameBuffer(fb);
-            outPart.writePixels(part.dataWindow.height());
-        }
-    }
+    for (int p = 0; p < nParts; ++p) writePartPixels(file, p, in.info.parts[p], in.raw[p], byPart[p]);
 }
 
 bool samePath(const std::string& a, const std::string& b) {
@@ -624,6 +580,102 @@ bool samePath(const std::string& a, const std::string& b) {
 }
 
 } // namespace
+
+Imf::Header headerWithNewChannels(const ExrPart& part, const std::vector<const NewChannel*>& add,
+                                  const std::vector<StringAttribute>& attrs, int p) {
+    // chunkCount: the writer counts its own, and a corrupt input's may have the wrong type.
+    Imf::Header h = headerWithout(part.header, [](const char* name) { return std::strcmp(name, "chunkCount") == 0; });
+    Imf::ChannelList list;  // ChannelList has no erase: rebuild it, dropping replaced channels
+    for (auto it = h.channels().begin(); it != h.channels().end(); ++it)
+        if (!replacedBy(add, it.name())) list.insert(it.name(), it.channel());
+    for (const NewChannel* nc : add) list.insert(nc->name, Imf::Channel(nc->type));
+    h.channels() = list;
+    for (const StringAttribute& a : attrs)
+        if (a.part == p) h.insert(a.name, Imf::StringAttribute(a.value));
+    if (h.hasTileDescription() && h.tileDescription().mode != Imf::ONE_LEVEL) {
+        // Only level 0 was read; lower levels would have to be rebuilt.
+        Imf::TileDescription td = h.tileDescription();
+        td.mode = Imf::ONE_LEVEL;
+        h.setTileDescription(td);
+    }
+    return h;
+}
+
+void writePartPixels(Imf::MultiPartOutputFile& file, int p, const ExrPart& part,
+                     const std::vector<std::vector<char>>& raw, const std::vector<const NewChannel*>& add) {
+    // OpenEXR does not convert on output: new planes go to their channel's type first.
+    std::vector<std::vector<char>> converted;
+    for (const NewChannel* nc : add) converted.push_back(encodePlane(nc->plane, nc->type));
+    Imf::FrameBuffer fb;
+    for (size_t c = 0; c < part.channels.size(); ++c) {
+        const ExrChannel& ch = part.channels[c];
+        if (!replacedBy(add, ch.name)) fb.insert(ch.name, makeSlice(part, ch, ch.type, raw[c].data()));
+    }
+    for (size_t i = 0; i < add.size(); ++i) {
+        const ExrChannel ch{add[i]->name, add[i]->type, 1, 1};
+        fb.insert(ch.name, makeSlice(part, ch, ch.type, converted[i].data()));
+    }
+    if (part.dataWindow.empty()) return;
+    if (part.tiled) {
+        Imf::TiledOutputPart out(file, p);
+        out.setFrameBuffer(fb);
+        out.writeTiles(0, out.numXTiles(0) - 1, 0, out.numYTiles(0) - 1, 0, 0);
+    } else {
+        Imf::OutputPart out(file, p);
+        out.setFrameBuffer(fb);
+        out.writePixels(part.dataWindow.height());
+    }
+}
+
+std::vector<std::vector<const NewChannel*>> newChannelsByPart(const std::string& outPath, const ExrInfo& info,
+                                                              const std::vector<NewChannel>& add,
+                                                              const std::vector<StringAttribute>& attrs) {
+    const int nParts = (int)info.parts.size();
+    std::vector<std::vector<const NewChannel*>> byPart(nParts);
+    for (const NewChannel& nc : add) {
+        if (nc.part < 0 || nc.part >= nParts)
+            throw FileError(outPath, "cannot add channel '" + nc.name + "': no part " + std::to_string(nc.part));
+        const Box2i& d = info.parts[nc.part].dataWindow;
+        if (nc.name.empty() || nc.plane.channels != 1 || nc.plane.width != d.width() || nc.plane.height != d.height())
+            throw FileError(outPath, "cannot add channel '" + nc.name + "'" +
+                                         ": it needs a name and a 1-channel plane of " + std::to_string(d.width()) +
+                                         "x" + std::to_string(d.height()) + " (the data window)");
+        if (replacedBy(byPart[nc.part], nc.name))
+            throw FileError(outPath, "cannot add channel '" + nc.name + "' twice");
+        byPart[nc.part].push_back(&nc);
+    }
+    for (const StringAttribute& a : attrs)
+        if (a.part < 0 || a.part >= nParts)
+            throw FileError(outPath, "cannot add attribute '" + a.name + "': no part " + std::to_string(a.part));
+    return byPart;
+}
+
+void writeFileAtomically(const std::string& outPath, const std::string& inputPath, bool allowOverwriteInput,
+                         const std::function<void(const std::string& tmp)>& write) {
+    if (!allowOverwriteInput && samePath(outPath, inputPath))
+        throw FileError(inputPath, "refusing to overwrite the input (use --in-place)");
+    fs::path dir = fs::path(outPath).parent_path();
+    if (dir.empty()) dir = ".";
+    if (!fs::is_directory(dir))
+        throw FileError(outPath, "cannot write: directory '" + dir.string() + "' does not exist");
+
+    ensureThreads();
+    const std::string tmp = outPath + ".tmp-" + std::to_string((long)::getpid());
+    try {
+        write(tmp);  // the file is closed when this returns
+    } catch (const Error&) {
+        std::remove(tmp.c_str());
+        throw;
+    } catch (const std::exception& e) {
+        std::remove(tmp.c_str());
+        throw FileError(outPath, "cannot write: " + detail(e));
+    }
+    if (std::rename(tmp.c_str(), outPath.c_str()) != 0) {
+        int err = errno;
+        std::remove(tmp.c_str());
+        throw FileError(outPath, std::string("cannot write: rename failed: ") + std::strerror(err));
+    }
+}
 
 void writeExrWithNewChannels(const std::string& outPath, const ExrPixels& in,
                              const std::vector<NewChannel>& add, bool allowOverwriteInput,
@@ -640,48 +692,9 @@ void writeExrWithNewChannels(const std::string& outPath, const ExrPixels& in,
             if (in.raw[p][c].size() != channelSamples(part, part.channels[c]) * bytesPerSample(part.channels[c].type))
                 throw Error("internal: pixels of " + quoted(info.path) + " were not all kept");
     }
-    if (!allowOverwriteInput && samePath(outPath, info.path))
-        throw FileError(info.path, "refusing to overwrite the input (use --in-place)");
-
-    std::vector<std::vector<const NewChannel*>> byPart(nParts);
-    for (const NewChannel& nc : add) {
-        if (nc.part < 0 || nc.part >= nParts)
-            throw FileError(outPath, "cannot add channel '" + nc.name + "': no part " +
-                        std::to_string(nc.part));
-        const Box2i& d = info.parts[nc.part].dataWindow;
-        if (nc.name.empty() || nc.plane.channels != 1 || nc.plane.width != d.width() ||
-            nc.plane.height != d.height())
-            throw FileError(outPath, "cannot add channel '" + nc.name + "'" +
-                        ": it needs a name and a 1-channel plane of " +
-                        std::to_string(d.width()) + "x" + std::to_string(d.height()) + " (the data window)");
-        for (const NewChannel* other : byPart[nc.part])
-            if (other->name == nc.name)
-                throw FileError(outPath, "cannot add channel '" + nc.name + "' twice");
-        byPart[nc.part].push_back(&nc);
-    }
-    for (const StringAttribute& a : attrs)
-        if (a.part < 0 || a.part >= nParts)
-            throw FileError(outPath, "cannot add attribute '" + a.name + "': no part " +
-                        std::to_string(a.part));
-
-    fs::path dir = fs::path(outPath).parent_path();
-    if (dir.empty()) dir = ".";
-    if (!fs::is_directory(dir))
-        throw FileError(outPath, "cannot write: directory '" + dir.string() + "' does not exist");
-
-    ensureThreads();
-    std::string tmp = outPath + ".tmp-" + std::to_string((long)::getpid());
-    try {
-        writeParts(tmp, in, byPart, attrs);  // file closed when this returns
-    } catch (const std::exception& e) {
-        std::remove(tmp.c_str());
-        throw FileError(outPath, "cannot write: " + detail(e));
-    }
-    if (std::rename(tmp.c_str(), outPath.c_str()) != 0) {
-        int err = errno;
-        std::remove(tmp.c_str());
-        throw FileError(outPath, std::string("cannot write: rename failed: ") + std::strerror(err));
-    }
+    const std::vector<std::vector<const NewChannel*>> byPart = newChannelsByPart(outPath, info, add, attrs);
+    writeFileAtomically(outPath, info.path, allowOverwriteInput,
+                        [&](const std::string& tmp) { writeParts(tmp, in, byPart, attrs); });
 }
 
 } // namespace obscura

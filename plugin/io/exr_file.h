@@ -4,9 +4,11 @@
 #include "base/image.h"
 
 #include <OpenEXR/ImfCompression.h>
+#include <OpenEXR/ImfForward.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfPixelType.h>
 
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -25,6 +27,7 @@ struct ExrPart {
     std::vector<ExrChannel> channels;  // sorted by name, as in the file
     Box2i displayWindow, dataWindow;   // display coords: display min = (0,0), half-open
     bool tiled = false;
+    bool deep = false;             // read with allowDeep: its channels are not listed (never decoded)
 
     int findChannel(const std::string& name) const;  // index or -1
 };
@@ -52,9 +55,11 @@ void checkWindow(const std::string& path, const char* which, const Imath::Box2i&
 // its reader reports it.
 void checkWindowsBeforeOpening(const std::string& path, long long maxPixels);
 
-// Headers only. Errors: missing file, not an EXR (magic number), deep data, unreadable header,
-// a data or display window above maxPixels or larger than the file's size can hold.
-ExrInfo readExrInfo(const std::string& path, long long maxPixels = kDefaultMaxPixels);
+// Headers only. Errors: missing file, not an EXR (magic number), deep data (unless allowDeep:
+// then deep parts are listed without channels, for a writer that copies them untouched),
+// unreadable header, a data or display window above maxPixels or larger than the file's size
+// can hold.
+ExrInfo readExrInfo(const std::string& path, long long maxPixels = kDefaultMaxPixels, bool allowDeep = false);
 
 struct ChannelRef {
     int part = 0;
@@ -100,6 +105,28 @@ struct StringAttribute {
 void writeExrWithNewChannels(const std::string& outPath, const ExrPixels& in,
                              const std::vector<NewChannel>& add, bool allowOverwriteInput,
                              const std::vector<StringAttribute>& attrs = {});
+
+// ---- Pieces of writeExrWithNewChannels, for writers that assemble a file part by part ----
+
+// `add` grouped by part of `info` (a part's channels in the order given), each checked to be
+// named, once, and a 1-channel plane over its part's data window; `attrs` checked to name a
+// part. Errors name outPath.
+std::vector<std::vector<const NewChannel*>> newChannelsByPart(const std::string& outPath, const ExrInfo& info,
+                                                              const std::vector<NewChannel>& add,
+                                                              const std::vector<StringAttribute>& attrs);
+// Part p's output header: `part`'s own, less chunkCount, plus `add` (replacing channels of the
+// same name) and the attributes of `attrs` for part p; mip/rip-mapped tiles become ONE_LEVEL.
+Imf::Header headerWithNewChannels(const ExrPart& part, const std::vector<const NewChannel*>& add,
+                                  const std::vector<StringAttribute>& attrs, int p);
+// Writes part p of `file` (opened with headerWithNewChannels): `raw` holds the part's own
+// channels as readExrChannels keeps them (empty when it has none), `add` the new ones.
+void writePartPixels(Imf::MultiPartOutputFile& file, int p, const ExrPart& part,
+                     const std::vector<std::vector<char>>& raw, const std::vector<const NewChannel*>& add);
+// Calls write("<outPath>.tmp-<pid>") and renames the temp file to outPath; on failure removes it
+// and throws FileError(outPath, "cannot write: ..."). Refuses outPath == inputPath unless
+// allowOverwriteInput, and a directory that does not exist, before calling write.
+void writeFileAtomically(const std::string& outPath, const std::string& inputPath, bool allowOverwriteInput,
+                         const std::function<void(const std::string& tmp)>& write);
 
 // DWAA, DWAB, B44, B44A and PXR24 alter values: never used for AO/DO/GI, which are data.
 bool isLossy(Imf::Compression c);

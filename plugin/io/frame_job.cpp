@@ -1,15 +1,14 @@
 #include "io/frame_job.h"
+
 #include "io/environment_map.h"
+#include "io/frame_outputs.h"
+#include "io/stage_timer.h"
 
 #include "base/error.h"
 #include "core/methods.h"
 #include "io/colour.h"
 #include "io/deep_file.h"
 #include "io/depth_encoding.h"
-#include "io/oiio_module.h"
-#include "io/preview.h"
-
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -19,30 +18,16 @@
 #include <cstring>
 #include <filesystem>
 #include <cstdlib>
-#include <fstream>
 #include <sstream>
 #include <utility>
 
-#include <signal.h>
-#include <unistd.h>
-
-#include <cerrno>
 
 namespace obscura {
 
 namespace {
 
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
 
-struct StageTimer {
-    std::vector<StageTiming>* stages;
-    std::string name;
-    Clock::time_point t0 = Clock::now();
-    ~StageTimer() {
-        if (stages) stages->push_back({name, std::chrono::duration<double>(Clock::now() - t0).count()});
-    }
-};
 
 // The channel a --reference LAYER names: the exact channel, or the first of LAYER.{R,Y,V,Z,A,...}.
 std::string findReferenceChannel(const ExrPart& part, const std::string& layer, const ExrInfo& info) {
@@ -155,110 +140,17 @@ Image loadEnvironment(const std::string& path, const std::string& colourSpace, l
     return std::move(map.rgb);
 }
 
-// Three channels <layer>.R/G/B of an RGB image.
-void addRgbLayer(std::vector<NewChannel>& add, int part, const std::string& layer, const Image& rgb, Imf::PixelType type) {
-    for (int c = 0; c < 3; ++c) {
-        NewChannel ch;
-        ch.part = part;
-        ch.name = layer + "." + "RGB"[c];
-        ch.plane = Image(rgb.width, rgb.height, 1);
-        for (size_t i = 0; i < ch.plane.pixels.size(); ++i) ch.plane.pixels[i] = rgb.pixels[3 * i + c];
-        ch.type = type;
-        add.push_back(std::move(ch));
-    }
-}
-
-// DO or GI as its layer holds it: irradiance E, or with --times-albedo albedo x E / pi.
-Image ssdoLayerImage(const FrameJob& job, const FramePasses& p, const Image& e) {
-    Image r = e;
-    if (job.timesAlbedo)
-        for (size_t i = 0; i < r.pixels.size(); ++i) r.pixels[i] *= p.albedo.pixels[i] * (float)(1.0 / M_PI);
-    return r;
-}
-
-// albedo x (DO + GI) / pi, plus the render's direct diffuse light with --relit-direct.
-Image relitImage(const FrameJob& job, const FramePasses& p, const OperatorOutputs& out) {
-    Image relit = out.directional;
-    for (size_t i = 0; i < relit.pixels.size(); ++i) {
-        relit.pixels[i] = p.albedo.pixels[i] * (relit.pixels[i] + out.indirect.pixels[i]) * (float)(1.0 / M_PI);
-        if (job.relitWithDirect) relit.pixels[i] += p.albedo.pixels[i] * p.directDiffuse.pixels[i];
-    }
-    return relit;
-}
-
-// DO, GI and relit as the request asks. Irradiance E by default; --times-albedo writes
-// albedo x E / pi, the outgoing radiance of the diffuse receiver. relit = albedo (DO + GI) / pi
-// (+ albedo x direct diffuse), the units a renderer's beauty uses for diffuse light.
-// Each layer is converted from the working space into `space` (ColourManager::layerSpace).
-std::vector<std::string> addSsdoLayers(const FrameJob& job, const FramePasses& p, const OperatorOutputs& out,
-                                       int outPart, Imf::PixelType type, const std::string& space,
-                                       std::vector<NewChannel>& add, std::vector<StringAttribute>& attrs) {
-    std::vector<std::string> layers;
-    const ColourManager& cm = colourManager();
-    auto emit = [&](const std::string& layer, Image rgb, const char* units) {
-        cm.convert(rgb, cm.workingSpace(), space);
-        addRgbLayer(add, outPart, layer, rgb, type);
-        layers.push_back(layer);
-        if (units) attrs.push_back({outPart, "obscura/" + layer + "/units", units});
-    };
-    const char* units = job.timesAlbedo ? "radiance (albedo E / pi)" : "irradiance E";
-    if (job.writeDirectional) emit(job.doLayer, ssdoLayerImage(job, p, out.directional), units);
-    if (job.writeIndirect) emit(job.giLayer, ssdoLayerImage(job, p, out.indirect), units);
-    if (job.writeRelit) emit(job.relitLayer, relitImage(job, p, out), nullptr);
-    return layers;
-}
-
-// The part of a data-window plane inside the display window (all of it when they do not meet).
-Image displayPart(const Image& img, const FramePasses& p) {
-    const Box2i crop = intersect(p.data, p.display).empty() ? p.data : intersect(p.data, p.display);
-    Image part(crop.width(), crop.height(), img.channels);
-    for (int y = 0; y < crop.height(); ++y)
-        for (int x = 0; x < crop.width(); ++x)
-            for (int c = 0; c < img.channels; ++c)
-                part.at(x, y)[c] = img.at(x + crop.x0 - p.data.x0, y + crop.y0 - p.data.y0)[c];
-    return part;
-}
-
-// --preview: the display window's part of the frame (overscan is not part of it) of the AO, or
-// for ssdo of the relit layer when it is written, else of the DO layer, converted from the
-// working space to sRGB's primaries where the config has them. AO is a fraction, shown as it
-// is; light has no fixed scale (a sunlit floor is far above 1), so it is exposed automatically
-// unless --preview-exposure says how. Returns the report's plan line.
-std::string writeFramePreview(const FrameJob& job, const FramePasses& p, const OperatorOutputs& out, bool ssdo) {
-    const Image colour = !ssdo ? Image() : job.writeRelit ? relitImage(job, p, out) : ssdoLayerImage(job, p, out.directional);
-    Image view = displayPart(ssdo ? colour : out.ao, p);
-    if (ssdo) {
-        const ColourManager& cm = colourManager();
-        if (const std::string rec709 = cm.resolve("lin_rec709"); !rec709.empty()) cm.convert(view, cm.workingSpace(), rec709);
-    }
-    const float ev = job.previewExposure ? *job.previewExposure : ssdo ? autoExposureEv(view) : 0.0f;
-    writePreviewPng(job.previewPath, view, ev);
-    char line[160];
-    std::snprintf(line, sizeof line, "preview: %s, exposure %+.2f EV%s", !ssdo ? "AO" : job.writeRelit ? "relit" : "DO",
-                  ev, job.previewExposure || !ssdo ? "" : " (auto: the 99th percentile of the largest channel at 0.8)");
-    return line;
-}
-
 } // namespace
 
 bool parse(const std::string& s, WriteMode& out) {
     if (s == "copy") out = WriteMode::Copy;
     else if (s == "new") out = WriteMode::New;
+    else if (s == "append") out = WriteMode::Append;
     else return false;
     return true;
 }
 
-const char* toString(WriteMode m) { return m == WriteMode::New ? "new" : "copy"; }
-
-std::string describeWrite(const FrameJob& job, const ExrInfo& info, int part) {
-    const Imf::Compression in = info.parts.at(part).header.compression();
-    const Imf::Compression out = losslessFor(in);
-    std::string codec = compressionName(out);
-    if (out != in) codec += " (the input's " + compressionName(in) + " is lossy)";
-    if (job.write == WriteMode::New) return "new: only the new layers, " + codec;
-    if (out != in) return "copy: the input plus the new layers in a part of their own ('" + layersPartName(info) + "'), " + codec;
-    return "copy: the input plus the new layers, " + codec;
-}
+const char* toString(WriteMode m) { return m == WriteMode::New ? "new" : m == WriteMode::Append ? "append" : "copy"; }
 
 bool normalsFromDepth(const FrameJob& job, const LayerPlan& plan) {
     return job.normalSpace == NormalSpace::Depth || !plan.find(Role::Normal);
@@ -312,13 +204,6 @@ SsdoReads planSsdoReads(const FrameJob& job, const FramePasses& p) {
     return r;
 }
 
-void requireOutputDirectory(const std::string& path) {
-    const fs::path dir = fs::path(path).parent_path();
-    std::error_code ec;
-    if (!dir.empty() && !fs::is_directory(dir, ec))
-        throw FileError(path, "cannot write: directory '" + dir.string() + "' does not exist");
-}
-
 Image interleavePlanes(const std::vector<Image>& planes, size_t first, int channels) {
     Image out(planes[first].width, planes[first].height, channels);
     for (int c = 0; c < channels; ++c) {
@@ -326,56 +211,6 @@ Image interleavePlanes(const std::vector<Image>& planes, size_t first, int chann
         for (size_t i = 0, n = (size_t)src.width * src.height; i < n; ++i) out.pixels[i * channels + c] = src.pixels[i];
     }
     return out;
-}
-
-void writeTextFileAtomically(const std::string& path, const std::string& text) {
-    const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
-    auto fail = [&] {
-        const int err = errno;
-        std::remove(tmp.c_str());
-        return FileError(path, std::string("cannot write: ") + std::strerror(err));
-    };
-    {
-        std::ofstream f(tmp, std::ios::binary);
-        f << text << "\n";
-        if (!f.good()) throw fail();
-    }
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) throw fail();
-}
-
-std::string frameFailureJson(const FrameJob& job, int frame, const std::string& error) {
-    const nlohmann::json j = {{"obscura", OBSCURA_VERSION_STRING}, {"frame", frame}, {"input", job.input},
-                              {"output", job.output}, {"error", error}};
-    return j.dump(2);
-}
-
-std::vector<std::string> atomicWriteTemps(const std::string& path) {
-    namespace fs = std::filesystem;
-    const fs::path p(path);
-    const fs::path dir = p.parent_path().empty() ? fs::path(".") : p.parent_path();
-    const std::string prefix = p.filename().string() + ".tmp-";
-    std::vector<std::string> found;
-    std::error_code ec;
-    for (const auto& entry : fs::directory_iterator(dir, ec)) {
-        const std::string name = entry.path().filename().string();
-        if (name.size() > prefix.size() && name.compare(0, prefix.size(), prefix) == 0 &&
-            name.find_first_not_of("0123456789", prefix.size()) == std::string::npos)
-            found.push_back((p.parent_path() / name).string());
-    }
-    std::sort(found.begin(), found.end());
-    return found;
-}
-
-int removeStaleTemps(const std::string& path) {
-    int removed = 0;
-    for (const std::string& tmp : atomicWriteTemps(path)) {
-        const long pid = std::atol(tmp.c_str() + tmp.rfind('-') + 1);
-        // kill(pid, 0) probes without signalling: ESRCH means no such process here.
-        if (pid > 0 && pid != (long)::getpid() && ::kill((pid_t)pid, 0) == 0) continue;
-        if (pid > 0 && pid != (long)::getpid() && errno != ESRCH) continue;
-        if (std::remove(tmp.c_str()) == 0) ++removed;
-    }
-    return removed;
 }
 
 std::string aoChannelName(const std::string& layer) {
@@ -434,7 +269,7 @@ void requireFullResolution(const FrameJob& job, const FramePasses& p, const std:
 FramePasses loadPasses(const FrameJob& job, bool keepAll, std::vector<StageTiming>* stages, bool alwaysReadPosition) {
     StageTimer timer{stages, "read"};
     FramePasses p;
-    p.info = readExrInfo(job.input, job.maxPixels);
+    p.info = readExrInfo(job.input, job.maxPixels, job.write == WriteMode::Append);  // deep parts: copied
     p.plan = planLayers(p.info, job.preset, job.layerOverrides);
     const LayerBinding* depth = p.plan.find(Role::Depth);
     const LayerBinding* position = p.plan.find(Role::Position);
@@ -540,58 +375,19 @@ Image readDeepInput(const FrameJob& job, const FramePasses& p, FrameReport& repo
     });
 }
 
-// Copy: the input plus the new layers, in the depth's part or, when that part's codec is lossy
-// (AO, DO and GI are data), a part of their own. New: the layers in the one part of a fresh file.
-void writeOutput(const FrameJob& job, FramePasses& p, const OperatorOutputs& out, bool ssdo, FrameReport& report) {
-    const bool copy = job.write == WriteMode::Copy;
-    StageTimer timer{&report.stages, "write"};
-    const Imf::PixelType type = job.aoFloat ? Imf::FLOAT : Imf::HALF;
-    ExrPixels fresh;
-    if (!copy) fresh = layersOnlyFile(p.info, p.part);
-    ExrPixels& target = copy ? p.raw : fresh;
-    const bool ownPart = !copy || isLossy(p.info.parts[p.part].header.compression());
-    const int outPart = !copy ? 0 : ownPart ? addLayersPart(target, p.part) : p.part;
-    report.writeDescription = describeWrite(job, p.info, p.part);
-    std::vector<NewChannel> add(1);
-    add[0].part = outPart;
-    add[0].name = report.aoChannel;
-    add[0].plane = out.ao;
-    add[0].type = type;
-    std::vector<StringAttribute> attrs = {
-        {outPart, "obscura/version", OBSCURA_VERSION_STRING},
-        {outPart, "obscura/settings", frameReportJson(job, FrameReport{})},
-    };
-    // AO is data (raw); DO, GI and relit are written in the file's colour space where
-    // obscura knows its primaries, so the chromaticities every part shares describe them.
-    const ColourManager& cm = colourManager();
-    const std::string space = cm.layerSpace(report.inputColourSpace.empty()
-                                                ? cm.detectColourSpace(p.info.parts[p.part].header, job.colourSpace).name
-                                                : report.inputColourSpace);
-    std::vector<std::string> colourLayers;
-    if (ssdo) colourLayers = addSsdoLayers(job, p, out, outPart, type, space, add, attrs);
-    std::string note;
-    for (StringAttribute& a : cm.tagOutputPart(outPart, space, colourLayers, {report.aoChannel}, &note))
-        attrs.push_back(std::move(a));
-    if (!note.empty()) report.plan.push_back(note);
-    for (const NewChannel& c : add) report.written.push_back(c.name);
-    writeExrWithNewChannels(job.output, target, add, job.inPlace, attrs);
-}
-
-FrameReport runJob(const FrameJob& job) {
+// Every destination is checked before any work, so a bad one leaves nothing behind.
+void checkDestinations(const FrameJob& job) {
     if (job.output.empty()) throw Error("no output file: give -o OUTPUT.exr");
     if (!job.inPlace && sameFile(job.input, job.output))
         throw FileError(job.input, "refusing to overwrite the input (use --in-place)");
     if (job.inPlace && job.write == WriteMode::New)
         throw Error("--write new cannot replace the input in place: the output holds only the new layers");
-    // Every destination is checked before any work, so a bad one leaves nothing behind.
     requireOutputDirectory(job.output);
     if (!job.previewPath.empty()) requireOutputDirectory(job.previewPath);
-    setExrThreads(job.settings.threads);
-    setColourThreads(job.settings.threads);
+}
 
-    FrameReport report;
-    const bool copy = job.write == WriteMode::Copy;
-    FramePasses p = loadFramePasses(job, copy, &report.stages);
+// The camera and the conventions (flags over the preset), then the pixels checked against them.
+void resolveConventions(const FrameJob& job, FramePasses& p, FrameReport& report) {
     {
         StageTimer timer{&report.stages, "camera"};
         report.camera = resolveFrameCamera(job, p);
@@ -606,7 +402,40 @@ FrameReport runJob(const FrameJob& job) {
     if (p.plan.normalsLeftHanded && report.normalSpace == NormalSpace::Camera && !job.normalSpace)
         for (size_t i = 2; i < p.normal.pixels.size(); i += 3) p.normal.pixels[i] = -p.normal.pixels[i];
     validatePixels(job, p, report.skyDepth, report);
+}
 
+// SSDO's light: the colour passes in the working space, the bounce source, the map.
+void addSsdoInputs(const FrameJob& job, FramePasses& p, Settings& settings, OperatorInputs& in, Image& environment,
+                   FrameReport& report) {
+    const SsdoReads reads = planSsdoReads(job, p);
+    settings.bounce = job.writeIndirect || job.writeRelit;
+    settings.zUp = job.zUp.value_or(p.plan.preset == "blender");  // Blender's world is Z-up
+    if (!p.radiance.empty() || !p.albedo.empty() || !p.directDiffuse.empty()) {
+        // Colour passes enter the working space of the OpenColorIO config; data passes stay as they are.
+        const ColourManager& cm = colourManager();
+        const ColourSpaceGuess space = cm.detectColourSpace(p.info.parts[p.part].header, job.colourSpace);
+        if (!space.warning.empty()) report.warnings.push_back(space.warning);
+        for (Image* img : {&p.radiance, &p.albedo, &p.directDiffuse})
+            if (!img->empty()) cm.toWorkingSpace(*img, space.name);
+        report.plan.push_back("colour: " + space.name + " (" + space.source + ") -> " + cm.workingSpace());
+        report.inputColourSpace = space.name;
+    }
+    if (!p.radiance.empty()) in.radiance = p.radiance.view();
+    if (reads.senderAlbedo && !p.albedo.empty()) in.albedo = p.albedo.view();
+    if (!job.envPath.empty()) {  // loaded only when the method lights with it
+        StageTimer timer{&report.stages, "environment"};
+        environment = loadEnvironment(job.envPath, job.envColourSpace, job.maxPixels, report);
+        in.environment = &environment;
+        report.plan.push_back("environment " + job.envPath + " (" + std::to_string(environment.width) + "x" +
+                              std::to_string(environment.height) + ")");
+    }
+    report.plan.push_back(std::string("ssdo") + (settings.bounce ? " + bounce from " + job.bounceSource : " (no bounce)"));
+}
+
+// What the operator computes from: the passes' planes, the conventions and, as the method asks,
+// the deep layers and SSDO's light (owned by `deep` and `environment`, which outlive the call).
+OperatorInputs operatorInputs(const FrameJob& job, FramePasses& p, Settings& settings, Image& deep, Image& environment,
+                              FrameReport& report) {
     OperatorInputs in;
     in.displayWindow = p.display;
     in.dataWindow = p.data;
@@ -615,39 +444,32 @@ FrameReport runJob(const FrameJob& job) {
     in.depthKind = report.depthKind;
     in.normalSpace = report.normalSpace;
     in.camera = report.camera;
-    Settings settings = job.settings;
     settings.skyDepth = report.skyDepth;
-    const Image deepPlanes = readDeepInput(job, p, report);
-    if (!deepPlanes.empty()) in.deepLayers = deepPlanes.view();
-    const bool ssdo = methodOutputs(settings.method, "do");
-    Image environment;
-    if (ssdo) {
-        const SsdoReads reads = planSsdoReads(job, p);
-        settings.bounce = job.writeIndirect || job.writeRelit;
-        settings.zUp = job.zUp.value_or(p.plan.preset == "blender");  // Blender's world is Z-up
-        if (!p.radiance.empty() || !p.albedo.empty() || !p.directDiffuse.empty()) {
-            // Colour passes enter the working space of the OpenColorIO config; data passes stay as they are.
-            const ColourManager& cm = colourManager();
-            const ColourSpaceGuess space = cm.detectColourSpace(p.info.parts[p.part].header, job.colourSpace);
-            if (!space.warning.empty()) report.warnings.push_back(space.warning);
-            for (Image* img : {&p.radiance, &p.albedo, &p.directDiffuse})
-                if (!img->empty()) cm.toWorkingSpace(*img, space.name);
-            report.plan.push_back("colour: " + space.name + " (" + space.source + ") -> " + cm.workingSpace());
-            report.inputColourSpace = space.name;
-        }
-        if (!p.radiance.empty()) in.radiance = p.radiance.view();
-        if (reads.senderAlbedo && !p.albedo.empty()) in.albedo = p.albedo.view();
-        if (!job.envPath.empty()) {  // loaded only when the method lights with it
-            StageTimer timer{&report.stages, "environment"};
-            environment = loadEnvironment(job.envPath, job.envColourSpace, job.maxPixels, report);
-            in.environment = &environment;
-            report.plan.push_back("environment " + job.envPath + " (" + std::to_string(environment.width) + "x" +
-                                  std::to_string(environment.height) + ")");
-        }
-        report.plan.push_back(std::string("ssdo") + (settings.bounce ? " + bounce from " + job.bounceSource : " (no bounce)"));
-    } else {
-        report.plan.push_back(settings.method);
-    }
+    deep = readDeepInput(job, p, report);
+    if (!deep.empty()) in.deepLayers = deep.view();
+    if (methodOutputs(settings.method, "do")) addSsdoInputs(job, p, settings, in, environment, report);
+    else report.plan.push_back(settings.method);
+    return in;
+}
+
+// --reference: the AO against the render's own layer, over surface pixels.
+void compareWithReference(const FramePasses& p, const OperatorOutputs& out, FrameReport& report) {
+    if (p.reference.empty()) return;
+    const float sky = report.skyDepth;
+    report.reference = compareChannels(std::as_const(out.ao).view(), 0, std::as_const(p.reference).view(), 0,
+                                       [&](int x, int y) { return isSurface(*p.depth.at(x, y), sky); });
+}
+
+FrameReport runJob(const FrameJob& job) {
+    checkDestinations(job);
+    setExrThreads(job.settings.threads);
+    setColourThreads(job.settings.threads);
+    FrameReport report;
+    FramePasses p = loadFramePasses(job, job.write == WriteMode::Copy, &report.stages);
+    resolveConventions(job, p, report);
+    Settings settings = job.settings;
+    Image deep, environment;
+    const OperatorInputs in = operatorInputs(job, p, settings, deep, environment, report);
     OperatorOutputs out;
     {
         StageTimer timer{&report.stages, "compute"};
@@ -655,19 +477,12 @@ FrameReport runJob(const FrameJob& job) {
     }
     report.stats = out.stats;
     for (const std::string& note : out.stats.notes) report.warnings.push_back(note);
-
-    if (!p.reference.empty()) {
-        const float sky = report.skyDepth;
-        report.reference = compareChannels(std::as_const(out.ao).view(), 0, std::as_const(p.reference).view(), 0, [&](int x, int y) {
-            return isSurface(*p.depth.at(x, y), sky);
-        });
-    }
-
+    compareWithReference(p, out, report);
     report.aoChannel = aoChannelName(job.aoLayer);
-    writeOutput(job, p, out, ssdo, report);
+    writeFrameOutputs(job, p, out, report);
     if (!job.previewPath.empty()) {
         StageTimer timer{&report.stages, "preview"};
-        report.plan.push_back(writeFramePreview(job, p, out, ssdo));
+        report.plan.push_back(writeFramePreview(job, p, out, methodOutputs(job.settings.method, "do")));
     }
     return report;
 }
@@ -676,86 +491,6 @@ FrameReport runJob(const FrameJob& job) {
 
 FrameReport runFrameJob(const FrameJob& job) {
     return blameInput(job.input, [&] { return runJob(job); });
-}
-
-std::string frameReportJson(const FrameJob& job, const FrameReport& r) {
-    using nlohmann::json;
-    const Settings& s = job.settings;
-    json j;
-    j["obscura"] = OBSCURA_VERSION_STRING;
-    j["input"] = job.input;
-    j["output"] = job.output;
-    j["settings"] = {{"method", s.method},          {"radius", s.radius},
-                     {"directions", s.directions},  {"steps", s.steps},
-                     {"weighting", toString(s.weighting)}, {"falloff", toString(s.falloff)},
-                     {"blur", resolvedBlur(s)},     {"threads", s.threads},
-                     {"device", s.device}};
-    for (const MethodParam* p : paramsOf(s.method)) {
-        json v = p->intField ? json(s.*(p->intField)) : p->floatField ? json(s.*(p->floatField)) : json(s.*(p->boolField));
-        for (const NamedValue& n : p->named)  // "auto", "inf" (JSON has no infinity)
-            if (p->floatField ? s.*(p->floatField) == (float)n.value : p->intField && s.*(p->intField) == (int)n.value)
-                v = n.word;
-        j["settings"][p->key] = v;
-    }
-    if (methodOutputs(s.method, "do")) {
-        json lights = json::array();
-        for (const auto& l : s.lights)
-            lights.push_back({{"direction", {l.direction[0], l.direction[1], l.direction[2]}},
-                              {"irradiance", {l.irradiance[0], l.irradiance[1], l.irradiance[2]}}});
-        j["settings"]["ssdo"] = {{"samples", s.ssdoSamples},
-                                 {"interleave", s.interleave},
-                                 {"bounce", job.writeIndirect || job.writeRelit},
-                                 {"bounce_source", job.bounceSource},
-                                 {"env", job.envPath},
-                                 {"env_rotate_deg", s.envRotationDeg},
-                                 {"env_intensity", s.envIntensity},
-                                 {"sky", {s.skyRadiance[0], s.skyRadiance[1], s.skyRadiance[2]}},
-                                 {"lights", lights},
-                                 {"times_albedo", job.timesAlbedo}};
-    }
-    if (!r.aoChannel.empty()) {
-        j["output_channels"] = {{"ao", r.aoChannel}};
-        if (methodOutputs(s.method, "do")) {
-            if (job.writeDirectional) j["output_channels"]["do"] = job.doLayer;
-            if (job.writeIndirect) j["output_channels"]["gi"] = job.giLayer;
-            if (job.writeRelit) j["output_channels"]["relit"] = job.relitLayer;
-        }
-        j["conventions"] = {{"depth", toString(r.depthEncoding)}, {"normals", toString(r.normalSpace)},
-                            {"sky_depth", r.skyDepth}};
-        if (job.depthRange) j["conventions"]["depth_range"] = {(*job.depthRange)[0], (*job.depthRange)[1]};
-        json cam = {{"projection", r.camera.projection == Projection::Perspective ? "perspective" : "orthographic"},
-                    {"fx", r.camera.fx}, {"fy", r.camera.fy}, {"cx", r.camera.cx}, {"cy", r.camera.cy},
-                    {"source", r.camera.source}};
-        if (r.camera.fitResidualPx >= 0) cam["fit_residual_px"] = r.camera.fitResidualPx;
-        j["camera"] = cam;
-        json stages = json::object();
-        double total = 0;
-        for (const StageTiming& t : r.stages) {
-            stages[t.name] = t.seconds;
-            total += t.seconds;
-        }
-        j["timings_s"] = stages;
-        j["total_s"] = total;
-        j["stats"] = {{"pixels", r.stats.pixels}, {"sky_pixels", r.stats.skyPixels},
-                      {"invalid_depth_pixels", r.stats.invalidDepthPixels},
-                      {"zero_normal_pixels", r.stats.zeroNormalPixels},
-                      {"non_unit_normal_pixels", r.nonUnitNormalPixels}, {"device", r.stats.device}};
-        if (!job.deepInput.empty())
-            j["deep"] = {{"file", job.deepInput}, {"layers", r.deepLayers}, {"empty_pixels", r.deepEmptyPixels},
-                         {"dropped_samples", r.deepDroppedSamples}, {"unsorted_pixels", r.deepUnsortedPixels},
-                         {"truncated_pixels", r.deepTruncatedPixels}};
-        if (r.reference) {
-            const ErrorMetrics& m = *r.reference;
-            j["reference"] = {{"layer", job.referenceLayer}, {"pixels", m.pixels}, {"mae", m.mae}, {"rmse", m.rmse},
-                              {"psnr_db", std::isfinite(m.psnr) ? json(m.psnr) : json("inf")}, {"p99_abs", m.p99},
-                              {"max_abs", m.maxAbs}};
-        }
-        j["write"] = {{"mode", toString(job.write)}, {"description", r.writeDescription}};
-        j["warnings"] = r.warnings;
-        j["plan"] = r.plan;
-        j["written"] = r.written;
-    }
-    return j.dump(r.aoChannel.empty() ? -1 : 2);
 }
 
 } // namespace obscura

@@ -5,6 +5,7 @@
 #include "base/error.h"
 #include "core/metrics.h"
 #include "core/operator.h"
+#include "io/atomic_files.h"
 #include "io/camera_sources.h"
 #include "io/deep_file.h"
 #include "io/depth_encoding.h"
@@ -26,7 +27,9 @@ enum class BadPixelPolicy { Error, Skip };
 
 // Copy: the input with the new layers added (every channel decoded and re-encoded).
 // New: a file holding only the new layers; the input's other channels are never decoded.
-enum class WriteMode { Copy, New };
+// Append: the input's parts copied as compressed chunks (never decoded), the new layers in a
+// part of their own (io/exr_append.h).
+enum class WriteMode { Copy, New, Append };
 bool parse(const std::string& s, WriteMode& out);
 const char* toString(WriteMode m);
 
@@ -99,7 +102,7 @@ struct FrameReport {
     // Deep input (docs/deep.md): layers used, and what the reader skipped, sorted or merged.
     int deepLayers = 0;
     long long deepEmptyPixels = 0, deepDroppedSamples = 0, deepUnsortedPixels = 0, deepTruncatedPixels = 0;
-    std::vector<StageTiming> stages;      // read, camera, compute, write, preview
+    std::vector<StageTiming> stages;      // read, camera, compute, write (append: copy, append), preview
     std::optional<ErrorMetrics> reference;
     std::vector<std::string> warnings;
 };
@@ -133,13 +136,6 @@ FramePasses loadFramePasses(const FrameJob& job, bool keepAll, std::vector<Stage
                             bool alwaysReadPosition = false);
 // Single-channel planes [first, first + channels) interleaved into one image.
 Image interleavePlanes(const std::vector<Image>& planes, size_t first, int channels);
-// Writes text + newline to path through a temp file and a rename; throws obscura::Error.
-void writeTextFileAtomically(const std::string& path, const std::string& text);
-// The temp files "<path>.tmp-<pid>" of atomic writes to `path` (outputs, reports).
-std::vector<std::string> atomicWriteTemps(const std::string& path);
-// Removes those whose writer is no longer running on this host (a killed or crashed run), so a
-// retried frame leaves no half-written file; a live writer's temp file is kept. Returns how many.
-int removeStaleTemps(const std::string& path);
 // The camera this job would use for these passes.
 Camera resolveFrameCamera(const FrameJob& job, const FramePasses& passes);
 // The job's deep file (--flat), with the channel names of the flat passes' preset; errors name the file.
@@ -166,8 +162,6 @@ std::string frameReportJson(const FrameJob& job, const FrameReport& report);
 std::string frameFailureJson(const FrameJob& job, int frame, const std::string& error);
 // How `job` writes its output for this input: the mode, and the codec of the new layers.
 std::string describeWrite(const FrameJob& job, const ExrInfo& info, int part);
-// Throws obscura::Error when the directory `path` would be written into does not exist.
-void requireOutputDirectory(const std::string& path);
 // "<layer>.Y", or the name itself when it already ends in a single-letter channel.
 std::string aoChannelName(const std::string& layer);
 

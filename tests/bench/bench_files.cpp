@@ -1,8 +1,9 @@
 // File I/O against an oiiotool copy: a 1920 x 1440 render with 23 float channels under
 // Blender's pass names, ZIP-compressed to about 100 MB, is generated, then in the same process
-// timed as `oiiotool in -o out`, `obscura --write copy` and `obscura --write new` (median of
-// several runs, interleaved), with obscura's read/compute/write split from --report.
-// Not a ctest. Usage: bench_files [runs (3)] [threads (0 = all cores)] [work dir]
+// timed as `oiiotool in -o out`, `obscura --write copy`, `--write new` and `--write append`
+// (median of several runs, interleaved), with obscura's stages from --report (read, compute,
+// write; append: copy for the input's chunks, append for the new part).
+// Not a ctest. Usage: bench_files [runs (3; 0: only write the render)] [threads (0 = all cores)] [work dir]
 #include "support/cli_runner.h"
 #include "support/scenes.h"
 
@@ -138,7 +139,7 @@ void run(const std::string& program, const std::vector<std::string>& args, const
 } // namespace
 
 int main(int argc, char** argv) {
-    const int runs = argc > 1 ? std::max(1, std::atoi(argv[1])) : 3;
+    const int runs = argc > 1 ? std::max(0, std::atoi(argv[1])) : 3;
     const std::string threads = argc > 2 ? argv[2] : "0";
     const fs::path dir = argc > 3 ? fs::path(argv[3]) : fs::temp_directory_path() / "obscura_bench_files";
     fs::create_directories(dir);
@@ -150,6 +151,7 @@ int main(int argc, char** argv) {
     std::printf("input: %s, %dx%d, 23 float channels, zip, %.1f MB (generated in %.1f s)\n", in.c_str(), kWidth,
                 kHeight, fs::file_size(in) / 1e6,
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    if (runs == 0) return 0;  // bench_farm.py --render copies it as its frames
 
     const std::vector<std::string> settings = {"--radius", "0.5", "--weighting", "cosine", "--falloff", "none",
                                                "--threads", threads, "--quiet"};
@@ -166,6 +168,8 @@ int main(int argc, char** argv) {
          (dir / "copy.json").string(), {}},
         {"obscura --write new", OBSCURA_CLI_PATH, {in, "-o", (dir / "new.exr").string(), "--write", "new"},
          (dir / "new.json").string(), {}},
+        {"obscura --write append", OBSCURA_CLI_PATH, {in, "-o", (dir / "append.exr").string(), "--write", "append"},
+         (dir / "append.json").string(), {}},
     };
     for (Case& c : cases)
         if (!c.report.empty()) {
@@ -177,8 +181,8 @@ int main(int argc, char** argv) {
 
     const double base = median(cases[0].t.wall);
     std::printf("median of %d runs, threads %s (0 = all cores), HBAO 8x8 cosine/none\n", runs, threads.c_str());
-    std::printf("%-22s %8s %8s %8s %8s %8s %10s %9s\n", "", "wall s", "read", "camera", "compute", "write", "output MB",
-                "x oiiotool");
+    std::printf("%-24s %7s %6s %6s %7s %6s %6s %6s %9s %10s\n", "", "wall s", "read", "camera", "compute", "write",
+                "copy", "append", "output MB", "x oiiotool");
     for (const Case& c : cases) {
         const double wall = median(c.t.wall);
         auto stage = [&](const char* s) {
@@ -186,9 +190,9 @@ int main(int argc, char** argv) {
             return it == c.t.stages.end() ? std::string("-") : std::to_string(median(it->second)).substr(0, 5);
         };
         const std::string out = c.args[c.program == OBSCURA_CLI_PATH ? 2 : 4];
-        std::printf("%-22s %8.3f %8s %8s %8s %8s %10.1f %9.2f\n", c.label.c_str(), wall, stage("read").c_str(),
-                    stage("camera").c_str(), stage("compute").c_str(), stage("write").c_str(), fs::file_size(out) / 1e6,
-                    wall / base);
+        std::printf("%-24s %7.3f %6s %6s %7s %6s %6s %6s %9.1f %10.2f\n", c.label.c_str(), wall, stage("read").c_str(),
+                    stage("camera").c_str(), stage("compute").c_str(), stage("write").c_str(), stage("copy").c_str(),
+                    stage("append").c_str(), fs::file_size(out) / 1e6, wall / base);
     }
     return 0;
 }

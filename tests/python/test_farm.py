@@ -75,6 +75,21 @@ def test_bad_command_lines(sequence):
         assert len(err) == 1 and err[0].startswith("obscura: ") and words in err[0], (args, proc.stderr)
 
 
+def test_write_append_reaches_every_task(sequence):
+    import OpenImageIO as oiio
+    proc = farm("slurm", "shot.####.exr", "-o", "out/ao.####.exr", "--write", "append", "--frames", "1-3",
+                "--chunk", "2", "--dry-run", cwd=sequence)
+    assert proc.returncode == 0, proc.stderr
+    assert "'--write' 'append'" in proc.stdout.splitlines()[-1]
+    for task, done in run_tasks(proc.stdout, 2, sequence):
+        assert done.returncode == 0, done.stderr
+    for f in (1, 2, 3):
+        inp = oiio.ImageInput.open(str(sequence / "out" / f"ao.{f:04d}.exr"))
+        assert inp.seek_subimage(1, 0) and list(inp.spec().channelnames) == ["obscura.AO.Y"], f
+        inp.close()
+        assert json.loads((sequence / "out" / f"ao.{f:04d}.json").read_text())["write"]["mode"] == "append"
+
+
 def fake_sbatch(tmp):
     """A stand-in for sbatch on PATH: records its arguments, prints a job id as --parsable does."""
     bin_dir = tmp / "bin"

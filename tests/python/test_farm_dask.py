@@ -1,6 +1,8 @@
 """obscura.farm.run_dask on a real Dask cluster started on 127.0.0.1 for the test (a scheduler
 and 2 single-threaded workers): 6 frames x 2 variants, one worker killed during the run; every
-output ends complete and bit-identical to one process computing them in turn."""
+output ends complete and bit-identical to one process computing them in turn. The write mode
+(write='append') reaches the workers."""
+import json
 import os
 import shutil
 import signal
@@ -107,3 +109,31 @@ def test_batch_relight_on_a_scheduler_resumes_like_a_local_run(tmp):
     for c in "RGB":
         np.testing.assert_array_equal(read_channel(out / "sky_0.5_0.5_1" / "shot.0002.exr", f"Relit.{c}"),
                                       read_channel(mine, f"Relit.{c}"))
+
+
+def test_run_dask_passes_the_write_mode(tmp):
+    import OpenImageIO as oiio
+    frames = []
+    for f in (1, 2):
+        depth, normal = synthetic_scene(64, 48, f)
+        write_exr(tmp / f"shot.{f:04d}.exr", depth, normal, sidecar=True)
+        frames.append(str(tmp / f"shot.{f:04d}.exr"))
+    try:
+        cluster = DaskCluster(tmp / "dask", workers=1).__enter__()
+    except EngineUnavailable as e:
+        pytest.skip(f"Dask cannot run here: {e}")
+    from distributed import Client
+    try:
+        with Client(cluster.address, timeout=60) as client:
+            result = farm.run_dask(client, frames, {"v": {}}, out_dir=str(tmp / "out"), progress=False,
+                                   write="append", threads=1)
+    finally:
+        cluster.__exit__(None, None, None)
+    assert result["done"] == 2 and result["failed"] == [], result
+    for src in frames:
+        out, report = farm.output_paths(str(tmp / "out"), "v", src)
+        inp = oiio.ImageInput.open(out)
+        assert inp.seek_subimage(1, 0) and list(inp.spec().channelnames) == ["obscura.AO.Y"], out
+        inp.close()
+        with open(report) as f:
+            assert json.load(f)["write"]["mode"] == "append"

@@ -85,14 +85,21 @@ def test_process_options(tmp):
         obscura.process(src, src)
 
 
-def test_process_write_new_holds_only_the_new_layers(tmp):
+def copy_and(tmp, mode):
+    """The synthetic scene (with its sidecar) written with write='copy' and with `mode`:
+    (input, depth, the copy, the other output, its report)."""
     depth, normal = synthetic_scene()
     src = tmp / "scene.exr"
     write_exr(src, depth, normal, sidecar=True)
-    copy, new = tmp / "copy.exr", tmp / "new.exr"
+    copy, out = tmp / "copy.exr", tmp / f"{mode}.exr"
     obscura.process(src, copy, radius=0.8)
-    report = obscura.process(src, new, radius=0.8, write="new")
-    assert report["write"]["mode"] == "new"
+    report = obscura.process(src, out, radius=0.8, write=mode)
+    assert report["write"]["mode"] == mode
+    return src, depth, copy, out, report
+
+
+def test_process_write_new_holds_only_the_new_layers(tmp):
+    src, depth, copy, new, report = copy_and(tmp, "new")
     import OpenImageIO as oiio
     spec = oiio.ImageInput.open(str(new)).spec()
     assert list(spec.channelnames) == ["obscura.AO.Y"]
@@ -103,6 +110,25 @@ def test_process_write_new_holds_only_the_new_layers(tmp):
     with pytest.raises(ValueError, match="in_place"):
         obscura.process(src, src, write="new", in_place=True)
     assert not (tmp / "o.exr").exists()
+
+
+def test_process_write_append_copies_the_input_and_adds_a_part(tmp):
+    import OpenImageIO as oiio
+    src, depth, copy, appended, report = copy_and(tmp, "append")
+    assert {"read", "compute", "copy", "append"} <= set(report["timings_s"]) and "write" not in report["timings_s"]
+    inp = oiio.ImageInput.open(str(appended))
+    first = list(inp.spec().channelnames)
+    assert inp.seek_subimage(1, 0) and list(inp.spec().channelnames) == ["obscura.AO.Y"]
+    assert inp.spec().getattribute("name") == "obscura" and not inp.seek_subimage(2, 0)
+    inp.close()
+    assert sorted(first) == ["N.X", "N.Y", "N.Z", "Z"]  # OpenImageIO lists Z first
+    for name in first:
+        np.testing.assert_array_equal(read_channel(appended, name), read_channel(src, name))
+    ao = oiio.ImageBuf(str(appended), 1, 0)
+    np.testing.assert_array_equal(ao.get_pixels(oiio.FLOAT)[..., 0], read_channel(copy, "obscura.AO.Y"))
+    # In place: the file becomes itself plus the AO part.
+    obscura.process(src, src, radius=0.8, write="append", in_place=True)
+    assert oiio.ImageInput.open(str(src)).seek_subimage(1, 0)
 
 
 def test_huge_window_in_a_header_is_refused_before_allocating(tmp):

@@ -86,4 +86,6 @@ CliResult runProgram(const std::string& program, const std::vector<std::string>&
     return r;
 }
 
+std::string outcome(const CliResult& r) { return "exit " + std::to_string(r.exitCode) + "\n" + r.out + r.err; }
+
 } // namespace obscura::test

@@ -13,4 +13,12 @@ struct CliResult {
 // argv[0] is `program`; `args` follow verbatim (no shell, no splitting, no globbing).
 CliResult runProgram(const std::string& program, const std::vector<std::string>& args);
 
+#ifdef OBSCURA_CLI_PATH
+// The built obscura command (each test executable is given its path) with `args`.
+inline CliResult runObscura(const std::vector<std::string>& args) { return runProgram(OBSCURA_CLI_PATH, args); }
+#endif
+
+// "exit N" and everything the program printed, for a failed expectation's message.
+std::string outcome(const CliResult& r);
+
 } // namespace obscura::test

@@ -1,0 +1,97 @@
+// The JSON a frame's --report holds (settings, camera, timings, statistics), and a failed
+// frame's instead; declared in io/frame_job.h.
+#include "io/frame_job.h"
+
+#include "core/methods.h"
+
+#include <nlohmann/json.hpp>
+
+namespace obscura {
+
+std::string frameFailureJson(const FrameJob& job, int frame, const std::string& error) {
+    const nlohmann::json j = {{"obscura", OBSCURA_VERSION_STRING}, {"frame", frame}, {"input", job.input},
+                              {"output", job.output}, {"error", error}};
+    return j.dump(2);
+}
+
+std::string frameReportJson(const FrameJob& job, const FrameReport& r) {
+    using nlohmann::json;
+    const Settings& s = job.settings;
+    json j;
+    j["obscura"] = OBSCURA_VERSION_STRING;
+    j["input"] = job.input;
+    j["output"] = job.output;
+    j["settings"] = {{"method", s.method},          {"radius", s.radius},
+                     {"directions", s.directions},  {"steps", s.steps},
+                     {"weighting", toString(s.weighting)}, {"falloff", toString(s.falloff)},
+                     {"blur", resolvedBlur(s)},     {"threads", s.threads},
+                     {"device", s.device}};
+    for (const MethodParam* p : paramsOf(s.method)) {
+        json v = p->intField ? json(s.*(p->intField)) : p->floatField ? json(s.*(p->floatField)) : json(s.*(p->boolField));
+        for (const NamedValue& n : p->named)  // "auto", "inf" (JSON has no infinity)
+            if (p->floatField ? s.*(p->floatField) == (float)n.value : p->intField && s.*(p->intField) == (int)n.value)
+                v = n.word;
+        j["settings"][p->key] = v;
+    }
+    if (methodOutputs(s.method, "do")) {
+        json lights = json::array();
+        for (const auto& l : s.lights)
+            lights.push_back({{"direction", {l.direction[0], l.direction[1], l.direction[2]}},
+                              {"irradiance", {l.irradiance[0], l.irradiance[1], l.irradiance[2]}}});
+        j["settings"]["ssdo"] = {{"samples", s.ssdoSamples},
+                                 {"interleave", s.interleave},
+                                 {"bounce", job.writeIndirect || job.writeRelit},
+                                 {"bounce_source", job.bounceSource},
+                                 {"env", job.envPath},
+                                 {"env_rotate_deg", s.envRotationDeg},
+                                 {"env_intensity", s.envIntensity},
+                                 {"sky", {s.skyRadiance[0], s.skyRadiance[1], s.skyRadiance[2]}},
+                                 {"lights", lights},
+                                 {"times_albedo", job.timesAlbedo}};
+    }
+    if (!r.aoChannel.empty()) {
+        j["output_channels"] = {{"ao", r.aoChannel}};
+        if (methodOutputs(s.method, "do")) {
+            if (job.writeDirectional) j["output_channels"]["do"] = job.doLayer;
+            if (job.writeIndirect) j["output_channels"]["gi"] = job.giLayer;
+            if (job.writeRelit) j["output_channels"]["relit"] = job.relitLayer;
+        }
+        j["conventions"] = {{"depth", toString(r.depthEncoding)}, {"normals", toString(r.normalSpace)},
+                            {"sky_depth", r.skyDepth}};
+        if (job.depthRange) j["conventions"]["depth_range"] = {(*job.depthRange)[0], (*job.depthRange)[1]};
+        json cam = {{"projection", r.camera.projection == Projection::Perspective ? "perspective" : "orthographic"},
+                    {"fx", r.camera.fx}, {"fy", r.camera.fy}, {"cx", r.camera.cx}, {"cy", r.camera.cy},
+                    {"source", r.camera.source}};
+        if (r.camera.fitResidualPx >= 0) cam["fit_residual_px"] = r.camera.fitResidualPx;
+        j["camera"] = cam;
+        json stages = json::object();
+        double total = 0;
+        for (const StageTiming& t : r.stages) {
+            stages[t.name] = t.seconds;
+            total += t.seconds;
+        }
+        j["timings_s"] = stages;
+        j["total_s"] = total;
+        j["stats"] = {{"pixels", r.stats.pixels}, {"sky_pixels", r.stats.skyPixels},
+                      {"invalid_depth_pixels", r.stats.invalidDepthPixels},
+                      {"zero_normal_pixels", r.stats.zeroNormalPixels},
+                      {"non_unit_normal_pixels", r.nonUnitNormalPixels}, {"device", r.stats.device}};
+        if (!job.deepInput.empty())
+            j["deep"] = {{"file", job.deepInput}, {"layers", r.deepLayers}, {"empty_pixels", r.deepEmptyPixels},
+                         {"dropped_samples", r.deepDroppedSamples}, {"unsorted_pixels", r.deepUnsortedPixels},
+                         {"truncated_pixels", r.deepTruncatedPixels}};
+        if (r.reference) {
+            const ErrorMetrics& m = *r.reference;
+            j["reference"] = {{"layer", job.referenceLayer}, {"pixels", m.pixels}, {"mae", m.mae}, {"rmse", m.rmse},
+                              {"psnr_db", std::isfinite(m.psnr) ? json(m.psnr) : json("inf")}, {"p99_abs", m.p99},
+                              {"max_abs", m.maxAbs}};
+        }
+        j["write"] = {{"mode", toString(job.write)}, {"description", r.writeDescription}};
+        j["warnings"] = r.warnings;
+        j["plan"] = r.plan;
+        j["written"] = r.written;
+    }
+    return j.dump(r.aoChannel.empty() ? -1 : 2);
+}
+
+} // namespace obscura

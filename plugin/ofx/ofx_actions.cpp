@@ -1,0 +1,76 @@
+// obscura as an OpenFX image effect (General context): an adapter from OFX clips, parameters
+// and render windows to the operator (core/operator.h). This file is the plugin's entry: the
+// two exported functions, and the main entry that hands each action to the file of its
+// concern (ofx_actions.h) and turns what it throws into the host's status.
+#include "ofx_actions.h"
+
+#include "ofx_names.h"
+#include "ofx_suites.h"
+
+#include <cstring>
+#include <exception>
+#include <new>
+#include <string>
+
+#define OBSCURA_OFX_EXPORT extern "C" __attribute__((visibility("default")))
+
+namespace obscura::ofx {
+
+namespace {
+
+// Each action by name; kOfxStatReplyDefault for those the plugin leaves to the host.
+OfxStatus dispatch(const char* action, OfxImageEffectHandle effect, OfxPropertySetHandle inArgs,
+                   OfxPropertySetHandle outArgs) {
+    if (!std::strcmp(action, kOfxActionLoad)) return fetchSuites();
+    if (!suitesLoaded()) return kOfxStatErrMissingHostFeature;
+    if (!std::strcmp(action, kOfxActionUnload)) return kOfxStatOK;
+    if (!std::strcmp(action, kOfxActionDescribe)) return onDescribe(effect);
+    if (!std::strcmp(action, kOfxImageEffectActionDescribeInContext)) return onDescribeInContext(effect, inArgs);
+    if (!std::strcmp(action, kOfxActionCreateInstance)) return onCreateInstance(effect);
+    if (!std::strcmp(action, kOfxActionDestroyInstance)) return onDestroyInstance(effect);
+    if (!std::strcmp(action, kOfxActionInstanceChanged)) return onInstanceChanged(effect);
+    if (!std::strcmp(action, kOfxImageEffectActionGetRegionOfDefinition))
+        return onGetRegionOfDefinition(effect, inArgs, outArgs);
+    if (!std::strcmp(action, kOfxImageEffectActionGetRegionsOfInterest))
+        return onGetRegionsOfInterest(effect, inArgs, outArgs);
+    if (!std::strcmp(action, kOfxImageEffectActionGetClipPreferences)) return onGetClipPreferences(effect, outArgs);
+    if (!std::strcmp(action, kOfxImageEffectActionGetOutputColourspace)) return onGetOutputColourspace(effect, outArgs);
+    if (!std::strcmp(action, kOfxImageEffectActionIsIdentity)) return onIsIdentity(effect, inArgs, outArgs);
+    if (!std::strcmp(action, kOfxImageEffectActionRender)) return onRender(effect, inArgs);
+    if (!std::strcmp(action, kOfxImageEffectActionBeginSequenceRender) ||
+        !std::strcmp(action, kOfxImageEffectActionEndSequenceRender))
+        return kOfxStatOK;
+    return kOfxStatReplyDefault;
+}
+
+// Nothing escapes to the host: a failed suite call answers its status, an error is posted
+// through the message suite (except while describing, before any instance exists).
+OfxStatus mainEntry(const char* action, const void* handle, OfxPropertySetHandle inArgs, OfxPropertySetHandle outArgs) {
+    OfxImageEffectHandle effect = (OfxImageEffectHandle)handle;
+    try {
+        return dispatch(action, effect, inArgs, outArgs);
+    } catch (const OfxFailure& e) {
+        return e.status == kOfxStatOK ? kOfxStatFailed : e.status;
+    } catch (const std::bad_alloc&) {
+        return kOfxStatErrMemory;
+    } catch (const std::exception& e) {
+        if (effect && std::strcmp(action, kOfxActionDescribe) != 0)
+            postMessage(effect, kOfxMessageError, std::string("obscura: ") + e.what());
+        return kOfxStatFailed;
+    } catch (...) {
+        return kOfxStatFailed;
+    }
+}
+
+void setHost(OfxHost* host) { gHost = host; }
+
+OfxPlugin gPlugin = {kOfxImageEffectPluginApi, kOfxImageEffectPluginApiVersion, kPluginId, kVersionMajor,
+                     kVersionMinor, setHost, mainEntry};
+
+} // namespace
+
+} // namespace obscura::ofx
+
+OBSCURA_OFX_EXPORT int OfxGetNumberOfPlugins(void) { return 1; }
+
+OBSCURA_OFX_EXPORT OfxPlugin* OfxGetPlugin(int nth) { return nth == 0 ? &obscura::ofx::gPlugin : nullptr; }

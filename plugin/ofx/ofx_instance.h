@@ -1,0 +1,30 @@
+// One instance of the node: its clip and parameter handles, found once at creation, and its
+// own environment map cache (the only mutable state, behind its mutex; never shared between
+// instances).
+#pragma once
+#include "ofx_api.h"
+#include "ofx_environment.h"
+
+#include <vector>
+
+namespace obscura::ofx {
+
+struct Instance {
+    OfxImageEffectHandle effect = nullptr;
+    OfxImageClipHandle source = nullptr, depth = nullptr, normal = nullptr, position = nullptr, albedo = nullptr,
+                       output = nullptr;
+    OfxParamHandle output_ = nullptr, strength = nullptr, method = nullptr, radius = nullptr, directions = nullptr,
+                   steps = nullptr, weighting = nullptr, falloff = nullptr, blur = nullptr, projection = nullptr,
+                   fov = nullptr, orthoWidth = nullptr, cameraToWorld = nullptr, depthKind = nullptr,
+                   normalSpace = nullptr, skyDepth = nullptr, maxScreenRadius = nullptr, device = nullptr,
+                   threads = nullptr;
+    OfxParamHandle ssdoSamples = nullptr, interleave = nullptr, skyColour = nullptr, envMap = nullptr,
+                   envRotation = nullptr, envIntensity = nullptr, upAxis = nullptr, timesAlbedo = nullptr;
+    std::vector<OfxParamHandle> methodParams;  // one per allMethodParams(), in its order
+    mutable EnvironmentCache environment;
+};
+
+// The instance the host holds for `effect` (its instance data); throws for none.
+Instance* instanceOf(OfxImageEffectHandle effect);
+
+} // namespace obscura::ofx

@@ -1,0 +1,75 @@
+// The node's parameters as the operator wants them: what each Output option computes, and
+// the values at one time read into Settings (the ranges, device names and method rules are
+// plugin/core's: core/settings_schema.h, core/devices.h, core/methods.h).
+#pragma once
+#include "ofx_api.h"
+#include "ofx_instance.h"
+
+#include "core/camera.h"
+#include "core/settings.h"
+
+#include <algorithm>
+#include <string>
+
+namespace obscura::ofx {
+
+// What the Output clip carries. Hosts store a choice as its index, so new outputs (DO,
+// GI, relit...) are appended to this table, never inserted: saved projects keep meaning.
+enum class OutputKind { Ao, BeautyTimesAo, Directional, Indirect, Relit };
+struct OutputOption {
+    OutputKind kind;
+    const char* label;
+    bool needsSource;  // reads the Source (beauty) clip
+    bool ssdo;         // an SSDO quantity: the method is ssdo whatever the Method parameter says
+    bool bounce;       // runs the bounce, reading Source over the window + apron (the senders)
+};
+inline constexpr OutputOption kOutputOptions[] = {
+    {OutputKind::Ao, "AO", false, false, false},
+    {OutputKind::BeautyTimesAo, "Beauty x AO", true, false, false},
+    {OutputKind::Directional, "Directional occlusion (DO)", false, true, false},
+    {OutputKind::Indirect, "Indirect (GI)", true, true, true},
+    {OutputKind::Relit, "Relit", true, true, true},
+};
+inline constexpr int kOutputCount = int(sizeof(kOutputOptions) / sizeof(kOutputOptions[0]));
+
+// The option a stored choice index names (out-of-range indices clamp to the table).
+inline const OutputOption& outputAt(int index) { return kOutputOptions[std::clamp(index, 0, kOutputCount - 1)]; }
+
+// The choices' words, in their stored order.
+inline constexpr const char* kUpAxes[] = {"y", "z"};
+inline constexpr const char* kWeightings[] = {"uniform", "cosine"};
+inline constexpr const char* kFalloffs[] = {"linear", "none"};
+inline constexpr const char* kProjections[] = {"perspective", "orthographic"};
+inline constexpr const char* kDepthKinds[] = {"planar", "radial"};
+inline constexpr const char* kNormalSpaces[] = {"world", "camera", "depth"};
+
+// The parameter values at one time, as the operator wants them.
+struct Params {
+    OutputKind output = OutputKind::Ao;
+    double strength = 1;
+    Settings settings;
+    Projection projection = Projection::Perspective;
+    double fovDeg = 0, orthoWidth = 0;
+    std::string cameraToWorld;
+    DepthKind depthKind = DepthKind::Planar;
+    NormalSpace normalSpace = NormalSpace::World;
+    double maxScreenRadius = 0;  // 0 = automatic (frame extent)
+    std::string envPath;         // lat-long environment map ("" = the sky colour)
+    bool timesAlbedo = false;    // DO / GI as albedo E / pi
+};
+
+// The values at time `t`, at full resolution (paramsAt in ofx_coords.h scales them to a render).
+Params readParams(const Instance& in, OfxTime t);
+
+// What an output reads and computes (regions of interest and render agree through these).
+inline const OutputOption& optionOf(const Params& p) { return kOutputOptions[(int)p.output]; }
+// AO outputs with strength 0 compute nothing; the SSDO quantities ignore Strength.
+inline bool computes(const Params& p) { return optionOf(p).ssdo || p.strength > 0; }
+inline bool needsAlbedo(const Params& p) {
+    return p.output == OutputKind::Relit ||
+           (p.timesAlbedo && (p.output == OutputKind::Directional || p.output == OutputKind::Indirect));
+}
+// Beauty x AO and Relit keep the Source's alpha (and premultiplication); the rest are opaque.
+inline bool keepsSourceAlpha(OutputKind k) { return k == OutputKind::BeautyTimesAo || k == OutputKind::Relit; }
+
+} // namespace obscura::ofx

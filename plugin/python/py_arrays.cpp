@@ -1,0 +1,272 @@
+// compute_ao, compute_ssdo and ao_from_passes: the operator (core/operator.h) over numpy
+// arrays, viewed in place; the GIL is released while it runs.
+#include "base/error.h"
+#include "core/methods.h"
+#include "core/operator.h"
+#include "python/call_args.h"
+#include "python/py_args.h"
+#include "python/py_bind.h"
+#include "python/py_settings.h"
+
+#include <algorithm>
+#include <string>
+#include <utility>
+
+namespace obscura::python {
+
+namespace {
+
+const char* kComputeAoDoc = R"doc(Ambient occlusion of in-memory passes: a float32 array (H, W), 1 = unoccluded.
+
+depth: float32 (H, W), planar camera depth (or distance to the eye with depth_kind='radial').
+normal: float32 (H, W, 3), world space (normals='world', needs camera.camera_to_world) or
+OpenGL camera space (normals='camera'); with normals='depth' it is not needed (nor read): the
+normals are reconstructed from the depth and the camera.
+Both are read in place, without a copy, whatever their strides (slices, transposes, broadcasts),
+as long as strides are whole float32 elements and a normal's 3 components are adjacent.
+Anything else raises ValueError (no silent conversion: use .astype(numpy.float32) or
+numpy.ascontiguousarray). Pixels with depth 0, inf, >= sky_depth, NaN or negative are
+background (AO = 1).
+deep (hbao): float32 (H, W, 2K), the surfaces along each pixel's ray as (front, back) depths,
+nearest first, the visible one first; front inf past a ray's last; back == front where the
+span is unknown (docs/deep.md). deep_layers=K caps how many are used.
+
+camera: obscura.Camera, required. data_window: (x0, y0, x1, y1) the arrays cover in display-window
+pixels (default (0, 0, W, H); larger than the display window for overscan). display_window:
+the frame's (x0, y0, x1, y1), default (0, 0, W, H).
+Settings (defaults as the CLI): radius=1.0 world units, directions=8, steps=8,
+weighting='uniform'|'cosine', falloff='linear'|'none', blur=1 px (the 'medium' preset's), quality=None ('low',
+'medium', 'high', 'ultra'; explicit directions/steps/blur override it), method='hbao'
+(or 'ssao', 'rtao', with their own keywords: ssao_samples=16, ssao_hemisphere=False,
+rtao_rays=16, rtao_grid=1), thickness='auto' (hbao and rtao: world units, 'auto' or 'inf'),
+device='cpu', threads=0 (all cores). The GIL is released while computing.)doc";
+
+const char* kComputeSsdoDoc = R"doc(Screen-space directional occlusion (method 'ssdo') of in-memory passes, as a dict:
+'do' float32 (H, W, 3) irradiance from the open directions, 'gi' float32 (H, W, 3) one-bounce
+irradiance (None unless bounce=True), 'ao' float32 (H, W).
+
+depth, normal, camera, normals, depth_kind, sky_depth, data_window, display_window: as
+compute_ao, viewed in place. radiance: float32 (H, W, 3), the light leaving each pixel's surface
+(the bounce source; required with bounce=True); albedo: float32 (H, W, 3), optional, multiplies
+radiance (give both for the CLI's default bounce source, direct-diffuse x albedo). Both viewed
+in place, in the working colour space. environment: float32 (Hm, Wm, 3) lat-long radiance (one
+copy is made); None lights with the constant sky. Settings as the CLI's: radius (r_max, default
+1), samples (default 64), interleave (default 2), blur (0 = as wide as the interleave block),
+sky (r, g, b) (default white), env_rotate (degrees), env_intensity, up ('y' | 'z'), lights
+(up to 4 ((x, y, z), (r, g, b))), device, threads. The GIL is released while computing.)doc";
+
+const char* kAoFromPassesDoc = R"doc(compute_ao over a read_passes() dict, with its camera, conventions (normals, depth_kind,
+sky_depth) and windows: the same AO that process() writes for that file and these settings.
+Raises obscura.Error when the passes have no camera (see passes['camera_error']).)doc";
+
+struct ViewArgs {
+    py::object camera, normals, depthKind, skyDepth, dataWindow, displayWindow;
+};
+
+// The inputs and settings compute_ao and compute_ssdo share: planes viewed in place, checked.
+OperatorInputs viewInputs(const py::object& depthObj, const py::object& normalObj, const ViewArgs& v,
+                          Settings& settings) {
+    OperatorInputs in;
+    in.depth = planeArg(depthObj, "depth", 1);
+    if (!v.normals.is_none()) in.normalSpace = enumArg<NormalSpace>(v.normals, "normals", "'world', 'camera' or 'depth'");
+    // normals='depth': reconstructed from the depth; a normal array, if given, is not read.
+    if (in.normalSpace != NormalSpace::Depth) in.normal = planeArg(normalObj, "normal", 3);
+    if (in.normal.valid() && (in.normal.width != in.depth.width || in.normal.height != in.depth.height))
+        valueError("normal covers " + std::to_string(in.normal.height) + "x" + std::to_string(in.normal.width) +
+                   " pixels (H x W) but depth covers " + std::to_string(in.depth.height) + "x" +
+                   std::to_string(in.depth.width) + "; they must be the same size");
+    const Box2i full{0, 0, in.depth.width, in.depth.height};
+    in.dataWindow = v.dataWindow.is_none() ? full : boxArg(v.dataWindow, "data_window");
+    if (in.dataWindow.width() != in.depth.width || in.dataWindow.height() != in.depth.height)
+        valueError("data_window is " + std::to_string(in.dataWindow.width()) + "x" +
+                   std::to_string(in.dataWindow.height()) + " (W x H) but the arrays are " +
+                   std::to_string(in.depth.width) + "x" + std::to_string(in.depth.height));
+    in.displayWindow = v.displayWindow.is_none() ? full : boxArg(v.displayWindow, "display_window");
+    if (!v.depthKind.is_none()) in.depthKind = enumArg<DepthKind>(v.depthKind, "depth_kind", "'planar' or 'radial'");
+    if (!v.skyDepth.is_none()) settings.skyDepth = (float)numberArg(v.skyDepth, "sky_depth");
+    in.camera = cameraArg(v.camera);
+    if (!in.camera.valid()) valueError("the camera has no valid projection (focal length or orthographic width)");
+    if (in.normalSpace == NormalSpace::World && !in.camera.hasPose)
+        valueError("normals='world' needs the camera's pose: give the Camera a camera_to_world matrix, "
+                   "or pass camera-space normals with normals='camera'");
+    return in;
+}
+
+// deep=: hbao's hidden layers (docs/deep.md), (H, W, 2K) float32 (front, back) depth pairs.
+ConstPlane deepArg(const py::object& obj, const OperatorInputs& in) {
+    if (!py::isinstance<py::array>(obj)) throw py::type_error("deep must be a numpy.ndarray of float32, got " + typeName(obj));
+    const py::array a = py::reinterpret_borrow<py::array>(obj);
+    const int channels = a.ndim() == 3 ? (int)a.shape(2) : 0;
+    if (channels < 2 || channels % 2 != 0)
+        valueError("deep must have shape (H, W, 2K): K (front, back) depth pairs per pixel, got " +
+                   std::to_string(a.ndim()) + " dimension(s)" + (a.ndim() == 3 ? " of " + std::to_string(channels) + " channels" : ""));
+    const ConstPlane p = planeArg(obj, "deep", channels);
+    if (p.width != in.depth.width || p.height != in.depth.height) valueError("deep must cover the same pixels as depth");
+    return p;
+}
+
+py::array computeAo(const py::object& depthObj, const py::object& normalObj, const ViewArgs& v, const SettingArgs& sa,
+                    const py::object& deep) {
+    Settings settings = settingsFrom(sa);
+    if (methodOutputs(settings.method, "do")) valueError("compute_ao computes AO methods; use compute_ssdo for SSDO");
+    OperatorInputs in = viewInputs(depthObj, normalObj, v, settings);
+    if (!deep.is_none()) {
+        if (!methodReads(settings.method, "deep")) valueError("deep layers are used by method='" + methodNames("', '", "deep") + "' only");
+        in.deepLayers = deepArg(deep, in);
+    }
+    OperatorOutputs out;
+    {
+        // depthObj / normalObj stay referenced by the caller's frame for the whole call.
+        py::gil_scoped_release release;
+        out = runOperator(in, settings);
+    }
+    return imageToArray(std::move(out.ao), true);
+}
+
+// compute_ssdo: DO (and GI) irradiance and AO of in-memory passes, lit by a lat-long array or
+// a constant sky, plus directional lights.
+struct SsdoArrayArgs {
+    py::object radiance, albedo, environment, bounce, up;
+};
+
+// An RGB plane copied into an owned image.
+Image ownedRgb(const ConstPlane& p) {
+    Image image(p.width, p.height, 3);
+    for (int y = 0; y < p.height; ++y)
+        for (int x = 0; x < p.width; ++x) {
+            const float* src = p.data + y * p.yStride + x * p.xStride;
+            std::copy(src, src + 3, image.at(x, y));
+        }
+    return image;
+}
+
+py::dict computeSsdo(const py::object& depthObj, const py::object& normalObj, const ViewArgs& v,
+                     const SettingArgs& sa, const SsdoArgs& ssdoArgs, const SsdoArrayArgs& x) {
+    Settings settings = settingsFrom(sa, "ssdo");
+    applySsdo(ssdoArgs, settings);
+    settings.bounce = !x.bounce.is_none() && py::bool_(x.bounce);
+    if (!x.up.is_none()) settings.zUp = upArg(x.up);
+    OperatorInputs in = viewInputs(depthObj, normalObj, v, settings);
+    auto sameSize = [&](const ConstPlane& p, const char* what) {
+        if (p.width != in.depth.width || p.height != in.depth.height)
+            valueError(std::string(what) + " covers " + std::to_string(p.height) + "x" + std::to_string(p.width) +
+                       " pixels (H x W) but depth covers " + std::to_string(in.depth.height) + "x" +
+                       std::to_string(in.depth.width) + "; they must be the same size");
+    };
+    if (!x.radiance.is_none()) {
+        in.radiance = planeArg(x.radiance, "radiance", 3);
+        sameSize(in.radiance, "radiance");
+    }
+    if (!x.albedo.is_none()) {
+        in.albedo = planeArg(x.albedo, "albedo", 3);
+        sameSize(in.albedo, "albedo");
+    }
+    if (settings.bounce && !in.radiance.valid())
+        valueError("bounce=True needs radiance: the light leaving the bouncing surfaces, float32 (H, W, 3) "
+                   "(e.g. the direct-diffuse pass, with albedo=the albedo pass)");
+    ConstPlane env;
+    if (!x.environment.is_none()) env = planeArg(x.environment, "environment", 3);
+
+    OperatorOutputs out;
+    {
+        py::gil_scoped_release release;
+        Image environment;
+        if (env.valid()) {  // the prefilter wants an owned image: one copy of the (small) map
+            environment = ownedRgb(env);
+            in.environment = &environment;
+        }
+        out = runOperator(in, settings);
+    }
+    py::dict d;
+    d["do"] = imageToArray(std::move(out.directional), false);
+    d["gi"] = out.indirect.empty() ? py::object(py::none()) : py::object(imageToArray(std::move(out.indirect), false));
+    d["ao"] = imageToArray(std::move(out.ao), true);
+    return d;
+}
+
+// ao_from_passes: compute_ao over a read_passes() dict, its camera and conventions included.
+py::array aoFromPasses(const py::dict& passes, const SettingArgs& sa) {
+    for (const char* key : {"depth", "normal", "camera"})
+        if (!passes.contains(key)) valueError(std::string("passes has no '") + key + "' (use read_passes())");
+    py::object camera = passes["camera"];
+    if (camera.is_none()) {
+        const py::object why =
+            passes.contains("camera_error") ? py::object(passes["camera_error"]) : py::object(py::none());
+        throw Error(why.is_none() ? std::string("the passes have no camera") : why.cast<std::string>());
+    }
+    auto get = [&](const char* key) -> py::object {
+        return passes.contains(key) ? py::object(passes[key]) : py::object(py::none());
+    };
+    return computeAo(passes["depth"], passes["normal"],
+                     ViewArgs{camera, get("normals"), get("depth_kind"), get("sky_depth"), get("data_window"),
+                              get("display_window")},
+                     sa, py::none());
+}
+
+void bindComputeAo(py::module_& m) {
+    m.def(
+        "compute_ao",
+        [](const py::object& depth, const py::object& normal, const py::args& extra, py::object camera,
+           py::object normals, py::object depthKind, py::object skyDepth, py::object dataWindow,
+           py::object displayWindow, py::object quality, py::object method, py::object radius, py::object directions,
+           py::object steps, py::object weighting, py::object falloff, py::object blur, py::object device,
+           py::object threads, py::object deep, const py::kwargs& own) {
+            checkArrayCall("compute_ao", extra, depth, normal, camera, normals);
+            return computeAo(depth, normal, ViewArgs{camera, normals, depthKind, skyDepth, dataWindow, displayWindow},
+                             SettingArgs{quality, method, radius, directions, steps, weighting, falloff, blur, device,
+                                         threads, own},
+                             deep);
+        },
+        py::arg("depth") = py::none(), py::arg("normal") = py::none(), py::arg("camera") = py::none(),
+        py::arg("normals") = "world",
+        py::arg("depth_kind") = "planar", py::arg("sky_depth") = 1e9, py::arg("data_window") = py::none(),
+        py::arg("display_window") = py::none(), OBSCURA_SETTING_ARGS, py::arg("deep") = py::none(), kComputeAoDoc);
+}
+
+void bindComputeSsdo(py::module_& m) {
+    m.def(
+        "compute_ssdo",
+        [](const py::object& depth, const py::object& normal, const py::args& extra, py::object camera,
+           py::object radiance, py::object albedo, py::object environment, py::object bounce, py::object up,
+           py::object normals, py::object depthKind, py::object skyDepth, py::object dataWindow,
+           py::object displayWindow, py::object radius, py::object blur, py::object device, py::object threads,
+           py::object samples, py::object interleave, py::object sky, py::object envRotate, py::object envIntensity,
+           py::object lights, const py::kwargs& unknown) {
+            checkArrayCall("compute_ssdo", extra, depth, normal, camera, normals);
+            checkNoKeywords("compute_ssdo", unknown);
+            const py::object none = py::none();
+            return computeSsdo(depth, normal, ViewArgs{camera, normals, depthKind, skyDepth, dataWindow, displayWindow},
+                               SettingArgs{none, none, radius, none, none, none, none, blur, device, threads, py::dict()},
+                               SsdoArgs{samples, interleave, sky, envRotate, envIntensity, lights},
+                               SsdoArrayArgs{radiance, albedo, environment, bounce, up});
+        },
+        py::arg("depth") = py::none(), py::arg("normal") = py::none(), py::arg("camera") = py::none(),
+        py::arg("radiance") = py::none(),
+        py::arg("albedo") = py::none(), py::arg("environment") = py::none(), py::arg("bounce") = false,
+        py::arg("up") = "y", py::arg("normals") = "world", py::arg("depth_kind") = "planar",
+        py::arg("sky_depth") = 1e9, py::arg("data_window") = py::none(), py::arg("display_window") = py::none(),
+        py::arg("radius") = py::none(), py::arg("blur") = py::none(), py::arg("device") = py::none(),
+        py::arg("threads") = py::none(), OBSCURA_SSDO_ARGS, kComputeSsdoDoc);
+}
+
+void bindAoFromPasses(py::module_& m) {
+    m.def(
+        "ao_from_passes",
+        [](const py::object& passes, const py::args& extra, py::object quality, py::object method,
+           py::object radius, py::object directions, py::object steps, py::object weighting, py::object falloff,
+           py::object blur, py::object device, py::object threads, const py::kwargs& own) {
+            return aoFromPasses(passesArg(extra, passes), SettingArgs{quality, method, radius, directions, steps,
+                                                                      weighting, falloff, blur, device, threads, own});
+        },
+        py::arg("passes") = py::none(), OBSCURA_SETTING_ARGS, kAoFromPassesDoc);
+}
+
+} // namespace
+
+void bindArrays(py::module_& m) {
+    bindComputeAo(m);
+    bindComputeSsdo(m);
+    bindAoFromPasses(m);
+}
+
+} // namespace obscura::python

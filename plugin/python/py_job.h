@@ -1,0 +1,45 @@
+// File-level jobs: a FrameJob (io/frame_job.h) built from keyword arguments named like the
+// CLI's flags, for read_passes, process and inspect (py_files.cpp).
+#pragma once
+#include "io/frame_job.h"
+#include "python/py_settings.h"
+
+#include <pybind11/pybind11.h>
+
+namespace obscura::python {
+
+namespace py = pybind11;
+
+// The keywords that find and read the passes (OBSCURA_FILE_ARGS, in this order).
+struct FileArgs {
+    py::object preset, layer, camera, fovDeg, orthoWidth, cameraToWorld, depth, depthRange, normals, skyDepth, maxPixels;
+};
+
+// max_pixels=, as --max-pixels: a window above it is refused before anything is allocated.
+long long maxPixelsArg(const py::object& obj);
+
+FrameJob jobFrom(const py::object& path, const FileArgs& f);
+
+// process()'s keywords for what it writes and where.
+struct OutputArgs {
+    py::object outLayer, outType, badPixels, reference, report, preview, inPlace, write, previewExposure;
+};
+
+// process()'s SSDO keywords beyond the operator's: what to write and where the light comes from.
+struct JobSsdoArgs {
+    py::object bounce, bounceSource, env, envColorspace, colorspace, up, timesAlbedo, relitDirect;
+};
+
+// The job process(path, out, ...) runs: every keyword checked, as the CLI checks its flags
+// (o.report is left to the caller).
+FrameJob processJob(const py::object& path, const py::object& out, const FileArgs& f, const SettingArgs& sa,
+                    const OutputArgs& o, const SsdoArgs& ssdoArgs, const JobSsdoArgs& js);
+
+} // namespace obscura::python
+
+#define OBSCURA_FILE_ARGS                                                                                           \
+    py::arg("preset") = py::none(), py::arg("layer") = py::none(), py::arg("camera") = py::none(),                 \
+        py::arg("fov_deg") = py::none(), py::arg("ortho_width") = py::none(),                                      \
+        py::arg("camera_to_world") = py::none(), py::arg("depth") = py::none(), py::arg("depth_range") = py::none(), \
+        py::arg("normals") = py::none(),                                                                           \
+        py::arg("sky_depth") = py::none(), py::arg("max_pixels") = py::none()
