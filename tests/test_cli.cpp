@@ -6,6 +6,7 @@
 #include "support/scratch.h"
 #include "support/cli_runner.h"
 #include "support/exr_fixtures.h"
+#include "support/read_back.h"
 #include "support/scenes.h"
 
 #include <OpenEXR/ImfChannelList.h>
@@ -168,17 +169,8 @@ FileData readAll(const std::string& path) {
             cd.bytes.assign((size_t)w * hgt * bps, 0);
             fb.insert(it.name(), Imf::Slice::Make(cd.type, cd.bytes.data(), dw, bps, bps * w));
         }
-        const bool tiled = h.hasTileDescription();
-        fd.tiled.push_back(tiled);
-        if (tiled) {
-            Imf::TiledInputPart part(file, p);
-            part.setFrameBuffer(fb);
-            part.readTiles(0, part.numXTiles(0) - 1, 0, part.numYTiles(0) - 1, 0, 0);
-        } else {
-            Imf::InputPart part(file, p);
-            part.setFrameBuffer(fb);
-            part.readPixels(dw.min.y, dw.max.y);
-        }
+        fd.tiled.push_back(h.hasTileDescription());
+        obscura::test::readPart(file, p, fb);
     }
     return fd;
 }

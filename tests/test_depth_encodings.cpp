@@ -7,6 +7,7 @@
 #include "io/frame_job.h"
 #include "support/cli_runner.h"
 #include "support/exr_fixtures.h"
+#include "support/read_back.h"
 #include "support/scenes.h"
 #include "support/scratch.h"
 
@@ -106,16 +107,7 @@ Image decodedDepth(const std::string& path, const std::vector<std::string>& flag
     return loadFramePasses(job, false).depth;
 }
 
-std::vector<float> aoOf(const std::string& path) {
-    Imf::InputFile file(path.c_str());
-    const Imath::Box2i dw = file.header().dataWindow();
-    std::vector<float> ao((size_t)(dw.max.x - dw.min.x + 1) * (dw.max.y - dw.min.y + 1));
-    Imf::FrameBuffer fb;
-    fb.insert("obscura.AO.Y", Imf::Slice::Make(Imf::FLOAT, ao.data(), dw));
-    file.setFrameBuffer(fb);
-    file.readPixels(dw.min.y, dw.max.y);
-    return ao;
-}
+std::vector<float> aoOf(const std::string& path) { return obscura::test::partChannel(path, 0, "obscura.AO.Y"); }
 
 CliResult run(const std::string& in, const std::string& out, std::vector<std::string> flags) {
     std::vector<std::string> args = {in, "-o", out, "--out-type", "float", "--quiet", "--threads", "2"};

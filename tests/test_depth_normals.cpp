@@ -8,6 +8,7 @@
 #include "gpu/gl_backend.h"
 #include "support/cli_runner.h"
 #include "support/exr_fixtures.h"
+#include "support/read_back.h"
 #include "support/scenes.h"
 #include "support/scratch.h"
 
@@ -206,16 +207,7 @@ std::string writeStudio(const std::filesystem::path& dir, const SceneBuffers& sb
     return path;
 }
 
-std::vector<float> aoOf(const std::string& path) {
-    Imf::InputFile file(path.c_str());
-    const Imath::Box2i dw = file.header().dataWindow();
-    std::vector<float> ao((size_t)(dw.max.x - dw.min.x + 1) * (dw.max.y - dw.min.y + 1));
-    Imf::FrameBuffer fb;
-    fb.insert("obscura.AO.Y", Imf::Slice::Make(Imf::FLOAT, ao.data(), dw));
-    file.setFrameBuffer(fb);
-    file.readPixels(dw.min.y, dw.max.y);
-    return ao;
-}
+std::vector<float> aoOf(const std::string& path) { return obscura::test::partChannel(path, 0, "obscura.AO.Y"); }
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 

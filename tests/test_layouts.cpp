@@ -9,6 +9,8 @@
 #include "io/exr_file.h"
 #include "support/cli_runner.h"
 #include "support/exr_fixtures.h"
+#include "support/read_back.h"
+#include "support/studio_render.h"
 #include "support/scenes.h"
 #include "support/scratch.h"
 
@@ -50,18 +52,7 @@ const obscura::test::SceneBuffers& scene() {
     return sb;
 }
 
-std::vector<std::string> cameraFlags() {
-    const Camera& cam = scene().camera;
-    std::string m;
-    char buf[40];
-    for (int r = 0; r < 4; ++r)
-        for (int c = 0; c < 4; ++c) {
-            std::snprintf(buf, sizeof buf, "%.17g", cam.cameraToWorld[c][r]);
-            m += (m.empty() ? "" : ",") + std::string(buf);
-        }
-    std::snprintf(buf, sizeof buf, "%.17g", cam.horizontalFovRad(kW) * 180.0 / M_PI);
-    return {"--fov-deg", buf, "--camera-to-world", m};
-}
+std::vector<std::string> cameraFlags() { return obscura::test::cliCameraFlags(scene().camera, kW); }
 
 FixtureChannel channel(const std::string& name, Imf::PixelType type, int c, const Image* img, float scale = 1) {
     return {name, type, 1, 1, [img, c, scale](int x, int y) { return scale * std::abs(img->at(x, y)[c]) + 0.05f; }};
@@ -104,25 +95,6 @@ std::vector<FixturePart> layoutParts(const Layout& l) {
     return parts;
 }
 
-// One channel of one part, converted to float by OpenEXR, over the part's data window.
-std::vector<float> channelOf(const std::string& path, int part, const std::string& name) {
-    Imf::MultiPartInputFile file(path.c_str());
-    const Imf::Header& h = file.header(part);
-    const Imath::Box2i dw = h.dataWindow();
-    std::vector<float> v((size_t)(dw.max.x - dw.min.x + 1) * (dw.max.y - dw.min.y + 1), NAN);
-    Imf::FrameBuffer fb;
-    fb.insert(name, Imf::Slice::Make(Imf::FLOAT, v.data(), dw));
-    if (h.hasTileDescription()) {
-        Imf::TiledInputPart in(file, part);
-        in.setFrameBuffer(fb);
-        in.readTiles(0, in.numXTiles(0) - 1, 0, in.numYTiles(0) - 1, 0, 0);
-    } else {
-        Imf::InputPart in(file, part);
-        in.setFrameBuffer(fb);
-        in.readPixels(dw.min.y, dw.max.y);
-    }
-    return v;
-}
 
 std::string stringAttr(const Imf::Header& h, const std::string& name) {
     const auto* a = h.findTypedAttribute<Imf::StringAttribute>(name);
@@ -139,7 +111,7 @@ void expectInputKept(const std::string& in, const std::string& out) {
             const int i = b.parts[p].findChannel(ch.name);
             ASSERT_GE(i, 0) << ch.name << " of part " << p << " was dropped";
             EXPECT_EQ(b.parts[p].channels[i].type, ch.type) << ch.name;
-            const std::vector<float> va = channelOf(in, (int)p, ch.name), vb = channelOf(out, (int)p, ch.name);
+            const std::vector<float> va = obscura::test::partChannel(in, (int)p, ch.name), vb = obscura::test::partChannel(out, (int)p, ch.name);
             const bool lossy = isLossy(a.parts[p].header.compression());
             for (size_t k = 0; k < va.size(); ++k)
                 ASSERT_NEAR(vb[k], va[k], lossy ? 0.01 * std::max(1.0f, std::abs(va[k])) : 0.0) << ch.name << " at " << k;
@@ -180,12 +152,12 @@ int partHolding(const std::string& path, const std::string& channel) {
 void expectNewLayers(const std::string& out, const std::vector<std::string>& colourLayers) {
     const int part = partHolding(out, "obscura.AO.Y");
     ASSERT_GE(part, 0) << "no AO written";
-    for (float v : channelOf(out, part, "obscura.AO.Y")) ASSERT_TRUE(v >= 0.0f && v <= 1.0f) << v;
+    for (float v : obscura::test::partChannel(out, part, "obscura.AO.Y")) ASSERT_TRUE(v >= 0.0f && v <= 1.0f) << v;
     const Imf::Header h = Imf::MultiPartInputFile(out.c_str()).header(part);
     const std::string fileSpace = colourManager().detectColourSpace(h).name;
     for (const std::string& layer : colourLayers) {
         for (const char* c : {".R", ".G", ".B"})
-            for (float v : channelOf(out, part, layer + c)) ASSERT_TRUE(std::isfinite(v)) << layer << c;
+            for (float v : obscura::test::partChannel(out, part, layer + c)) ASSERT_TRUE(std::isfinite(v)) << layer << c;
         EXPECT_EQ(stringAttr(h, "obscura/" + layer + "/colorspace"), fileSpace) << layer;
     }
 }

@@ -10,19 +10,21 @@ const StudioRender& studioRender() {
         const int w = kStudioDisplay.max.x + 1, h = kStudioDisplay.max.y + 1;
         const Camera cam = studioCamera(w, h);
         const Box2i data{kStudioData.min.x, kStudioData.min.y, kStudioData.max.x + 1, kStudioData.max.y + 1};
-        StudioRender r{renderScene(studioScene(), cam, Box2i{0, 0, w, h}, data), {}};
-        std::string m;
-        char buf[40];
-        for (int row = 0; row < 4; ++row)
-            for (int col = 0; col < 4; ++col) {
-                std::snprintf(buf, sizeof buf, "%.17g", cam.cameraToWorld[col][row]);
-                m += (m.empty() ? "" : ",") + std::string(buf);
-            }
-        std::snprintf(buf, sizeof buf, "%.17g", cam.horizontalFovRad(w) * 180.0 / M_PI);
-        r.cameraFlags = {"--fov-deg", buf, "--camera-to-world", m};
-        return r;
+        return StudioRender{renderScene(studioScene(), cam, Box2i{0, 0, w, h}, data), cliCameraFlags(cam, w)};
     }();
     return s;
+}
+
+std::vector<std::string> cliCameraFlags(const Camera& cam, int width) {
+    std::string m;
+    char buf[40];
+    for (int row = 0; row < 4; ++row)
+        for (int col = 0; col < 4; ++col) {
+            std::snprintf(buf, sizeof buf, "%.17g", cam.cameraToWorld[col][row]);
+            m += (m.empty() ? "" : ",") + std::string(buf);
+        }
+    std::snprintf(buf, sizeof buf, "%.17g", cam.horizontalFovRad(width) * 180.0 / M_PI);
+    return {"--fov-deg", buf, "--camera-to-world", m};
 }
 
 fixtures::FixtureChannel studioChannel(const std::string& name, const Image& img, int c) {

@@ -27,6 +27,8 @@ struct StudioRender {
 };
 // Rendered once per process.
 const StudioRender& studioRender();
+// --fov-deg F --camera-to-world m00,...,m33 for `cam` over a display `width` pixels wide, to 17 digits.
+std::vector<std::string> cliCameraFlags(const Camera& cam, int width);
 
 // Channel `c` of a plane over kStudioData, as a float fixture channel.
 fixtures::FixtureChannel studioChannel(const std::string& name, const Image& img, int c);
