@@ -20,7 +20,7 @@
 // which needs F per sample (no arcsine: an inverse square root, and for cosine one
 // arctangent).
 //
-// Thickness (Therrien, Levesque, Gilet 2023, visibility bitmask): with P.hbaoBitmask a sample
+// Thickness (Therrien, Levesque, Gilet 2023, visibility bitmask): with a finite thickness a sample
 // occludes only the angles between its front face and its front face pushed a thickness t
 // away from the eye (along -V, the pixel's view direction, as in the paper), not everything
 // below it. The occluded set of a slice is then a union of intervals of theta. The interval
@@ -32,7 +32,7 @@
 // sector counts when the interval covers its centre. `--thickness auto` and linear falloff take
 // samples by runs (OccluderRun below).
 //
-// Deep input (P.hbaoBitmask 2, docs/deep.md): every surface on a sample texel's ray, with the
+// Deep input (HBAO_DEEP, docs/deep.md): every surface on a sample texel's ray, with the
 // solid spans the renderer saw, is an interval of the same bitmask (occupyDeepLayer below), and
 // so is each sample's footprint on its tangent plane (occupyFootprint below).
 //
@@ -171,7 +171,7 @@ void occupyInterval(lfloat a, lfloat b, lfloat backA, lfloat backB, lbool counts
     }
 }
 
-// Deep input (P.hbaoBitmask == 2, docs/deep.md): the backend's gatherDeepAtDisplay(corner, c, use)
+// Deep input (HBAO_DEEP, docs/deep.md): the backend's gatherDeepAtDisplay(corner, c, use)
 // reads channel c of P.deepLayers (front, back) depth pairs per texel, layer 0 the visible
 // surface, +inf fronts past a ray's last surface. A back beyond its front is a solid the
 // renderer saw the ray cross (a span); else the surface's depth is unknown and the thickness
@@ -361,17 +361,17 @@ void occupyDeepLayer(int k, lvec2 corner, lbool use, lvec3 ray, lfloat depth, lv
     }
 }
 
-// Adaptive thickness (`--thickness auto`, P.hbaoBitmask 3). One T cannot suit both a
+// Adaptive thickness (`--thickness auto`, HBAO_MEASURED_THICKNESS, P.hbaoRuns). One T cannot suit both a
 // pole (about as deep as it is wide) and a sphere or a wall (deep behind its silhouette), so
 // the thickness is measured per occluder. Along a slice, consecutive samples above the tangent
 // plane whose depth (along V) changes by at most P.runJump form a run: one occluder as this
 // slice crosses it. A run that ends inside the search (the next sample is on or below the
 // tangent plane, sky, or jumps in depth) was crossed whole, and its depth is taken as
-// P.thicknessPerExtent times its width (first to last sample, plus one step), at most
+// P.runDepthPerWidth times its width (first to last sample, plus one step), at most
 // P.thickness; a run cut off by the search's end or the buffer's edge may be any depth and
 // gets P.thickness. Its samples share that thickness, so a run is applied when it ends, as
 // one interval: from the lower of its ends' backs to its top. Linear falloff with a fixed T
-// takes this path too (P.hbaoBitmask 3), with P.thicknessPerExtent so large that every run gets P.thickness.
+// takes this path too (P.hbaoRuns), every run P.thickness deep.
 struct OccluderRun {
     lfloat firstA, firstB;     // its first sample
     lfloat lastA, lastB;       // its last sample so far
@@ -388,7 +388,10 @@ lfloat runThickness(OccluderRun run, lfloat invNLen, lfloat foot) {
     lfloat dA = run.lastA - run.firstA;
     lfloat dB = run.lastB - run.firstB;
     lfloat width = sqrt(dA * dA + dB * dB) * invNLen + foot;
-    return min(P.thicknessPerExtent * width, lfloat(P.thickness));
+    if (P.hbaoModel != HBAO_MEASURED_THICKNESS) {
+        return lfloat(P.thickness);
+    }
+    return min(P.runDepthPerWidth * width, lfloat(P.thickness));
 }
 
 // Applies the runs ending in lanes `ends`, each with its thickness t. The
@@ -536,7 +539,7 @@ void takeContinued(lvec3 P0, lvec3 P1, lbool use, lbool onePlane, lfloat weight,
     // continued past the edge occludes nothing.
     lbool counts0 = use && b0 > 0.0f && b0 * b0 > 1e-4f * dot(P0, P0) && a0 * nV + b0 * nE > 0.0f;
     lbool counts1 = use && b1 > 0.0f && b1 * b1 > 1e-4f * dot(P1, P1) && a1 * nV + b1 * nE > 0.0f;
-    if (P.hbaoBitmask == 0 && P.linearFalloff == 0) {
+    if (P.hbaoModel == HBAO_HORIZON && P.linearFalloff == 0) {
         raiseHorizon(counts0, a0, b0, horizonA, horizonB);
         raiseHorizon(counts1, a1, b1, horizonA, horizonB);
         return;
@@ -547,7 +550,7 @@ void takeContinued(lvec3 P0, lvec3 P1, lbool use, lbool onePlane, lfloat weight,
         f0 = sampleF(a0, b0, counts0, cosB, sinB, nLen);
         f1 = sampleF(a1, b1, counts1, cosB, sinB, nLen);
     }
-    if (P.hbaoBitmask == 0) {
+    if (P.hbaoModel == HBAO_HORIZON) {
         raiseLinearHorizon(f0, weight, horizonF, sliceOcclusion);
         raiseLinearHorizon(f1, weight, horizonF, sliceOcclusion);
         return;
@@ -663,7 +666,7 @@ lfloat hbaoLanes(lint x, lint y) {
         lfloat backShiftB = -P.thickness * nV;
         luint sectors = luint(0u); // occluded sectors above the horizon's interval
         // Deep input (bitmask 2) measures its solids; runs estimate them for flat input only.
-        bool adaptive = P.hbaoBitmask == 3;
+        bool adaptive = P.hbaoRuns != 0;
         lbool inRun = lfloat(0.0f) > 0.0f; // false in every lane
         FootprintPrevious previous; // deep input's footprints: the receiver before the first sample
         previous.X = lvec3(lfloat(0.0f), lfloat(0.0f), lfloat(0.0f));
@@ -802,7 +805,7 @@ lfloat hbaoLanes(lint x, lint y) {
                 lfloat weight;
                 linearTerms(a, b, r2, counts, cosB, sinB, nLen, invRadius, f, weight);
                 raiseLinearHorizon(f, weight, horizonF, sliceOcclusion);
-            } else if (P.hbaoBitmask == 2) {
+            } else if (P.hbaoModel == HBAO_DEEP) {
                 // Deep input: the visible layer's span where the renderer saw the ray leave its solid,
                 // then every hidden layer (inside the buffer: past it, the continued surface's samples).
                 lfloat back = gatherDeepAtDisplay(corner, 1, surface) * P.depthScale;
@@ -820,7 +823,7 @@ lfloat hbaoLanes(lint x, lint y) {
                     occupyDeepLayer(k, corner, sampled, ray, depth, w, T, n, nE, nV, radius2, backShiftA, backShiftB,
                                     horizonA, horizonB, sectors);
                 }
-            } else if (P.hbaoBitmask != 0) {
+            } else if (P.hbaoModel == HBAO_FIXED_THICKNESS) {
                 occupyInterval(a, b, a + backShiftA, b + backShiftB, counts, horizonA, horizonB, sectors);
             } else {
                 raiseHorizon(counts, a, b, horizonA, horizonB);
@@ -862,7 +865,7 @@ lfloat hbaoLanes(lint x, lint y) {
         if (P.linearFalloff == 0) {
             lfloat invLen = inversesqrt(horizonA * horizonA + horizonB * horizonB);
             sliceOcclusion = sliceOcclusionAt(horizonA * invLen, horizonB * invLen, cosB, sinB, nLen);
-            if (P.hbaoBitmask != 0) {
+            if (P.hbaoModel != HBAO_HORIZON) {
                 // Sectors wholly below the horizon add nothing: clear them, and skip the sum when none is left.
                 lint horizonSector = min(lint(sectorPseudoAngle(horizonA, horizonB) * 16.0f), lint(31));
                 sectors = sectors & ~bitsBelow(horizonSector);
