@@ -83,7 +83,12 @@ struct LaneCpuKernel {
     lvec4 gatherEdgeTexel(lvec2 edgeCorner, lbool use) const { return gatherRecord4(edgeData, edgeRecord(edgeCorner), use); }
 
 #include "kernels/common.glsl"
+// The plan's switches as the kernel reads them: compile-time constants of Params here (defines on OpenGL).
+#define HBAO_MODEL P.hbaoModel
+#define HBAO_RUNS P.hbaoRuns
 #include "kernels/hbao.glsl"
+#undef HBAO_MODEL
+#undef HBAO_RUNS
 #include "kernels/ssao.glsl"
 };
 

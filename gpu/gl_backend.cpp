@@ -10,7 +10,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstring>
 #include <functional>
 #include <vector>
 
@@ -21,10 +20,33 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-std::string kernelText(const char* file) {
+std::string kernelText(const std::string& file) {
     for (const KernelSource& s : kernelSources())
-        if (std::strcmp(s.name, file) == 0) return s.text;
-    throw Error(std::string("kernel source '") + file + "' is not embedded in this build");
+        if (file == s.name) return s.text;
+    throw Error("kernel source '" + file + "' is not embedded in this build");
+}
+
+// Kernel file `file` as parts, each line `#include "other.glsl"` replaced by that file's parts:
+// GLSL has no #include, and the CPU's C++ compiler reads the same lines. Each part keeps its
+// file's line numbers, so a compile error names the line it is on.
+void appendKernelParts(const std::string& file, std::vector<ShaderPart>& parts) {
+    const std::string text = kernelText(file);
+    const std::string directive = "#include \"";
+    size_t start = 0; // of the text not yet in a part
+    int startLine = 1;
+    int line = 1;
+    for (size_t pos = 0; pos < text.size(); ++line) {
+        const size_t end = std::min(text.find('\n', pos), text.size());
+        if (text.compare(pos, directive.size(), directive) == 0) {
+            parts.push_back({file, text.substr(start, pos - start), startLine});
+            const size_t name = pos + directive.size();
+            appendKernelParts(text.substr(name, text.find('"', name) - name), parts);
+            start = end + 1;
+            startLine = line + 1;
+        }
+        pos = end + 1;
+    }
+    if (start < text.size()) parts.push_back({file, text.substr(start), startLine});
 }
 
 enum Binding {
@@ -81,14 +103,14 @@ std::string hex(unsigned v) {
 GlBackend::GlBackend(ContextKind kind, bool hardwareOnly) : context_(GlContext::create(kind, hardwareOnly)) {
     const GlApi& gl = context_->gl();
     for (const GlKernel& k : glKernels()) {
-        const std::vector<ShaderPart> parts = {
+        std::vector<ShaderPart> parts = {
             {"glsl_prelude.glsl", kernelText("glsl_prelude.glsl")},
             {"kernel_params.glsl", kernelText("kernel_params.glsl")},
             {"gl_kernels.cpp (bindings)", kGlBindings},
             {"common.glsl", kernelText("common.glsl")},
-            {k.file, kernelText(k.file)},
-            {"gl_kernels.cpp (main)", k.main},
         };
+        appendKernelParts(k.file, parts);
+        parts.push_back({"gl_kernels.cpp (main)", k.main});
         programs_[k.name] = buildComputeProgram(gl, k.name, parts);
     }
     gl.GenBuffers(kBufferCount, buffers_);

@@ -75,6 +75,9 @@ float gatherDeepAtDisplay(vec2 corner, int c, bool use) {
 // through the signal-in binding.
 float gatherDisc(int index, int c, bool use) { return use ? signalIn[c * P.discStride + index] : 0.0f; }
 bool outsideDispatch(ivec2 t) { return t.x >= P.width || t.y >= P.height; }
+// HBAO's plan, read at run time from the parameter block.
+#define HBAO_MODEL P.hbaoModel
+#define HBAO_RUNS P.hbaoRuns
 )glsl";
 
 const std::vector<GlKernel>& glKernels() {
