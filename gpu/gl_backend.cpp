@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <vector>
 
@@ -98,22 +99,40 @@ std::string hex(unsigned v) {
     return b;
 }
 
+// The program of kernel k with `defines` (empty: none).
+GLuint compileKernel(const GlApi& gl, const GlKernel& k, const std::string& defines) {
+    std::vector<ShaderPart> parts = {
+        {"glsl_prelude.glsl", kernelText("glsl_prelude.glsl")},
+        {"kernel_params.glsl", kernelText("kernel_params.glsl")},
+        {"gl_kernels.cpp (bindings)", kGlBindings},
+        {"common.glsl", kernelText("common.glsl")},
+    };
+    if (!defines.empty()) parts.push_back({std::string(k.name) + " (defines)", defines});
+    appendKernelParts(k.file, parts);
+    parts.push_back({"gl_kernels.cpp (main)", k.main});
+    return buildComputeProgram(gl, k.name, parts);
+}
+
 } // namespace
 
 GlBackend::GlBackend(ContextKind kind, bool hardwareOnly) : context_(GlContext::create(kind, hardwareOnly)) {
     const GlApi& gl = context_->gl();
-    for (const GlKernel& k : glKernels()) {
-        std::vector<ShaderPart> parts = {
-            {"glsl_prelude.glsl", kernelText("glsl_prelude.glsl")},
-            {"kernel_params.glsl", kernelText("kernel_params.glsl")},
-            {"gl_kernels.cpp (bindings)", kGlBindings},
-            {"common.glsl", kernelText("common.glsl")},
-        };
-        appendKernelParts(k.file, parts);
-        parts.push_back({"gl_kernels.cpp (main)", k.main});
-        programs_[k.name] = buildComputeProgram(gl, k.name, parts);
-    }
+    for (const GlKernel& k : glKernels())
+        if (!k.defines) programs_[k.name] = compileKernel(gl, k, "");
     gl.GenBuffers(kBufferCount, buffers_);
+}
+
+GLuint GlBackend::program(const char* name, const glsl::KernelParams& q) {
+    for (const GlKernel& k : glKernels()) {
+        if (std::strcmp(k.name, name) != 0) continue;
+        if (!k.defines) return programs_.at(name);
+        const std::string defines = k.defines(q);
+        const std::string key = std::string(name) + "\n" + defines;
+        const auto found = programs_.find(key);
+        if (found != programs_.end()) return found->second;
+        return programs_[key] = compileKernel(context_->gl(), k, defines);
+    }
+    throw Error(std::string("no GL kernel named '") + name + "'");
 }
 
 const ContextInfo& GlBackend::info() const { return context_->info(); }
@@ -183,7 +202,7 @@ void GlBackend::uploadBuffer(int binding, unsigned target, const void* data, siz
 
 void GlBackend::dispatch(const char* program, const glsl::KernelParams& q) {
     const GlApi& gl = context_->gl();
-    gl.UseProgram(programs_.at(program));
+    gl.UseProgram(this->program(program, q));
     gl.DispatchCompute((GLuint)((q.width + kGroup - 1) / kGroup), (GLuint)((q.height + kGroup - 1) / kGroup), 1);
 }
 
