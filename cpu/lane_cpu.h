@@ -39,7 +39,7 @@ void runLaneKernel(LaneKernel kernel, const KernelParams& p, ConstPlane depth, C
                    int threads, const std::string& isa = "");
 
 // HBAO with deep input: `deep` holds p.deepLayers (front, back) depth pairs per texel over the
-// same buffer as depth, and p.hbaoBitmask is 2 (core/operator.cpp sets both).
+// same buffer as depth, and p.hbaoModel is HBAO_DEEP (core/hbao_plan.cpp plans both).
 void runHbaoDeep(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, MutablePlane ao,
                  int threads, const std::string& isa = "");
 

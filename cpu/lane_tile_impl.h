@@ -18,19 +18,21 @@ namespace {
 
 // A parameter block whose switches are fixed at compile time: the static members
 // hide KernelParams' run-time ones, so `P.cosineWeighting` in the kernel is a constant.
-template <int Cosine, int Linear, int Bitmask>
+template <int Cosine, int Linear, int Model, int Runs>
 struct ParamsPerspPlanar : KernelParams {
     static constexpr int cosineWeighting = Cosine;
     static constexpr int linearFalloff = Linear;
-    static constexpr int hbaoBitmask = Bitmask;
+    static constexpr int hbaoModel = Model;
+    static constexpr int hbaoRuns = Runs;
     static constexpr int orthographic = 0;
     static constexpr int radialDepth = 0;
 };
-template <int Cosine, int Linear, int Bitmask>
+template <int Cosine, int Linear, int Model, int Runs>
 struct ParamsAnyCamera : KernelParams {
     static constexpr int cosineWeighting = Cosine;
     static constexpr int linearFalloff = Linear;
-    static constexpr int hbaoBitmask = Bitmask;
+    static constexpr int hbaoModel = Model;
+    static constexpr int hbaoRuns = Runs;
 };
 
 template <class Params>
@@ -81,7 +83,12 @@ struct LaneCpuKernel {
     lvec4 gatherEdgeTexel(lvec2 edgeCorner, lbool use) const { return gatherRecord4(edgeData, edgeRecord(edgeCorner), use); }
 
 #include "kernels/common.glsl"
+// The plan's switches as the kernel reads them: compile-time constants of Params here (defines on OpenGL).
+#define HBAO_MODEL P.hbaoModel
+#define HBAO_RUNS P.hbaoRuns
 #include "kernels/hbao.glsl"
+#undef HBAO_MODEL
+#undef HBAO_RUNS
 #include "kernels/ssao.glsl"
 };
 
@@ -134,63 +141,68 @@ void runTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPl
         }
 }
 
-template <Entry E, int Cosine, int Linear, int Bitmask = 0>
+template <Entry E, int Cosine, int Linear, int Model, int Runs>
 void runTileFor(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, ConstPlane edges,
                 MutablePlane ao, const Box2i& tile) {
     if (p.orthographic == 0 && p.radialDepth == 0)
-        runTile<E, glsl::ParamsPerspPlanar<Cosine, Linear, Bitmask>>(p, depth, normal, deep, edges, ao, tile);
+        runTile<E, glsl::ParamsPerspPlanar<Cosine, Linear, Model, Runs>>(p, depth, normal, deep, edges, ao, tile);
     else
-        runTile<E, glsl::ParamsAnyCamera<Cosine, Linear, Bitmask>>(p, depth, normal, deep, edges, ao, tile);
+        runTile<E, glsl::ParamsAnyCamera<Cosine, Linear, Model, Runs>>(p, depth, normal, deep, edges, ao, tile);
 }
 
-// The weighting and falloff switches as template arguments, for one bitmask mode.
-template <Entry E, int Bitmask>
-void runSwitches(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, ConstPlane edges,
+// One variant (HBAO's model, runs and falloff as core/hbao_plan.cpp plans them) if p asks for it,
+// with the weighting as a template argument too.
+template <Entry E, int Model, int Runs, int Linear>
+bool runIf(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, ConstPlane edges,
+           MutablePlane ao, const Box2i& tile) {
+    if (p.hbaoModel != Model || p.hbaoRuns != Runs || p.linearFalloff != Linear) return false;
+    if (p.cosineWeighting != 0) runTileFor<E, 1, Linear, Model, Runs>(p, depth, normal, deep, edges, ao, tile);
+    else runTileFor<E, 0, Linear, Model, Runs>(p, depth, normal, deep, edges, ao, tile);
+    return true;
+}
+
+// HBAO's plans, each its own instantiation, so the untaken models leave the march: input without
+// deep layers runs no deep code, and the runs' bookkeeping (a run-time test in the march slowed
+// it by a tenth) only where they are planned.
+void runHbaoPlan(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, ConstPlane edges,
                  MutablePlane ao, const Box2i& tile) {
-    const bool linear = Bitmask != 2 && p.linearFalloff != 0; // deep input takes no falloff (operator.cpp)
-    if (p.cosineWeighting != 0) {
-        if constexpr (Bitmask != 2) {
-            if (linear) return runTileFor<E, 1, 1, Bitmask>(p, depth, normal, deep, edges, ao, tile);
-        }
-        runTileFor<E, 1, 0, Bitmask>(p, depth, normal, deep, edges, ao, tile);
-    } else {
-        if constexpr (Bitmask != 2) {
-            if (linear) return runTileFor<E, 0, 1, Bitmask>(p, depth, normal, deep, edges, ao, tile);
-        }
-        runTileFor<E, 0, 0, Bitmask>(p, depth, normal, deep, edges, ao, tile);
-    }
-}
-
-// HBAO's bitmask mode as a template argument too (SSAO never takes it): the deep layers (2), so
-// input without them runs no deep code, and the runs (3), whose bookkeeping a run-time test in
-// the march slowed by a tenth. Linear falloff with deep layers keeps the horizon (bitmask 0), as
-// the operator asks.
-template <Entry E>
-void runEntry(const KernelParams& p, int bitmask, ConstPlane depth, ConstPlane normal, ConstPlane deep,
-              ConstPlane edges, MutablePlane ao, const Box2i& tile) {
-    if constexpr (E == Entry::Hbao) {
-        if (bitmask == 1) return runSwitches<E, 1>(p, depth, normal, deep, edges, ao, tile);
-        if (bitmask == 3) return runSwitches<E, 3>(p, depth, normal, deep, edges, ao, tile);
-        if (bitmask == 2 && p.linearFalloff == 0) return runSwitches<E, 2>(p, depth, normal, deep, edges, ao, tile);
-    }
-    runSwitches<E, 0>(p, depth, normal, deep, edges, ao, tile);
+    using glsl::HBAO_HORIZON, glsl::HBAO_FIXED_THICKNESS, glsl::HBAO_MEASURED_THICKNESS, glsl::HBAO_DEEP;
+    constexpr Entry H = Entry::Hbao;
+    const bool planned = runIf<H, HBAO_HORIZON, 0, 0>(p, depth, normal, deep, edges, ao, tile) ||
+                         runIf<H, HBAO_HORIZON, 0, 1>(p, depth, normal, deep, edges, ao, tile) ||
+                         runIf<H, HBAO_FIXED_THICKNESS, 0, 0>(p, depth, normal, deep, edges, ao, tile) ||
+                         runIf<H, HBAO_FIXED_THICKNESS, 1, 1>(p, depth, normal, deep, edges, ao, tile) ||
+                         runIf<H, HBAO_MEASURED_THICKNESS, 1, 0>(p, depth, normal, deep, edges, ao, tile) ||
+                         runIf<H, HBAO_MEASURED_THICKNESS, 1, 1>(p, depth, normal, deep, edges, ao, tile) ||
+                         runIf<H, HBAO_DEEP, 0, 0>(p, depth, normal, deep, edges, ao, tile);
+    if (!planned) std::abort(); // a parameter block core/hbao_plan.cpp did not fill
 }
 
 } // namespace
 
 void hbaoTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane edges, MutablePlane ao,
               const Box2i& tile) {
-    // No deep plane here: the bitmask without its deep layers.
-    runEntry<Entry::Hbao>(p, p.hbaoBitmask == 2 ? 1 : p.hbaoBitmask, depth, normal, ConstPlane{}, edges, ao, tile);
+    if (p.hbaoModel == glsl::HBAO_DEEP) std::abort(); // deep layers come through hbaoDeepTile
+    runHbaoPlan(p, depth, normal, ConstPlane{}, edges, ao, tile);
 }
 
 void hbaoDeepTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, ConstPlane edges,
                   MutablePlane ao, const Box2i& tile) {
-    runEntry<Entry::Hbao>(p, p.hbaoBitmask, depth, normal, deep, edges, ao, tile);
+    runHbaoPlan(p, depth, normal, deep, edges, ao, tile);
 }
 
 void ssaoTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile) {
-    runEntry<Entry::Ssao>(p, 0, depth, normal, ConstPlane{}, ConstPlane{}, ao, tile);
+    // SSAO reads the weighting and the falloff, no HBAO switch (HBAO's horizon instantiations serve).
+    constexpr Entry S = Entry::Ssao;
+    constexpr int H = glsl::HBAO_HORIZON;
+    const ConstPlane none{};
+    if (p.cosineWeighting != 0) {
+        if (p.linearFalloff != 0) runTileFor<S, 1, 1, H, 0>(p, depth, normal, none, none, ao, tile);
+        else runTileFor<S, 1, 0, H, 0>(p, depth, normal, none, none, ao, tile);
+    } else {
+        if (p.linearFalloff != 0) runTileFor<S, 0, 1, H, 0>(p, depth, normal, none, none, ao, tile);
+        else runTileFor<S, 0, 0, H, 0>(p, depth, normal, none, none, ao, tile);
+    }
 }
 
 } // namespace obscura::cpu::OBSCURA_ISA

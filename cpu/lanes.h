@@ -87,6 +87,7 @@ struct lint {
 
 struct luint {
     vuint v;
+    luint() : v{} {}
     luint(vuint a) : v(a) {}
     luint(std::uint32_t s) : v(s - vuint{}) {}
     explicit luint(lint i) : v((vuint)i.v) {}

@@ -21,10 +21,33 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-std::string kernelText(const char* file) {
+std::string kernelText(const std::string& file) {
     for (const KernelSource& s : kernelSources())
-        if (std::strcmp(s.name, file) == 0) return s.text;
-    throw Error(std::string("kernel source '") + file + "' is not embedded in this build");
+        if (file == s.name) return s.text;
+    throw Error("kernel source '" + file + "' is not embedded in this build");
+}
+
+// Kernel file `file` as parts, each line `#include "other.glsl"` replaced by that file's parts:
+// GLSL has no #include, and the CPU's C++ compiler reads the same lines. Each part keeps its
+// file's line numbers, so a compile error names the line it is on.
+void appendKernelParts(const std::string& file, std::vector<ShaderPart>& parts) {
+    const std::string text = kernelText(file);
+    const std::string directive = "#include \"";
+    size_t start = 0; // of the text not yet in a part
+    int startLine = 1;
+    int line = 1;
+    for (size_t pos = 0; pos < text.size(); ++line) {
+        const size_t end = std::min(text.find('\n', pos), text.size());
+        if (text.compare(pos, directive.size(), directive) == 0) {
+            parts.push_back({file, text.substr(start, pos - start), startLine});
+            const size_t name = pos + directive.size();
+            appendKernelParts(text.substr(name, text.find('"', name) - name), parts);
+            start = end + 1;
+            startLine = line + 1;
+        }
+        pos = end + 1;
+    }
+    if (start < text.size()) parts.push_back({file, text.substr(start), startLine});
 }
 
 enum Binding {
@@ -76,24 +99,42 @@ std::string hex(unsigned v) {
     return b;
 }
 
+// The program of kernel k with `defines` (empty: none).
+GLuint compileKernel(const GlApi& gl, const GlKernel& k, const std::string& defines) {
+    std::vector<ShaderPart> parts = {
+        {"glsl_prelude.glsl", kernelText("glsl_prelude.glsl")},
+        {"kernel_params.glsl", kernelText("kernel_params.glsl")},
+        {"gl_kernels.cpp (bindings)", kGlBindings},
+        {"common.glsl", kernelText("common.glsl")},
+        // In every program: disc AO's elements use the depth normals too.
+        {"depth_normal.glsl", kernelText("depth_normal.glsl")},
+    };
+    if (!defines.empty()) parts.push_back({std::string(k.name) + " (defines)", defines});
+    if (std::strcmp(k.file, "depth_normal.glsl") != 0) appendKernelParts(k.file, parts);
+    parts.push_back({"gl_kernels.cpp (main)", k.main});
+    return buildComputeProgram(gl, k.name, parts);
+}
+
 } // namespace
 
 GlBackend::GlBackend(ContextKind kind, bool hardwareOnly) : context_(GlContext::create(kind, hardwareOnly)) {
     const GlApi& gl = context_->gl();
-    for (const GlKernel& k : glKernels()) {
-        // depth_normal.glsl in every program: disc AO's elements use it too.
-        std::vector<ShaderPart> parts = {
-            {"glsl_prelude.glsl", kernelText("glsl_prelude.glsl")},
-            {"kernel_params.glsl", kernelText("kernel_params.glsl")},
-            {"gl_kernels.cpp (bindings)", kGlBindings},
-            {"common.glsl", kernelText("common.glsl")},
-            {"depth_normal.glsl", kernelText("depth_normal.glsl")},
-        };
-        if (std::strcmp(k.file, "depth_normal.glsl") != 0) parts.push_back({k.file, kernelText(k.file)});
-        parts.push_back({"gl_kernels.cpp (main)", k.main});
-        programs_[k.name] = buildComputeProgram(gl, k.name, parts);
-    }
+    for (const GlKernel& k : glKernels())
+        if (!k.defines) programs_[k.name] = compileKernel(gl, k, "");
     gl.GenBuffers(kBufferCount, buffers_);
+}
+
+GLuint GlBackend::program(const char* name, const glsl::KernelParams& q) {
+    for (const GlKernel& k : glKernels()) {
+        if (std::strcmp(k.name, name) != 0) continue;
+        if (!k.defines) return programs_.at(name);
+        const std::string defines = k.defines(q);
+        const std::string key = std::string(name) + "\n" + defines;
+        const auto found = programs_.find(key);
+        if (found != programs_.end()) return found->second;
+        return programs_[key] = compileKernel(context_->gl(), k, defines);
+    }
+    throw Error(std::string("no GL kernel named '") + name + "'");
 }
 
 const ContextInfo& GlBackend::info() const { return context_->info(); }
@@ -165,7 +206,7 @@ void GlBackend::uploadBuffer(int binding, unsigned target, const void* data, siz
 
 void GlBackend::dispatch(const char* program, const glsl::KernelParams& q) {
     const GlApi& gl = context_->gl();
-    gl.UseProgram(programs_.at(program));
+    gl.UseProgram(this->program(program, q));
     gl.DispatchCompute((GLuint)((q.width + kGroup - 1) / kGroup), (GLuint)((q.height + kGroup - 1) / kGroup), 1);
 }
 

@@ -23,7 +23,8 @@ struct GlTimings {
 
 class GlBackend {
 public:
-    // Makes the context and compiles every registered kernel; throws obscura::Error.
+    // Makes the context and compiles every registered kernel that has no defines (the others on
+    // their first use); throws obscura::Error.
     GlBackend(ContextKind kind, bool hardwareOnly);
     ~GlBackend();
 
@@ -72,13 +73,14 @@ private:
                   const std::function<void(const Box2i& inner, const Box2i& buf)>& readback);
     void uploadBuffer(int binding, unsigned target, const void* data, size_t bytes);
     void dispatch(const char* program, const glsl::KernelParams& q);
+    unsigned program(const char* name, const glsl::KernelParams& q); // compiled on first use
     void blurBuffer(int binding, int channels, int radius, const glsl::KernelParams& q);
     void readInner(int binding, int channels, const Box2i& inner, const Box2i& buf, MutablePlane out);
 
     static constexpr int kScratch = 10;      // blur ping-pong buffer, after the 10 binding points
     static constexpr int kBufferCount = 11;
     std::unique_ptr<GlContext> context_;
-    std::map<std::string, unsigned> programs_;  // GL program names
+    std::map<std::string, unsigned> programs_;  // GL program names, by kernel name and defines
     unsigned buffers_[kBufferCount] = {};
 };
 

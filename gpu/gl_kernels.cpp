@@ -1,5 +1,7 @@
 #include "gpu/gl_kernels.h"
 
+#include "base/kernel_params.h"
+
 namespace obscura::gpu {
 
 // Buffer bindings (GlBackend uses the same numbers). A program may use at most 8
@@ -77,9 +79,17 @@ float gatherDisc(int index, int c, bool use) { return use ? signalIn[c * P.discS
 bool outsideDispatch(ivec2 t) { return t.x >= P.width || t.y >= P.height; }
 )glsl";
 
+namespace {
+// HBAO's plan (core/hbao_plan.h): one program per model, so the untaken models leave the march.
+std::string hbaoDefines(const glsl::KernelParams& p) {
+    return "#define HBAO_MODEL " + std::to_string(p.hbaoModel) + "\n#define HBAO_RUNS " + std::to_string(p.hbaoRuns) +
+           "\n";
+}
+} // namespace
+
 const std::vector<GlKernel>& glKernels() {
     static const std::vector<GlKernel> kernels = {
-        {"hbao", "hbao.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; signalOut[texelIndex(t)] = hbaoLanes(t.x, t.y); }"},
+        {"hbao", "hbao.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; signalOut[texelIndex(t)] = hbaoLanes(t.x, t.y); }", hbaoDefines},
         {"ssao", "ssao.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; signalOut[texelIndex(t)] = ssaoLanes(t.x, t.y); }"},
         {"discs", "discs.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; signalOut[texelIndex(t)] = discsLanes(t.x, t.y); }"},
         {"blur", "blur.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; storeSignal(t, blurLanes(t.x, t.y, blurAxis, blurRadius)); }"},

@@ -50,7 +50,8 @@ std::string shaderLog(const GlApi& gl, GLuint shader) {
 GLuint buildComputeProgram(const GlApi& gl, const std::string& kernel, const std::vector<ShaderPart>& parts) {
     std::string source = "#version 430 core\n";
     for (size_t i = 0; i < parts.size(); ++i)
-        source += "#line " + std::to_string((i + 1) * kLineBase + 1) + " " + std::to_string(i) + "\n" + parts[i].text + "\n";
+        source += "#line " + std::to_string((i + 1) * kLineBase + parts[i].firstLine) + " " + std::to_string(i) + "\n" +
+                  parts[i].text + "\n";
     const GLuint shader = gl.CreateShader(GL_COMPUTE_SHADER);
     const char* text = source.c_str();
     gl.ShaderSource(shader, 1, &text, nullptr);

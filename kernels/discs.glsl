@@ -785,7 +785,7 @@ lfloat discsLanes(lint x, lint y) {
                 lint nx = bx + i;
                 lbool inside = nx >= 0 && ny >= 0 && nx < levelW && ny < levelH;
                 lbool use = visiting && inside;
-                if (P.hbaoBorder == 2) {
+                if (P.hbaoBorder == HBAO_BORDER_TANGENT) {
                     use = visiting;
                 }
                 lfloat weight = lfloat(1.0f);
@@ -822,7 +822,7 @@ lfloat discsLanes(lint x, lint y) {
                     lint ey = y + j;
                     lbool inside = insideBuffer(ex, ey);
                     lbool use = computing && inside;
-                    if (P.hbaoBorder == 2) {
+                    if (P.hbaoBorder == HBAO_BORDER_TANGENT) {
                         use = computing;
                     }
                     lint index = clamp(ex, lint(0), lint(P.width - 1)) + clamp(ey, lint(0), lint(P.height - 1)) * P.width;

@@ -13,8 +13,8 @@ struct KernelParams {
 
     float maxRadiusPixels; // cap on the projected radius, keeps huge R and tiny depth bounded
     float depthScale;      // multiplies loaded depth (1; lets hosts feed other units)
-    float thickness;       // hbao: world-units thickness of depth-pass surfaces; +inf: the horizon alone
-    int hbaoBorder;        // hbao: samples past the buffer's edge: 0 open sky, 1 the edge's depth, 2 its tangent plane
+    float thickness;       // hbao: world-units thickness of depth-pass surfaces (+inf: none, a height field)
+    int hbaoBorder;        // hbao: samples past the buffer's edge: HBAO_BORDER_OPEN, ... below
 
     int width, height;     // size of the buffers the loads address
     int originX, originY;  // display coordinates of buffer texel (0,0): noise and projection use display coords, so tiles agree
@@ -42,13 +42,12 @@ struct KernelParams {
 
     int envWidth, envHeight;     // the prefiltered lat-long level uploaded; 0 x 0: no map, use skyRadiance
     int senderAlbedo;            // 1: a sender's radiance is the bounce source times its albedo
-    int hbaoBitmask;             // hbao, finite thickness: the visibility bitmask (kernels/hbao.glsl) per sample (1),
-                                 // with deep layers (2), or by runs (3: thickness auto, or linear falloff)
+    int hbaoModel;               // hbao: HBAO_HORIZON, ... below (core/hbao_plan.h, HbaoModel)
 
     float envIntensity;          // multiplies the environment (map or sky)
     float sampleArea;            // A_s = pi r_max^2 / N: the disc area one bounce sample stands for
-    float thicknessPerExtent;    // hbao, thickness auto: a run's thickness per unit of its width (0: fixed P.thickness)
-    float runJump;               // hbao, thickness auto: the largest depth change (world units) within one occluder
+    float runDepthPerWidth;      // hbao, HBAO_MEASURED_THICKNESS: a run's thickness per unit of its width
+    float runJump;               // hbao, runs and deep footprints: the largest depth change (world units) within one occluder
 
     // ---- HBAO's visibility bitmask (kernels/hbao.glsl) ----
     // Per bound k = 0..32 of the 32 sectors (pseudo-angle k/16, angle theta_k above the tangent),
@@ -68,7 +67,18 @@ struct KernelParams {
     int discStride;              // floats between one channel's plane of the pyramid and the next
 
     int discWideFrom;            // from this level up nodes open within k + 1 (discWindowAt)
-    int pad9;
+    int hbaoRuns;                // hbao: 1: samples applied per occluder run (core/hbao_plan.h)
     int pad10;
     int pad11;
 };
+
+// KernelParams::hbaoModel: what a sample hides (core/hbao_plan.h, HbaoModel, says what each is).
+CONST_GLOBAL int HBAO_HORIZON = 0;
+CONST_GLOBAL int HBAO_FIXED_THICKNESS = 1;
+CONST_GLOBAL int HBAO_MEASURED_THICKNESS = 2;
+CONST_GLOBAL int HBAO_DEEP = 3;
+// KernelParams::hbaoBorder: past the buffer's edge open sky, the edge texel's depth, or its
+// tangent plane continued (core/hbao_plan.h, HbaoBorder).
+CONST_GLOBAL int HBAO_BORDER_OPEN = 0;
+CONST_GLOBAL int HBAO_BORDER_CLAMP = 1;
+CONST_GLOBAL int HBAO_BORDER_TANGENT = 2;

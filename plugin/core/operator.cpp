@@ -2,6 +2,7 @@
 
 #include "core/backend.h"
 #include "core/devices.h"
+#include "core/hbao_plan.h"
 
 #include "base/error.h"
 #include "core/method_runs.h"
@@ -141,27 +142,7 @@ KernelParams makeKernelParams(const OperatorInputs& in, const Settings& s) {
     p.linearFalloff = s.falloff == Falloff::Linear ? 1 : 0;
     p.orthographic = cam.projection == Projection::Orthographic ? 1 : 0;
     p.radialDepth = in.depthKind == DepthKind::Radial ? 1 : 0;
-    p.thickness = resolvedThickness(s);
-    p.hbaoBorder = s.border;
-    const bool finiteThickness = std::isfinite(p.thickness);
-    // thickness auto: each occluder's depth is its width across the slice (k = 1; a cylinder's
-    // depth is its width), at most 0.85 R; a depth change above 1.5 R between samples ends an
-    // occluder (docs/notes/2026-11-23-hbao-thickness-auto.md has the sweeps on the report's scenes).
-    // Linear falloff weights by runs (kernels/hbao.glsl), also for a fixed T: k so large that
-    // every run gets T.
-    p.thicknessPerExtent = !finiteThickness                 ? 0.0f
-                           : s.thickness == kThicknessAuto ? 1.0f
-                           : p.linearFalloff               ? 1e30f
-                                                           : 0.0f;
-    p.hbaoBitmask = !finiteThickness ? 0 : p.thicknessPerExtent > 0.0f ? 3 : 1;
-    p.runJump = 1.5f * s.radius;
-    // Deep input: the bitmask with every layer's interval (2); linear falloff keeps the horizon alone.
-    p.deepLayers = in.deepLayers.valid() && p.linearFalloff == 0 ? std::min(s.deepLayers, in.deepLayers.channels / 2) : 0;
-    if (p.deepLayers > 0) {
-        p.hbaoBitmask = 2;
-        // An infinite thickness stays a height field for point samples, without inf * 0 in the kernel.
-        if (!std::isfinite(p.thickness)) p.thickness = 1e30f;
-    }
+    fillHbaoParams(planHbao(s, in.deepLayers.valid() ? in.deepLayers.channels / 2 : 0), p);
     fillSectorTerms(p);
     p.ssaoSamples = s.ssaoSamples;
     p.ssaoHemisphere = s.ssaoHemisphere ? 1 : 0;

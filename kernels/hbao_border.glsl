@@ -1,0 +1,162 @@
+// HBAO past the buffer's edge (kernels/hbao.glsl, docs/hbao.md "The frame's border"), where
+// P.hbaoBorder is HBAO_BORDER_CLAMP or HBAO_BORDER_TANGENT (HBAO_BORDER_OPEN sees open sky). The
+// continued surface is, at each texel past the edge, the nearest edge texel's tangent plane met
+// by the texel's ray (where it meets it in front of the eye; else, and for clamp, the edge
+// texel's depth). On one plane the angle seen from the receiver changes monotonically along a
+// slice, and the part within R is one segment, so its highest point within R is one of that
+// segment's ends: a lane that leaves the buffer stops marching and takes the ends of the chord
+// from the edge texel where it left (its own surface point) to the continued surface at its last
+// step, clipped to the ball of radius R. Where the chord lies in the far end's plane (the edge
+// continues one plane) it is that plane, every angle between its ends covered; else its ends are
+// two samples. Edge texels come through the backend's gatherEdgeDepth and gatherEdgeTexel (depth
+// and normal; the CPU tables them per frame).
+
+// The continued surface at display corner `corner` past the edge, as an offset from the receiver;
+// `valid` where the nearest edge texel is a surface, m its view-space normal (tangent only).
+lvec3 continuedOffset(lvec2 corner, lbool use, IN(HbaoReceiver) r, OUT(lbool) valid, OUT(lvec3) m) {
+    lvec2 edgeCorner = nearestBufferCorner(corner);
+    // Tangent reads the texel's normal with its depth: one record where the backend tables them.
+    lvec4 edge = P.hbaoBorder == HBAO_BORDER_TANGENT
+                     ? gatherEdgeTexel(edgeCorner, use)
+                     : lvec4(gatherEdgeDepth(edgeCorner, use), lfloat(0.0f), lfloat(0.0f), lfloat(0.0f));
+    lfloat edgeDepth = edge.x * P.depthScale;
+    valid = use && isSurfaceDepth(edgeDepth);
+    lfloat d = edgeDepth;
+    m = lvec3(lfloat(0.0f), lfloat(0.0f), lfloat(0.0f));
+    if (P.hbaoBorder == HBAO_BORDER_TANGENT) {
+        m = select(valid, mat3(P.normalToView) * lvec3(edge.y, edge.z, edge.w), m);
+        lvec3 e = positionOnRay(viewRay(lvec2(edgeCorner.x + 0.5f, edgeCorner.y + 0.5f)), edgeDepth);
+        lvec3 sampleRay = viewRay(lvec2(corner.x + 0.5f, corner.y + 0.5f));
+        // Planar depth -z; radial depth (perspective only) is t |ray| for the point ray t.
+        lfloat planeDepth = -rayMeetsPlane(sampleRay, m, e).z;
+        if (P.orthographic == 0 && P.radialDepth != 0) {
+            planeDepth *= sqrt(dot(sampleRay, sampleRay));
+        }
+        d = select(valid && isSurfaceDepth(planeDepth), planeDepth, edgeDepth);
+    }
+    return viewOffset(r.ray, r.depth, imageOffset(corner + r.cornerToOffset), select(valid, d, r.depth));
+}
+
+// The chord of a lane that left the buffer at display corner `exitCorner` and whose last step is
+// at `lastCorner`: its ends X0 (at the edge) and X1, where either is a surface (`valid`), and
+// whether it lies in one plane. Where one end is not a surface the other stands alone.
+void continuedChord(lvec2 exitCorner, lvec2 lastCorner, lbool left, IN(HbaoReceiver) r, OUT(lvec3) X0,
+                    OUT(lvec3) X1, OUT(lbool) valid, OUT(lbool) onePlane) {
+    lvec2 edgeCorner = nearestBufferCorner(exitCorner);
+    lfloat edgeDepth = gatherEdgeDepth(edgeCorner, left) * P.depthScale;
+    // Not the receiver's own texel (a receiver on the edge): its offset is rounding alone.
+    lvec2 pixels = edgeCorner + r.cornerToOffset;
+    lbool edgeValid = left && isSurfaceDepth(edgeDepth) && abs(pixels.x) + abs(pixels.y) > 0.0f;
+    X0 = viewOffset(r.ray, r.depth, imageOffset(pixels), select(edgeValid, edgeDepth, r.depth));
+    lbool lastValid;
+    lvec3 m;
+    X1 = continuedOffset(lastCorner, left, r, lastValid, m);
+    // X0 within 0.57 degrees of X1's plane, as seen from X1 (the chord's direction and the normal).
+    // Clamp has no plane (m = 0 passes): its chord is always one occluder.
+    lvec3 chord = X0 - X1;
+    lfloat across = dot(m, chord);
+    onePlane = edgeValid && lastValid && across * across <= 1e-4f * dot(m, m) * dot(chord, chord);
+    X0 = select(edgeValid, X0, X1);
+    X1 = select(lastValid, X1, X0);
+    valid = edgeValid || lastValid;
+}
+
+// An end of the chord in the slice's axes: where it counts (above the tangent, on the E side) and
+// its F (linear falloff).
+struct BorderPoint {
+    lfloat a, b;
+    lbool counts;
+    lfloat f;
+};
+
+// A run of the points p0 and, where `joined`, p1, closed at once with thickness P.thickness;
+// linear falloff weighs its rises by `weight` (hbao_runs.glsl).
+void closeSamples(BorderPoint p0, BorderPoint p1, lbool joined, lfloat weight, IN(HbaoSlice) sl,
+                  INOUT(HbaoOccluded) o) {
+    OccluderRun run = noRun();
+    run.firstA = p0.a;
+    run.firstB = p0.b;
+    run.lastA = select(joined, p1.a, p0.a);
+    run.lastB = select(joined, p1.b, p0.b);
+    run.topA = o.horizonA;
+    run.topB = o.horizonB;
+    lbool higher0 = raiseHorizon(p0.counts, p0.a, p0.b, run.topA, run.topB);
+    lbool higher1 = raiseHorizon(joined && p1.counts, p1.a, p1.b, run.topA, run.topB);
+    run.raised = higher0 || higher1;
+    lfloat f1j = select(joined, p1.f, lfloat(0.0f));
+    run.topF = max(p0.f, f1j);
+    run.rise = weight * max(max(p0.f, f1j) - o.horizonF, 0.0f);
+    closeRuns(run.raised, lfloat(P.thickness), run, sl, o);
+}
+
+// The continued surface between the chord's ends P0 and P1: cut off by the edge, it occludes as a
+// run the edge cuts does, P.thickness deep (the horizon alone: the higher end). Linear falloff
+// weighs its rises by `weight`.
+void takeContinued(lvec3 P0, lvec3 P1, lbool use, lbool onePlane, lfloat weight, IN(HbaoSlice) sl,
+                   INOUT(HbaoOccluded) o) {
+    BorderPoint p0;
+    BorderPoint p1;
+    p0.a = dot(sl.T, P0);
+    p0.b = dot(sl.n, P0);
+    p1.a = dot(sl.T, P1);
+    p1.b = dot(sl.n, P1);
+    // Above the tangent by more than rounding (0.57 degrees, as runs): the receiver's own plane
+    // continued past the edge occludes nothing.
+    p0.counts = use && p0.b > 0.0f && p0.b * p0.b > 1e-4f * dot(P0, P0) && p0.a * sl.nV + p0.b * sl.nE > 0.0f;
+    p1.counts = use && p1.b > 0.0f && p1.b * p1.b > 1e-4f * dot(P1, P1) && p1.a * sl.nV + p1.b * sl.nE > 0.0f;
+    if (HBAO_MODEL == HBAO_HORIZON && P.linearFalloff == 0) {
+        raiseHorizon(p0.counts, p0.a, p0.b, o.horizonA, o.horizonB);
+        raiseHorizon(p1.counts, p1.a, p1.b, o.horizonA, o.horizonB);
+        return;
+    }
+    p0.f = lfloat(0.0f);
+    p1.f = lfloat(0.0f);
+    if (P.linearFalloff != 0) {
+        p0.f = sampleF(p0.a, p0.b, p0.counts, sl);
+        p1.f = sampleF(p1.a, p1.b, p1.counts, sl);
+    }
+    if (HBAO_MODEL == HBAO_HORIZON) {
+        raiseLinearHorizon(p0.f, weight, o);
+        raiseLinearHorizon(p1.f, weight, o);
+        return;
+    }
+    // The chord whole where it is one plane, else P0 alone and then P1 alone.
+    if (anyLane(p0.counts || (p1.counts && onePlane))) {
+        closeSamples(p0, p1, onePlane, weight, sl, o);
+    }
+    lbool alone1 = p1.counts && !onePlane;
+    if (anyLane(alone1)) {
+        BorderPoint q = p1;
+        q.counts = alone1;
+        BorderPoint none = p1;
+        none.counts = lfloat(0.0f) > 0.0f; // false in every lane
+        closeSamples(q, none, none.counts, weight, sl, o);
+    }
+}
+
+// The lanes that `left` the buffer (off the interior: where the march left it) take the continued
+// surface's chord, where it can rise above the horizon.
+void takeBorder(IN(HbaoReceiver) r, IN(HbaoSlice) sl, IN(HbaoMarch) m, lbool left, INOUT(HbaoOccluded) o) {
+    lvec2 exitCorner = floor(m.start + m.step * m.stepsInside);
+    lvec2 lastCorner = floor(m.start + m.step * float(P.steps - 1));
+    lvec3 X0;
+    lvec3 X1;
+    lbool valid;
+    lbool onePlane;
+    continuedChord(exitCorner, lastCorner, left, r, X0, X1, valid, onePlane);
+    // Only a point above the horizon adds anything, and which side of the horizon's line a point
+    // lies on is linear along the chord: where both ends are on or under that line, so is all of
+    // it (the receiver's own ground continued, say), and the lane takes nothing.
+    lbool rises = valid && (aboveHorizon(dot(sl.T, X0), dot(sl.n, X0), o.horizonA, o.horizonB) ||
+                            aboveHorizon(dot(sl.T, X1), dot(sl.n, X1), o.horizonA, o.horizonB));
+    if (anyLane(rises)) {
+        lvec3 P0;
+        lvec3 P1;
+        lbool meets;
+        clipToBall(X0, X1, r.radius2, P0, P1, meets);
+        // Linear falloff: the chord's rises weighed at its near end (the angle a plane covers
+        // grows fastest nearest the receiver; measured against the mean and the far end's W).
+        lfloat weight = falloffWeight(dot(P0, P0), r.invRadius);
+        takeContinued(P0, P1, rises && meets, onePlane, weight, sl, o);
+    }
+}

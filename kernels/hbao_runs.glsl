@@ -1,0 +1,178 @@
+// HBAO_RUNS (kernels/hbao.glsl): samples applied per occluder, for HBAO_MEASURED_THICKNESS
+// (`--thickness auto`) and for HBAO_FIXED_THICKNESS with linear falloff. One T cannot suit both
+// a pole (about as deep as it is wide) and a sphere or a wall (deep behind its silhouette), so the
+// measured thickness is taken per occluder. Along a slice, consecutive samples above the tangent
+// plane whose depth (along V) changes by at most P.runJump form a run: one occluder as this slice
+// crosses it. A run that ends inside the search (the next sample is on or below the tangent
+// plane, sky, or jumps in depth) was crossed whole, and its depth is P.runDepthPerWidth times its
+// width (first to last sample, plus one step), at most P.thickness; a run cut off by the search's
+// end or the buffer's edge may be any depth and gets P.thickness, as every run does with a fixed
+// T. Its samples share that thickness, so a run is applied when it ends, as one interval: from
+// the lower of its ends' backs to its top. Linear falloff weights each occluder's rise once.
+struct OccluderRun {
+    lfloat firstA, firstB;     // its first sample
+    lfloat lastA, lastB;       // its last sample so far
+    lfloat topA, topB;         // its highest sample within R, from the horizon when it started
+    lbool raised;              // some sample rose above that horizon: only then does the run add
+    lbool going;               // the last sample was in a run (above the tangent)
+    lfloat topF;               // linear falloff: F at its top
+    lfloat rise;               // linear falloff: sum of W(r) times each sample's rise of F above
+                               // the horizon and the run's earlier samples
+};
+
+OccluderRun noRun() {
+    OccluderRun run;
+    run.firstA = lfloat(0.0f);
+    run.firstB = lfloat(0.0f);
+    run.lastA = lfloat(0.0f);
+    run.lastB = lfloat(0.0f);
+    run.topA = lfloat(1.0f);
+    run.topB = lfloat(0.0f);
+    run.raised = lfloat(0.0f) > 0.0f; // false in every lane
+    run.going = run.raised;
+    run.topF = lfloat(0.0f);
+    run.rise = lfloat(0.0f);
+    return run;
+}
+
+// The thickness of a run crossed whole: with a measured thickness, k times its width across the
+// slice (first to last sample plus the step one sample stands for, `foot`), in world units, at
+// most P.thickness; with a fixed one, P.thickness.
+lfloat runThickness(IN(OccluderRun) run, lfloat invNLen, lfloat foot) {
+    lfloat t = lfloat(P.thickness);
+    if (HBAO_MODEL == HBAO_MEASURED_THICKNESS) {
+        lfloat dA = run.lastA - run.firstA;
+        lfloat dB = run.lastB - run.firstB;
+        lfloat width = sqrt(dA * dA + dB * dB) * invNLen + foot;
+        t = min(P.runDepthPerWidth * width, lfloat(P.thickness));
+    }
+    return t;
+}
+
+// Applies the runs ending in lanes `ends`, each with its thickness t. The lower of its ends'
+// backs (its first and last samples pushed t along -V) stands for the lowest back. When that is
+// not above the horizon the run's interval joins the horizon's, which rises to the run's top;
+// else it sets the sectors between the two.
+//
+// Linear falloff: a run that joins adds its weighted rises, scaled down by the share of its
+// rise that sectors set earlier already count (each angle is weighted once, by the first
+// occluder over it, as the horizon does); an apart run adds its new sectors at its mean weight.
+void closeRuns(lbool ends, lfloat t, IN(OccluderRun) run, IN(HbaoSlice) sl, INOUT(HbaoOccluded) o) {
+    lfloat firstBackA = run.firstA + t * sl.nE;
+    lfloat firstBackB = run.firstB - t * sl.nV;
+    lfloat lastBackA = run.lastA + t * sl.nE;
+    lfloat lastBackB = run.lastB - t * sl.nV;
+    // Both lie on the E side (a push along -V keeps the E coordinate): their angles compare by
+    // the sign of a cross product.
+    lbool firstLower = firstBackA * lastBackB - firstBackB * lastBackA > 0.0f;
+    lfloat backA = select(firstLower, firstBackA, lastBackA);
+    lfloat backB = select(firstLower, firstBackB, lastBackB);
+    lbool joins = joinsHorizon(backA, backB, o.horizonA, o.horizonB);
+    lbool higher = raiseHorizon(ends && joins, run.topA, run.topB, o.horizonA, o.horizonB);
+    lfloat runRange = max(run.topF - o.horizonF, 1e-30f);
+    if (P.linearFalloff != 0) {
+        lfloat counted = lfloat(0.0f);
+        if (anyLane(higher && lfloat(o.sectors) > 0.0f)) {
+            counted = sectorOcclusionBetween(o.sectors, o.horizonF, max(run.topF, o.horizonF), sl);
+        }
+        o.occlusion += select(higher, run.rise * max(1.0f - counted / runRange, 0.0f), lfloat(0.0f));
+        o.horizonF = select(higher, max(run.topF, o.horizonF), o.horizonF);
+    }
+    lbool apart = ends && !joins;
+    if (anyLane(apart)) {
+        lint front = sectorBound(sectorPseudoAngle(run.topA, run.topB));
+        lint back = sectorBound(sectorPseudoAngle(backA, backB));
+        luint interval = select(apart, bitsBelow(front) & ~bitsBelow(back), luint(0u));
+        if (P.linearFalloff != 0) {
+            luint added = interval & ~o.sectors;
+            if (anyLane(lfloat(added) > 0.0f)) {
+                o.occlusion += (run.rise / runRange) * sectorOcclusion(added, o.horizonF, sl);
+            }
+        }
+        o.sectors = o.sectors | interval;
+    }
+}
+
+// Linear falloff's part of a sample (`inside`: it can occlude, in a run): a sample within rounding
+// of the tangent raises the horizon as it would without runs (its back lies below the tangent for
+// any thickness that matters), so a large T is the linear horizon; one in a run adds its weighted
+// rise to the run's. Binary visibility drops the former: it adds at most F at 0.57 degrees.
+void weighSampleInRun(IN(HbaoSample) smp, lbool inside, IN(HbaoReceiver) r, IN(HbaoSlice) sl,
+                      INOUT(OccluderRun) run, INOUT(HbaoOccluded) o) {
+    lbool onTangent = smp.counts && !smp.above;
+    lfloat f;
+    lfloat weight;
+    linearTerms(smp, smp.counts, sl, r.invRadius, f, weight);
+    raiseHorizonByF(onTangent, smp.a, smp.b, f, o);
+    lfloat insideF = select(inside, f, lfloat(0.0f));
+    run.rise += weight * max(insideF - max(o.horizonF, run.topF), 0.0f);
+    run.topF = max(run.topF, insideF);
+    raiseLinearHorizon(select(onTangent, f, lfloat(0.0f)), weight, o);
+}
+
+// A sample where some lane's run goes on or starts: it continues the run, or ends it (which then
+// closes) and starts the next, or lies in none.
+void followRun(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, INOUT(OccluderRun) run,
+               INOUT(HbaoOccluded) o) {
+    lfloat toEye = (smp.b - run.lastB) * sl.nV - (smp.a - run.lastA) * sl.nE;
+    lbool continues = run.going && smp.above && abs(toEye) <= sl.runJump;
+    lbool ends = run.going && !continues;
+    // A run whose top is not above the horizon adds nothing (its sectors would lie under the
+    // horizon, its rises are none): most runs end so, and skip the close. The top starts at the
+    // horizon, which only a close raises while the run goes on, so the test is a flag set as the
+    // top rises, not a cross product a step.
+    lbool matters = ends && run.raised;
+    if (anyLane(matters)) {
+        // A run ending past the edge (its end not seen) may be any depth.
+        lbool leftBuffer = !insideBuffer(smp.corner - vec2(bufferOrigin()), 0.0f);
+        lfloat t = select(leftBuffer, lfloat(P.thickness), runThickness(run, sl.invNLen, r.footprint));
+        closeRuns(matters, t, run, sl, o);
+    }
+    // A sample that does not continue a run starts one, or lies in none: either way the run's
+    // state restarts from it (outside a run the top stays at the horizon).
+    run.topA = select(continues, run.topA, o.horizonA);
+    run.topB = select(continues, run.topB, o.horizonB);
+    if (P.linearFalloff != 0) {
+        run.topF = select(ends, lfloat(0.0f), run.topF);
+        run.rise = select(ends, lfloat(0.0f), run.rise);
+    }
+    run.firstA = select(continues, run.firstA, smp.a);
+    run.firstB = select(continues, run.firstB, smp.b);
+    lbool inside = smp.counts && smp.above; // can occlude
+    lbool higher = inside && run.topA * smp.b - run.topB * smp.a > 0.0f;
+    run.topA = select(higher, smp.a, run.topA);
+    run.topB = select(higher, smp.b, run.topB);
+    run.raised = (continues && run.raised) || higher;
+    if (P.linearFalloff != 0) {
+        weighSampleInRun(smp, inside, r, sl, run, o);
+    }
+    run.lastA = smp.a;
+    run.lastB = smp.b;
+    run.going = smp.above;
+}
+
+// HBAO_RUNS's step.
+void takeSampleInRuns(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, INOUT(OccluderRun) run,
+                      INOUT(HbaoOccluded) o) {
+    if (!anyLane(smp.above || run.going)) {
+        // No run goes on and none starts (a receiver on open ground): only the linear falloff's
+        // on-tangent samples need this step.
+        if (P.linearFalloff != 0) {
+            lfloat f;
+            lfloat weight;
+            linearTerms(smp, smp.counts, sl, r.invRadius, f, weight);
+            raiseHorizonByF(smp.counts, smp.a, smp.b, f, o);
+            raiseLinearHorizon(f, weight, o);
+        }
+    } else {
+        followRun(smp, r, sl, run, o);
+    }
+}
+
+// Runs still going when the search ends (or leaves the buffer) may be any depth: P.thickness.
+void closeUnfinishedRun(IN(OccluderRun) run, IN(HbaoSlice) sl, INOUT(HbaoOccluded) o) {
+    lbool unclosed = run.going && run.raised;
+    if (anyLane(unclosed)) {
+        closeRuns(unclosed, lfloat(P.thickness), run, sl, o);
+    }
+}
