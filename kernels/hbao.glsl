@@ -29,13 +29,13 @@ lfloat sliceIntegral(IN(HbaoSlice) sl, IN(HbaoOccluded) o) {
     lfloat occlusion = o.occlusion;
     if (P.linearFalloff == 0) {
         lfloat invLen = inversesqrt(o.horizonA * o.horizonA + o.horizonB * o.horizonB);
-        occlusion = sliceOcclusionAt(o.horizonA * invLen, o.horizonB * invLen, sl);
+        occlusion = sliceOcclusionAt(o.horizonA * invLen, o.horizonB * invLen, sl.np);
         if (HBAO_MODEL != HBAO_HORIZON) {
             // Sectors wholly below the horizon add nothing: clear them, and skip the sum when none is left.
             lint horizonSector = min(lint(sectorPseudoAngle(o.horizonA, o.horizonB) * 16.0f), lint(31));
             luint sectors = o.sectors & ~bitsBelow(horizonSector);
             if (anyLane(lfloat(sectors) > 0.0f)) {
-                occlusion += sectorOcclusion(sectors, occlusion, sl);
+                occlusion += sectorOcclusion(sectors, occlusion, sl.np);
             }
         }
     }
@@ -74,8 +74,11 @@ lfloat hbaoLanes(lint x, lint y) {
             lfloat loaded;
             lbool inBuffer = advanceMarch(r, s, march, smp.corner, loaded);
             if (!march.interior) {
+                // Off the interior, the steps each lane takes inside the buffer come first (the
+                // line is straight, the buffer convex): the march ends when every lane has left.
+                march.stepsInside += select(inBuffer, lfloat(1.0f), lfloat(0.0f));
                 if (!anyLane(inBuffer)) {
-                    break; // every lane has left the buffer (the line is straight, the buffer convex)
+                    break;
                 }
             }
             sampleAt(r, slice, loaded, inBuffer, smp);

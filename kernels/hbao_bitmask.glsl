@@ -12,10 +12,10 @@
 // adds the part of [F(lower bound), F(upper bound)] within [lowF, highF] (F grows with the angle,
 // so cutting F's values is cutting the bounds). F is linear in (cos b, sin b); the bounds' terms
 // are uniform (P.sectorTerms). Only sectors some lane has set are visited.
-lfloat sectorOcclusionBetween(luint sectors, lfloat lowF, lfloat highF, IN(HbaoSlice) sl) {
-    lfloat scale = P.cosineWeighting != 0 ? 0.5f * sl.nLen : lfloat(1.0f);
-    lfloat wCos = scale * sl.cosB;
-    lfloat wSin = scale * sl.sinB;
+lfloat sectorOcclusionBetween(luint sectors, lfloat lowF, lfloat highF, IN(ProjectedNormal) np) {
+    lfloat scale = P.cosineWeighting != 0 ? 0.5f * np.nLen : lfloat(1.0f);
+    lfloat wCos = scale * np.cosB;
+    lfloat wSin = scale * np.sinB;
     uint any = lanesOr(sectors);
     int first = findLSB(any);
     int last = findMSB(any);
@@ -33,8 +33,8 @@ lfloat sectorOcclusionBetween(luint sectors, lfloat lowF, lfloat highF, IN(HbaoS
 }
 
 // Occlusion the set sectors add above the horizon, whose own is horizonF.
-lfloat sectorOcclusion(luint sectors, lfloat horizonF, IN(HbaoSlice) sl) {
-    return sectorOcclusionBetween(sectors, horizonF, lfloat(3.0e38f), sl);
+lfloat sectorOcclusion(luint sectors, lfloat horizonF, IN(ProjectedNormal) np) {
+    return sectorOcclusionBetween(sectors, horizonF, lfloat(3.0e38f), np);
 }
 
 // Pseudo-angle of (a, b), b >= 0, above the tangent: 0 along it, 1 along the normal, 2 opposite;

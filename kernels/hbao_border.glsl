@@ -86,7 +86,7 @@ void closeSamples(BorderPoint p0, BorderPoint p1, lbool joined, lfloat weight, I
     lfloat f1j = select(joined, p1.f, lfloat(0.0f));
     run.topF = max(p0.f, f1j);
     run.rise = weight * max(max(p0.f, f1j) - o.horizonF, 0.0f);
-    closeRuns(run.raised, lfloat(P.thickness), run, sl, o);
+    closeRuns(run.raised, lfloat(P.thickness), run, sl.np, o);
 }
 
 // The continued surface between the chord's ends P0 and P1: cut off by the edge, it occludes as a
@@ -102,8 +102,8 @@ void takeContinued(lvec3 P0, lvec3 P1, lbool use, lbool onePlane, lfloat weight,
     p1.b = dot(sl.n, P1);
     // Above the tangent by more than rounding (0.57 degrees, as runs): the receiver's own plane
     // continued past the edge occludes nothing.
-    p0.counts = use && p0.b > 0.0f && p0.b * p0.b > 1e-4f * dot(P0, P0) && p0.a * sl.nV + p0.b * sl.nE > 0.0f;
-    p1.counts = use && p1.b > 0.0f && p1.b * p1.b > 1e-4f * dot(P1, P1) && p1.a * sl.nV + p1.b * sl.nE > 0.0f;
+    p0.counts = use && p0.b > 0.0f && p0.b * p0.b > 1e-4f * dot(P0, P0) && p0.a * sl.np.nV + p0.b * sl.np.nE > 0.0f;
+    p1.counts = use && p1.b > 0.0f && p1.b * p1.b > 1e-4f * dot(P1, P1) && p1.a * sl.np.nV + p1.b * sl.np.nE > 0.0f;
     if (HBAO_MODEL == HBAO_HORIZON && P.linearFalloff == 0) {
         raiseHorizon(p0.counts, p0.a, p0.b, o.horizonA, o.horizonB);
         raiseHorizon(p1.counts, p1.a, p1.b, o.horizonA, o.horizonB);
@@ -112,8 +112,8 @@ void takeContinued(lvec3 P0, lvec3 P1, lbool use, lbool onePlane, lfloat weight,
     p0.f = lfloat(0.0f);
     p1.f = lfloat(0.0f);
     if (P.linearFalloff != 0) {
-        p0.f = sampleF(p0.a, p0.b, p0.counts, sl);
-        p1.f = sampleF(p1.a, p1.b, p1.counts, sl);
+        p0.f = sampleF(p0.a, p0.b, p0.counts, sl.np);
+        p1.f = sampleF(p1.a, p1.b, p1.counts, sl.np);
     }
     if (HBAO_MODEL == HBAO_HORIZON) {
         raiseLinearHorizon(p0.f, weight, o);

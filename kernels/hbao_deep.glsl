@@ -24,7 +24,7 @@ void occupySpan(lvec3 frontX, lvec3 backX, lbool span, lbool use, IN(HbaoSlice) 
     lfloat b = dot(sl.n, front);
     lfloat backA = select(span, dot(sl.T, back), a + sl.backShiftA);
     lfloat backB = select(span, dot(sl.n, back), b + sl.backShiftB);
-    lbool counts = use && meets && b > 0.0f && a * sl.nV + b * sl.nE > 0.0f;
+    lbool counts = use && meets && b > 0.0f && a * sl.np.nV + b * sl.np.nE > 0.0f;
     occupyInterval(a, b, backA, backB, counts, o);
 }
 
@@ -100,7 +100,7 @@ void occupyFootprintSegment(lvec3 P0, lvec3 P1, lbool halves, lvec3 X, IN(HbaoSl
                         1e-4f * sqrt((o.horizonA * o.horizonA + o.horizonB * o.horizonB) * (lowA * lowA + lowB * lowB));
     lowA = select(nearHorizon, lfloat(1.0f), lowA);
     lowB = select(nearHorizon, lfloat(0.0f), lowB);
-    lbool counts = halves && topB > 0.0f && topA * sl.nV + topB * sl.nE > 0.0f;
+    lbool counts = halves && topB > 0.0f && topA * sl.np.nV + topB * sl.np.nE > 0.0f;
     occupyInterval(topA, topB, lowA, lowB, counts, o);
 }
 

@@ -34,7 +34,7 @@ void raiseHorizonByF(lbool mask, lfloat a, lfloat b, lfloat f, INOUT(HbaoOcclude
 // Linear falloff: the sample's F (0 outside `counts`) and its weight.
 void linearTerms(IN(HbaoSample) smp, lbool counts, IN(HbaoSlice) sl, float invRadius, OUT(lfloat) f,
                  OUT(lfloat) weight) {
-    f = sampleF(smp.a, smp.b, counts, sl);
+    f = sampleF(smp.a, smp.b, counts, sl.np);
     weight = falloffWeight(smp.r2, invRadius);
 }
 

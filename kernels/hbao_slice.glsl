@@ -85,15 +85,21 @@ HbaoAzimuth firstAzimuth(IN(HbaoReceiver) r) {
     return az;
 }
 
+// The receiver's normal projected into a slice: n_p = |n_p| (cos b, sin b) in its (E, V) axes.
+// What F and the runs' backs need of a slice (passed on its own to a call kept out of line).
+struct ProjectedNormal {
+    lfloat nE, nV;        // the normal's components along E and V (nV > 0)
+    lfloat nLen, invNLen; // |n_p| and its inverse
+    lfloat cosB, sinB;
+};
+
 // A slice: the plane through the eye that holds V and the direction E. A sample in it is taken
 // in the coordinates of the receiver's tangent plane: a along the tangent, b above it.
 struct HbaoSlice {
     lvec2 dir;            // the image direction of E (display pixels, unit length)
     lvec3 T;              // the tangent's axis: elevation t (sin t = -cos b), on the E side
     lvec3 n;              // the normal's axis (the receiver's normal)
-    lfloat nE, nV;        // the normal's components along E and V (nV > 0)
-    lfloat nLen, invNLen; // |n_p|, the normal projected into the slice, and its inverse
-    lfloat cosB, sinB;    // n_p = |n_p| (cos b, sin b) in the slice's (E, V) axes
+    ProjectedNormal np;
     lfloat backShiftA;    // pushing a point the thickness T along -V (as the bitmask paper does)
     lfloat backShiftB;    // moves (a, b) by (backShiftA, backShiftB)
     lfloat runJump;       // P.runJump in the slice's axes
@@ -108,20 +114,20 @@ HbaoSlice nextSlice(IN(HbaoReceiver) r, INOUT(HbaoAzimuth) az) {
     az.cosPhi = nextCos;
     sl.dir = screenDirection(r.ray, E);
     sl.n = r.n;
-    sl.nE = dot(r.n, E);
-    sl.nV = dot(r.n, r.V); // > 0 after viewNormal
-    sl.invNLen = inversesqrt(max(sl.nE * sl.nE + sl.nV * sl.nV, 1e-24f));
-    sl.nLen = (sl.nE * sl.nE + sl.nV * sl.nV) * sl.invNLen;
-    sl.cosB = sl.nE * sl.invNLen;
-    sl.sinB = sl.nV * sl.invNLen;
+    sl.np.nE = dot(r.n, E);
+    sl.np.nV = dot(r.n, r.V); // > 0 after viewNormal
+    sl.np.invNLen = inversesqrt(max(sl.np.nE * sl.np.nE + sl.np.nV * sl.np.nV, 1e-24f));
+    sl.np.nLen = (sl.np.nE * sl.np.nE + sl.np.nV * sl.np.nV) * sl.np.invNLen;
+    sl.np.cosB = sl.np.nE * sl.np.invNLen;
+    sl.np.sinB = sl.np.nV * sl.np.invNLen;
     // T and n are both |n_p| times unit length: every use of (a, b) is an angle or a sign, which
     // a common positive scale leaves alone. A sample is on the E side when its E coordinate,
     // a cos t - b sin t ~ a nV + b nE, is positive.
-    sl.T = sl.nV * E - sl.nE * r.V;
-    sl.backShiftA = P.thickness * sl.nE;
-    sl.backShiftB = -P.thickness * sl.nV;
+    sl.T = sl.np.nV * E - sl.np.nE * r.V;
+    sl.backShiftA = P.thickness * sl.np.nE;
+    sl.backShiftB = -P.thickness * sl.np.nV;
     // A depth change along V, scaled by |n_p|^2 like a and b.
-    sl.runJump = P.runJump * sl.nLen * sl.nLen;
+    sl.runJump = P.runJump * sl.np.nLen * sl.np.nLen;
     return sl;
 }
 
@@ -131,18 +137,18 @@ HbaoSlice nextSlice(IN(HbaoReceiver) r, INOUT(HbaoAzimuth) az) {
 //   cosine (projected solid angle; integral of cos to n):   F = |n_p| / 2 (sin b sin^2 theta
 //                                                               + cos b (theta - sin theta cos theta))
 // Both grow with theta, so the highest sample is the horizon.
-lfloat sliceOcclusionAt(lfloat cosTheta, lfloat sinTheta, IN(HbaoSlice) sl) {
+lfloat sliceOcclusionAt(lfloat cosTheta, lfloat sinTheta, IN(ProjectedNormal) np) {
     if (P.cosineWeighting == 0) {
-        return sl.cosB * (1.0f - cosTheta) + sl.sinB * sinTheta;
+        return np.cosB * (1.0f - cosTheta) + np.sinB * sinTheta;
     }
     lfloat theta = atan(sinTheta, cosTheta);
-    return 0.5f * sl.nLen * (sl.sinB * sinTheta * sinTheta + sl.cosB * (theta - sinTheta * cosTheta));
+    return 0.5f * np.nLen * (np.sinB * sinTheta * sinTheta + np.cosB * (theta - sinTheta * cosTheta));
 }
 
 // F of a sample at (a, b) in the slice's axes, 0 outside `counts`.
-lfloat sampleF(lfloat a, lfloat b, lbool counts, IN(HbaoSlice) sl) {
+lfloat sampleF(lfloat a, lfloat b, lbool counts, IN(ProjectedNormal) np) {
     lfloat invLen = inversesqrt(max(a * a + b * b, 1e-30f));
-    return select(counts, sliceOcclusionAt(a * invLen, b * invLen, sl), lfloat(0.0f));
+    return select(counts, sliceOcclusionAt(a * invLen, b * invLen, np), lfloat(0.0f));
 }
 
 // Linear falloff's weight 1 - r/R of a point at distance r (r^2 = r2), 0 beyond R.
@@ -246,7 +252,7 @@ HbaoMarch startMarch(IN(HbaoReceiver) r, IN(HbaoSlice) sl) {
 }
 
 // Step s of the march: its texel's display corner and depth (loaded the step before), and the
-// lanes whose texel is in the buffer; off the interior, counts the steps each lane took inside.
+// lanes whose texel is in the buffer.
 lbool advanceMarch(IN(HbaoReceiver) r, int s, INOUT(HbaoMarch) m, OUT(lvec2) corner, OUT(lfloat) loaded) {
     corner = floor(m.position);
     m.position = m.position + m.step;
@@ -254,9 +260,6 @@ lbool advanceMarch(IN(HbaoReceiver) r, int s, INOUT(HbaoMarch) m, OUT(lvec2) cor
     loaded = m.aheadDepth;
     if (s + 1 < P.steps) {
         m.aheadDepth = loadStep(floor(m.position), r.computing, m.interior, m.aheadUse);
-    }
-    if (!m.interior) {
-        m.stepsInside += select(counts, lfloat(1.0f), lfloat(0.0f));
     }
     return counts;
 }
@@ -280,5 +283,5 @@ void sampleAt(IN(HbaoReceiver) r, IN(HbaoSlice) sl, lfloat loaded, lbool counts,
     // Below the tangent plane a sample cannot raise the horizon; snapping can push one across V.
     // Then theta is in (0, pi - b): F grows with theta, and two angles there compare exactly by
     // the sign of their cross product.
-    smp.counts = counts && smp.r2 <= r.radius2 && smp.b > 0.0f && smp.a * sl.nV + smp.b * sl.nE > 0.0f;
+    smp.counts = counts && smp.r2 <= r.radius2 && smp.b > 0.0f && smp.a * sl.np.nV + smp.b * sl.np.nE > 0.0f;
 }

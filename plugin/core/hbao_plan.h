@@ -1,6 +1,6 @@
 // HBAO's plan: which model of occluders the kernel runs, decided once, here, from the settings
 // and the input. Both devices specialise kernels/hbao.glsl on it: the CPU by template
-// (cpu/lane_tile_impl.h), OpenGL by defines (gpu/gl_backend.cpp). docs/hbao.md has the maths.
+// (cpu/lane_tile_impl.h), OpenGL by defines (gpu/gl_kernels.cpp). docs/hbao.md has the maths.
 #pragma once
 #include "core/settings.h"
 
