@@ -96,15 +96,15 @@ def environment_map(work):
     return str(env)
 
 
-def other_configs(all_inputs, devices, methods, env):
+def other_configs(all_inputs, devices, isas, methods, env):
     for (name, args, r), device, method in itertools.product(all_inputs, devices, methods):
         if "--flat" in args or (method == "rtao" and device != "cpu"):
             continue
-        for i, flags in enumerate(OTHER_METHODS[method]):
+        for isa, (i, flags) in itertools.product(isas if device == "cpu" else [""], enumerate(OTHER_METHODS[method])):
             flags = [env if f == "ENV" else f for f in flags]
             ao_definition = [] if method == "ssdo" else ["--weighting", "cosine", "--falloff", "none"]
-            yield (f"{name}.{device}.{method}{i}", args + ["--method", method, "--radius", f"{r:.6g}",
-                   "--device", device] + ao_definition + flags, "")
+            yield (f"{name}.{device}{('-' + isa) if isa else ''}.{method}{i}",
+                   args + ["--method", method, "--radius", f"{r:.6g}", "--device", device] + ao_definition + flags, isa)
 
 
 def configs(all_inputs, devices, isas):
@@ -195,7 +195,7 @@ def main():
     methods = args.methods.split(",")
     devices = args.devices.split(",")
     todo = list(configs(inputs(work / "scenes"), devices, args.isa.split(","))) if "hbao" in methods else []
-    todo += other_configs(inputs(work / "scenes"), devices, [m for m in methods if m != "hbao"],
+    todo += other_configs(inputs(work / "scenes"), devices, args.isa.split(","), [m for m in methods if m != "hbao"],
                           environment_map(work))
     todo = [c for c in todo if args.only in c[0]]
     errors = []
