@@ -100,7 +100,39 @@ std::string readDeep(const std::string& path, const std::string& z, const std::s
     return {};
 }
 
-const OiioModule kModule{kOiioModuleAbi, &probe, &readRgb, &writePng, &readDeep};
+std::string readDeepChannels(const std::string& path, DeepChannels& out) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) return oiioError(OIIO::geterror());
+    const OIIO::ImageSpec spec = in->spec();
+    if (!spec.deep) return "not a deep image";
+    OIIO::DeepData dd;
+    const bool read = spec.tile_width > 0
+                          ? in->read_native_deep_tiles(0, 0, spec.x, spec.x + spec.width, spec.y, spec.y + spec.height,
+                                                       spec.z, spec.z + spec.depth, 0, spec.nchannels, dd)
+                          : in->read_native_deep_scanlines(0, 0, spec.y, spec.y + spec.height, spec.z, 0,
+                                                           spec.nchannels, dd);
+    if (!read) return oiioError(in->geterror());
+    out.fullWidth = spec.full_width;
+    out.fullHeight = spec.full_height;
+    out.x = spec.x - spec.full_x;
+    out.y = spec.y - spec.full_y;
+    out.width = spec.width;
+    out.height = spec.height;
+    out.names.assign(spec.channelnames.begin(), spec.channelnames.end());
+    const OIIO::cspan<unsigned int> counts = dd.all_samples();
+    out.counts.assign(counts.begin(), counts.end());
+    size_t total = 0;
+    for (unsigned int n : counts) total += n;
+    const int nc = spec.nchannels;
+    out.values.resize(total * nc);
+    float* v = out.values.data();
+    for (int64_t p = 0, pixels = (int64_t)spec.width * spec.height; p < pixels; ++p)
+        for (int s = 0; s < dd.samples(p); ++s)
+            for (int c = 0; c < nc; ++c) *v++ = dd.deep_value(p, c, s);
+    return {};
+}
+
+const OiioModule kModule{kOiioModuleAbi, &probe, &readRgb, &writePng, &readDeep, &readDeepChannels};
 
 } // namespace
 } // namespace obscura
