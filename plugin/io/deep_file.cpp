@@ -103,14 +103,18 @@ bool DeepLayerBuilder::addPixelAfter(DeepSpan first, const DeepSpan* sorted, siz
 
 Image DeepLayerBuilder::planes(int width, int height) const {
     Image out(width, height, 2 * std::max(layers_, 1), kInf);
+    writePlanes(out, 0);
+    return out;
+}
+
+void DeepLayerBuilder::writePlanes(Image& out, size_t first) const {
     for (size_t p = 0; p + 1 < start_.size(); ++p) {
-        float* v = out.pixels.data() + p * out.channels;
+        float* v = out.pixels.data() + (first + p) * out.channels;
         for (size_t k = start_[p]; k < start_[p + 1]; ++k, v += 2) {
             v[0] = kept_[k].front;
             v[1] = kept_[k].back;
         }
     }
-    return out;
 }
 
 Image deepPlanesOver(DeepLayers&& deep, const Box2i& data) {

@@ -33,6 +33,8 @@ public:
     int layers() const { return layers_; }
     // W x H, 2 * max(layers, 1) channels: (front, back) per layer, +inf past a pixel's last.
     Image planes(int width, int height) const;
+    // Into `out` (2 * layers() channels or more, +inf), from its pixel `first` on.
+    void writePlanes(Image& out, size_t first) const;
 
 private:
     std::vector<DeepSpan> kept_;

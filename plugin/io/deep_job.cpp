@@ -138,16 +138,21 @@ std::vector<std::string> deepElementsOf(const FrameJob& job) {
 
 FramePasses loadDeepElements(const FrameJob& job, const std::vector<std::string>& paths, DeepElementsInput& deep,
                              FrameReport& report) {
-    StageTimer timer{&report.stages, "read"};
     refuseWhatDeepElementsCannotDo(job);
-    // The preset (and so the deep channels' names and the depth's kind) from the first element.
-    ExrInfo firstInfo = readExrInfo(paths[0], job.maxPixels, true);
-    firstInfo.parts.resize(1);
-    firstInfo.parts[0].channels = headerChannels(firstInfo.parts[0].header);
-    const LayerPlan elementPlan = planLayers(firstInfo, job.preset);
     std::vector<DeepElement> elements;
-    for (const std::string& path : paths) elements.push_back(readDeepElement(path, elementPlan.deep, job.maxPixels));
-    DeepMerge m = mergeDeepElements(elements, job.settings.deepLayers, job.perElementAo);
+    LayerPlan elementPlan;
+    {
+        StageTimer timer{&report.stages, "read"};
+        // The preset (and so the deep channels' names and the depth's kind) from the first element.
+        ExrInfo firstInfo = readExrInfo(paths[0], job.maxPixels, true);
+        firstInfo.parts.resize(1);
+        firstInfo.parts[0].channels = headerChannels(firstInfo.parts[0].header);
+        elementPlan = planLayers(firstInfo, job.preset);
+        elements = readDeepElements(paths, elementPlan.deep, job.maxPixels, job.settings.threads);
+    }
+    StageTimer timer{&report.stages, "merge"};
+    DeepMerge m = mergeDeepElements(elements, job.settings.deepLayers, job.perElementAo, job.settings.threads);
+    for (DeepElement& e : elements) e.samples = DeepChannels();  // merged: only headers and paths are read on
 
     FramePasses p;
     const ExrPart part = flatPart(elements[0].part);

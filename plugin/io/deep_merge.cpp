@@ -8,6 +8,10 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <atomic>
+#include <exception>
+#include <functional>
+#include <thread>
 #include <tuple>
 
 namespace obscura {
@@ -97,6 +101,28 @@ bool overlapping(const float* s, size_t n, int stride) {
     return false;
 }
 
+int workerCount(int threads) { return threads > 0 ? threads : std::max(1, (int)std::thread::hardware_concurrency()); }
+
+// task(i) for every i in [0, count), on up to `workers` threads; the first failure by index is thrown.
+void runParallel(int count, int workers, const std::function<void(int)>& task) {
+    std::vector<std::exception_ptr> failed(count);
+    std::atomic<int> next{0};
+    std::vector<std::thread> pool;
+    for (int w = 0; w < std::min(workers, count); ++w)
+        pool.emplace_back([&] {
+            for (int i = next++; i < count; i = next++) {
+                try {
+                    task(i);
+                } catch (...) {
+                    failed[i] = std::current_exception();
+                }
+            }
+        });
+    for (std::thread& t : pool) t.join();
+    for (const std::exception_ptr& e : failed)
+        if (e) std::rethrow_exception(e);
+}
+
 std::string windowText(const Imath::Box2i& b) {
     return "[" + std::to_string(b.min.x) + "," + std::to_string(b.min.y) + " - " + std::to_string(b.max.x) + "," +
            std::to_string(b.max.y) + "]";
@@ -143,6 +169,14 @@ std::vector<ExrChannel> headerChannels(const Imf::Header& header) {
     return channels;
 }
 
+std::vector<DeepElement> readDeepElements(const std::vector<std::string>& paths, const DeepChannelNames& names,
+                                          long long maxPixels, int threads) {
+    std::vector<DeepElement> elements(paths.size());
+    runParallel((int)paths.size(), workerCount(threads),
+                [&](int i) { elements[i] = readDeepElement(paths[i], names, maxPixels); });
+    return elements;
+}
+
 DeepElement readDeepElement(const std::string& path, const DeepChannelNames& names, long long maxPixels) {
     DeepElement e;
     e.path = path;
@@ -180,6 +214,10 @@ std::vector<ExrChannel> flattenedChannels(const std::vector<DeepElement>& elemen
     return channels;
 }
 
+struct MergeCounts {
+    long long samples = 0, droppedSamples = 0, emptyPixels = 0, truncatedPixels = 0;
+};
+
 // One pixel's samples of every element, gathered as flattenSamples reads them and sorted.
 class PixelSamples {
 public:
@@ -197,7 +235,7 @@ public:
     }
 
     // Pixel p's valid samples, sorted by (Z, ZBack); counts what was dropped.
-    void gather(size_t p, DeepMerge& m) {
+    void gather(size_t p, MergeCounts& m) {
         buf_.clear();
         owner_.clear();
         for (size_t e = 0; e < elements_.size(); ++e) {
@@ -264,46 +302,85 @@ DeepSpan ownSurface(const PixelSamples& px, int e, std::vector<DeepSpan>& rest) 
     return mine;
 }
 
+// Rows [y0, y1) of the merge: the flattened planes and fronts written in place, the surfaces
+// into builders of their own (the rows' pixels only).
+struct MergeBand {
+    int y0 = 0, y1 = 0;
+    DeepLayerBuilder merged{0};
+    std::vector<DeepLayerBuilder> own;
+    MergeCounts counts;
+};
+
+void mergeBand(const std::vector<DeepElement>& elements, int alpha, int maxLayers, DeepMerge& m, MergeBand& band) {
+    const int C = (int)m.channels.size(), W = m.data.width();
+    const size_t rows = (size_t)W * (band.y1 - band.y0);
+    band.merged = DeepLayerBuilder(rows, rows * 2);
+    band.own.assign(m.elementFront.size(), DeepLayerBuilder(rows, rows * 2));
+    PixelSamples px(elements, m.channels, alpha);
+    std::vector<float> scratch, out(C);
+    std::vector<DeepSpan> rest;
+    for (size_t p = (size_t)W * band.y0; p < (size_t)W * band.y1; ++p) {
+        px.gather(p, band.counts);
+        const size_t n = px.spans.size();
+        if (n == 0) ++band.counts.emptyPixels;
+        flattenSamples(px.sorted.data(), n, 2 + C, alpha, scratch, out.data());
+        for (int c = 0; c < C; ++c) m.flat[c].pixels[p] = out[c];
+        if (n) m.front.pixels[p] = px.spans[0].front;
+        if (!band.merged.addPixel(px.spans.data(), n, maxLayers)) ++band.counts.truncatedPixels;
+        for (size_t e = 0; e < band.own.size(); ++e) {
+            const DeepSpan mine = ownSurface(px, (int)e, rest);
+            band.own[e].addPixelAfter(mine, rest.data(), rest.size(), maxLayers);
+            m.elementFront[e].pixels[p] = mine.front;
+        }
+    }
+}
+
+// The bands' surfaces as one plane, as many layers as the deepest pixel of any band needs.
+Image stitchLayers(const std::vector<MergeBand>& bands, const std::function<const DeepLayerBuilder&(const MergeBand&)>& of,
+                   int width, int height, int& layers) {
+    layers = 1;
+    for (const MergeBand& b : bands) layers = std::max(layers, of(b).layers());
+    Image out(width, height, 2 * layers, kInf);
+    for (const MergeBand& b : bands) of(b).writePlanes(out, (size_t)width * b.y0);
+    return out;
+}
+
 } // namespace
 
-DeepMerge mergeDeepElements(const std::vector<DeepElement>& elements, int maxLayers, bool perElement) {
+DeepMerge mergeDeepElements(const std::vector<DeepElement>& elements, int maxLayers, bool perElement, int threads) {
     const DeepElement& first = elements.at(0);
     DeepMerge m;
     m.display = first.part.displayWindow;
     m.data = first.part.dataWindow;
     for (const DeepElement& e : elements) requireSameWindows(e, first);
     m.channels = flattenedChannels(elements);
-    const int C = (int)m.channels.size();
     int alpha = -1;
-    for (int c = 0; c < C; ++c)
+    for (int c = 0; c < (int)m.channels.size(); ++c)
         if (m.channels[c].name == "A") alpha = c;
     const int W = m.data.width(), H = m.data.height();
-    const size_t pixels = (size_t)W * H;
-    m.flat.assign(C, Image(W, H, 1, 0.0f));
+    m.flat.assign(m.channels.size(), Image(W, H, 1, 0.0f));
     m.front = Image(W, H, 1, kInf);
-    DeepLayerBuilder merged(pixels, pixels * 2);
-    std::vector<DeepLayerBuilder> own(perElement ? elements.size() : 0, DeepLayerBuilder(pixels, pixels * 2));
     if (perElement) m.elementFront.assign(elements.size(), Image(W, H, 1, kInf));
-    PixelSamples px(elements, m.channels, alpha);
-    std::vector<float> scratch, out(C);
-    std::vector<DeepSpan> rest;
-    for (size_t p = 0; p < pixels; ++p) {
-        px.gather(p, m);
-        const size_t n = px.spans.size();
-        if (n == 0) ++m.emptyPixels;
-        flattenSamples(px.sorted.data(), n, 2 + C, alpha, scratch, out.data());
-        for (int c = 0; c < C; ++c) m.flat[c].pixels[p] = out[c];
-        if (n) m.front.pixels[p] = px.spans[0].front;
-        if (!merged.addPixel(px.spans.data(), n, maxLayers)) ++m.truncatedPixels;
-        for (size_t e = 0; e < own.size(); ++e) {
-            const DeepSpan mine = ownSurface(px, (int)e, rest);
-            own[e].addPixelAfter(mine, rest.data(), rest.size(), maxLayers);
-            m.elementFront[e].pixels[p] = mine.front;
-        }
+    // Bands of rows in parallel: pixels are independent, and only the surfaces' layout waits for all.
+    const int n = std::clamp(workerCount(threads), 1, std::max(H, 1));
+    std::vector<MergeBand> bands(n);
+    for (int i = 0; i < n; ++i) {
+        bands[i].y0 = (int)((long long)H * i / n);
+        bands[i].y1 = (int)((long long)H * (i + 1) / n);
     }
-    m.layers = merged.planes(W, H);
-    m.layerCount = std::max(merged.layers(), 1);
-    for (const DeepLayerBuilder& b : own) m.elementLayers.push_back(b.planes(W, H));
+    runParallel(n, n, [&](int i) { mergeBand(elements, alpha, maxLayers, m, bands[i]); });
+    for (const MergeBand& b : bands) {
+        m.samples += b.counts.samples;
+        m.droppedSamples += b.counts.droppedSamples;
+        m.emptyPixels += b.counts.emptyPixels;
+        m.truncatedPixels += b.counts.truncatedPixels;
+    }
+    m.layers = stitchLayers(bands, [](const MergeBand& b) -> const DeepLayerBuilder& { return b.merged; }, W, H, m.layerCount);
+    for (size_t e = 0; e < m.elementFront.size(); ++e) {
+        int layers = 0;
+        m.elementLayers.push_back(
+            stitchLayers(bands, [e](const MergeBand& b) -> const DeepLayerBuilder& { return b.own[e]; }, W, H, layers));
+    }
     return m;
 }
 

@@ -39,9 +39,14 @@ struct DeepMerge {
     long long samples = 0, droppedSamples = 0, emptyPixels = 0, truncatedPixels = 0;
 };
 
-// Merges the elements' samples. Throws FileError naming the element whose display or data
-// window is not the first element's.
-DeepMerge mergeDeepElements(const std::vector<DeepElement>& elements, int maxLayers, bool perElement);
+// Merges the elements' samples, on `threads` threads (0: every core). Throws FileError naming the
+// element whose display or data window is not the first element's.
+DeepMerge mergeDeepElements(const std::vector<DeepElement>& elements, int maxLayers, bool perElement, int threads = 0);
+
+// readDeepElement of each path, `threads` files at a time (0: every core); the first failure in
+// the paths' order is thrown.
+std::vector<DeepElement> readDeepElements(const std::vector<std::string>& paths, const DeepChannelNames& names,
+                                          long long maxPixels, int threads = 0);
 
 // Front-to-back "over" of one pixel's samples, each `stride` floats: Z, ZBack, then the flattened
 // channels, premultiplied, alpha at `alpha` among them (-1: every sample opaque). Sorted by

@@ -8,6 +8,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <cstring>
 
 namespace obscura {
 
@@ -126,9 +127,18 @@ std::string readDeepChannels(const std::string& path, DeepChannels& out) {
     const int nc = spec.nchannels;
     out.values.resize(total * nc);
     float* v = out.values.data();
-    for (int64_t p = 0, pixels = (int64_t)spec.width * spec.height; p < pixels; ++p)
-        for (int s = 0; s < dd.samples(p); ++s)
+    bool allFloat = true;  // then each pixel's samples are nc floats each, one after another
+    for (int c = 0; c < nc; ++c) allFloat = allFloat && dd.channeltype(c) == OIIO::TypeDesc::FLOAT;
+    for (int64_t p = 0, pixels = (int64_t)spec.width * spec.height; p < pixels; ++p) {
+        const int n = dd.samples(p);
+        if (allFloat && n > 0) {
+            std::memcpy(v, dd.data_ptr(p, 0, 0), sizeof(float) * nc * n);
+            v += (size_t)nc * n;
+            continue;
+        }
+        for (int s = 0; s < n; ++s)
             for (int c = 0; c < nc; ++c) *v++ = dd.deep_value(p, c, s);
+    }
     return {};
 }
 
