@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <functional>
@@ -31,6 +32,16 @@ constexpr int W = 160, H = 96;
 
 void writeElement(const std::string& path, const DeepHit& hit, int width = W, int height = H) {
     writeDeepElement(path, hit, width, height);
+}
+
+// The ball, the tree and the ground written in `dir` (the ball's file named `ballName`).
+std::array<std::string, 3> writeScene(const fs::path& dir, const std::string& ballName = "ball.exr") {
+    const std::array<std::string, 3> paths = {(dir / ballName).string(), (dir / "tree.exr").string(),
+                                              (dir / "ground.exr").string()};
+    writeElement(paths[0], deepBall);
+    writeElement(paths[1], deepTree);
+    writeElement(paths[2], deepGround);
+    return paths;
 }
 
 std::vector<std::string> aoArgs(const std::string& out) {
@@ -129,10 +140,7 @@ TEST(DeepElements, DeepOnlyPlaneGivesAoOne) {
 // elements changes nothing.
 TEST(DeepElements, MergedTreeShadowsTheBall) {
     const fs::path dir = testDir("deep_elements");
-    const std::string b = (dir / "ball.exr").string(), t = (dir / "tree.exr").string(), g = (dir / "ground.exr").string();
-    writeElement(b, deepBall);
-    writeElement(t, deepTree);
-    writeElement(g, deepGround);
+    const auto [b, t, g] = writeScene(dir);
     const std::string two = (dir / "two.exr").string(), three = (dir / "three.exr").string(),
                       other = (dir / "other.exr").string();
     for (const auto& [inputs, out] : {std::pair{std::vector<std::string>{b, g}, two},
@@ -167,12 +175,8 @@ TEST(DeepElements, MergedTreeShadowsTheBall) {
 // hidden behind the ball, darkened by it.
 TEST(DeepElements, PerElementAoCoversEachElementsOwnSurface) {
     const fs::path dir = testDir("deep_elements");
-    const std::string b = (dir / "ball.0007.exr").string(), t = (dir / "tree.exr").string(),
-                      g = (dir / "ground.exr").string(), out = (dir / "comp.exr").string(),
-                      alone = (dir / "alone.exr").string();
-    writeElement(b, deepBall);
-    writeElement(t, deepTree);
-    writeElement(g, deepGround);
+    const auto [b, t, g] = writeScene(dir, "ball.0007.exr");
+    const std::string out = (dir / "comp.exr").string(), alone = (dir / "alone.exr").string();
     CliResult r = runObscura(plus({b, t, g, "--per-element-ao", "--report", (dir / "comp.json").string()}, aoArgs(out)));
     ASSERT_EQ(r.exitCode, 0) << outcome(r);
     r = runObscura(plus({b}, aoArgs(alone)));
@@ -197,11 +201,9 @@ TEST(DeepElements, PerElementAoCoversEachElementsOwnSurface) {
 
 TEST(DeepElements, BadInputsAreOneLineAndWriteNothing) {
     const fs::path dir = testDir("deep_elements");
-    const std::string b = (dir / "ball.exr").string(), g = (dir / "ground.exr").string(),
-                      small = (dir / "small.exr").string(), noZ = (dir / "noz.exr").string(),
+    const auto [b, t, g] = writeScene(dir);
+    const std::string small = (dir / "small.exr").string(), noZ = (dir / "noz.exr").string(),
                       out = (dir / "out.exr").string();
-    writeElement(b, deepBall);
-    writeElement(g, deepGround);
     writeElement(small, deepGround, W / 2, H / 2);
     expectOneLineFailure(runObscura(plus({b, small}, aoArgs(out))), small, "display window", out);
     {  // A deep file with colour and alpha but no Z.
