@@ -206,6 +206,19 @@ TEST(DeepElements, BadInputsAreOneLineAndWriteNothing) {
                       out = (dir / "out.exr").string();
     writeElement(small, deepGround, W / 2, H / 2);
     expectOneLineFailure(runObscura(plus({b, small}, aoArgs(out))), small, "display window", out);
+    {  // The same display window, its data window a crop inside it (no samples: sky).
+        OIIO::ImageSpec spec(W - 8, H, 6, OIIO::TypeDesc::FLOAT);
+        spec.channelnames = {"R", "G", "B", "A", "Z", "ZBack"};
+        spec.x = 4;
+        spec.full_width = W;
+        spec.full_height = H;
+        spec.deep = true;
+        OIIO::DeepData dd;
+        dd.init(spec);
+        auto o = OIIO::ImageOutput::create(small);
+        ASSERT_TRUE(o && o->open(small, spec) && o->write_deep_image(dd) && o->close());
+    }
+    expectOneLineFailure(runObscura(plus({b, small}, aoArgs(out))), small, "data window", out);
     {  // A deep file with colour and alpha but no Z.
         OIIO::ImageSpec spec(4, 4, 2, OIIO::TypeDesc::FLOAT);
         spec.channelnames = {"A", "depth"};

@@ -165,10 +165,14 @@ FramePasses loadDeepElements(const FrameJob& job, const std::vector<std::string>
     std::map<Role, std::string> overrides = job.layerOverrides;
     overrides[Role::Depth] = elementPlan.deep.z;
     p.plan = planLayers(p.info, job.preset, overrides);
+    // Flattened normals or positions would be averages across surfaces: the depth gives both.
+    p.plan.bindings.erase(std::remove_if(p.plan.bindings.begin(), p.plan.bindings.end(),
+                                         [](const LayerBinding& b) { return b.role == Role::Normal || b.role == Role::Position; }),
+                          p.plan.bindings.end());
     p.display = m.display;
     p.data = m.data;
     p.pixelAspect = part.header.pixelAspectRatio();
-    p.normalsFromDepth = true;  // a deep file's normals, flattened, would be an average of directions
+    p.normalsFromDepth = true;
     p.depthEncoding = job.depthEncoding.value_or(p.plan.depthKind == DepthKind::Radial ? DepthEncoding::Radial
                                                                                        : DepthEncoding::Planar);
     p.depth = m.front;
