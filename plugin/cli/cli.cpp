@@ -110,6 +110,7 @@ int runSequence(const Options& o) {
         FrameJob& job = jobs[i];
         job.input = framePath(o.job.input, frames[i]);
         job.deepInput = framePath(o.job.deepInput, frames[i]);
+        for (std::string& element : job.deepElements) element = framePath(element, frames[i]);
         job.output = framePath(o.job.output, frames[i]);
         job.previewPath = framePath(o.job.previewPath, frames[i]);
         files.push_back({&job, framePath(o.reportPath, frames[i])});

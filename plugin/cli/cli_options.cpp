@@ -4,6 +4,7 @@
 #include "core/devices.h"
 #include "core/methods.h"
 #include "core/settings_schema.h"
+#include "io/deep_job.h"
 #include "io/sequence.h"
 
 #include <algorithm>
@@ -224,6 +225,10 @@ std::vector<Flag> makeFlags() {
          "the input is a deep EXR (hbao: its surfaces are occluders, up to --deep-layers); FILE gives the "
          "passes and is what the output copies (a pattern with #### for sequences; docs/deep.md)",
          [](Options& o, const std::string& v) { o.flat = v; }},
+        {"--per-element-ao", nullptr,
+         "deep elements (several deep inputs, merged): also an AO per element, of its own visible surface "
+         "with every element as occluders, in <ao layer>.<file stem> (docs/deep.md)",
+         [](Options& o, const std::string&) { o.job.perElementAo = true; }},
         {"--layer", "ROLE=NAME", "use layer NAME for ROLE (depth, normal, position, beauty, albedo, direct-diffuse)",
          [](Options& o, const std::string& v) {
              auto [role, name] = splitAssignment("--layer", v);
@@ -356,6 +361,22 @@ void refuseWhatTheMethodIgnores(const Options& o) {
     }
 }
 
+// Several inputs are deep elements, merged (docs/deep.md); one stays the input, deep or flat.
+void checkDeepElements(Options& o) {
+    std::vector<std::string>& elements = o.job.deepElements;
+    if (elements.size() > 1) {
+        if (!o.flat.empty())
+            throw UsageError("--flat takes one deep input; several inputs are deep elements, merged without a flat file");
+        for (const std::string& e : elements)
+            if (isFramePattern(e) != isFramePattern(elements[0]))
+                throw UsageError("deep elements must all be frame patterns (e.g. balls.####.exr), or none");
+    } else {
+        elements.clear();  // one input: a flat file, or a deep element found when it is read
+    }
+    const std::string problem = perElementAoProblem(o.job, Spelling::Flag);
+    if (!problem.empty()) throw UsageError(problem);
+}
+
 } // namespace
 
 std::string helpText() {
@@ -363,6 +384,7 @@ std::string helpText() {
     os << "obscura " << OBSCURA_VERSION_STRING
        << " - screen-space ambient and directional occlusion for multilayer OpenEXR renders\n\n"
           "usage: obscura INPUT.exr -o OUTPUT.exr [options]\n"
+          "       obscura ELEMENT.exr... -o OUTPUT.exr [options]   (deep elements, merged; docs/deep.md)\n"
           "       obscura INPUT.exr --inspect\n"
           "       obscura farm slurm|summary ...   (a sequence as farm work; obscura farm --help)\n\n"
           "The input's passes (depth, normals, position) are found by renderer preset; the camera comes\n"
@@ -410,9 +432,10 @@ Options parseArgs(int argc, char** argv) {
             o.given.push_back(flag->name);
             continue;
         }
-        if (!o.job.input.empty()) throw UsageError("more than one input file given ('" + o.job.input + "', '" + arg + "')");
-        o.job.input = arg;
+        if (o.job.input.empty()) o.job.input = arg;
+        o.job.deepElements.push_back(arg);
     }
+    checkDeepElements(o);
     if (!o.flat.empty()) {
         if (!methodReads(o.job.settings.method, "deep"))
             throw UsageError("--flat (deep input) works with --method " + methodNames(", ", "deep") + " only");

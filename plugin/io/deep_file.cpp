@@ -15,10 +15,6 @@ namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-// Samples nearer than this fraction of their depth to the previous surface's back continue it:
-// a renderer's adjacent volume slices and float rounding make one surface, not two.
-constexpr float kTouching = 1e-6f;
-
 } // namespace
 
 bool isDeepFile(const std::string& path) {
@@ -38,19 +34,11 @@ DeepLayers readDeepLayers(const std::string& path, int maxLayers, const DeepChan
     DeepLayers out;
     out.display = Box2i{0, 0, dd.fullWidth, dd.fullHeight};
     out.data = Box2i{dd.x, dd.y, dd.x + dd.width, dd.y + dd.height};
-    const int W = dd.width, H = dd.height;
-    struct Span {
-        float front, back;
-    };
-    // Every pixel's surfaces first, so the plane gets as many layers as the deepest pixel needs:
-    // pixel p's are kept[start[p] .. start[p + 1]).
-    std::vector<Span> kept;
-    kept.reserve(std::min(dd.z.size(), (size_t)maxLayers * W * H));
-    std::vector<size_t> start((size_t)W * H + 1, 0);
-    std::vector<Span> samples;
+    const size_t pixels = (size_t)dd.width * dd.height;
+    DeepLayerBuilder builder(pixels, std::min(dd.z.size(), (size_t)maxLayers * pixels));
+    std::vector<DeepSpan> samples;
     size_t first = 0;  // this pixel's first sample in dd.z
-    for (size_t p = 0; p < (size_t)W * H; ++p) {
-        start[p] = kept.size();
+    for (size_t p = 0; p < pixels; ++p) {
         const int n = dd.counts[p];
         out.samples += n;
         samples.clear();
@@ -64,39 +52,69 @@ DeepLayers readDeepLayers(const std::string& path, int maxLayers, const DeepChan
             samples.push_back({z, std::isfinite(zb) && zb > z ? zb : z});
         }
         first += (size_t)n;
-        if (samples.empty()) {
-            ++out.emptyPixels;
-            continue;
-        }
-        auto byFront = [](const Span& a, const Span& b) { return a.front < b.front; };
+        if (samples.empty()) ++out.emptyPixels;
+        auto byFront = [](const DeepSpan& a, const DeepSpan& b) { return a.front < b.front; };
         if (!std::is_sorted(samples.begin(), samples.end(), byFront)) {
             ++out.unsortedPixels;
             std::stable_sort(samples.begin(), samples.end(), byFront);
         }
-        for (const Span& s : samples) {
-            if (kept.size() > start[p] && s.front <= kept.back().back * (1.0f + kTouching)) {
-                kept.back().back = std::max(kept.back().back, s.back);
-                continue;
-            }
-            if (kept.size() - start[p] == (size_t)maxLayers) {
-                ++out.truncatedPixels;
-                break;
-            }
-            kept.push_back(s);
-        }
-        out.layers = std::max(out.layers, (int)(kept.size() - start[p]));
+        if (!builder.addPixel(samples.data(), samples.size(), maxLayers)) ++out.truncatedPixels;
     }
-    start[(size_t)W * H] = kept.size();
-    out.planes = Image(W, H, 2 * std::max(out.layers, 1), kInf);
-    for (size_t p = 0; p < (size_t)W * H; ++p) {
-        float* v = out.planes.pixels.data() + p * out.planes.channels;
-        for (size_t k = start[p]; k < start[p + 1]; ++k, v += 2) {
-            v[0] = kept[k].front;
-            v[1] = kept[k].back;
-        }
-    }
-    if (out.layers == 0) out.layers = 1;  // an all-sky file: one layer of +inf
+    out.planes = builder.planes(dd.width, dd.height);
+    out.layers = std::max(builder.layers(), 1);  // an all-sky file: one layer of +inf
     return out;
+}
+
+DeepLayerBuilder::DeepLayerBuilder(size_t pixels, size_t reserve) {
+    kept_.reserve(reserve);
+    start_.reserve(pixels + 1);
+    start_.push_back(0);
+}
+
+bool DeepLayerBuilder::addPixel(const DeepSpan* sorted, size_t n, int maxLayers) {
+    const size_t begin = start_.back();
+    bool all = true;
+    for (size_t i = 0; i < n; ++i) {
+        const DeepSpan& s = sorted[i];
+        if (kept_.size() > begin && s.front <= kept_.back().back * (1.0f + kDeepTouching)) {
+            kept_.back().back = std::max(kept_.back().back, s.back);
+            continue;
+        }
+        if (kept_.size() - begin == (size_t)maxLayers) {
+            all = false;
+            break;
+        }
+        kept_.push_back(s);
+    }
+    layers_ = std::max(layers_, (int)(kept_.size() - begin));
+    start_.push_back(kept_.size());
+    return all;
+}
+
+bool DeepLayerBuilder::addPixelAfter(DeepSpan first, const DeepSpan* sorted, size_t n, int maxLayers) {
+    const size_t begin = start_.back();
+    kept_.push_back(first);
+    start_.back() = kept_.size();  // the rest merge among themselves, never into `first`
+    const bool all = addPixel(sorted, n, maxLayers - 1);
+    start_[start_.size() - 2] = begin;
+    layers_ = std::max(layers_, (int)(kept_.size() - begin));
+    return all;
+}
+
+Image DeepLayerBuilder::planes(int width, int height) const {
+    Image out(width, height, 2 * std::max(layers_, 1), kInf);
+    writePlanes(out, 0);
+    return out;
+}
+
+void DeepLayerBuilder::writePlanes(Image& out, size_t first) const {
+    for (size_t p = 0; p + 1 < start_.size(); ++p) {
+        float* v = out.pixels.data() + (first + p) * out.channels;
+        for (size_t k = start_[p]; k < start_[p + 1]; ++k, v += 2) {
+            v[0] = kept_[k].front;
+            v[1] = kept_[k].back;
+        }
+    }
 }
 
 Image deepPlanesOver(DeepLayers&& deep, const Box2i& data) {

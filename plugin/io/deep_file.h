@@ -7,8 +7,40 @@
 #include "io/layers.h"
 
 #include <string>
+#include <vector>
 
 namespace obscura {
+
+// Samples nearer than this fraction of their depth to the previous surface's back continue it:
+// a renderer's adjacent volume slices and float rounding make one surface, not two.
+constexpr float kDeepTouching = 1e-6f;
+
+// One surface on a pixel's ray: back > front is a span the ray spent inside a solid.
+struct DeepSpan {
+    float front, back;
+};
+
+// The surfaces of every pixel, pixel after pixel, then laid out as the operator's plane.
+class DeepLayerBuilder {
+public:
+    explicit DeepLayerBuilder(size_t pixels, size_t reserve = 0);
+    // Adds the surfaces of one pixel's samples (sorted by front): a sample whose front is at or
+    // before the back of the surface before it continues it; at most maxLayers surfaces, the
+    // nearest. Returns false when some were dropped. The pixels come in row-major order.
+    bool addPixel(const DeepSpan* sorted, size_t n, int maxLayers);
+    // As addPixel, after a first surface of its own (its front +inf: none).
+    bool addPixelAfter(DeepSpan first, const DeepSpan* sorted, size_t n, int maxLayers);
+    int layers() const { return layers_; }
+    // W x H, 2 * max(layers, 1) channels: (front, back) per layer, +inf past a pixel's last.
+    Image planes(int width, int height) const;
+    // Into `out` (2 * layers() channels or more, +inf), from its pixel `first` on.
+    void writePlanes(Image& out, size_t first) const;
+
+private:
+    std::vector<DeepSpan> kept_;
+    std::vector<size_t> start_;
+    int layers_ = 0;
+};
 
 struct DeepLayers {
     Box2i display, data;     // the deep file's windows (display origin 0,0)

@@ -414,7 +414,7 @@ ExrInfo readExrInfo(const std::string& path, long long maxPixels, bool allowDeep
             const bool deep = type == Imf::DEEPSCANLINE || type == Imf::DEEPTILE;
             if (deep && !allowDeep)
                 throw FileError(path, "holds deep data (part " + std::to_string(p) +
-                            "); give the flat passes as --flat FILE and the deep file as the input (docs/deep.md)");
+                            ") where flat passes are read; a deep file is an input of its own (docs/deep.md)");
             // Again here: a header the core API refused was not checked before opening.
             checkWindow(path, "data", h.dataWindow(), maxPixels, 0, -1);
             checkWindow(path, "display", h.displayWindow(), maxPixels, 0, -1);

@@ -8,6 +8,7 @@
 #include "core/methods.h"
 #include "io/colour.h"
 #include "io/deep_file.h"
+#include "io/deep_job.h"
 #include "io/depth_encoding.h"
 
 #include <algorithm>
@@ -445,8 +446,8 @@ OperatorInputs operatorInputs(const FrameJob& job, FramePasses& p, Settings& set
     in.normalSpace = report.normalSpace;
     in.camera = report.camera;
     settings.skyDepth = report.skyDepth;
-    deep = readDeepInput(job, p, report);
-    if (!deep.empty()) in.deepLayers = deep.view();
+    if (deep.empty()) deep = readDeepInput(job, p, report);  // deep elements bring their merge's
+    if (!deep.empty() && methodReads(settings.method, "deep")) in.deepLayers = deep.view();
     if (methodOutputs(settings.method, "do")) addSsdoInputs(job, p, settings, in, environment, report);
     else report.plan.push_back(settings.method);
     return in;
@@ -465,10 +466,13 @@ FrameReport runJob(const FrameJob& job) {
     setExrThreads(job.settings.threads);
     setColourThreads(job.settings.threads);
     FrameReport report;
-    FramePasses p = loadFramePasses(job, job.write == WriteMode::Copy, &report.stages);
+    const std::vector<std::string> elements = deepElementsOf(job);
+    DeepElementsInput merged;
+    FramePasses p = elements.empty() ? loadFramePasses(job, job.write == WriteMode::Copy, &report.stages)
+                                     : loadDeepElements(job, elements, merged, report);
     resolveConventions(job, p, report);
     Settings settings = job.settings;
-    Image deep, environment;
+    Image deep = std::move(merged.layers), environment;
     const OperatorInputs in = operatorInputs(job, p, settings, deep, environment, report);
     OperatorOutputs out;
     {
@@ -479,7 +483,7 @@ FrameReport runJob(const FrameJob& job) {
     for (const std::string& note : out.stats.notes) report.warnings.push_back(note);
     compareWithReference(p, out, report);
     report.aoChannel = aoChannelName(job.aoLayer);
-    writeFrameOutputs(job, p, out, report);
+    writeFrameOutputs(job, p, out, report, elementAoLayers(job, in, settings, merged, report));
     if (!job.previewPath.empty()) {
         StageTimer timer{&report.stages, "preview"};
         report.plan.push_back(writeFramePreview(job, p, out, methodOutputs(job.settings.method, "do")));

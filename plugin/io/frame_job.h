@@ -38,6 +38,10 @@ struct FrameJob {
     // A deep EXR whose surfaces hbao adds as occluders (docs/deep.md); `input` is then the
     // flat file beside it that gives the passes and receives the AO.
     std::string deepInput;
+    // Deep elements with no flat file (docs/deep.md): merged, they are the input (`input` is the
+    // first). A single deep input with no deepInput is one too (io/deep_job.h).
+    std::vector<std::string> deepElements;
+    bool perElementAo = false;            // also an AO per element, for its own visible surface
     bool inPlace = false;                 // allow output == input
     std::string preset = "auto";
     std::map<Role, std::string> layerOverrides;
@@ -84,6 +88,7 @@ struct FramePasses {
     Image depth, normal, position, reference;  // position/reference empty when not read
     Image radiance, albedo, directDiffuse;      // SSDO inputs, read only when the request needs them
     ExrPixels raw;                        // every channel, for pass-through (when kept)
+    std::vector<NewChannel> carried;      // deep elements: the flattened image, written with the new layers
 };
 
 struct FrameReport {

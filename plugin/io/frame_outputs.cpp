@@ -111,7 +111,8 @@ std::string writeFramePreview(const FrameJob& job, const FramePasses& p, const O
     return line;
 }
 
-void writeFrameOutputs(const FrameJob& job, FramePasses& p, const OperatorOutputs& out, FrameReport& report) {
+void writeFrameOutputs(const FrameJob& job, FramePasses& p, const OperatorOutputs& out, FrameReport& report,
+                       std::vector<NewChannel> extra) {
     const bool copy = job.write == WriteMode::Copy;
     const bool ssdo = methodOutputs(job.settings.method, "do");
     const bool append = job.write == WriteMode::Append;
@@ -132,6 +133,7 @@ void writeFrameOutputs(const FrameJob& job, FramePasses& p, const OperatorOutput
         add[0].name = report.aoChannel;
         add[0].plane = out.ao;
         add[0].type = type;
+        for (NewChannel& c : extra) add.push_back(std::move(c));
         std::vector<StringAttribute> attrs = {
             {outPart, "obscura/version", OBSCURA_VERSION_STRING},
             {outPart, "obscura/settings", frameReportJson(job, FrameReport{})},
@@ -149,7 +151,12 @@ void writeFrameOutputs(const FrameJob& job, FramePasses& p, const OperatorOutput
         for (StringAttribute& a : cm.tagOutputPart(outPart, space, colourLayers, {report.aoChannel}, &note))
             attrs.push_back(std::move(a));
         if (!note.empty()) report.plan.push_back(note);
-        for (const NewChannel& c : add) report.written.push_back(c.name);
+        for (NewChannel& c : add) {
+            c.part = outPart;
+            report.written.push_back(c.name);
+        }
+        if (copy)  // deep elements: the flattened image is the copy's input
+            for (NewChannel& c : p.carried) add.push_back({outPart, c.name, std::move(c.plane), c.type});
         if (append)
             writeAppended(job.output, p.info, target, add, attrs, job.inPlace, &report.stages);
         else

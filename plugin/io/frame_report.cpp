@@ -76,10 +76,13 @@ std::string frameReportJson(const FrameJob& job, const FrameReport& r) {
                       {"invalid_depth_pixels", r.stats.invalidDepthPixels},
                       {"zero_normal_pixels", r.stats.zeroNormalPixels},
                       {"non_unit_normal_pixels", r.nonUnitNormalPixels}, {"device", r.stats.device}};
-        if (!job.deepInput.empty())
-            j["deep"] = {{"file", job.deepInput}, {"layers", r.deepLayers}, {"empty_pixels", r.deepEmptyPixels},
+        if (!job.deepInput.empty() || r.deepLayers > 0) {  // --flat, or deep elements (their merge)
+            j["deep"] = {{"layers", r.deepLayers}, {"empty_pixels", r.deepEmptyPixels},
                          {"dropped_samples", r.deepDroppedSamples}, {"unsorted_pixels", r.deepUnsortedPixels},
                          {"truncated_pixels", r.deepTruncatedPixels}};
+            if (!job.deepInput.empty()) j["deep"]["file"] = job.deepInput;
+            else j["deep"]["elements"] = job.deepElements.empty() ? std::vector<std::string>{job.input} : job.deepElements;
+        }
         if (r.reference) {
             const ErrorMetrics& m = *r.reference;
             j["reference"] = {{"layer", job.referenceLayer}, {"pixels", m.pixels}, {"mae", m.mae}, {"rmse", m.rmse},

@@ -13,13 +13,23 @@
 
 namespace obscura {
 
-// A deep image's samples as read, before any sorting (io/deep_file.cpp makes layers of them).
-struct DeepSamples {
-    int fullWidth = 0, fullHeight = 0;  // display window size
+// A deep image's windows and sample counts.
+struct DeepWindows {
+    int fullWidth = 0, fullHeight = 0;        // display window size
     int x = 0, y = 0, width = 0, height = 0;  // data window, relative to the display origin
+    std::vector<int> counts;                  // samples per pixel, row-major over the data window
+};
+
+// A deep image's sample depths as read, before any sorting (io/deep_file.cpp makes layers of them).
+struct DeepSamples : DeepWindows {
     bool hasZBack = false;
-    std::vector<int> counts;            // samples per pixel, row-major over the data window
     std::vector<float> z, zBack;        // all samples, pixel after pixel (zBack empty without it)
+};
+
+// Every channel of a deep image's samples, for flattening (io/deep_merge.h).
+struct DeepChannels : DeepWindows {
+    std::vector<std::string> names;     // as the file lists them
+    std::vector<float> values;          // every sample's channels in `names` order, pixel after pixel
 };
 
 // Each function returns "" on success, else the error in one line (the caller names the file).
@@ -37,8 +47,10 @@ struct OiioModule {
     // The samples of channels z (required) and zBack (optional) of a deep image.
     std::string (*readDeep)(const std::string& path, const std::string& z, const std::string& zBack,
                             DeepSamples& out);
+    // Every channel of every sample of a deep image, as float.
+    std::string (*readDeepChannels)(const std::string& path, DeepChannels& out);
 };
-constexpr int kOiioModuleAbi = 2;
+constexpr int kOiioModuleAbi = 3;
 
 // The module, loaded once (thread-safe). Throws obscura::Error when it cannot be loaded.
 const OiioModule& oiioModule();

@@ -66,6 +66,7 @@ void listFrame(const FrameFiles& f, Spelling s, std::vector<NamedPath>& out) {
     };
     read(deep ? roleName("--flat", "flat", s) : "the input", job.input);
     if (deep) read("the input", job.deepInput);
+    for (size_t i = 1; i < job.deepElements.size(); ++i) read("the deep element", job.deepElements[i]);
     if (!job.camera.sidecarPath.empty()) read(roleName("--camera", "camera", s), job.camera.sidecarPath);
     else read("the camera sidecar", findSidecar(job.input));
     read(roleName("--env", "env", s), job.envPath);

@@ -68,6 +68,9 @@ AO 0, ssdo automatic: the 99th percentile at 0.8), in_place (bool), write ('copy
 new layers, the default; 'new': only the new layers, with PATH's windows, camera and colour
 attributes; PATH's other channels are not decoded; 'append': PATH's parts copied as compressed
 chunks, untouched, plus a part holding the new layers).
+Deep input (docs/deep.md): PATH a deep EXR with no flat file, or a list of deep elements rendered
+apart, merged; OUT is then the flattened image plus the new layers. per_element_ao=True (hbao)
+also writes an AO per element, of its own visible surface: <ao layer>.<file stem>.Y.
 method='ssdo': samples (1-4096), interleave (1-8), bounce (bool, above), bounce_source
 ('direct-diffuse' | 'beauty' | layer), env (lat-long map path), env_rotate (degrees),
 env_intensity, env_colorspace, colorspace (of the input's colour passes), sky ((r, g, b) without
@@ -243,14 +246,15 @@ void bindProcess(py::module_& m) {
            py::object sky, py::object envRotate, py::object envIntensity, py::object lights, py::object bounce,
            py::object bounceSource, py::object env, py::object envColorspace, py::object colorspace, py::object up,
            py::object timesAlbedo, py::object relitDirect, py::object write, py::object previewExposure,
-           const py::kwargs& own) {
+           py::object perElementAo, const py::kwargs& own) {
             checkPositional("process", extra, {"path", "out"}, "method=..., radius=...");
             required("process", path, "path", "the input EXR's path");
             required("process", out, "out", "the output EXR's path");
             const FrameJob job = processJob(
                 path, out, FileArgs{preset, layer, camera, fovDeg, orthoWidth, c2w, depth, depthRange, normals, skyDepth, maxPixels},
                 SettingArgs{quality, method, radius, directions, steps, weighting, falloff, blur, device, threads, own},
-                OutputArgs{outLayer, outType, badPixels, reference, report, preview, inPlace, write, previewExposure},
+                OutputArgs{outLayer, outType, badPixels, reference, report, preview, inPlace, write, previewExposure,
+                           perElementAo},
                 SsdoArgs{samples, interleave, sky, envRotate, envIntensity, lights},
                 JobSsdoArgs{bounce, bounceSource, env, envColorspace, colorspace, up, timesAlbedo, relitDirect});
             return processPy(job, report.is_none() ? std::string() : pathArg(report, "report"));
@@ -262,7 +266,7 @@ void bindProcess(py::module_& m) {
         py::arg("bounce_source") = py::none(), py::arg("env") = py::none(), py::arg("env_colorspace") = py::none(),
         py::arg("colorspace") = py::none(), py::arg("up") = py::none(), py::arg("times_albedo") = py::none(),
         py::arg("relit_direct") = py::none(), py::arg("write") = py::none(), py::arg("preview_exposure") = py::none(),
-        kProcessDoc);
+        py::arg("per_element_ao") = py::none(), kProcessDoc);
 }
 
 void bindInspect(py::module_& m) {

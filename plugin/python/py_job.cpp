@@ -2,6 +2,7 @@
 
 #include "core/methods.h"
 #include "core/settings_schema.h"
+#include "io/deep_job.h"
 #include "python/py_args.h"
 
 #include <string>
@@ -70,6 +71,9 @@ void applyOutputs(const OutputArgs& o, FrameJob& job) {
     if (!o.write.is_none()) parse(choiceArg(o.write, "write", {"copy", "new", "append"}), job.write);
     if (job.write == WriteMode::New && job.inPlace)
         valueError("write='new' and in_place=True do not go together: the output holds only the new layers");
+    if (!o.perElementAo.is_none()) job.perElementAo = py::bool_(o.perElementAo);
+    const std::string problem = perElementAoProblem(job, Spelling::Key);
+    if (!problem.empty()) valueError(problem);
 }
 
 } // namespace
@@ -116,7 +120,14 @@ FrameJob jobFrom(const py::object& path, const FileArgs& f) {
 
 FrameJob processJob(const py::object& path, const py::object& out, const FileArgs& f, const SettingArgs& sa,
                     const OutputArgs& o, const SsdoArgs& ssdoArgs, const JobSsdoArgs& js) {
-    FrameJob job = jobFrom(path, f);
+    // A list or tuple of paths: deep elements, merged; the first is the input the errors name.
+    const bool several = py::isinstance<py::list>(path) || py::isinstance<py::tuple>(path);
+    std::vector<std::string> elements;
+    if (several)
+        for (const py::handle item : path) elements.push_back(pathArg(py::reinterpret_borrow<py::object>(item), "path"));
+    if (several && elements.empty()) valueError("path: an empty list of deep elements");
+    FrameJob job = jobFrom(several ? py::object(py::str(elements[0])) : path, f);
+    if (elements.size() > 1) job.deepElements = elements;
     job.output = pathArg(out, "out");
     job.settings = settingsFrom(sa);
     applySsdo(ssdoArgs, job.settings);

@@ -23,6 +23,7 @@ FrameJob jobFrom(const py::object& path, const FileArgs& f);
 // process()'s keywords for what it writes and where.
 struct OutputArgs {
     py::object outLayer, outType, badPixels, reference, report, preview, inPlace, write, previewExposure;
+    py::object perElementAo;  // deep elements (docs/deep.md)
 };
 
 // process()'s SSDO keywords beyond the operator's: what to write and where the light comes from.
@@ -30,7 +31,7 @@ struct JobSsdoArgs {
     py::object bounce, bounceSource, env, envColorspace, colorspace, up, timesAlbedo, relitDirect;
 };
 
-// The job process(path, out, ...) runs: every keyword checked, as the CLI checks its flags
+// The job process(path, out, ...) runs; a list of paths is deep elements, merged (docs/deep.md): every keyword checked, as the CLI checks its flags
 // (o.report is left to the caller).
 FrameJob processJob(const py::object& path, const py::object& out, const FileArgs& f, const SettingArgs& sa,
                     const OutputArgs& o, const SsdoArgs& ssdoArgs, const JobSsdoArgs& js);

@@ -8,7 +8,9 @@ reference renderer (examples/reference, Blender's pass names) at 64 x 48:
 
 - shot.0001.exr, shot.1001.exr ... shot.1240.exr, each with its camera sidecar (NAME.json), and
   a ViewLayer.AO pass as Blender writes one (the renderer's cosine, binary AO within 1.0);
-- shot_deep.0001.exr, the deep file of the same frame (--deep);
+- shot_deep.0001.exr, the deep file of the same frame (--deep), and the same split into two deep
+  elements as if rendered apart: shot_near.0001.exr (each pixel's nearest solid) and
+  shot_far.0001.exr (the solids behind it);
 - studio.hdr, a small lat-long environment.
 
 Every block must say its language: ```sh (run with bash -e), ```python (run with python3) or
@@ -110,12 +112,35 @@ def write_environment(path):
     out.close()
 
 
+def split_deep(path, near, far):
+    """Each pixel's first sample into `near`, the rest into `far`: two elements of one frame."""
+    import OpenImageIO as oiio
+    inp = oiio.ImageInput.open(str(path))
+    spec = oiio.ImageSpec(inp.spec())
+    whole = inp.read_native_deep_image()
+    inp.close()
+    for out_path, keep in ((near, lambda s: s == 0), (far, lambda s: s > 0)):
+        dd = oiio.DeepData()
+        dd.init(spec)
+        for p in range(whole.pixels):
+            dd.set_samples(p, sum(1 for s in range(whole.samples(p)) if keep(s)))
+        for p in range(whole.pixels):
+            kept = [s for s in range(whole.samples(p)) if keep(s)]
+            for i, s in enumerate(kept):
+                for c in range(spec.nchannels):
+                    dd.set_deep_value(p, c, i, whole.deep_value(p, c, s))
+        out = oiio.ImageOutput.create(str(out_path))
+        assert out.open(str(out_path), spec) and out.write_deep_image(dd), out.geterror()
+        out.close()
+
+
 def make_fixture(directory, reference_render):
     directory.mkdir(parents=True)
     base = directory / "shot.0001.exr"
     subprocess.run([reference_render, "--scene", "studio", "--width", "64", "--height", "48", "--ao-rays", "16",
                     "--gi-rays", "8", "-o", base, "--deep", directory / "shot_deep.0001.exr", "--quiet"], check=True)
     add_blender_ao(base)
+    split_deep(directory / "shot_deep.0001.exr", directory / "shot_near.0001.exr", directory / "shot_far.0001.exr")
     write_environment(directory / "studio.hdr")
     for frame in SEQUENCE:  # hard links: every frame is the same small render
         for ext in (".exr", ".json"):
