@@ -15,15 +15,19 @@ import argparse
 import json
 import math
 import subprocess
+import tempfile
 
 
 def run(binary, pattern):
     """Each case's real time (ms) in one run of the binary."""
-    out = subprocess.run([binary, f"--benchmark_filter={pattern}", "--benchmark_format=json"],
-                         capture_output=True, text=True, check=True).stdout
+    with tempfile.NamedTemporaryFile(suffix=".json") as out:
+        # The results go to a file: the binaries print what they measure on stdout first.
+        subprocess.run([binary, f"--benchmark_filter={pattern}", f"--benchmark_out={out.name}",
+                        "--benchmark_out_format=json"], capture_output=True, text=True, check=True)
+        results = json.load(open(out.name))["benchmarks"]
     scale = {"ns": 1e-6, "us": 1e-3, "ms": 1.0, "s": 1e3}
-    return {b["name"]: b["real_time"] * scale[b["time_unit"]] for b in json.loads(out)["benchmarks"]
-            if b.get("run_type", "iteration") == "iteration"}
+    return {b["name"]: b["real_time"] * scale[b["time_unit"]] for b in results
+            if b.get("run_type", "iteration") == "iteration" and "error_occurred" not in b}
 
 
 def main():
