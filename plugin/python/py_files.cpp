@@ -222,10 +222,10 @@ void bindReadPasses(py::module_& m) {
         "read_passes",
         [](const py::object& path, const py::args& extra, py::object preset, py::object layer, py::object camera,
            py::object fovDeg, py::object orthoWidth, py::object c2w, py::object depth, py::object depthRange, py::object normals,
-           py::object skyDepth, py::object maxPixels, const py::kwargs& unknown) {
+           py::object skyDepth, py::object maxPixels, py::object view, const py::kwargs& unknown) {
             checkFileCall("read_passes", extra, unknown, path);
             return readPassesPy(path, FileArgs{preset, layer, camera, fovDeg, orthoWidth, c2w, depth, depthRange, normals, skyDepth,
-                                               maxPixels});
+                                               maxPixels, view});
         },
         py::arg("path") = py::none(), OBSCURA_FILE_ARGS, kReadPassesDoc);
 }
@@ -238,7 +238,7 @@ void bindProcess(py::module_& m) {
            py::object method, py::object radius, py::object directions, py::object steps, py::object weighting, py::object falloff, py::object blur,
            py::object device, py::object threads, py::object preset, py::object layer, py::object camera,
            py::object fovDeg, py::object orthoWidth, py::object c2w, py::object depth, py::object depthRange, py::object normals,
-           py::object skyDepth, py::object maxPixels, py::object outLayer, py::object outType, py::object badPixels, py::object reference,
+           py::object skyDepth, py::object maxPixels, py::object view, py::object outLayer, py::object outType, py::object badPixels, py::object reference,
            py::object report, py::object preview, py::object inPlace, py::object samples, py::object interleave,
            py::object sky, py::object envRotate, py::object envIntensity, py::object lights, py::object bounce,
            py::object bounceSource, py::object env, py::object envColorspace, py::object colorspace, py::object up,
@@ -248,7 +248,7 @@ void bindProcess(py::module_& m) {
             required("process", path, "path", "the input EXR's path");
             required("process", out, "out", "the output EXR's path");
             const FrameJob job = processJob(
-                path, out, FileArgs{preset, layer, camera, fovDeg, orthoWidth, c2w, depth, depthRange, normals, skyDepth, maxPixels},
+                path, out, FileArgs{preset, layer, camera, fovDeg, orthoWidth, c2w, depth, depthRange, normals, skyDepth, maxPixels, view},
                 SettingArgs{quality, method, radius, directions, steps, weighting, falloff, blur, device, threads, own},
                 OutputArgs{outLayer, outType, badPixels, reference, report, preview, inPlace, write, previewExposure},
                 SsdoArgs{samples, interleave, sky, envRotate, envIntensity, lights},
@@ -270,10 +270,10 @@ void bindInspect(py::module_& m) {
         "inspect",
         [](const py::object& path, const py::args& extra, py::object preset, py::object layer, py::object camera,
            py::object fovDeg, py::object orthoWidth, py::object c2w, py::object depth, py::object depthRange, py::object normals,
-           py::object skyDepth, py::object maxPixels, py::object device, const py::kwargs& unknown) {
+           py::object skyDepth, py::object maxPixels, py::object view, py::object device, const py::kwargs& unknown) {
             checkFileCall("inspect", extra, unknown, path);
             return inspectPy(path, FileArgs{preset, layer, camera, fovDeg, orthoWidth, c2w, depth, depthRange, normals, skyDepth,
-                                            maxPixels},
+                                            maxPixels, view},
                              device);
         },
         py::arg("path") = py::none(), OBSCURA_FILE_ARGS, py::arg("device") = py::none(), kInspectDoc);
