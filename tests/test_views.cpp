@@ -4,6 +4,7 @@
 // is 0; once with the views as channel names in one part (multiView attribute), once as a part
 // per view (view attribute). Each view's AO must be exactly what the same run gives on a plain
 // file holding only that view, and every input channel and part must come back unchanged.
+#include "core/settings_schema.h"
 #include "io/exr_file.h"
 #include "io/views.h"
 #include "support/cli_runner.h"
@@ -167,6 +168,8 @@ struct Case {
     const char* write;
 };
 
+void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
+
 class Views : public ::testing::TestWithParam<Case> {};
 
 // Where each view's AO is: by name, in the unviewed part(s) as layer.view.Y; by part, as
@@ -254,6 +257,23 @@ TEST(Inspect, AnswersOnAFileWithoutDepth) {
     EXPECT_NE(r.out.find("run:     no command can run on this file"), std::string::npos) << r.out;
     const CliResult unreadable = runObscura({(dir / "absent.exr").string(), "--inspect"});
     EXPECT_EQ(unreadable.exitCode, 1) << outcome(unreadable);
+}
+
+// --view comes from core's table of name settings: the CLI spells it and refuses what the table
+// refuses; on a file without views --inspect still answers, naming the problem.
+TEST(ViewSetting, TheCliTakesItFromTheTable) {
+    const std::string room = std::string(OBSCURA_TEST_DATA_DIR) + "/room.exr";
+    for (const NameListSetting& s : nameListSettings()) {
+        SCOPED_TRACE(s.flag);
+        const CliResult twice = runObscura({room, "--inspect", s.flag, "a,a"});
+        EXPECT_EQ(twice.exitCode, 2) << outcome(twice);
+        EXPECT_EQ(twice.err, "obscura: " + nameListProblem(s, {"a", "a"}, Spelling::Flag) + "\n");
+        const CliResult empty = runObscura({room, "--inspect", s.flag, "a,"});
+        EXPECT_EQ(empty.exitCode, 2) << outcome(empty);
+    }
+    const CliResult none = runObscura({room, "--inspect", "--view", "left"});
+    EXPECT_EQ(none.exitCode, 0) << outcome(none);
+    EXPECT_NE(none.out.find("problem: '" + room + "': no view 'left'; the file has no views"), std::string::npos) << none.out;
 }
 
 } // namespace

@@ -70,7 +70,7 @@ def read_in_view(path, view, name):
             spec = inp.spec()
             if spec.getattribute("view") == view and name in spec.channelnames:
                 i = list(spec.channelnames).index(name)
-                return np.asarray(inp.read_image(i, i + 1, oiio.FLOAT)).reshape(spec.height, spec.width)
+                return np.asarray(inp.read_image(sub, 0, i, i + 1, oiio.FLOAT)).reshape(spec.height, spec.width)
             sub += 1
         return None
     finally:
