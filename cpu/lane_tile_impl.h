@@ -19,20 +19,17 @@ namespace {
 // A parameter block whose switches are fixed at compile time: the static members
 // hide KernelParams' run-time ones, so `P.cosineWeighting` in the kernel is a constant.
 template <int Cosine, int Linear, int Model, int Runs>
-struct ParamsPerspPlanar : KernelParams {
-    static constexpr int cosineWeighting = Cosine;
-    static constexpr int linearFalloff = Linear;
-    static constexpr int hbaoModel = Model;
-    static constexpr int hbaoRuns = Runs;
-    static constexpr int orthographic = 0;
-    static constexpr int radialDepth = 0;
-};
-template <int Cosine, int Linear, int Model, int Runs>
 struct ParamsAnyCamera : KernelParams {
     static constexpr int cosineWeighting = Cosine;
     static constexpr int linearFalloff = Linear;
     static constexpr int hbaoModel = Model;
     static constexpr int hbaoRuns = Runs;
+};
+// The common camera fixed too: perspective with planar depth.
+template <int Cosine, int Linear, int Model, int Runs>
+struct ParamsPerspPlanar : ParamsAnyCamera<Cosine, Linear, Model, Runs> {
+    static constexpr int orthographic = 0;
+    static constexpr int radialDepth = 0;
 };
 
 template <class Params>

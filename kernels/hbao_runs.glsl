@@ -22,16 +22,10 @@ struct OccluderRun {
 
 OccluderRun noRun() {
     OccluderRun run;
-    run.firstA = lfloat(0.0f);
-    run.firstB = lfloat(0.0f);
-    run.lastA = lfloat(0.0f);
-    run.lastB = lfloat(0.0f);
-    run.topA = lfloat(1.0f);
-    run.topB = lfloat(0.0f);
-    run.raised = lfloat(0.0f) > 0.0f; // false in every lane
-    run.going = run.raised;
-    run.topF = lfloat(0.0f);
-    run.rise = lfloat(0.0f);
+    run.firstA = run.firstB = run.lastA = run.lastB = lfloat(0.0f);
+    run.topA = lfloat(1.0f); // (1, 0): the tangent
+    run.topB = run.topF = run.rise = lfloat(0.0f);
+    run.raised = run.going = lfloat(0.0f) > 0.0f; // false in every lane
     return run;
 }
 

@@ -167,10 +167,8 @@ struct HbaoOccluded {
 
 HbaoOccluded nothingOccluded() {
     HbaoOccluded o;
-    o.horizonA = lfloat(1.0f);
-    o.horizonB = lfloat(0.0f);
-    o.horizonF = lfloat(0.0f);
-    o.occlusion = lfloat(0.0f);
+    o.horizonA = lfloat(1.0f); // the tangent
+    o.horizonB = o.horizonF = o.occlusion = lfloat(0.0f);
     o.sectors = luint(0u);
     return o;
 }

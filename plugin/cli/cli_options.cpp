@@ -89,6 +89,23 @@ struct Flag {
     std::function<void(Options&, const std::string&)> apply;
 };
 
+// "a|b|c" as "a, b or c".
+std::string choiceWords(const std::string& value) {
+    std::string words = value;
+    const size_t last = words.rfind('|');
+    if (last != std::string::npos) words.replace(last, 1, " or ");
+    for (size_t i; (i = words.find('|')) != std::string::npos;) words.replace(i, 1, ", ");
+    return words;
+}
+
+// A flag that takes one of an enum's names (core's parse()); `field` says where it goes.
+template <class E, class Field>
+Flag enumFlag(const char* name, const char* value, std::string help, Field field) {
+    return {name, value, std::move(help), [=](Options& o, const std::string& v) {
+                field(o) = toEnum<E>(name, v, choiceWords(value).c_str());
+            }};
+}
+
 // A method's own parameter (core/methods.h) as a flag: parsed, then checked against its range.
 Flag methodFlag(const MethodParam& p) {
     return {p.flag, p.value, p.help, [&p](Options& o, const std::string& v) {
@@ -141,24 +158,23 @@ std::vector<Flag> makeFlags() {
     std::vector<Flag> table = {
         {"-o", "OUTPUT.exr", "output file: a copy of the input with the new layers added (see --write)",
          [](Options& o, const std::string& v) { o.job.output = v; }},
-        {"--write", "copy|new|append",
+        enumFlag<WriteMode>("--write", "copy|new|append",
          "copy: every input channel plus the new layers (default); new: only the new layers, with the "
          "input's windows, camera and colour attributes, and its codec unless lossy (then zip); the "
          "input's other channels are not decoded, so it is faster; append: the input's parts copied "
          "as compressed chunks, untouched, plus a part holding the new layers (fastest for a full file)",
-         [](Options& o, const std::string& v) { o.job.write = toEnum<WriteMode>("--write", v, "copy, new or append"); }},
+         [](Options& o) -> auto& { return o.job.write; }),
         {"--method", "NAME", methodHelp(), [](Options& o, const std::string& v) {
              if (!findMethod(v)) throw UsageError("--method expects " + methodNames(", ") + ", got '" + v + "'");
              o.job.settings.method = v;
          }},
         {"--radius", "R", "occlusion radius in world units (default 1)",
          [](Options& o, const std::string& v) { o.job.settings.radius = (float)toSetting("--radius", v); }},
-        {"--weighting", "uniform|cosine", "solid angle (HBAO paper, default) or projected solid angle (ray-traced AO)",
-         [](Options& o, const std::string& v) {
-             o.job.settings.weighting = toEnum<Weighting>("--weighting", v, "uniform or cosine");
-         }},
-        {"--falloff", "linear|none", "W(r) = 1 - r/R (default) or binary visibility within R",
-         [](Options& o, const std::string& v) { o.job.settings.falloff = toEnum<Falloff>("--falloff", v, "linear or none"); }},
+        enumFlag<Weighting>("--weighting", "uniform|cosine",
+                            "solid angle (HBAO paper, default) or projected solid angle (ray-traced AO)",
+                            [](Options& o) -> auto& { return o.job.settings.weighting; }),
+        enumFlag<Falloff>("--falloff", "linear|none", "W(r) = 1 - r/R (default) or binary visibility within R",
+                          [](Options& o) -> auto& { return o.job.settings.falloff; }),
         {"--quality", "low|medium|high|ultra", qualityHelp(),
          [](Options& o, const std::string& v) {
              if (!applyQualityPreset(v, o.job.settings))
@@ -180,12 +196,10 @@ std::vector<Flag> makeFlags() {
          }},
         {"--camera", "FILE.json", "camera sidecar (default: NAME.json next to the input, if present)",
          [](Options& o, const std::string& v) { o.job.camera.sidecarPath = v; }},
-        {"--depth", "planar|radial|inverse|normalized",
-         "how the depth is stored (default: the renderer preset's): camera Z, distance to the eye, 1/Z, or "
-         "normalised over --depth-range",
-         [](Options& o, const std::string& v) {
-             o.job.depthEncoding = toEnum<DepthEncoding>("--depth", v, "planar, radial, inverse or normalized");
-         }},
+        enumFlag<DepthEncoding>("--depth", "planar|radial|inverse|normalized",
+                                "how the depth is stored (default: the renderer preset's): camera Z, distance to "
+                                "the eye, 1/Z, or normalised over --depth-range",
+                                [](Options& o) -> auto& { return o.job.depthEncoding; }),
         {"--depth-range", "A,B", "--depth normalized: the distances stored as 0 and 1 (A > B: white is near)",
          [](Options& o, const std::string& v) {
              const std::vector<double> ends = toNumbers("--depth-range", v, 2);
@@ -193,12 +207,10 @@ std::vector<Flag> makeFlags() {
              if (!problem.empty()) throw UsageError(problem);
              o.job.depthRange = std::array<double, 2>{ends[0], ends[1]};
          }},
-        {"--normals", "world|camera|depth",
-         "normal space (default: the renderer preset's); depth: reconstructed from the depth and the camera, "
-         "as they are when the file has no normal layer",
-         [](Options& o, const std::string& v) {
-             o.job.normalSpace = toEnum<NormalSpace>("--normals", v, "world, camera or depth");
-         }},
+        enumFlag<NormalSpace>("--normals", "world|camera|depth",
+                              "normal space (default: the renderer preset's); depth: reconstructed from the depth "
+                              "and the camera, as they are when the file has no normal layer",
+                              [](Options& o) -> auto& { return o.job.normalSpace; }),
         {nameListSetting("--view").flag, nameListSetting("--view").value, nameListSetting("--view").help,
          [](Options& o, const std::string& v) {
              const std::vector<std::string> names = splitNameList(v);

@@ -1,17 +1,23 @@
 #!/usr/bin/env python3
-"""HBAO's outputs of two builds compared bit for bit: a build before a change (BEFORE) against the
-current one (AFTER), for every HBAO model on the report's scenes, the test data and deep renders.
+"""Every method's outputs of two builds compared bit for bit: a build before a change (BEFORE)
+against the current one (AFTER), on the report's scenes, the test data and deep renders.
 
     python3 tests/bench/same_outputs.py BEFORE/plugin/obscura build/plugin/obscura \\
-        --render build/examples/reference/reference_render --work /tmp/same [--devices cpu,gl-osmesa]
+        --render build/examples/reference/reference_render --work /tmp/same [--devices cpu,gl-osmesa] \\
+        [--methods hbao,ssao,rtao,discs,ssdo]
 
+HBAO:
 Each input runs with every combination of --thickness inf / 0.3 R / auto, --falloff linear /
 none, --weighting uniform / cosine and --border open / clamp / tangent (36 runs), on each device
 of --devices and, for the CPU, each instruction set of --isa (OBSCURA_CPU_ISA; default: the
 widest). Inputs: tests/data's two Blender renders, the eight report scenes at 320 x 240 (from
 --render, written once into WORK/scenes), three of them as deep input (--flat), one with
 overscan, and one read as radial depth and one through an orthographic camera (other camera
-specialisations of the kernel). Outputs are float EXRs of the AO layer alone; two are the same
+specialisations of the kernel). The other methods run on the same inputs (deep ones excepted)
+with the settings each reads (OTHER_METHODS below): presets, blur, their own options, and for
+ssdo every output (AO, DO, GI, relit) under a sky, a sun and an environment map. Every setting
+is given explicitly, so a changed default does not count as a changed output. Outputs are float
+EXRs of the new layers alone; two are the same
 when their pixel data (everything after the header, which names the output) are the same bytes:
 both builds write through the same OpenEXR, so equal pixels compress to equal bytes.
 
@@ -64,6 +70,43 @@ def inputs(scenes_dir):
     return out
 
 
+# Each method's settings: a few combinations that reach every branch of its kernel.
+OTHER_METHODS = {
+    "ssao": [["--ssao-samples", "8", "--blur", "0"], ["--ssao-samples", "32", "--blur", "2"],
+             ["--ssao-samples", "16", "--ssao-hemisphere", "--blur", "0"]],
+    "rtao": [["--rtao-rays", "4", "--thickness", "auto", "--blur", "0"],
+             ["--rtao-rays", "4", "--thickness", "inf", "--rtao-grid", "2", "--blur", "1"]],
+    "discs": [["--disc-window", "1", "--blur", "0"], ["--disc-window", "3", "--border", "open", "--blur", "1"],
+              ["--disc-window", "2", "--disc-passes", "2", "--disc-sum", "--blur", "0"],
+              ["--disc-window", "1", "--disc-blend-levels", "--disc-no-polygon", "--blur", "0"]],
+    "ssdo": [["--samples", "16", "--interleave", "1", "--blur", "0", "--bounce"],
+             ["--samples", "64", "--interleave", "2", "--blur", "2", "--bounce", "--light", "0.3,0.5,0.8,3,2.8,2.5"],
+             ["--samples", "32", "--interleave", "2", "--blur", "2", "--bounce", "--env", "ENV", "--env-rotate", "30"],
+             ["--samples", "32", "--interleave", "1", "--blur", "0", "--bounce", "--times-albedo", "--relit-direct",
+              "--sky", "0.4,0.5,0.9"]],
+}
+
+
+def environment_map(work):
+    """A small lat-long map, warm above and cool below, for ssdo's --env."""
+    env = work / "scenes" / "env.exr"
+    if not env.exists():
+        subprocess.run(["oiiotool", "--pattern", "fill:top=2,1.6,1.2:bottom=0.1,0.2,0.4", "64x32", "3",
+                        "-d", "float", "-o", str(env)], check=True)
+    return str(env)
+
+
+def other_configs(all_inputs, devices, methods, env):
+    for (name, args, r), device, method in itertools.product(all_inputs, devices, methods):
+        if "--flat" in args or (method == "rtao" and device != "cpu"):
+            continue
+        for i, flags in enumerate(OTHER_METHODS[method]):
+            flags = [env if f == "ENV" else f for f in flags]
+            ao_definition = [] if method == "ssdo" else ["--weighting", "cosine", "--falloff", "none"]
+            yield (f"{name}.{device}.{method}{i}", args + ["--method", method, "--radius", f"{r:.6g}",
+                   "--device", device] + ao_definition + flags, "")
+
+
 def configs(all_inputs, devices, isas):
     for (name, args, r), device in itertools.product(all_inputs, devices):
         for isa in (isas if device == "cpu" else [""]):
@@ -72,7 +115,8 @@ def configs(all_inputs, devices, isas):
                 thickness = f"{0.3 * r:.6g}" if t == "fixed" else t
                 key = f"{name}.{device}{('-' + isa) if isa else ''}.t{t}.{falloff}.{weighting}.{border}"
                 flags = args + ["--radius", f"{r:.6g}", "--thickness", thickness, "--falloff", falloff,
-                                "--weighting", weighting, "--border", border, "--device", device]
+                                "--weighting", weighting, "--border", border, "--device", device,
+                                "--directions", "8", "--steps", "8", "--blur", "0"]
                 yield key, flags, isa
 
 
@@ -112,6 +156,26 @@ def pixel_bytes(path):
     return data[i + 1 + 8 * chunks:]
 
 
+def channels(path):
+    info = subprocess.run(["oiiotool", "--info", "-v", str(path)], capture_output=True, text=True).stdout
+    line = next(l for l in info.splitlines() if "channel list:" in l)
+    return [c.strip() for c in line.split(":", 1)[1].split(",")]
+
+
+def same_pixels(a, b):
+    """Equal pixel bytes; where one build writes more layers (a new output), the layers both
+    write compared exactly (oiiotool --diff failing on any difference)."""
+    ca, cb = channels(a), channels(b)
+    if ca == cb:
+        return pixel_bytes(a) == pixel_bytes(b)
+    common = ",".join(c for c in ca if c in cb)
+    print(f"note {a.name}: layers compared {common}; only before: {set(ca) - set(cb) or '-'}, "
+          f"only after: {set(cb) - set(ca) or '-'}")
+    run = subprocess.run(["oiiotool", str(a), "--ch", common, str(b), "--ch", common, "--fail", "0",
+                          "--failpercent", "0", "--warn", "0", "--diff"], capture_output=True, text=True)
+    return run.returncode == 0
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("before", help="obscura of the build before the change")
@@ -120,15 +184,20 @@ def main():
     ap.add_argument("--work", default="/tmp/obscura_same_outputs")
     ap.add_argument("--devices", default="cpu,gl-osmesa")
     ap.add_argument("--isa", default="", help="comma-separated OBSCURA_CPU_ISA values for the CPU ('' the widest)")
+    ap.add_argument("--methods", default="hbao,ssao,rtao,discs,ssdo")
     ap.add_argument("--only", default="", help="run only the configurations whose name contains this")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--compare-only", action="store_true", help="compare the outputs WORK holds; run nothing")
     args = ap.parse_args()
 
     work = Path(args.work)
-    render_scenes(args.render, work / "scenes")
-    todo = [c for c in configs(inputs(work / "scenes"), args.devices.split(","), args.isa.split(","))
-            if args.only in c[0]]
+    render_scenes(str(Path(args.render).resolve()), work / "scenes")
+    methods = args.methods.split(",")
+    devices = args.devices.split(",")
+    todo = list(configs(inputs(work / "scenes"), devices, args.isa.split(","))) if "hbao" in methods else []
+    todo += other_configs(inputs(work / "scenes"), devices, [m for m in methods if m != "hbao"],
+                          environment_map(work))
+    todo = [c for c in todo if args.only in c[0]]
     errors = []
     for label, binary, reuse in (("before", args.before, True), ("after", args.after, False)):
         out_dir = work / label
@@ -141,7 +210,7 @@ def main():
     differ = []
     for key, _, _ in todo:
         a, b = work / "before" / f"{key}.exr", work / "after" / f"{key}.exr"
-        if a.exists() and b.exists() and pixel_bytes(a) != pixel_bytes(b):
+        if a.exists() and b.exists() and not same_pixels(a, b):
             diff = subprocess.run(["oiiotool", str(a), str(b), "--diff"], capture_output=True, text=True).stdout
             differ.append(key)
             print(f"DIFFERS {key}\n  " + "\n  ".join(l for l in diff.splitlines() if "error" in l or "pixel" in l))
