@@ -257,6 +257,13 @@ TEST(Inspect, AnswersOnAFileWithoutDepth) {
     EXPECT_NE(r.out.find("run:     no command can run on this file"), std::string::npos) << r.out;
     const CliResult unreadable = runObscura({(dir / "absent.exr").string(), "--inspect"});
     EXPECT_EQ(unreadable.exitCode, 1) << outcome(unreadable);
+    // Only a file that cannot be read is an error: pixels cut off are one.
+    const std::string plate = (dir / "plate.exr").string(), cut = (dir / "cut.exr").string();
+    writeViewsByName(plate);
+    truncatedCopy(plate, cut, fileSize(plate) - 64);
+    const CliResult truncated = runObscura({cut, "--inspect"});
+    EXPECT_EQ(truncated.exitCode, 1) << outcome(truncated);
+    EXPECT_NE(truncated.err.find("truncated or corrupt"), std::string::npos) << truncated.err;
 }
 
 // --view comes from core's table of name settings: the CLI spells it and refuses what the table

@@ -209,6 +209,8 @@ json inspectFrameJson(const FrameJob& job) {
     try {
         p = loadFramePasses(job, false);
     } catch (const Error& e) {
+        // Pixels that cannot be decoded make the file unreadable; anything else is reported.
+        if (std::string(e.what()).find("': truncated or corrupt: ") != std::string::npos) throw;
         problems.push_back(firstLineOf(e.what()));
     }
     json j = {{"file", job.input}, {"multipart", info.multipart}, {"parts", info.parts.size()}};
