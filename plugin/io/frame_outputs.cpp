@@ -107,6 +107,25 @@ int destinationPart(const FrameJob& job, const FramePasses& p, ExrPixels& target
     return part;
 }
 
+// "'obscura.left', 'obscura.right'": the parts of their own the views with a part each would
+// get; "" when no view processed has a part of its own.
+std::string viewPartNames(const FrameJob& job, const ExrInfo& info) {
+    std::vector<std::string> views;
+    try {
+        views = viewsToProcess(job, info);
+    } catch (const Error&) {
+        return "";  // a --view the file lacks: the run is refused before it writes
+    }
+    std::string names;
+    for (const std::string& v : views)
+        for (const ExrPart& part : info.parts)
+            if (partView(part) == v) {
+                names += (names.empty() ? "'" : ", '") + layersPartName(info, "obscura." + v) + "'";
+                break;
+            }
+    return names;
+}
+
 } // namespace
 
 std::string describeWrite(const FrameJob& job, const ExrInfo& info, int part) {
@@ -114,12 +133,14 @@ std::string describeWrite(const FrameJob& job, const ExrInfo& info, int part) {
     const Imf::Compression out = losslessFor(in);
     std::string codec = compressionName(out);
     if (out != in) codec += " (the input's " + compressionName(in) + " is lossy)";
-    if (job.write == WriteMode::New) return "new: only the new layers, " + codec;
+    // Views with parts of their own get a part each where the layers do not go into the input's.
+    const std::string own = viewPartNames(job, info);
+    const std::string ownPart = own.empty() ? "a part of their own ('" + layersPartName(info) + "')" : "a part per view (" + own + ")";
+    if (job.write == WriteMode::New) return "new: only the new layers" + (own.empty() ? "" : ", in " + ownPart) + ", " + codec;
     if (job.write == WriteMode::Append)
-        return "append: the input's parts copied as compressed chunks, the new layers in a part of their own ('" +
-               layersPartName(info) + "'), " + codec;
-    if (out != in) return "copy: the input plus the new layers in a part of their own ('" + layersPartName(info) + "'), " + codec;
-    return "copy: the input plus the new layers, " + codec;
+        return "append: the input's parts copied as compressed chunks, the new layers in " + ownPart + ", " + codec;
+    if (out != in) return "copy: the input plus the new layers in " + ownPart + ", " + codec;
+    return "copy: the input plus the new layers" + std::string(own.empty() ? "" : ", each view's in its part") + ", " + codec;
 }
 
 // --preview: the display window's part of the frame (overscan is not part of it) of the AO, or
