@@ -20,12 +20,12 @@
 #include <string>
 #include <vector>
 
-namespace fs = std::filesystem;
 using namespace obscura;
 using namespace obscura::fixtures;
 using obscura::test::CliResult;
 using obscura::test::outcome;
 using obscura::test::runObscura;
+namespace fs = std::filesystem;
 
 namespace {
 
