@@ -215,6 +215,19 @@ INSTANTIATE_TEST_SUITE_P(Plates, Views,
                                            Case{"by_part_new", true, "new"}, Case{"by_part_append", true, "append"}),
                          [](const ::testing::TestParamInfo<Case>& info) { return std::string(info.param.name); });
 
+// The command `--inspect --json` gives for `in`, run.
+CliResult runInspectCommand(const std::string& in, nlohmann::json& inspected) {
+    const CliResult js = runObscura({in, "--inspect", "--json"});
+    EXPECT_EQ(js.exitCode, 0) << outcome(js);
+    inspected = nlohmann::json::parse(js.out);
+    EXPECT_TRUE(inspected["command_args"].is_array()) << js.out;
+    if (!inspected["command_args"].is_array()) return {};
+    std::vector<std::string> args = inspected["command_args"];
+    EXPECT_EQ(args.at(0), "obscura");
+    args.erase(args.begin());
+    return runObscura(args);
+}
+
 // --inspect describes the plate without a camera, and the command it prints runs.
 TEST(Inspect, AnswersOnThePlateAndItsCommandRuns) {
     const fs::path dir = obscura::test::testDir("views");
@@ -227,23 +240,31 @@ TEST(Inspect, AnswersOnThePlateAndItsCommandRuns) {
         EXPECT_NE(text.out.find("normal: (not found) normals: reconstructed from depth"), std::string::npos) << text.out;
         EXPECT_NE(text.out.find("views:   left (default), right"), std::string::npos) << text.out;
         EXPECT_NE(text.out.find("camera:  none"), std::string::npos) << text.out;
-        const CliResult js = runObscura({in, "--inspect", "--json"});
-        ASSERT_EQ(js.exitCode, 0) << outcome(js);
-        const nlohmann::json j = nlohmann::json::parse(js.out);
+        nlohmann::json j;
+        const CliResult r = runInspectCommand(in, j);
+        ASSERT_EQ(r.exitCode, 0) << outcome(r);
         EXPECT_EQ(j["views_processed"], nlohmann::json(kViews));
         EXPECT_EQ(j["depth_statistics"]["type"], "half");
         EXPECT_GT(j["depth_statistics"]["sky_share"].get<double>(), 0.0);  // Z = 0 where alpha is 0
-        ASSERT_TRUE(j["command_args"].is_array()) << js.out;
         EXPECT_NE(text.out.find("run:     " + j["command"].get<std::string>()), std::string::npos);
-        std::vector<std::string> args = j["command_args"];
-        ASSERT_EQ(args.at(0), "obscura");
-        args.erase(args.begin());
-        const CliResult r = runObscura(args);
-        ASSERT_EQ(r.exitCode, 0) << outcome(r);
         const std::string out = (dir / ((byPart ? "parts" : "names") + std::string("_ao.exr"))).string();
         expectInputKept(in, out);
         for (const auto& [view, channel] : aoPlaces(byPart)) EXPECT_FALSE(channelIn(out, view, channel).empty()) << channel;
     }
+}
+
+// A depth under a name no preset knows: --inspect says so and its command takes it.
+TEST(Inspect, TakesADepthUnderAnUnknownName) {
+    const fs::path dir = obscura::test::testDir("views");
+    const std::string in = (dir / "odd.exr").string();
+    writeSimple(in, {"R", "G", "B", "A", "zdepth.V"});
+    nlohmann::json j;
+    const CliResult r = runInspectCommand(in, j);
+    ASSERT_EQ(r.exitCode, 0) << outcome(r);
+    EXPECT_TRUE(j["roles"]["depth"].is_null());
+    EXPECT_EQ(j["command_args"][4], "--layer");
+    EXPECT_EQ(j["command_args"][5], "depth=zdepth.V");
+    EXPECT_GE(obscura::test::partChannel((dir / "odd_ao.exr").string(), 0, "obscura.AO.Y").size(), 1u);
 }
 
 // A file with no depth at all still gets an answer: what is missing, and why no command runs.

@@ -2,7 +2,10 @@
 #include "io/inspect.h"
 
 #include "base/error.h"
+#include "io/views.h"
 
+#include <cctype>
+#include <cmath>
 #include <filesystem>
 #include <sstream>
 
@@ -42,6 +45,7 @@ std::vector<std::string> argsFor(const FrameJob& job) {
     if (job.depthRange) a.insert(a.end(), {"--depth-range", number((*job.depthRange)[0]) + "," + number((*job.depthRange)[1])});
     if (job.normalSpace) a.insert(a.end(), {"--normals", toString(*job.normalSpace)});
     if (job.skyDepth) a.insert(a.end(), {"--sky-depth", number(*job.skyDepth)});
+    if (job.badPixels == BadPixelPolicy::Skip) a.insert(a.end(), {"--bad-pixels", "skip"});
     const CameraRequest& c = job.camera;
     if (!c.sidecarPath.empty()) a.insert(a.end(), {"--camera", c.sidecarPath});
     if (c.fovDeg) a.insert(a.end(), {"--fov-deg", number(*c.fovDeg)});
@@ -72,6 +76,44 @@ Camera cameraForRun(FrameJob& run, const FramePasses& p, std::vector<std::string
     return resolveFrameCamera(run, p);
 }
 
+// A channel that looks like a depth where the preset found neither a depth nor a position pass:
+// its last name component is Z, or its name says depth. Named as the view described sees it.
+std::string depthCandidate(const FrameJob& job) {
+    const ExrInfo info = readExrInfo(job.input, job.maxPixels);
+    const std::vector<std::string> views = viewsToProcess(job, info);
+    const std::string view = views.empty() ? (fileViews(info).empty() ? "" : fileViews(info).front()) : views.front();
+    const LayerPlan plan = planViewLayers(job, info, view);
+    if (plan.find(Role::Depth) || plan.find(Role::Position)) return "";
+    for (const ExrPart& part : (view.empty() ? info : viewOfFile(info, view).info).parts)
+        for (const ExrChannel& ch : part.channels) {
+            std::string lower = ch.name;
+            for (char& c : lower) c = (char)std::tolower((unsigned char)c);
+            const size_t dot = lower.rfind('.');
+            if (lower.substr(dot == std::string::npos ? 0 : dot + 1) == "z" || lower.find("depth") != std::string::npos)
+                return ch.name;
+        }
+    return "";
+}
+
+// Makes `run` one that runs: the camera and normals it needs added, each addition noted.
+void completeRun(FrameJob& run, std::vector<std::string>& notes) {
+    const FramePasses p = loadFramePasses(run, false);
+    const Camera camera = cameraForRun(run, p, notes);
+    const NormalSpace space = p.normalsFromDepth ? NormalSpace::Depth : run.normalSpace.value_or(p.plan.normalSpace);
+    long long bad = 0;
+    for (float d : p.depth.pixels) bad += std::isnan(d) || d < 0.0f;
+    if (bad > 0 && run.badPixels == BadPixelPolicy::Error) {
+        run.badPixels = BadPixelPolicy::Skip;
+        notes.push_back("depth: " + std::to_string(bad) + " NaN or negative pixel(s); the command treats them as "
+                        "holes (--bad-pixels skip)");
+    }
+    if (space == NormalSpace::World && !camera.hasPose) {
+        run.normalSpace = NormalSpace::Depth;
+        notes.push_back("normals: the file's are in world space and no camera pose is known; the command "
+                        "reconstructs them from depth (--normals depth): give --camera-to-world to use them");
+    }
+}
+
 } // namespace
 
 std::string shellQuoted(const std::string& arg) {
@@ -87,18 +129,25 @@ SuggestedCommand suggestCommand(const FrameJob& job) {
     SuggestedCommand s;
     FrameJob run = job;
     if (run.output.empty()) run.output = defaultOutput(job.deepInput.empty() ? job.input : job.deepInput);
-    try {
-        const FramePasses p = loadFramePasses(run, false);
-        const Camera camera = cameraForRun(run, p, s.notes);
-        const NormalSpace space = p.normalsFromDepth ? NormalSpace::Depth : run.normalSpace.value_or(p.plan.normalSpace);
-        if (space == NormalSpace::World && !camera.hasPose) {
-            run.normalSpace = NormalSpace::Depth;
-            s.notes.push_back("normals: the file's are in world space and no camera pose is known; the command "
-                              "reconstructs them from depth (--normals depth): give --camera-to-world to use them");
+    for (bool retried = false;; retried = true) {
+        try {
+            completeRun(run, s.notes);
+            break;
+        } catch (const Error& e) {
+            std::string candidate;
+            try {
+                candidate = retried || run.layerOverrides.count(Role::Depth) ? "" : depthCandidate(run);
+            } catch (const Error&) {
+                // No better guess: the first failure is the answer.
+            }
+            if (candidate.empty()) {
+                s.problem = firstLineOf(e.what());
+                return s;
+            }
+            run.layerOverrides[Role::Depth] = candidate;
+            s.notes.push_back("depth: no layer the preset knows; the command takes '" + candidate +
+                              "' (--layer depth=" + candidate + "): check that it is the depth");
         }
-    } catch (const Error& e) {
-        s.problem = firstLineOf(e.what());
-        return s;
     }
     s.args = argsFor(run);
     return s;
