@@ -233,23 +233,6 @@ TEST(GlParity, DeviceChoiceIsExplicit) {
     EXPECT_THROW(runOperator(scene.inputs(), s), Error);
 }
 
-// A shader that does not compile fails with the kernel's name and its file:line.
-TEST(GlParity, ShaderErrorsNameKernelFileAndLine) {
-    auto context = gpu::GlContext::create(gpu::ContextKind::OSMesa);
-    const std::vector<gpu::ShaderPart> parts = {
-        {"first.glsl", "layout(local_size_x = 1) in;\nfloat ok() { return 1.0f; }\n"},
-        {"second.glsl", "\n\nvoid main() { float x = notDeclared(2.0f); }\n"}};
-    try {
-        gpu::buildComputeProgram(context->gl(), "broken", parts);
-        FAIL() << "a broken shader compiled";
-    } catch (const Error& e) {
-        const std::string m = e.what();
-        EXPECT_NE(m.find("kernel 'broken'"), std::string::npos) << m;
-        EXPECT_NE(m.find("second.glsl:3"), std::string::npos) << m;
-        EXPECT_EQ(m.find('\n'), std::string::npos) << m;
-    }
-}
-
 // SSDO (DO, GI and AO, with its interleaving blur) matches the CPU on both GL paths.
 TEST(GlParity, SsdoMatchesCpu) {
     const int W = 128, H = 96;

@@ -64,13 +64,8 @@ void updateEnabled(const Instance& in) {
 
 void bindClips(Instance& in, OfxImageEffectHandle effect) {
     const std::pair<OfxImageClipHandle Instance::*, const char*> clips[] = {
-        {&Instance::source, kClipSource},
-        {&Instance::depth, kClipDepth},
-        {&Instance::normal, kClipNormal},
-        {&Instance::position, kClipPosition},
-        {&Instance::albedo, kClipAlbedo},
-        {&Instance::output, kClipOutput},
-    };
+        {&Instance::source, kClipSource},     {&Instance::depth, kClipDepth},   {&Instance::normal, kClipNormal},
+        {&Instance::position, kClipPosition}, {&Instance::albedo, kClipAlbedo}, {&Instance::output, kClipOutput}};
     for (const auto& [member, name] : clips) in.*member = clip(effect, name);
 }
 

@@ -34,12 +34,7 @@ OfxRectD clipRod(const Clip& c) {
 
 namespace {
 
-OfxStatus getPropertySet(OfxImageEffectHandle h, OfxPropertySetHandle* out) {
-    Effect* e = effectOf(h);
-    if (!e) return kOfxStatErrBadHandle;
-    *out = e->props.handle();
-    return kOfxStatOK;
-}
+OfxStatus getPropertySet(OfxImageEffectHandle h, OfxPropertySetHandle* out) { return propertiesOf(effectOf(h), out); }
 OfxStatus getParamSet(OfxImageEffectHandle h, OfxParamSetHandle* out) {
     Effect* e = effectOf(h);
     if (!e) return kOfxStatErrBadHandle;
@@ -59,27 +54,13 @@ OfxStatus clipDefine(OfxImageEffectHandle h, const char* name, OfxPropertySetHan
     c->props.setInt(kOfxImageClipPropIsMask, {0});
     c->props.setInt(kOfxImageEffectPropSupportsTiles, {1});
     c->props.setInt(kOfxImageEffectPropTemporalClipAccess, {0});
-    *out = c->props.handle();
-    e->clips.push_back(std::move(c));
-    return kOfxStatOK;
+    return keep(e->clips, std::move(c), out);
 }
 OfxStatus clipGetHandle(OfxImageEffectHandle h, const char* name, OfxImageClipHandle* clip, OfxPropertySetHandle* ps) {
     Effect* e = effectOf(h);
-    if (!e) return kOfxStatErrBadHandle;
-    Clip* c = e->clip(name);
-    if (!c) return kOfxStatErrUnknown;
-    if (clip) *clip = reinterpret_cast<OfxImageClipHandle>(c);
-    if (ps) *ps = c->props.handle();
-    return kOfxStatOK;
+    return e ? handOut(e->clip(name), clip, ps) : kOfxStatErrBadHandle;
 }
-OfxStatus clipGetPropertySet(OfxImageClipHandle h, OfxPropertySetHandle* out) {
-    Clip* c = clipOf(h);
-    if (!c) return kOfxStatErrBadHandle;
-    *out = c->props.handle();
-    return kOfxStatOK;
-}
-
-
+OfxStatus clipGetPropertySet(OfxImageClipHandle h, OfxPropertySetHandle* out) { return propertiesOf(clipOf(h), out); }
 
 OfxStatus clipGetRegionOfDefinition(OfxImageClipHandle h, OfxTime, OfxRectD* out) {
     Clip* c = clipOf(h);
@@ -220,6 +201,5 @@ const OfxImageEffectSuiteV1 kImageEffectSuite = {
     clipGetPropertySet, clipGetImage, clipReleaseImage, clipGetRegionOfDefinition,
     abortRender,        imageMemoryAlloc, imageMemoryFree, imageMemoryLock,
     imageMemoryNoop};
-
 
 } // namespace obscura::ofxhost::suites

@@ -87,38 +87,27 @@ int Property::size() const {
     }
 }
 
-void PropertySet::setString(const std::string& n, std::vector<std::string> v) {
-    std::lock_guard<std::mutex> lock(mutex);
-    Property& p = props[n];
+namespace {
+// Replaces property n with a value of one type.
+template <class V>
+void assign(PropertySet& set, const std::string& n, Property::Type type, std::vector<V> Property::*field,
+            std::vector<V> v) {
+    std::lock_guard<std::mutex> lock(set.mutex);
+    Property& p = set.props[n];
     p = Property{};
-    p.type = Property::String;
-    p.s = std::move(v);
+    p.type = type;
+    p.*field = std::move(v);
 }
-void PropertySet::setDouble(const std::string& n, std::vector<double> v) {
-    std::lock_guard<std::mutex> lock(mutex);
-    Property& p = props[n];
-    p = Property{};
-    p.type = Property::Double;
-    p.d = std::move(v);
-}
-void PropertySet::setInt(const std::string& n, std::vector<int> v) {
-    std::lock_guard<std::mutex> lock(mutex);
-    Property& p = props[n];
-    p = Property{};
-    p.type = Property::Int;
-    p.i = std::move(v);
-}
+} // namespace
+
+void PropertySet::setString(const std::string& n, std::vector<std::string> v) { assign(*this, n, Property::String, &Property::s, std::move(v)); }
+void PropertySet::setDouble(const std::string& n, std::vector<double> v) { assign(*this, n, Property::Double, &Property::d, std::move(v)); }
+void PropertySet::setInt(const std::string& n, std::vector<int> v) { assign(*this, n, Property::Int, &Property::i, std::move(v)); }
 void PropertySet::erase(const std::string& n) {
     std::lock_guard<std::mutex> lock(mutex);
     props.erase(n);
 }
-void PropertySet::setPointer(const std::string& n, void* v) {
-    std::lock_guard<std::mutex> lock(mutex);
-    Property& p = props[n];
-    p = Property{};
-    p.type = Property::Pointer;
-    p.p = {v};
-}
+void PropertySet::setPointer(const std::string& n, void* v) { assign(*this, n, Property::Pointer, &Property::p, {v}); }
 bool PropertySet::has(const std::string& n) const {
     std::lock_guard<std::mutex> lock(mutex);
     return props.count(n) != 0;

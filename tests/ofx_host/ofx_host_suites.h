@@ -43,6 +43,31 @@ inline bool isIntLike(const std::string& t) {
     return t == kOfxParamTypeInteger || t == kOfxParamTypeChoice || t == kOfxParamTypeBoolean;
 }
 
+// A clip's or parameter's handle and property set, as the GetHandle functions return them.
+template <class Handle, class Item>
+OfxStatus handOut(Item* item, Handle* handle, OfxPropertySetHandle* props) {
+    if (!item) return kOfxStatErrUnknown;
+    if (handle) *handle = reinterpret_cast<Handle>(item);
+    if (props) *props = item->props.handle();
+    return kOfxStatOK;
+}
+
+// Keeps a newly defined clip or parameter and hands out its property set.
+template <class Item>
+OfxStatus keep(std::vector<std::unique_ptr<Item>>& items, std::unique_ptr<Item> item, OfxPropertySetHandle* out) {
+    if (out) *out = item->props.handle();
+    items.push_back(std::move(item));
+    return kOfxStatOK;
+}
+
+// The property set of an item a handle names, as the GetPropertySet functions return it.
+template <class Item>
+OfxStatus propertiesOf(Item* item, OfxPropertySetHandle* out) {
+    if (!item) return kOfxStatErrBadHandle;
+    *out = item->props.handle();
+    return kOfxStatOK;
+}
+
 // Geometry the effect suite and Instance::renderFrame share.
 OfxRectD toCanonical(const Effect& e, const OfxRectI& r);
 OfxRectI toPixels(const Effect& e, const OfxRectD& r);

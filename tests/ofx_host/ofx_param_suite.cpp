@@ -12,6 +12,14 @@ namespace obscura::ofxhost::suites {
 
 namespace {
 
+// The variadic entry points hand their value arguments on as a va_list.
+#define FORWARD_VALUE_ARGS(last, fn)              \
+    va_list ap;                                   \
+    va_start(ap, last);                           \
+    const OfxStatus st = fn(paramOf(h), ap);      \
+    va_end(ap);                                   \
+    return st
+
 OfxStatus paramDefine(OfxParamSetHandle h, const char* type, const char* name, OfxPropertySetHandle* out) {
     ParamSet* ps = paramSetOf(h);
     if (!ps) return kOfxStatErrBadHandle;
@@ -26,31 +34,14 @@ OfxStatus paramDefine(OfxParamSetHandle h, const char* type, const char* name, O
     p->props.setString(kOfxPropType, {kOfxTypeParameter});
     p->props.setString(kOfxPropName, {name});
     p->props.setString(kOfxParamPropType, {t});
-    if (out) *out = p->props.handle();
-    ps->params.push_back(std::move(p));
-    return kOfxStatOK;
+    return keep(ps->params, std::move(p), out);
 }
 OfxStatus paramGetHandle(OfxParamSetHandle h, const char* name, OfxParamHandle* param, OfxPropertySetHandle* out) {
     ParamSet* ps = paramSetOf(h);
-    if (!ps) return kOfxStatErrBadHandle;
-    Param* p = ps->find(name);
-    if (!p) return kOfxStatErrUnknown;
-    if (param) *param = reinterpret_cast<OfxParamHandle>(p);
-    if (out) *out = p->props.handle();
-    return kOfxStatOK;
+    return ps ? handOut(ps->find(name), param, out) : kOfxStatErrBadHandle;
 }
-OfxStatus paramSetGetPropertySet(OfxParamSetHandle h, OfxPropertySetHandle* out) {
-    ParamSet* ps = paramSetOf(h);
-    if (!ps) return kOfxStatErrBadHandle;
-    *out = ps->props.handle();
-    return kOfxStatOK;
-}
-OfxStatus paramGetPropertySet(OfxParamHandle h, OfxPropertySetHandle* out) {
-    Param* p = paramOf(h);
-    if (!p) return kOfxStatErrBadHandle;
-    *out = p->props.handle();
-    return kOfxStatOK;
-}
+OfxStatus paramSetGetPropertySet(OfxParamSetHandle h, OfxPropertySetHandle* out) { return propertiesOf(paramSetOf(h), out); }
+OfxStatus paramGetPropertySet(OfxParamHandle h, OfxPropertySetHandle* out) { return propertiesOf(paramOf(h), out); }
 OfxStatus getValue(Param* p, va_list ap) {
     if (!p) return kOfxStatErrBadHandle;
     if (isIntLike(p->type)) {
@@ -66,13 +57,7 @@ OfxStatus getValue(Param* p, va_list ap) {
     }
     return kOfxStatOK;
 }
-OfxStatus paramGetValue(OfxParamHandle h, ...) {
-    va_list ap;
-    va_start(ap, h);
-    const OfxStatus st = getValue(paramOf(h), ap);
-    va_end(ap);
-    return st;
-}
+OfxStatus paramGetValue(OfxParamHandle h, ...) { FORWARD_VALUE_ARGS(h, getValue); }
 OfxStatus unsupportedDerivative(OfxParamHandle, OfxTime, ...) { return kOfxStatErrUnsupported; }
 OfxStatus unsupportedIntegral(OfxParamHandle, OfxTime, OfxTime, ...) { return kOfxStatErrUnsupported; }
 OfxStatus setValue(Param* p, va_list ap) {
@@ -91,20 +76,8 @@ OfxStatus setValue(Param* p, va_list ap) {
     }
     return kOfxStatOK;
 }
-OfxStatus paramSetValue(OfxParamHandle h, ...) {
-    va_list ap;
-    va_start(ap, h);
-    const OfxStatus st = setValue(paramOf(h), ap);
-    va_end(ap);
-    return st;
-}
-OfxStatus paramSetValueAtTime(OfxParamHandle h, OfxTime t, ...) {
-    va_list ap;
-    va_start(ap, t);
-    const OfxStatus st = setValue(paramOf(h), ap);
-    va_end(ap);
-    return st;
-}
+OfxStatus paramSetValue(OfxParamHandle h, ...) { FORWARD_VALUE_ARGS(h, setValue); }
+OfxStatus paramSetValueAtTime(OfxParamHandle h, OfxTime t, ...) { FORWARD_VALUE_ARGS(t, setValue); }
 OfxStatus paramGetNumKeys(OfxParamHandle h, unsigned int* n) {
     if (!paramOf(h)) return kOfxStatErrBadHandle;
     *n = 0;
@@ -119,13 +92,9 @@ OfxStatus paramEditBegin(OfxParamSetHandle, const char*) { return kOfxStatOK; }
 OfxStatus paramEditEnd(OfxParamSetHandle) { return kOfxStatOK; }
 
 // paramGetValueAtTime: the time is named, the value pointer follows it.
-OfxStatus paramGetValueAtTimeImpl(OfxParamHandle h, OfxTime t, ...) {
-    va_list ap;
-    va_start(ap, t);
-    const OfxStatus st = getValue(paramOf(h), ap);
-    va_end(ap);
-    return st;
-}
+OfxStatus paramGetValueAtTimeImpl(OfxParamHandle h, OfxTime t, ...) { FORWARD_VALUE_ARGS(t, getValue); }
+
+#undef FORWARD_VALUE_ARGS
 
 } // namespace
 
@@ -134,6 +103,5 @@ const OfxParameterSuiteV1 kParameterSuite = {
     paramGetValueAtTimeImpl, unsupportedDerivative, unsupportedIntegral, paramSetValue, paramSetValueAtTime,
     paramGetNumKeys, paramGetKeyTime,       paramGetKeyIndex,       paramDeleteKey,      paramDeleteAllKeys,
     paramCopy,       paramEditBegin,        paramEditEnd};
-
 
 } // namespace obscura::ofxhost::suites
