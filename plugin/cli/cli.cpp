@@ -5,6 +5,7 @@
 #include "core/methods.h"
 #include "io/frame_job.h"
 #include "io/inspect.h"
+#include "io/views.h"
 #include "io/sequence.h"
 #include "io/write_guard.h"
 
@@ -27,8 +28,10 @@ namespace {
 void printSummary(const Options& o, const FrameReport& r) {
     double total = 0;
     for (const StageTiming& t : r.stages) total += t.seconds;
-    std::fprintf(stderr, "obscura: %s -> %s  [%s]  %lld px (%lld sky)  %.3f s (", o.job.input.c_str(),
-                 o.job.output.c_str(), r.aoChannel.c_str(), r.stats.pixels, r.stats.skyPixels, total);
+    std::string views;  // a stereo file: every view processed, the AO named in each
+    for (const std::string& v : r.views) views += (views.empty() ? "; views " : ", ") + v;
+    std::fprintf(stderr, "obscura: %s -> %s  [%s%s]  %lld px (%lld sky)  %.3f s (", o.job.input.c_str(),
+                 o.job.output.c_str(), r.aoChannel.c_str(), views.c_str(), r.stats.pixels, r.stats.skyPixels, total);
     for (size_t i = 0; i < r.stages.size(); ++i)
         std::fprintf(stderr, "%s%s %.3f", i ? ", " : "", r.stages[i].name.c_str(), r.stages[i].seconds);
     std::fprintf(stderr, ")\n");
@@ -160,8 +163,13 @@ bool outputComplete(const std::string& path, const std::string& aoChannel) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) return false;
     try {
-        for (const ExrPart& part : readExrInfo(path, kDefaultMaxPixels, true).parts)  // append keeps deep parts
+        const ExrInfo info = readExrInfo(path, kDefaultMaxPixels, true);  // append keeps deep parts
+        const std::vector<std::string> views = fileViews(info);
+        for (const ExrPart& part : info.parts) {
             if (part.findChannel(aoChannel) >= 0) return true;
+            for (size_t v = 0; v < views.size(); ++v)  // a stereo file's views by channel names
+                if (part.findChannel(nameInView(aoChannel, views, v)) >= 0) return true;
+        }
     } catch (const Error&) {
     }
     return false;

@@ -212,6 +212,13 @@ std::vector<Flag> makeFlags() {
                               "normal space (default: the renderer preset's); depth: reconstructed from the depth "
                               "and the camera, as they are when the file has no normal layer",
                               [](Options& o) -> auto& { return o.job.normalSpace; }),
+        {nameListSetting("--view").flag, nameListSetting("--view").value, nameListSetting("--view").help,
+         [](Options& o, const std::string& v) {
+             const std::vector<std::string> names = splitNameList(v);
+             const std::string problem = nameListProblem(nameListSetting("--view"), names, Spelling::Flag);
+             if (!problem.empty()) throw UsageError(problem);
+             o.job.views = names;
+         }},
         {"--sky-depth", "D", "depth at or beyond which a pixel is sky (default: the preset's, 1e9)",
          [](Options& o, const std::string& v) { o.job.skyDepth = (float)toSetting("--sky-depth", v); }},
         {"--preset", "NAME", "renderer naming: auto (default), blender, arnold, renderman, vray, karma, generic",

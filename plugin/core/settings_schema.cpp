@@ -2,6 +2,7 @@
 
 #include "base/error.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -51,6 +52,41 @@ std::string depthRangeProblem(double a, double b, Spelling spelling) {
     m << (spelling == Spelling::Flag ? s.flag : s.key) << " needs two different ends (NEAR,FAR, or FAR,NEAR for white near), got "
       << a << " twice";
     return m.str();
+}
+
+const std::vector<NameListSetting>& nameListSettings() {
+    static const std::vector<NameListSetting> table = {
+        {"view", "--view", nullptr, "NAME[,NAME]",
+         "multi-view (stereo) input: process only these views (default: every view with a depth)"},
+    };
+    return table;
+}
+
+const NameListSetting& nameListSetting(const std::string& name) {
+    for (const NameListSetting& s : nameListSettings())
+        if (name == s.key || name == s.flag || (s.ofx && name == s.ofx)) return s;
+    throw Error("no name setting '" + name + "'");
+}
+
+std::vector<std::string> splitNameList(const std::string& text) {
+    std::vector<std::string> out;
+    std::stringstream ss(text);
+    std::string item;
+    while (std::getline(ss, item, ',')) out.push_back(item);
+    if (text.empty() || text.back() == ',') out.push_back("");
+    return out;
+}
+
+std::string nameListProblem(const NameListSetting& s, const std::vector<std::string>& names, Spelling spelling) {
+    const std::string what = spelling == Spelling::Flag ? s.flag : s.key;
+    if (names.empty()) return what + " needs at least one name";
+    for (size_t i = 0; i < names.size(); ++i) {
+        if (names[i].empty() || names[i].find(',') != std::string::npos)
+            return what + " expects " + s.value + ": names without commas, got '" + names[i] + "'";
+        if (std::find(names.begin(), names.begin() + i, names[i]) != names.begin() + i)
+            return what + " names '" + names[i] + "' twice";
+    }
+    return "";
 }
 
 } // namespace obscura

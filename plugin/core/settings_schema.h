@@ -34,4 +34,22 @@ std::string numberProblem(const NumberSetting& s, double value, Spelling spellin
 // reversed form, white near); else the one-line refusal in the host's spelling.
 std::string depthRangeProblem(double a, double b, Spelling spelling);
 
+// Settings whose values are names, read alike by every method and offered by every host that
+// has the thing they name: the CLI's flag, Python's keyword, the OpenFX parameter (nullptr where
+// the host supplies it: the node gets its views from the host).
+struct NameListSetting {
+    const char* key;    // Python keyword ("view"): a name or a list of names
+    const char* flag;   // CLI flag ("--view"): NAME[,NAME...]
+    const char* ofx;
+    const char* value;  // the CLI's placeholder
+    const char* help;
+};
+const std::vector<NameListSetting>& nameListSettings();
+// The entry named `name` (key, flag or OpenFX name); throws obscura::Error for none.
+const NameListSetting& nameListSetting(const std::string& name);
+// "a,b" -> {"a", "b"}.
+std::vector<std::string> splitNameList(const std::string& commaSeparated);
+// "" when every name is non-empty, has no comma and is given once; else the one-line refusal.
+std::string nameListProblem(const NameListSetting& s, const std::vector<std::string>& names, Spelling spelling);
+
 } // namespace obscura

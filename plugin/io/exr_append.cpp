@@ -68,8 +68,8 @@ void copyPart(Imf::MultiPartInputFile& in, Imf::MultiPartOutputFile& out, int p)
 void writeAppended(const std::string& outPath, const ExrInfo& input, const ExrPixels& layers,
                    const std::vector<NewChannel>& add, const std::vector<StringAttribute>& attrs,
                    bool allowOverwriteInput, std::vector<StageTiming>* stages) {
-    if (input.parts.empty() || layers.info.parts.size() != 1)
-        throw Error("internal: appending to " + input.path + " needs its parts and one part of new layers");
+    if (input.parts.empty() || layers.info.parts.empty())
+        throw Error("internal: appending to " + input.path + " needs its parts and a part of new layers");
     const auto byPart = newChannelsByPart(outPath, layers.info, add, attrs);
     const auto t0 = Clock::now();
     checkChunkTables(input.path, input);
@@ -80,14 +80,17 @@ void writeAppended(const std::string& outPath, const ExrInfo& input, const ExrPi
         if (n != (int)input.parts.size()) throw FileError(input.path, "changed while being read");
         std::vector<Imf::Header> headers;
         for (int p = 0; p < n; ++p) headers.push_back(copiedHeader(in.header(p)));
-        const ExrPart& own = layers.info.parts[0];
-        headers.push_back(appendedHeader(headerWithNewChannels(own, byPart[0], attrs, 0), in.header(0),
-                                         layersPartName(input), own.tiled));
-        Imf::MultiPartOutputFile out(tmp.c_str(), headers.data(), n + 1);
+        const int added = (int)layers.info.parts.size();
+        for (int p = 0; p < added; ++p) {
+            const ExrPart& own = layers.info.parts[p];
+            const std::string name = layersPartName(input, own.name.empty() ? "obscura" : own.name);
+            headers.push_back(appendedHeader(headerWithNewChannels(own, byPart[p], attrs, p), in.header(0), name, own.tiled));
+        }
+        Imf::MultiPartOutputFile out(tmp.c_str(), headers.data(), n + added);
         const auto c0 = Clock::now();
         for (int p = 0; p < n; ++p) copyPart(in, out, p);
         copySeconds += secondsSince(c0);
-        writePartPixels(out, n, own, {}, byPart[0]);
+        for (int p = 0; p < added; ++p) writePartPixels(out, n + p, layers.info.parts[p], {}, byPart[p]);
     });
     if (stages) {
         stages->push_back({"copy", copySeconds});

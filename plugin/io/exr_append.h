@@ -12,8 +12,9 @@ namespace obscura {
 
 // Writes outPath: every part of the file `input` describes (read with allowDeep) copied chunk
 // for chunk, an unnamed single part named "render" as a multipart file requires, then the one
-// part of `layers` (layersOnlyFile of the input) named layersPartName(input), holding `add`
-// and `attrs` (part index 0). The new part takes the input's first part's display window,
+// parts of `layers` (layersOnlyFile of the input, or parts addLayersPart added to it), each named
+// its own name, or "obscura" when it has none, made unique in the input (layersPartName), holding
+// `add` and `attrs` (part indices of `layers`). The new parts take the input's first part's display window,
 // pixel aspect ratio, time code and chromaticities: OpenEXR allows one value of each per file.
 // Checks the chunk tables first: a corrupt input leaves nothing written. Adds the stages
 // "copy" (the check and the chunks) and "append" (headers, the new part, closing) to *stages.

@@ -207,21 +207,21 @@ ExrPixels layersOnlyFile(const ExrInfo& info, int p) {
     return out;
 }
 
-std::string layersPartName(const ExrInfo& info) {
+std::string layersPartName(const ExrInfo& info, const std::string& base) {
     auto taken = [&](const std::string& name) {
         for (const ExrPart& part : info.parts)
             if (part.name == name) return true;
         return false;
     };
-    std::string name = "obscura";
-    for (int i = 2; taken(name); ++i) name = "obscura." + std::to_string(i);
+    std::string name = base;
+    for (int i = 2; taken(name); ++i) name = base + "." + std::to_string(i);
     return name;
 }
 
-int addLayersPart(ExrPixels& file, int from) {
-    ExrPixels own = layersOnlyFile(file.info, from);
+int addLayersPart(ExrPixels& file, const ExrInfo& info, int from, const std::string& base) {
+    ExrPixels own = layersOnlyFile(info, from);
     ExrPart& part = own.info.parts[0];
-    part.name = layersPartName(file.info);
+    part.name = layersPartName(file.info, base);
     part.header.setName(part.name);
     for (ExrPart& other : file.info.parts) {
         if (other.name.empty()) {
@@ -235,6 +235,11 @@ int addLayersPart(ExrPixels& file, int from) {
     file.info.multipart = true;
     file.raw.emplace_back();
     return (int)file.info.parts.size() - 1;
+}
+
+int addLayersPart(ExrPixels& file, int from) {
+    const ExrInfo source = file.info;
+    return addLayersPart(file, source, from, "obscura");
 }
 
 void setExrThreads(int n) {

@@ -142,12 +142,15 @@ std::string compressionName(Imf::Compression c);
 // input's, so writing it over the input is refused as for a copy.
 ExrPixels layersOnlyFile(const ExrInfo& info, int part);
 
-// The name of the part addLayersPart would add to `info`: "obscura", made unique.
-std::string layersPartName(const ExrInfo& info);
+// The name of the part addLayersPart would add to `info`: `base` ("obscura"), made unique.
+std::string layersPartName(const ExrInfo& info, const std::string& base = "obscura");
 // Appends to `file` a part of its own for new layers (layersOnlyFile of its part `from`,
 // named layersPartName) and returns its index. The file becomes multipart, so its other
 // parts get the name and type OpenEXR requires of one ("render" when unnamed).
 int addLayersPart(ExrPixels& file, int from);
+// The same with the part made from part `from` of `info` (the input, for a file of new layers
+// only), named layersPartName(file.info, base).
+int addLayersPart(ExrPixels& file, const ExrInfo& info, int from, const std::string& base);
 
 // OpenEXR's decode/encode thread pool, used by every file opened afterwards (scanline and
 // tiled, single and multipart); n <= 0 means all cores. Used lazily with all cores if never

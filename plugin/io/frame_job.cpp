@@ -10,6 +10,7 @@
 #include "io/deep_file.h"
 #include "io/deep_job.h"
 #include "io/depth_encoding.h"
+#include "io/views.h"
 
 #include <algorithm>
 #include <chrono>
@@ -30,6 +31,12 @@ namespace {
 namespace fs = std::filesystem;
 
 
+std::string joinedLayers(const ExrInfo& info) {
+    std::string found;
+    for (const std::string& l : listLayers(info)) found += (found.empty() ? "" : "; ") + l;
+    return found;
+}
+
 // The channel a --reference LAYER names: the exact channel, or the first of LAYER.{R,Y,V,Z,A,...}.
 std::string findReferenceChannel(const ExrPart& part, const std::string& layer, const ExrInfo& info) {
     if (part.findChannel(layer) >= 0) return layer;
@@ -37,9 +44,7 @@ std::string findReferenceChannel(const ExrPart& part, const std::string& layer, 
         const std::string name = layer + "." + suffix;
         if (part.findChannel(name) >= 0) return name;
     }
-    std::string found;
-    for (const std::string& l : listLayers(info)) found += (found.empty() ? "" : "; ") + l;
-    throw FileError(info.path, "no reference layer '" + layer + "'; layers found: " + found);
+    throw FileError(info.path, "no reference layer '" + layer + "'; layers found: " + joinedLayers(info));
 }
 
 bool sameFile(const std::string& a, const std::string& b) {
@@ -112,10 +117,8 @@ std::vector<std::string> rgbChannels(const ExrPart& part, const std::string& lay
     for (const char* c : {"R", "G", "B"}) {
         const std::string name = layer.empty() ? c : layer + "." + c;
         if (part.findChannel(name) < 0) {
-            std::string found;
-            for (const std::string& l : listLayers(info)) found += (found.empty() ? "" : "; ") + l;
             throw FileError(info.path, std::string("no ") + what + " layer '" + layer + "' with R, G, B; layers found: " +
-                        found);
+                                           joinedLayers(info));
         }
         names.push_back(name);
     }
@@ -271,9 +274,15 @@ FramePasses loadPasses(const FrameJob& job, bool keepAll, std::vector<StageTimin
     StageTimer timer{stages, "read"};
     FramePasses p;
     p.info = readExrInfo(job.input, job.maxPixels, job.write == WriteMode::Append);  // deep parts: copied
-    p.plan = planLayers(p.info, job.preset, job.layerOverrides);
+    const std::vector<std::string> views = viewsToProcess(job, p.info);
+    p.fileViews = fileViews(p.info);
+    p.view = views.empty() ? "" : views.front();
+    p.plan = planViewLayers(job, p.info, p.view);
     const LayerBinding* depth = p.plan.find(Role::Depth);
     const LayerBinding* position = p.plan.find(Role::Position);
+    if (!depth && !position && !p.view.empty())
+        throw FileError(job.input, "view '" + p.view + "' has no depth layer; its layers: " +
+                                       joinedLayers(viewOfFile(p.info, p.view).info));
     if (!depth && !position) requireRoles(p.plan, p.info, {Role::Depth});
     p.depthFromPosition = !depth;  // a position pass and a camera, no depth: the depth from them
     p.depthEncoding = job.depthEncoding.value_or(p.plan.depthKind == DepthKind::Radial ? DepthEncoding::Radial
@@ -461,32 +470,76 @@ void compareWithReference(const FramePasses& p, const OperatorOutputs& out, Fram
                                        [&](int x, int y) { return isSurface(*p.depth.at(x, y), sky); });
 }
 
+// One view of the frame (the whole frame for a file without views): its passes read, the
+// operator run on them. keepAll: every channel kept raw too, for a copy.
+// One view's (or the merged deep elements') passes through the operator. `merged`: deep
+// elements, whose surfaces are the deep input and whose per-element AO goes to `elementAo`.
+ViewResult computeView(const FrameJob& job, FramePasses passes, FrameReport& report,
+                       DeepElementsInput* merged = nullptr, std::vector<NewChannel>* elementAo = nullptr) {
+    ViewResult r{std::move(passes), {}};
+    FramePasses& p = r.passes;
+    resolveConventions(job, p, report);
+    Settings settings = job.settings;
+    Image deep = merged ? std::move(merged->layers) : Image{}, environment;
+    const OperatorInputs in = operatorInputs(job, p, settings, deep, environment, report);
+    {
+        StageTimer timer{&report.stages, "compute"};
+        r.out = runOperator(in, settings);
+    }
+    report.stats = r.out.stats;
+    for (const std::string& note : r.out.stats.notes) report.warnings.push_back(note);
+    compareWithReference(p, r.out, report);
+    if (merged) *elementAo = elementAoLayers(job, in, settings, *merged, report);
+    return r;
+}
+
+// A later view's report into the first's: its plan and warnings named by the view, its stages
+// added to the first's of the same name, its pixels counted.
+void mergeViewReport(const std::string& view, FrameReport& from, FrameReport& into) {
+    for (const std::string& line : from.plan) into.plan.push_back("view " + view + ": " + line);
+    for (const std::string& line : from.warnings) into.warnings.push_back("view " + view + ": " + line);
+    for (const StageTiming& t : from.stages) {
+        auto same = std::find_if(into.stages.begin(), into.stages.end(), [&](const StageTiming& s) { return s.name == t.name; });
+        if (same == into.stages.end()) into.stages.push_back(t);
+        else same->seconds += t.seconds;
+    }
+    into.stats.pixels += from.stats.pixels;
+    into.stats.skyPixels += from.stats.skyPixels;
+    into.stats.invalidDepthPixels += from.stats.invalidDepthPixels;
+    into.stats.zeroNormalPixels += from.stats.zeroNormalPixels;
+    into.nonUnitNormalPixels += from.nonUnitNormalPixels;
+}
+
 FrameReport runJob(const FrameJob& job) {
     checkDestinations(job);
     setExrThreads(job.settings.threads);
     setColourThreads(job.settings.threads);
     FrameReport report;
+    std::vector<ViewResult> results;
+    std::vector<NewChannel> elementAo;
     const std::vector<std::string> elements = deepElementsOf(job);
-    DeepElementsInput merged;
-    FramePasses p = elements.empty() ? loadFramePasses(job, job.write == WriteMode::Copy, &report.stages)
-                                     : loadDeepElements(job, elements, merged, report);
-    resolveConventions(job, p, report);
-    Settings settings = job.settings;
-    Image deep = std::move(merged.layers), environment;
-    const OperatorInputs in = operatorInputs(job, p, settings, deep, environment, report);
-    OperatorOutputs out;
-    {
-        StageTimer timer{&report.stages, "compute"};
-        out = runOperator(in, settings);
+    if (!elements.empty()) {
+        DeepElementsInput merged;
+        FramePasses p = loadDeepElements(job, elements, merged, report);
+        results.push_back(computeView(job, std::move(p), report, &merged, &elementAo));
+    } else {
+        report.views = viewsToProcess(job, readExrInfo(job.input, job.maxPixels, job.write == WriteMode::Append));
+        // Every view processed runs on its own passes; one camera serves them all unless each
+        // view's part carries its own.
+        for (size_t v = 0; v < std::max<size_t>(1, report.views.size()); ++v) {
+            FrameJob viewJob = job;
+            if (!report.views.empty()) viewJob.views = {report.views[v]};
+            FrameReport viewReport;
+            FrameReport& into = v == 0 ? report : viewReport;
+            const bool keepAll = v == 0 && job.write == WriteMode::Copy;
+            results.push_back(computeView(viewJob, loadFramePasses(viewJob, keepAll, &into.stages), into));
+            if (v > 0) mergeViewReport(report.views[v], viewReport, report);
+        }
     }
-    report.stats = out.stats;
-    for (const std::string& note : out.stats.notes) report.warnings.push_back(note);
-    compareWithReference(p, out, report);
-    report.aoChannel = aoChannelName(job.aoLayer);
-    writeFrameOutputs(job, p, out, report, elementAoLayers(job, in, settings, merged, report));
+    writeFrameOutputs(job, results, report, std::move(elementAo));
     if (!job.previewPath.empty()) {
         StageTimer timer{&report.stages, "preview"};
-        report.plan.push_back(writeFramePreview(job, p, out, methodOutputs(job.settings.method, "do")));
+        report.plan.push_back(writeFramePreview(job, results[0].passes, results[0].out, methodOutputs(job.settings.method, "do")));
     }
     return report;
 }

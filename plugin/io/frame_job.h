@@ -59,6 +59,8 @@ struct FrameJob {
     BadPixelPolicy badPixels = BadPixelPolicy::Error;
     WriteMode write = WriteMode::Copy;
     long long maxPixels = kDefaultMaxPixels;  // per window of the input and of the environment map
+    // --view: the views of a multi-view input to process (io/views.h); empty: every view with a depth.
+    std::vector<std::string> views;
 
     // ---- method ssdo: what to write and where its light comes from ----
     bool writeDirectional = true;         // DO (ssdo always computes it; this only decides the layer)
@@ -89,10 +91,14 @@ struct FramePasses {
     Image radiance, albedo, directDiffuse;      // SSDO inputs, read only when the request needs them
     ExrPixels raw;                        // every channel, for pass-through (when kept)
     std::vector<NewChannel> carried;      // deep elements: the flattened image, written with the new layers
+    // A multi-view input: the view these passes are of ("" for the whole file) and the file's views.
+    std::string view;
+    std::vector<std::string> fileViews;
 };
 
 struct FrameReport {
-    std::string aoChannel;
+    std::string aoChannel;                // the first view's, when several are written
+    std::vector<std::string> views;       // the views processed; empty for a file without views
     std::vector<std::string> written;     // every channel added to the output
     std::string writeDescription;         // how the output was written (mode, codec)
     std::vector<std::string> plan;        // what ran, in order (passes read, kernels, maps loaded)
@@ -133,6 +139,14 @@ struct SsdoReads {
     bool senderAlbedo = false;               // senders radiate source x albedo
 };
 SsdoReads planSsdoReads(const FrameJob& job, const FramePasses& passes);
+
+// The views of a multi-view input the job processes, in the file's order: job.views (each checked
+// to be in the file: an Error names the file's views), else every view whose channels give a
+// depth (or a position pass). Empty when the file has no views, or none with a depth: the file
+// then runs as one image.
+std::vector<std::string> viewsToProcess(const FrameJob& job, const ExrInfo& info);
+// The layers of `view` of the file ("": the whole file), channel names as the file spells them.
+LayerPlan planViewLayers(const FrameJob& job, const ExrInfo& info, const std::string& view);
 
 // Reads headers, plans layers and reads the pixels `job` needs (plus everything raw if keepAll).
 // alwaysReadPosition: read the position pass whenever it covers the depth's pixels, not only

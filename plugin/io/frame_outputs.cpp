@@ -6,6 +6,10 @@
 #include "io/exr_append.h"
 #include "io/preview.h"
 #include "io/stage_timer.h"
+#include "io/views.h"
+
+#include <algorithm>
+#include <map>
 
 namespace obscura {
 
@@ -46,12 +50,14 @@ Image relitImage(const FrameJob& job, const FramePasses& p, const OperatorOutput
 // albedo x E / pi, the outgoing radiance of the diffuse receiver. relit = albedo (DO + GI) / pi
 // (+ albedo x direct diffuse), the units a renderer's beauty uses for diffuse light.
 // Each layer is converted from the working space into `space` (ColourManager::layerSpace).
+// `suffix` ("" or ".VIEW") names the layers in a view (layer.view.channel).
 std::vector<std::string> addSsdoLayers(const FrameJob& job, const FramePasses& p, const OperatorOutputs& out,
-                                       int outPart, Imf::PixelType type, const std::string& space,
+                                       int outPart, Imf::PixelType type, const std::string& space, const std::string& suffix,
                                        std::vector<NewChannel>& add, std::vector<StringAttribute>& attrs) {
     std::vector<std::string> layers;
     const ColourManager& cm = colourManager();
-    auto emit = [&](const std::string& layer, Image rgb, const char* units) {
+    auto emit = [&](const std::string& name, Image rgb, const char* units) {
+        const std::string layer = name + suffix;
         cm.convert(rgb, cm.workingSpace(), space);
         addRgbLayer(add, outPart, layer, rgb, type);
         layers.push_back(layer);
@@ -76,6 +82,50 @@ Image displayPart(const Image& img, const FramePasses& p) {
 }
 
 
+// Whether a view's channel names carry the view (layer.view.channel): a view by channel names,
+// not a part of its own (`view` attribute).
+bool namedInView(const FramePasses& p) { return !p.view.empty() && partView(p.info.parts[p.part]).empty(); }
+
+std::string viewedName(const FramePasses& p, const std::string& name) {
+    if (!namedInView(p)) return name;
+    const auto at = std::find(p.fileViews.begin(), p.fileViews.end(), p.view);
+    return nameInView(name, p.fileViews, (size_t)(at - p.fileViews.begin()));
+}
+
+// The part of `target` a view's layers go to: the depth's own part in a copy (unless its codec
+// is lossy), else a part of their own, one for the views by channel names and one per view of
+// a part of its own, which carries that part's `view` attribute (layersOnlyFile keeps it).
+int destinationPart(const FrameJob& job, const FramePasses& p, ExrPixels& target, std::map<std::string, int>& own) {
+    const bool copy = job.write == WriteMode::Copy;
+    if (copy && !isLossy(p.info.parts[p.part].header.compression())) return p.part;
+    const std::string key = namedInView(p) ? "" : p.view;
+    if (const auto it = own.find(key); it != own.end()) return it->second;
+    int part = 0;
+    if (!copy && key.empty() && target.info.parts.empty()) target = layersOnlyFile(p.info, p.part);
+    else part = addLayersPart(target, p.info, p.part, key.empty() ? "obscura" : "obscura." + key);
+    own[key] = part;
+    return part;
+}
+
+// "'obscura.left', 'obscura.right'": the parts of their own the views with a part each would
+// get; "" when no view processed has a part of its own.
+std::string viewPartNames(const FrameJob& job, const ExrInfo& info) {
+    std::vector<std::string> views;
+    try {
+        views = viewsToProcess(job, info);
+    } catch (const Error&) {
+        return "";  // a --view the file lacks: the run is refused before it writes
+    }
+    std::string names;
+    for (const std::string& v : views)
+        for (const ExrPart& part : info.parts)
+            if (partView(part) == v) {
+                names += (names.empty() ? "'" : ", '") + layersPartName(info, "obscura." + v) + "'";
+                break;
+            }
+    return names;
+}
+
 } // namespace
 
 std::string describeWrite(const FrameJob& job, const ExrInfo& info, int part) {
@@ -83,12 +133,14 @@ std::string describeWrite(const FrameJob& job, const ExrInfo& info, int part) {
     const Imf::Compression out = losslessFor(in);
     std::string codec = compressionName(out);
     if (out != in) codec += " (the input's " + compressionName(in) + " is lossy)";
-    if (job.write == WriteMode::New) return "new: only the new layers, " + codec;
+    // Views with parts of their own get a part each where the layers do not go into the input's.
+    const std::string own = viewPartNames(job, info);
+    const std::string ownPart = own.empty() ? "a part of their own ('" + layersPartName(info) + "')" : "a part per view (" + own + ")";
+    if (job.write == WriteMode::New) return "new: only the new layers" + (own.empty() ? "" : ", in " + ownPart) + ", " + codec;
     if (job.write == WriteMode::Append)
-        return "append: the input's parts copied as compressed chunks, the new layers in a part of their own ('" +
-               layersPartName(info) + "'), " + codec;
-    if (out != in) return "copy: the input plus the new layers in a part of their own ('" + layersPartName(info) + "'), " + codec;
-    return "copy: the input plus the new layers, " + codec;
+        return "append: the input's parts copied as compressed chunks, the new layers in " + ownPart + ", " + codec;
+    if (out != in) return "copy: the input plus the new layers in " + ownPart + ", " + codec;
+    return "copy: the input plus the new layers" + std::string(own.empty() ? "" : ", each view's in its part") + ", " + codec;
 }
 
 // --preview: the display window's part of the frame (overscan is not part of it) of the AO, or
@@ -111,57 +163,66 @@ std::string writeFramePreview(const FrameJob& job, const FramePasses& p, const O
     return line;
 }
 
-void writeFrameOutputs(const FrameJob& job, FramePasses& p, const OperatorOutputs& out, FrameReport& report,
+void writeFrameOutputs(const FrameJob& job, std::vector<ViewResult>& views, FrameReport& report,
                        std::vector<NewChannel> extra) {
     const bool copy = job.write == WriteMode::Copy;
     const bool ssdo = methodOutputs(job.settings.method, "do");
     const bool append = job.write == WriteMode::Append;
-    {
-        StageTimer timer{append ? nullptr : &report.stages, "write"};  // append times its own stages
-        const Imf::PixelType type = job.aoFloat ? Imf::FLOAT : Imf::HALF;
-        // Copy: into the depth's part of the input, or a part of their own when that part's
-        // codec is lossy (AO, DO and GI are data). New and append: into the one part of a fresh
-        // file, which append adds to the input's parts.
-        ExrPixels fresh;
-        if (!copy) fresh = layersOnlyFile(p.info, p.part);
-        ExrPixels& target = copy ? p.raw : fresh;
-        const bool ownPart = !copy || isLossy(p.info.parts[p.part].header.compression());
-        const int outPart = !copy ? 0 : ownPart ? addLayersPart(target, p.part) : p.part;
-        report.writeDescription = describeWrite(job, p.info, p.part);
-        std::vector<NewChannel> add(1);
-        add[0].part = outPart;
-        add[0].name = report.aoChannel;
-        add[0].plane = out.ao;
-        add[0].type = type;
-        for (NewChannel& c : extra) add.push_back(std::move(c));
-        std::vector<StringAttribute> attrs = {
-            {outPart, "obscura/version", OBSCURA_VERSION_STRING},
-            {outPart, "obscura/settings", frameReportJson(job, FrameReport{})},
-        };
-        // AO is data (raw); DO, GI and relit are written in the file's colour space where
-        // obscura knows its primaries, so the chromaticities every part shares (an appended
-        // part's included) describe them.
-        const ColourManager& cm = colourManager();
-        const std::string space = cm.layerSpace(report.inputColourSpace.empty()
-                                                    ? cm.detectColourSpace(p.info.parts[p.part].header, job.colourSpace).name
-                                                    : report.inputColourSpace);
-        std::vector<std::string> colourLayers;
-        if (ssdo) colourLayers = addSsdoLayers(job, p, out, outPart, type, space, add, attrs);
-        std::string note;
-        for (StringAttribute& a : cm.tagOutputPart(outPart, space, colourLayers, {report.aoChannel}, &note))
-            attrs.push_back(std::move(a));
-        if (!note.empty()) report.plan.push_back(note);
-        for (NewChannel& c : add) {
-            c.part = outPart;
-            report.written.push_back(c.name);
-        }
-        if (copy)  // deep elements: the flattened image is the copy's input
-            for (NewChannel& c : p.carried) add.push_back({outPart, c.name, std::move(c.plane), c.type});
-        if (append)
-            writeAppended(job.output, p.info, target, add, attrs, job.inPlace, &report.stages);
-        else
-            writeExrWithNewChannels(job.output, target, add, job.inPlace, attrs);
+    StageTimer timer{append ? nullptr : &report.stages, "write"};  // append times its own stages
+    const Imf::PixelType type = job.aoFloat ? Imf::FLOAT : Imf::HALF;
+    const FramePasses& first = views.front().passes;
+    // Copy: into the depth's part of the input (the first view's raw channels hold the whole
+    // file), or a part of their own when that part's codec is lossy (AO, DO and GI are data).
+    // New and append: into a fresh file, which append adds to the input's parts.
+    ExrPixels fresh;
+    fresh.info.path = first.info.path;
+    ExrPixels& target = copy ? views.front().passes.raw : fresh;
+    std::map<std::string, int> ownParts;
+    report.writeDescription = describeWrite(job, first.info, first.part);
+    // AO is data (raw); DO, GI and relit are written in the file's colour space where obscura
+    // knows its primaries, so the chromaticities every part shares (an appended part's
+    // included) describe them.
+    const ColourManager& cm = colourManager();
+    const std::string space = cm.layerSpace(report.inputColourSpace.empty()
+                                                ? cm.detectColourSpace(first.info.parts[first.part].header, job.colourSpace).name
+                                                : report.inputColourSpace);
+    std::vector<NewChannel> add;
+    std::vector<StringAttribute> attrs;
+    std::map<int, std::pair<std::vector<std::string>, std::vector<std::string>>> tags;  // part: colour layers, data channels
+    int firstPart = -1;
+    for (ViewResult& v : views) {
+        const FramePasses& p = v.passes;
+        const int outPart = destinationPart(job, p, target, ownParts);
+        if (firstPart < 0) firstPart = outPart;
+        NewChannel ao{outPart, viewedName(p, aoChannelName(job.aoLayer)), v.out.ao, type};
+        if (report.aoChannel.empty()) report.aoChannel = ao.name;
+        tags[outPart].second.push_back(ao.name);
+        add.push_back(std::move(ao));
+        if (!ssdo) continue;
+        const std::string suffix = namedInView(p) ? "." + p.view : "";
+        for (std::string& layer : addSsdoLayers(job, p, v.out, outPart, type, space, suffix, add, attrs))
+            tags[outPart].first.push_back(std::move(layer));
     }
+    for (NewChannel& c : extra) {  // deep elements' per-element AO, data as the AO is
+        c.part = firstPart;
+        tags[firstPart].second.push_back(c.name);
+        add.push_back(std::move(c));
+    }
+    for (const auto& [part, names] : tags) {
+        attrs.push_back({part, "obscura/version", OBSCURA_VERSION_STRING});
+        attrs.push_back({part, "obscura/settings", frameReportJson(job, FrameReport{})});
+        std::string note;
+        for (StringAttribute& a : cm.tagOutputPart(part, space, names.first, names.second, &note)) attrs.push_back(std::move(a));
+        if (!note.empty() && std::find(report.plan.begin(), report.plan.end(), note) == report.plan.end())
+            report.plan.push_back(note);
+    }
+    for (const NewChannel& c : add) report.written.push_back(c.name);
+    if (copy)  // deep elements: the flattened image is the copy's input
+        for (NewChannel& c : views.front().passes.carried) add.push_back({firstPart, c.name, std::move(c.plane), c.type});
+    if (append)
+        writeAppended(job.output, first.info, target, add, attrs, job.inPlace, &report.stages);
+    else
+        writeExrWithNewChannels(job.output, target, add, job.inPlace, attrs);
 }
 
 } // namespace obscura

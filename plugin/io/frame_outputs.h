@@ -7,10 +7,19 @@
 
 namespace obscura {
 
-// Adds the layers `out` holds as the job asks and writes job.output (copy, new or append);
-// fills report.written, writeDescription and the plan's colour note. `extra`: more new layers
-// (deep elements' per-element AO), written as the AO is.
-void writeFrameOutputs(const FrameJob& job, FramePasses& p, const OperatorOutputs& out, FrameReport& report,
+// One view's passes (the whole frame's for a file without views) and what the operator made of them.
+struct ViewResult {
+    FramePasses passes;
+    OperatorOutputs out;
+};
+
+// Adds the layers each view's outputs hold as the job asks and writes job.output (copy, new or
+// append; a copy copies the first view's raw channels, which hold the whole file). A view of a
+// part of its own (`view` attribute) writes there, or into a part of its own that carries the
+// view; a view by channel names writes its channels named in the view (layer.view.channel).
+// Fills report.aoChannel, written, writeDescription and the plan's colour note. `extra`: more new
+// layers (deep elements' per-element AO), written with the first view's AO.
+void writeFrameOutputs(const FrameJob& job, std::vector<ViewResult>& views, FrameReport& report,
                        std::vector<NewChannel> extra = {});
 
 // --preview: the display window's part of the AO, or for ssdo of the relit layer when it is

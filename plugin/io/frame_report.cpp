@@ -93,6 +93,7 @@ std::string frameReportJson(const FrameJob& job, const FrameReport& r) {
         j["warnings"] = r.warnings;
         j["plan"] = r.plan;
         j["written"] = r.written;
+        if (!r.views.empty()) j["views"] = r.views;
     }
     return j.dump(r.aoChannel.empty() ? -1 : 2);
 }

@@ -2,9 +2,11 @@
 
 #include "base/error.h"
 #include "core/operator.h"
+#include "io/views.h"
 
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <sstream>
 
 namespace obscura {
@@ -95,15 +97,33 @@ void writeLayers(std::ostream& os, const json& j) {
     }
 }
 
-void writeRoles(std::ostream& os, const json& roles) {
+void writeRoles(std::ostream& os, const json& roles, const json& fills) {
     os << "roles:\n";
     for (Role r : allRoles()) {
         const json& channels = roles[roleName(r)];
         os << "  " << roleName(r) << ": ";
-        if (channels.is_null()) os << "(not found)";
+        if (channels.is_null()) os << "(not found) " << fills[roleName(r)].get<std::string>();
         for (size_t i = 0; i < channels.size(); ++i) os << (i ? ", " : "") << channels[i].get<std::string>();
         os << "\n";
     }
+}
+
+void writeViews(std::ostream& os, const json& j) {
+    if (j["views"].empty()) return;
+    os << "views:   ";
+    for (size_t i = 0; i < j["views"].size(); ++i) os << (i ? ", " : "") << j["views"][i].get<std::string>() << (i ? "" : " (default)");
+    os << "; a run processes ";
+    if (j["views_processed"].empty()) os << "the file as one image (no view has a depth)";
+    for (size_t i = 0; i < j["views_processed"].size(); ++i) os << (i ? ", " : "") << j["views_processed"][i].get<std::string>();
+    if (!j["view"].is_null()) os << "; described below: " << j["view"].get<std::string>();
+    os << "\n";
+}
+
+void writeCommand(std::ostream& os, const json& j) {
+    for (const json& problem : j["problems"]) os << "problem: " << problem.get<std::string>() << "\n";
+    for (const json& note : j["command_notes"]) os << "note:    " << note.get<std::string>() << "\n";
+    if (j["command"].is_null()) os << "run:     no command can run on this file: " << j["command_problem"].get<std::string>() << "\n";
+    else os << "run:     " << j["command"].get<std::string>() << "\n";
 }
 
 void writeDeep(std::ostream& os, const json& d) {
@@ -132,31 +152,99 @@ void writeCamera(std::ostream& os, const json& j) {
     os << "\n";
 }
 
+// The file's views, the one described and those a run would process.
+void addViews(json& j, const FrameJob& job, const ExrInfo& info, const FramePasses* p) {
+    j["views"] = fileViews(info);
+    j["view"] = p && !p->view.empty() ? json(p->view) : json(nullptr);
+    j["views_processed"] = json::array();
+    try {
+        const std::vector<std::string> processed = viewsToProcess(job, info);
+        j["views_processed"] = processed;
+        if (!p && !processed.empty()) j["view"] = processed.front();
+    } catch (const Error&) {
+        // A --view the file lacks: loadFramePasses has reported it as the problem.
+    }
+}
+
+// The layers found, or none when even that fails (a --layer naming nothing).
+LayerPlan planOrNothing(const FrameJob& job, const ExrInfo& info, const std::string& view) {
+    try {
+        return planViewLayers(job, info, view);
+    } catch (const Error&) {
+        LayerPlan none;
+        none.preset = job.preset;
+        return none;
+    }
+}
+
+std::string bindingName(const LayerBinding& b) { return "layer '" + (b.layer.empty() ? b.channels[0] : b.layer) + "'"; }
+
+// How obscura fills each role: the layer found, or what it does without one.
+json fillsJson(const FrameJob& job, const LayerPlan& plan) {
+    const LayerBinding* depth = plan.find(Role::Depth);
+    const LayerBinding* position = plan.find(Role::Position);
+    json out = json::object();
+    out["depth"] = depth      ? bindingName(*depth)
+                   : position ? std::string("from the position pass and the camera")
+                              : std::string("missing: obscura needs a depth layer (or a position pass); name one with "
+                                            "--layer depth=NAME");
+    out["normal"] = depth || position ? normalsSourceLine(job, plan) : std::string("reconstructed from depth, once there is one");
+    out["position"] = position ? bindingName(*position) + ": fits the camera when nothing else gives it"
+                               : std::string("not in the file: the camera comes from the flags, a sidecar or the header");
+    for (Role r : {Role::Beauty, Role::Albedo, Role::DirectDiffuse}) {
+        const LayerBinding* b = plan.find(r);
+        out[roleName(r)] = b ? bindingName(*b) + ": read by --method ssdo's bounce and relit"
+                             : std::string("not in the file: only --method ssdo's bounce and relit read it");
+    }
+    return out;
+}
+
 } // namespace
 
 json inspectFrameJson(const FrameJob& job) {
-    const FramePasses p = loadFramePasses(job, false);
-    json j = {{"file", job.input},
-              {"multipart", p.info.multipart},
-              {"parts", p.info.parts.size()},
-              {"display_window", boxJson(p.display)},
-              {"data_window", boxJson(p.data)},
-              {"layers", layersJson(p.info)},
-              {"preset", p.plan.preset},
-              {"roles", rolesJson(p.plan)},
-              {"conventions", conventionsJson(job, p)},
-              {"depth_statistics", depthStatisticsJson(p.depthStats)},
-              {"deep", job.deepInput.empty() ? json(nullptr) : deepJson(job, p)},
-              {"camera", nullptr},
-              {"camera_error", nullptr},
-              {"write", describeWrite(job, p.info, p.part)},
-              {"device", nullptr},
-              {"device_error", nullptr}};
+    // Only a file that cannot be read at all is an error; everything after is reported.
+    const ExrInfo info = readExrInfo(job.input, job.maxPixels, true);
+    std::vector<std::string> problems;
+    std::optional<FramePasses> p;
     try {
-        j["camera"] = cameraJson(resolveFrameCamera(job, p), p.display.width());
+        p = loadFramePasses(job, false);
     } catch (const Error& e) {
-        j["camera_error"] = e.what();
+        // Pixels that cannot be decoded make the file unreadable; anything else is reported.
+        if (std::string(e.what()).find("': truncated or corrupt: ") != std::string::npos) throw;
+        problems.push_back(firstLineOf(e.what()));
     }
+    json j = {{"file", job.input}, {"multipart", info.multipart}, {"parts", info.parts.size()}};
+    j["display_window"] = boxJson(p ? p->display : info.parts[0].displayWindow);
+    j["data_window"] = boxJson(p ? p->data : info.parts[0].dataWindow);
+    j["layers"] = layersJson(info);
+    addViews(j, job, info, p ? &*p : nullptr);
+    const LayerPlan plan = p ? p->plan : planOrNothing(job, info, j["view"].is_null() ? "" : j["view"].get<std::string>());
+    j["preset"] = plan.preset;
+    j["roles"] = rolesJson(plan);
+    j["fills"] = fillsJson(job, plan);
+    j["conventions"] = p ? conventionsJson(job, *p) : json(nullptr);
+    j["depth_statistics"] = p ? depthStatisticsJson(p->depthStats) : json(nullptr);
+    j["deep"] = job.deepInput.empty() || !p ? json(nullptr) : deepJson(job, *p);
+    j["camera"] = nullptr;
+    j["camera_error"] = nullptr;
+    if (p) {
+        try {
+            j["camera"] = cameraJson(resolveFrameCamera(job, *p), p->display.width());
+        } catch (const Error& e) {
+            j["camera_error"] = firstLineOf(e.what());
+        }
+    } else {
+        j["camera_error"] = "not resolved: the passes could not be read";
+    }
+    j["write"] = describeWrite(job, info, p ? p->part : 0);
+    j["problems"] = problems;
+    const SuggestedCommand command = suggestCommand(job);
+    j["command"] = command.args.empty() ? json(nullptr) : json(commandLine(command.args));
+    j["command_args"] = command.args.empty() ? json(nullptr) : json(command.args);
+    j["command_notes"] = command.notes;
+    j["command_problem"] = command.problem.empty() ? json(nullptr) : json(command.problem);
+    j["device"] = nullptr;
+    j["device_error"] = nullptr;
     try {
         j["device"] = describeDevice(job.settings);
     } catch (const Error& e) {
@@ -175,19 +263,23 @@ std::string inspectText(const json& j) {
        << display[3].get<int>() - display[1].get<int>() << "  data window: [" << data[0] << "," << data[1] << " - "
        << data[2] << "," << data[3] << ")\n";
     writeLayers(os, j);
+    writeViews(os, j);
     os << "preset:  " << j["preset"].get<std::string>() << "\n";
-    writeRoles(os, j["roles"]);
+    writeRoles(os, j["roles"], j["fills"]);
     const json& conv = j["conventions"];
-    os << "depth:   " << conv["depth"].get<std::string>() << "   normals: " << conv["normals"].get<std::string>()
-       << (conv["normals_left_handed"].get<bool>() ? " (left-handed, z flipped)" : "")
-       << "   sky depth >= " << conv["sky_depth"].get<double>() << "\n";
-    writeDepthStatistics(os, conv, j["depth_statistics"]);
-    os << conv["normals_source"].get<std::string>() << "\n";
+    if (!conv.is_null()) {
+        os << "depth:   " << conv["depth"].get<std::string>() << "   normals: " << conv["normals"].get<std::string>()
+           << (conv["normals_left_handed"].get<bool>() ? " (left-handed, z flipped)" : "")
+           << "   sky depth >= " << conv["sky_depth"].get<double>() << "\n";
+        writeDepthStatistics(os, conv, j["depth_statistics"]);
+        os << conv["normals_source"].get<std::string>() << "\n";
+    }
     if (!j["deep"].is_null()) writeDeep(os, j["deep"]);
     writeCamera(os, j);
     os << "write:   " << j["write"].get<std::string>() << "\n";
     if (j["device"].is_null()) os << "device:  unavailable (" << j["device_error"].get<std::string>() << ")\n";
     else os << "device:  " << j["device"].get<std::string>() << "\n";
+    writeCommand(os, j);
     return os.str();
 }
 

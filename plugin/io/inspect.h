@@ -8,14 +8,30 @@
 #include <nlohmann/json.hpp>
 
 #include <string>
+#include <vector>
 
 namespace obscura {
 
-// Reads the headers and the passes the camera needs; writes nothing. A camera or device that
-// cannot be had is reported in the structure ("camera": null, "camera_error": why), not thrown.
+// Reads the headers and the passes the camera needs; writes nothing. Only a file that cannot be
+// read at all throws: a missing pass, camera or device is reported in the structure (each role's
+// "fills", "problems", "camera": null and "camera_error"), with a command line that would run.
 nlohmann::json inspectFrameJson(const FrameJob& job);
 // The readable form of inspectFrameJson's structure.
 std::string inspectText(const nlohmann::json& inspected);
+// A command line that would run on the job's file: its own flags, plus what a run needs that
+// they lack (an assumed lens when nothing gives one; normals from depth when world-space
+// normals have no camera pose), each addition explained in `notes`. No args and the reason in
+// `problem` when no flag can make it run (no depth, nor a position pass).
+struct SuggestedCommand {
+    std::vector<std::string> args;   // "obscura", INPUT, "-o", OUTPUT, ...
+    std::vector<std::string> notes;
+    std::string problem;
+};
+SuggestedCommand suggestCommand(const FrameJob& job);
+// The args as one line a POSIX shell reads back as them.
+std::string commandLine(const std::vector<std::string>& args);
+std::string shellQuoted(const std::string& arg);
+
 inline std::string inspectFrame(const FrameJob& job) { return inspectText(inspectFrameJson(job)); }
 
 } // namespace obscura

@@ -33,13 +33,14 @@ has one; 'camera' obscura.Camera or None ('camera_error' then says why); 'normal
 'depth_kind' 'planar'|'radial' (of 'depth'); 'depth_encoding' 'planar'|'radial'|'inverse'|'normalized'
 (how the file stores it); 'sky_depth'; 'data_window' and 'display_window'
 (x0, y0, x1, y1), half-open, display min = (0, 0); 'pixel_aspect'; 'preset'; 'layers'
-{role: [channel names]}; 'part'; 'path'. Arrays cover the data window.
+{role: [channel names]}; 'part'; 'view' (of a multi-view file, else None); 'path'. Arrays cover the
+data window.
 
 Keywords as process(): preset ('auto', 'blender', 'arnold', 'renderman', 'vray', 'karma',
 'generic'), layer={role: name}, camera (sidecar path; default NAME.json next to the file),
 fov_deg, ortho_width, camera_to_world (4x4 row-major), depth ('planar', 'radial', 'inverse',
 'normalized'), depth_range ((A, B): normalized's 0 and 1, A > B for white near), normals,
-sky_depth, max_pixels.
+sky_depth, max_pixels, view (a multi-view file's view to read; default the first with a depth).
 Raises obscura.Error for a missing/unreadable file or missing passes.)doc";
 
 const char* kProcessDoc = R"doc(obscura PATH -o OUT [flags]: writes OUT, a copy of PATH with the new layers added, and returns
@@ -60,7 +61,8 @@ Keywords are the CLI's flags with underscores: quality, method (a key of obscura
 directions, steps, weighting, falloff, blur, device, threads; preset, layer={role: name}, camera
 (sidecar path), fov_deg, ortho_width, camera_to_world (4x4 or 16 numbers, row-major), depth
 ('planar' | 'radial'), normals ('world' | 'camera'), sky_depth, max_pixels (refuse a data or
-display window above it before allocating, as --max-pixels; default 16384^2); out_layer (above),
+display window above it before allocating, as --max-pixels; default 16384^2), view (a multi-view
+file's views to process: a name or a list, as --view; default every view with a depth); out_layer (above),
 out_type ('half' | 'float'), bad_pixels ('error' | 'skip'), reference (layer name), report
 (also write the JSON there), preview (PNG path: 8-bit sRGB of the AO, or for 'ssdo' of the relit
 layer when written, else the DO), preview_exposure (stops before the preview's encoding; default
@@ -91,7 +93,11 @@ names] or None}; 'conventions' {'depth', 'normals', 'normals_left_handed', 'sky_
 (None without deep input); 'camera' {'projection', 'fx', 'fy', 'cx', 'cy', 'source',
 'horizontal_fov_deg' or 'ortho_width', 'camera_to_world' (4 rows or None), 'fit_residual_px'
 when fitted} or None, then 'camera_error' says why; 'write' (how process() would write);
-'device' (or None and 'device_error'). Keywords as read_passes(), and device.)doc";
+'device' (or None and 'device_error'); 'views', 'view' (the one described), 'views_processed';
+'fills' {role: how obscura finds or fills it}; 'problems' (what stops a run as asked);
+'command' and 'command_args' (a CLI line that would run, or None and 'command_problem'),
+'command_notes' (what it assumed). Only an unreadable file raises. Keywords as read_passes(),
+and device.)doc";
 
 const char* kReadLayerDoc = R"doc(One channel ('obscura.AO.Y') as float32 (H, W), or a layer ('ViewLayer.Normal') as float32
 (H, W, C) with its channels in R, G, B, A / X, Y, Z order, over its part's data window.
@@ -138,6 +144,7 @@ py::dict readPassesPy(const py::object& path, const FileArgs& f) {
     d["preset"] = p.plan.preset;
     d["layers"] = layers;
     d["part"] = p.part;
+    d["view"] = p.view.empty() ? py::object(py::none()) : py::object(py::str(p.view));
     d["path"] = job.input;
     return d;
 }
@@ -225,10 +232,10 @@ void bindReadPasses(py::module_& m) {
         "read_passes",
         [](const py::object& path, const py::args& extra, py::object preset, py::object layer, py::object camera,
            py::object fovDeg, py::object orthoWidth, py::object c2w, py::object depth, py::object depthRange, py::object normals,
-           py::object skyDepth, py::object maxPixels, const py::kwargs& unknown) {
+           py::object skyDepth, py::object maxPixels, py::object view, const py::kwargs& unknown) {
             checkFileCall("read_passes", extra, unknown, path);
             return readPassesPy(path, FileArgs{preset, layer, camera, fovDeg, orthoWidth, c2w, depth, depthRange, normals, skyDepth,
-                                               maxPixels});
+                                               maxPixels, view});
         },
         py::arg("path") = py::none(), OBSCURA_FILE_ARGS, kReadPassesDoc);
 }
@@ -241,7 +248,7 @@ void bindProcess(py::module_& m) {
            py::object method, py::object radius, py::object directions, py::object steps, py::object weighting, py::object falloff, py::object blur,
            py::object device, py::object threads, py::object preset, py::object layer, py::object camera,
            py::object fovDeg, py::object orthoWidth, py::object c2w, py::object depth, py::object depthRange, py::object normals,
-           py::object skyDepth, py::object maxPixels, py::object outLayer, py::object outType, py::object badPixels, py::object reference,
+           py::object skyDepth, py::object maxPixels, py::object view, py::object outLayer, py::object outType, py::object badPixels, py::object reference,
            py::object report, py::object preview, py::object inPlace, py::object samples, py::object interleave,
            py::object sky, py::object envRotate, py::object envIntensity, py::object lights, py::object bounce,
            py::object bounceSource, py::object env, py::object envColorspace, py::object colorspace, py::object up,
@@ -251,7 +258,7 @@ void bindProcess(py::module_& m) {
             required("process", path, "path", "the input EXR's path");
             required("process", out, "out", "the output EXR's path");
             const FrameJob job = processJob(
-                path, out, FileArgs{preset, layer, camera, fovDeg, orthoWidth, c2w, depth, depthRange, normals, skyDepth, maxPixels},
+                path, out, FileArgs{preset, layer, camera, fovDeg, orthoWidth, c2w, depth, depthRange, normals, skyDepth, maxPixels, view},
                 SettingArgs{quality, method, radius, directions, steps, weighting, falloff, blur, device, threads, own},
                 OutputArgs{outLayer, outType, badPixels, reference, report, preview, inPlace, write, previewExposure,
                            perElementAo},
@@ -274,10 +281,10 @@ void bindInspect(py::module_& m) {
         "inspect",
         [](const py::object& path, const py::args& extra, py::object preset, py::object layer, py::object camera,
            py::object fovDeg, py::object orthoWidth, py::object c2w, py::object depth, py::object depthRange, py::object normals,
-           py::object skyDepth, py::object maxPixels, py::object device, const py::kwargs& unknown) {
+           py::object skyDepth, py::object maxPixels, py::object view, py::object device, const py::kwargs& unknown) {
             checkFileCall("inspect", extra, unknown, path);
             return inspectPy(path, FileArgs{preset, layer, camera, fovDeg, orthoWidth, c2w, depth, depthRange, normals, skyDepth,
-                                            maxPixels},
+                                            maxPixels, view},
                              device);
         },
         py::arg("path") = py::none(), OBSCURA_FILE_ARGS, py::arg("device") = py::none(), kInspectDoc);

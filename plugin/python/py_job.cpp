@@ -115,6 +115,17 @@ FrameJob jobFrom(const py::object& path, const FileArgs& f) {
     }
     if (!f.normals.is_none()) job.normalSpace = enumArg<NormalSpace>(f.normals, "normals", "'world', 'camera' or 'depth'");
     if (!f.skyDepth.is_none()) job.skyDepth = (float)numberArg(f.skyDepth, "sky_depth");
+    if (!f.view.is_none()) {
+        // One name, or a list or tuple of names, as --view NAME[,NAME].
+        const bool one = py::isinstance<py::str>(f.view);
+        if (!one && !py::isinstance<py::list>(f.view) && !py::isinstance<py::tuple>(f.view))
+            throw py::type_error("view must be a view name or a list of them, got " + typeName(f.view));
+        if (one) job.views = {strArg(f.view, "view")};
+        else
+            for (const py::handle item : f.view) job.views.push_back(strArg(py::reinterpret_borrow<py::object>(item), "view"));
+        const std::string problem = nameListProblem(nameListSetting("view"), job.views, Spelling::Key);
+        if (!problem.empty()) valueError(problem);
+    }
     return job;
 }
 

@@ -12,7 +12,7 @@ namespace py = pybind11;
 
 // The keywords that find and read the passes (OBSCURA_FILE_ARGS, in this order).
 struct FileArgs {
-    py::object preset, layer, camera, fovDeg, orthoWidth, cameraToWorld, depth, depthRange, normals, skyDepth, maxPixels;
+    py::object preset, layer, camera, fovDeg, orthoWidth, cameraToWorld, depth, depthRange, normals, skyDepth, maxPixels, view;
 };
 
 // max_pixels=, as --max-pixels: a window above it is refused before anything is allocated.
@@ -43,4 +43,4 @@ FrameJob processJob(const py::object& path, const py::object& out, const FileArg
         py::arg("fov_deg") = py::none(), py::arg("ortho_width") = py::none(),                                      \
         py::arg("camera_to_world") = py::none(), py::arg("depth") = py::none(), py::arg("depth_range") = py::none(), \
         py::arg("normals") = py::none(),                                                                           \
-        py::arg("sky_depth") = py::none(), py::arg("max_pixels") = py::none()
+        py::arg("sky_depth") = py::none(), py::arg("max_pixels") = py::none(), py::arg("view") = py::none()
