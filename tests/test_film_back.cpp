@@ -195,6 +195,47 @@ TEST(FilmBack, CroppedDataWindowGivesTheFullFramesAo) {
     EXPECT_GT(occluded, 50) << "the compared pixels must hold some occlusion";
 }
 
+// The plate a compositor is handed: half-float RGBA and Z, no normal pass, no camera in the
+// header, its data window a crop inside the display window, background Z = 0 where alpha is 0.
+// With only the film back it is written: every input channel kept as it was, the AO finite in
+// [0, 1], and bit for bit the AO of --fov-deg at the matching angle.
+TEST(FilmBack, HalfFloatRgbaZPlateIsWrittenWithTheFilmBackAlone) {
+    const int W = 96, H = 64;
+    const Box2i display{0, 0, W, H}, crop{10, 6, 90, 60};
+    const auto dir = testDir("film-back");
+    const SceneBuffers sb = renderScene(studioScene(), filmBackCamera(W, H), display, crop);
+    using namespace fixtures;
+    FixturePart part;
+    part.displayWindow = Imath::Box2i(Imath::V2i(0, 0), Imath::V2i(W - 1, H - 1));
+    part.dataWindow = Imath::Box2i(Imath::V2i(crop.x0, crop.y0), Imath::V2i(crop.x1 - 1, crop.y1 - 1));
+    auto sky = [&sb](int x, int y) { return !(*sb.depth.at(x - sb.data.x0, y - sb.data.y0) < 1e9f); };
+    part.channels.push_back({"Z", Imf::HALF, 1, 1, [&sb, sky](int x, int y) {
+                                 return sky(x, y) ? 0.0f : *sb.depth.at(x - sb.data.x0, y - sb.data.y0);
+                             }});
+    for (const char* c : {"R", "G", "B"}) part.channels.push_back({c, Imf::HALF, 1, 1, {}});
+    part.channels.push_back({"A", Imf::HALF, 1, 1, [sky](int x, int y) { return sky(x, y) ? 0.0f : 1.0f; }});
+    const std::string in = (dir / "plate.exr").string();
+    writeFixture(in, {part});
+    char fov[40];
+    std::snprintf(fov, sizeof fov, "%.17g", filmBackFovRad() * 180.0 / M_PI);
+    const std::vector<float> ao = aoOf(in, dir / "film.exr", kFilmBack);
+    ASSERT_EQ(ao.size(), (size_t)crop.width() * crop.height());
+    EXPECT_EQ(ao, aoOf(in, dir / "fov.exr", {"--fov-deg", fov}));
+    int occluded = 0;
+    for (float v : ao) {
+        ASSERT_TRUE(std::isfinite(v) && v >= 0.0f && v <= 1.0f) << v;
+        occluded += v < 0.9f;
+    }
+    EXPECT_GT(occluded, 20);
+    for (const FixtureChannel& ch : part.channels) {
+        const std::vector<float> kept = partChannel((dir / "film.exr").string(), 0, ch.name);
+        ASSERT_EQ(kept.size(), ao.size()) << ch.name;
+        for (int y = crop.y0; y < crop.y1; ++y)
+            for (int x = crop.x0; x < crop.x1; ++x)
+                ASSERT_EQ(kept[(y - crop.y0) * crop.width() + (x - crop.x0)], storedValue(ch, x, y)) << ch.name;
+    }
+}
+
 // The lens flags go together and alone: a focal length without its film back, or two lenses,
 // is a usage error naming the flags, and nothing is written.
 TEST(FilmBack, LensFlagsAreRefusedApart) {
