@@ -21,6 +21,10 @@ def test_the_film_back_is_the_fov_it_spans_and_the_clis(tmp):
     lens = obscura.read_passes(src, focal_mm=FOCAL, aperture_mm=APERTURE, camera_to_world=pose)["camera"]
     assert lens.fx == pytest.approx(depth.shape[1] * FOCAL / APERTURE, rel=1e-12)
     assert lens.horizontal_fov_deg(depth.shape[1]) == pytest.approx(fov, rel=1e-12)
+    built = obscura.Camera.film_back(FOCAL, APERTURE, depth.shape[1], depth.shape[0], pixel_aspect=2.0)
+    assert built.fx == lens.fx and built.fy == 2.0 * lens.fx and built.cx == depth.shape[1] / 2
+    with pytest.raises(ValueError, match="aperture_mm must be above 0"):
+        obscura.Camera.film_back(FOCAL, 0.0, 64, 48)
     by_film, by_fov, by_cli = tmp / "film.exr", tmp / "fov.exr", tmp / "cli.exr"
     obscura.process(src, by_film, focal_mm=FOCAL, aperture_mm=APERTURE, camera_to_world=pose, out_type="float")
     obscura.process(src, by_fov, fov_deg=fov, camera_to_world=pose, out_type="float")
