@@ -20,11 +20,12 @@ double planarDepthAt(const glsl::KernelParams& p, ConstPlane depth, int x, int y
 }
 
 // Screen radius of the sphere of radius R around a surface at planar depth z (the kernel's
-// f R / sqrt(z^2 - R^2), capped), or -1 without a surface.
+// f R / sqrt(z^2 - R^2), f the larger of fx and fy, capped), or -1 without a surface.
 double radiusPixelsAt(const glsl::KernelParams& p, double z) {
     if (!std::isfinite(z)) return -1.0;
-    if (p.orthographic) return std::min((double)p.radius * p.fx, (double)p.maxRadiusPixels);
-    const double r = p.radius * (double)p.fx / std::sqrt(std::max(z * z - (double)p.radius * p.radius, 1e-30));
+    const double f = std::max(p.fx, p.fy);
+    if (p.orthographic) return std::min((double)p.radius * f, (double)p.maxRadiusPixels);
+    const double r = p.radius * f / std::sqrt(std::max(z * z - (double)p.radius * p.radius, 1e-30));
     return std::min(r, (double)p.maxRadiusPixels);
 }
 

@@ -42,13 +42,29 @@ lfloat depthBend(lfloat w0, lfloat w1, lbool ok1, lfloat w2, lbool ok2) {
 // would tilt the normal halfway to the other face. On equal bends (a plane, or no second
 // neighbours) the shorter (across a depth step, the far side is the longer). `found`: at
 // least one neighbour is a surface. The step is signed as if it went ahead (+x or +y).
+lbool depthTakesAhead(lvec3 back, lbool backOk, lfloat backBend, lvec3 ahead, lbool aheadOk, lfloat aheadBend) {
+    lbool shorter = dot(ahead, ahead) < dot(back, back);
+    lbool flatter = aheadBend < backBend || (!(aheadBend > backBend) && shorter);
+    return aheadOk && (!backOk || flatter);
+}
+
 lvec3 depthPlaneStep(lvec3 back, lbool backOk, lfloat backBend, lvec3 ahead, lbool aheadOk, lfloat aheadBend,
                      OUT(lbool) found) {
     found = backOk || aheadOk;
-    lbool shorter = dot(ahead, ahead) < dot(back, back);
-    lbool flatter = aheadBend < backBend || (!(aheadBend > backBend) && shorter);
-    lbool takeAhead = aheadOk && (!backOk || flatter);
-    return select(takeAhead, ahead, back * -1.0f);
+    return select(depthTakesAhead(back, backOk, backBend, ahead, aheadOk, aheadBend), ahead, back * -1.0f);
+}
+
+// A step to a neighbour steeper than this tangent (84 degrees from facing the eye) that no
+// further texel shows to continue a plane crosses a depth discontinuity: it reaches another surface.
+CONST_GLOBAL float DEPTH_STEEP_TAN = 10.0f;
+
+// Whether the step s to a neighbour that is a surface (ok) stays on the texel's surface: gentle,
+// or on the plane its side's next texel continues (bend within a tenth of the first difference dw of w).
+lbool depthStepJoins(lvec3 s, lvec3 V, lbool ok, lfloat bend, lfloat dw) {
+    lfloat along = dot(s, V);
+    lfloat lateral2 = max(dot(s, s) - along * along, 0.0f);
+    lbool gentle = along * along <= (DEPTH_STEEP_TAN * DEPTH_STEEP_TAN) * lateral2;
+    return ok && (gentle || bend <= 0.1f * abs(dw));
 }
 
 // The unit normal of the plane the steps along x and y span, facing the eye (V); `usable`
@@ -61,8 +77,12 @@ lvec3 depthNormalOfSteps(lvec3 sx, lvec3 sy, lvec3 V, OUT(lbool) usable) {
     return select(dot(g, V) < 0.0f, g * -1.0f, g);
 }
 
-// The plane step of texel (x, y) along axis (ax, ay): (1, 0) or (0, 1).
-lvec3 depthAxisStep(lint x, lint y, lvec3 ray, lfloat depth, lfloat w0, int ax, int ay, OUT(lbool) found) {
+// The step of texel (x, y) along axis (ax, ay), (1, 0) or (0, 1), on its own surface: the plane
+// step (depthPlaneStep) where it joins the surface (depthStepJoins), else the other side's where
+// that one does. Where neither does, the texel is a feature one or two texels wide: the step to
+// a neighbour nearer the eye (the same object, seen towards its silhouette; the shorter of two),
+// and none (found false) where both neighbours lie far behind it.
+lvec3 depthAxisStep(lint x, lint y, lvec3 ray, lfloat depth, lfloat w0, lvec3 V, int ax, int ay, OUT(lbool) found) {
     lbool backOk;
     lbool aheadOk;
     lvec3 back = depthStep(x, y, ray, depth, -ax, -ay, backOk);
@@ -77,13 +97,34 @@ lvec3 depthAxisStep(lint x, lint y, lvec3 ray, lfloat depth, lfloat w0, int ax, 
     lbool okA2;
     depthSide(x, y, -ax, -ay, wb1, okB1, wb2, okB2);
     depthSide(x, y, ax, ay, wa1, okA1, wa2, okA2);
-    return depthPlaneStep(back, backOk, depthBend(w0, wb1, okB1, wb2, okB2), ahead, aheadOk,
-                          depthBend(w0, wa1, okA1, wa2, okA2), found);
+    lfloat backBend = depthBend(w0, wb1, okB1, wb2, okB2);
+    lfloat aheadBend = depthBend(w0, wa1, okA1, wa2, okA2);
+    lbool plane = depthTakesAhead(back, backOk, backBend, ahead, aheadOk, aheadBend);
+    lbool backJoins = depthStepJoins(back, V, backOk, backBend, wb1 - w0);
+    lbool aheadJoins = depthStepJoins(ahead, V, aheadOk, aheadBend, wa1 - w0);
+    lbool keep = (plane && aheadJoins) || (!plane && backJoins);
+    lbool swap = !keep && ((plane && backJoins) || (!plane && aheadJoins));
+    lbool backNear = backOk && dot(back, V) > 0.0f;
+    lbool aheadNear = aheadOk && dot(ahead, V) > 0.0f;
+    lbool nearer = aheadNear && (!backNear || dot(ahead, ahead) < dot(back, back));
+    lbool neither = !aheadJoins && !backJoins;
+    lbool takeAhead = (keep && plane) || (swap && !plane) || (neither && nearer);
+    found = aheadJoins || backJoins || aheadNear || backNear;
+    return select(takeAhead, ahead, back * -1.0f);
+}
+
+// The unit normal facing the eye (V) as closely as a surface along step s allows: V without its
+// component along s.
+lvec3 depthNormalAcross(lvec3 s, lvec3 V) {
+    lvec3 n = V - s * (dot(V, s) / max(dot(s, s), lfloat(1e-30f)));
+    lfloat n2 = dot(n, n);
+    return select(n2 > 0.0f, n * inversesqrt(select(n2 > 0.0f, n2, lfloat(1.0f))), V);
 }
 
 // The view-space unit normal of texel (x, y) from the depth alone, facing the eye. Where the
-// texel has no surface neighbour along an axis (a feature one texel wide) it faces the eye;
-// not a surface: (0, 0, 0).
+// texel has no step on its surface along one axis (a feature a texel or two wide: a pole, a
+// distant facet) it faces the eye as closely as the other axis's step allows, and the eye
+// where it has none along either; not a surface: (0, 0, 0).
 lvec3 depthNormalLanes(lint x, lint y) {
     lbool surface;
     lfloat depth = surfaceDepth(x, y, surface);
@@ -92,10 +133,11 @@ lvec3 depthNormalLanes(lint x, lint y) {
     lfloat w0 = depthW(x, y, depth);
     lbool alongX;
     lbool alongY;
-    lvec3 sx = depthAxisStep(x, y, ray, depth, w0, 1, 0, alongX);
-    lvec3 sy = depthAxisStep(x, y, ray, depth, w0, 0, 1, alongY);
+    lvec3 sx = depthAxisStep(x, y, ray, depth, w0, V, 1, 0, alongX);
+    lvec3 sy = depthAxisStep(x, y, ray, depth, w0, V, 0, 1, alongY);
     lbool usable;
     lvec3 g = depthNormalOfSteps(sx, sy, V, usable);
+    lvec3 one = select(alongY, depthNormalAcross(sy, V), select(alongX, depthNormalAcross(sx, V), V));
     lvec3 none = lvec3(lfloat(0.0f), lfloat(0.0f), lfloat(0.0f));
-    return select(surface, select(alongX && alongY && usable, g, V), none);
+    return select(surface, select(alongX && alongY && usable, g, one), none);
 }

@@ -38,8 +38,10 @@ void receiverFrame(lint x, lint y, INOUT(HbaoReceiver) r) {
 
     // Screen-space extent of the sphere of radius R around the point: f R / sqrt(z^2 - R^2)
     // bounds every point within R, also those nearer the eye (the paper's f R / z misses them).
+    // f is the larger focal length: with non-square pixels (fy = pixel aspect x fx) the sphere's
+    // image is an ellipse, and the march must reach its long axis; samples past R count nothing.
     r.planarDepth = -positionOnRay(r.ray, r.depth).z;
-    r.radiusPixels = lfloat(P.radius * P.fx);
+    r.radiusPixels = lfloat(P.radius * max(P.fx, P.fy));
     if (P.orthographic == 0) {
         r.radiusPixels *= inversesqrt(max(r.planarDepth * r.planarDepth - P.radius * P.radius, 1e-30f));
     }

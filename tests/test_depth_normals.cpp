@@ -114,6 +114,37 @@ TEST(DepthNormals, EachTexelGetsItsOwnSurfacesNormal) {
 }
 
 
+// A pole one or two pixels wide, its front face square to the view, in front of a wall: no
+// side of a pixel continues its plane along x, and both neighbours of the one-pixel pole lie far
+// behind it. Its normals face the eye across the pole (within the pixel's angle off the axis),
+// never tilted towards the wall; the two-pixel pole's come from the step across its face. On
+// every device, as the GL text gives the CPU's normals.
+TEST(DepthNormals, PolesAPixelOrTwoWideFaceTheEye) {
+    const int W = 64, H = 48;
+    const Camera cam = lookAtPerspective(glm::dvec3(0.0), glm::dvec3(0, 0, -1), 50.0 * M_PI / 180, W, H);
+    for (int widthPx : {1, 2}) {
+        const double front = 6.0, width = widthPx * front / cam.fx;  // columns W/2 .. W/2 + widthPx - 1
+        std::vector<Rect> scene = {planeRect(glm::dvec3(0, 0, -9), glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0))};
+        addBox(scene, glm::dvec3(1e-9, -3, -front - width), glm::dvec3(width - 1e-9, 3, -front));
+        const SceneBuffers sb = renderScene(scene, cam, W, H);
+        for (const char* device : {"cpu", kGlDevices[0], kGlDevices[1]}) {
+            const Image n = depthNormals(sb, device);
+            int checked = 0;
+            for (int y = 4; y < H - 4; ++y)
+                for (int x = W / 2; x < W / 2 + widthPx; ++x) {
+                    ASSERT_NEAR(*sb.depth.at(x, y), front, 1e-3) << "the pole covers column " << x;
+                    const float* v = n.at(x, y);
+                    const double a = angleDeg(glm::dvec3(v[0], v[1], v[2]), glm::dvec3(0, 0, 1));
+                    EXPECT_LT(a, 2.0) << widthPx << " px pole, texel " << x << "," << y << " on " << device;
+                    ++checked;
+                }
+            EXPECT_EQ(checked, (H - 8) * widthPx);
+            EXPECT_GT(*sb.depth.at(W / 2 - 1, H / 2), 8.9f);  // the wall beside it
+            EXPECT_GT(*sb.depth.at(W / 2 + widthPx, H / 2), 8.9f);
+        }
+    }
+}
+
 // The GL text gives the CPU's normals (to float rounding), and every GL method the CPU's AO with them.
 TEST(DepthNormals, GlMatchesCpu) {
     const int W = 160, H = 120;

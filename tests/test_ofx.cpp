@@ -80,7 +80,21 @@ struct Config {
     int ssaoSamples = 16;
     double thickness = -1;          // hbao's and rtao's; -1: auto (the number OFX stores for it)
     int rtaoGrid = 1;
+    bool filmBack = false;          // the lens as a focal length and horizontal aperture, not a field of view
+    std::string stored = "";        // how Depth is stored when not as `depth`: "inverse" or "normalized" (kStoredRange)
 };
+
+// normalized's range in the configs that store it: white is near (the reversed form).
+constexpr double kStoredRange[2] = {30.0, 1.0};
+constexpr double kFocalMm = 35.0, kApertureMm = 24.576;
+
+// The planar depth `z` as Config::stored writes it; sky (z at or past 1e9) as each encoding writes it.
+float storedDepth(const Config& c, float z) {
+    const bool sky = !(z < 1e9f);
+    if (c.stored == "inverse") return sky ? 0.0f : 1.0f / z;
+    if (c.stored == "normalized") return sky ? 0.0f : (float)((z - kStoredRange[0]) / (kStoredRange[1] - kStoredRange[0]));
+    return z;
+}
 
 // gtest names a parameter by its config's name.
 void PrintTo(const Config& c, std::ostream* os) { *os << c.name; }
@@ -102,7 +116,7 @@ Scene makeScene(const Config& c, int w = kW, int h = kH) {
         s.orthoWidth = 11.0;
         s.cam = test::lookAtOrthographic(eye, target, s.orthoWidth, w, h);
     } else {
-        s.fovDeg = 65.0;
+        s.fovDeg = c.filmBack ? 2.0 * std::atan(0.5 * kApertureMm / kFocalMm) * 180 / 3.14159265358979323846 : 65.0;
         s.cam = test::lookAtPerspective(eye, target, s.fovDeg * 3.14159265358979323846 / 180, w, h);
     }
     const Box2i display{0, 0, w, h};
@@ -126,7 +140,7 @@ Scene makeScene(const Config& c, int w = kW, int h = kH) {
         for (int dx = data.x0; dx < data.x1; ++dx) {
             const int oy = h - 1 - dy;
             const float* n = s.buf.normal.at(dx - data.x0, dy - data.y0);
-            s.depthClip.at(dx, oy)[0] = *s.buf.depth.at(dx - data.x0, dy - data.y0);
+            s.depthClip.at(dx, oy)[0] = storedDepth(c, *s.buf.depth.at(dx - data.x0, dy - data.y0));
             float* o = s.normalClip.at(dx, oy);
             o[0] = n[0], o[1] = n[1], o[2] = n[2], o[3] = 1.0f;
             float* bt = s.beautyClip.at(dx, oy);
@@ -154,13 +168,16 @@ std::vector<float> runCli(const Config& c, const Scene& s, const fs::path& dir, 
     };
     part.channels = {channel("Z", s.buf.depth, 0), channel("N.X", s.buf.normal, 0), channel("N.Y", s.buf.normal, 1),
                      channel("N.Z", s.buf.normal, 2)};
+    const auto depthValue = part.channels[0].value;
+    part.channels[0].value = [&c, depthValue](int x, int y) { return storedDepth(c, depthValue(x, y)); };
     const fs::path in = dir / "planes.exr", out = dir / (viaPython ? "ao_python.exr" : "ao.exr");
     writeFixture(in.string(), {part});
 
     std::vector<std::string> args = {in.string(), "-o", out.string(), "--out-type", "float", "--quiet",
                                      "--radius", num(c.radius), "--weighting", c.cosine ? "cosine" : "uniform",
                                      "--falloff", c.noFalloff ? "none" : "linear", "--blur", std::to_string(c.blur),
-                                     "--depth", toString(c.depth), "--normals", toString(c.normals),
+                                     "--depth", c.stored.empty() ? toString(c.depth) : c.stored.c_str(),
+                                     "--normals", toString(c.normals),
                                      "--camera-to-world", rowsOf(s.cam.cameraToWorld), "--device", "cpu"};
     // Only what the method reads: the CLI refuses the rest (the node greys it out).
     if (c.method == 0)
@@ -174,8 +191,12 @@ std::vector<float> runCli(const Config& c, const Scene& s, const fs::path& dir, 
         args.insert(args.end(), {"--method", "rtao", "--rtao-grid", std::to_string(c.rtaoGrid)});
     if (c.method != 1 && c.method != 2)
         args.insert(args.end(), {"--thickness", c.thickness < 0 ? "auto" : num(c.thickness)});
+    if (c.stored == "normalized")
+        args.insert(args.end(), {"--depth-range", num(kStoredRange[0]) + "," + num(kStoredRange[1])});
     if (c.orthographic) {
         args.insert(args.end(), {"--ortho-width", num(s.orthoWidth)});
+    } else if (c.filmBack) {
+        args.insert(args.end(), {"--focal-mm", num(kFocalMm), "--aperture-mm", num(kApertureMm)});
     } else {
         args.insert(args.end(), {"--fov-deg", num(s.fovDeg)});
     }
@@ -265,13 +286,22 @@ void applyConfig(Instance& inst, const Config& c, const Scene& s) {
     EXPECT_EQ(inst.setInt("weighting", c.cosine ? 1 : 0), kOfxStatOK);
     EXPECT_EQ(inst.setInt("falloff", c.noFalloff ? 1 : 0), kOfxStatOK);
     EXPECT_EQ(inst.setInt("blur", c.blur), kOfxStatOK);
-    EXPECT_EQ(inst.setInt("projection", c.orthographic ? 1 : 0), kOfxStatOK);
-    if (c.orthographic)
+    EXPECT_EQ(inst.setInt("projection", c.orthographic ? 1 : c.filmBack ? 2 : 0), kOfxStatOK);
+    if (c.orthographic) {
         EXPECT_EQ(inst.setDouble("orthoWidth", s.orthoWidth), kOfxStatOK);
-    else
+    } else if (c.filmBack) {
+        EXPECT_EQ(inst.setDouble("focalMm", kFocalMm), kOfxStatOK);
+        EXPECT_EQ(inst.setDouble("apertureMm", kApertureMm), kOfxStatOK);
+    } else {
         EXPECT_EQ(inst.setDouble("fovDeg", s.fovDeg), kOfxStatOK);
+    }
     EXPECT_EQ(inst.setString("cameraToWorld", rowsOf(s.cam.cameraToWorld)), kOfxStatOK);
-    EXPECT_EQ(inst.setInt("depthKind", c.depth == DepthKind::Radial ? 1 : 0), kOfxStatOK);
+    const int depthKind = c.stored == "inverse" ? 2 : c.stored == "normalized" ? 3 : c.depth == DepthKind::Radial ? 1 : 0;
+    EXPECT_EQ(inst.setInt("depthKind", depthKind), kOfxStatOK);
+    if (c.stored == "normalized") {
+        EXPECT_EQ(inst.setDouble("depthRangeNear", kStoredRange[0]), kOfxStatOK);
+        EXPECT_EQ(inst.setDouble("depthRangeFar", kStoredRange[1]), kOfxStatOK);
+    }
     EXPECT_EQ(inst.setInt("normalSpace", c.normals == NormalSpace::Camera ? 1 : c.normals == NormalSpace::Depth ? 2 : 0),
               kOfxStatOK);
     EXPECT_EQ(inst.setDouble("maxScreenRadius", c.maxScreenRadius), kOfxStatOK);
@@ -378,7 +408,8 @@ TEST(OfxDescribe, DeclaresContextsDepthsClipsAndParameters) {
     }
     const ParamSet& params = host.descriptor().params;
     for (const char* p : {"output", "strength", "method", "radius", "directions", "steps", "weighting", "falloff", "blur",
-                          "projection", "fovDeg", "orthoWidth", "cameraToWorld", "depthKind", "normalSpace", "skyDepth",
+                          "projection", "fovDeg", "focalMm", "apertureMm", "orthoWidth", "cameraToWorld", "depthKind",
+                          "depthRangeNear", "depthRangeFar", "normalSpace", "skyDepth",
                           "maxScreenRadius", "device", "threads", "samples", "interleave", "skyColour", "envMap",
                           "envRotation", "envIntensity", "upAxis", "timesAlbedo"})
         EXPECT_NE(params.find(p), nullptr) << p;
@@ -416,6 +447,13 @@ TEST(OfxDescribe, DeclaresContextsDepthsClipsAndParameters) {
     // The CLI's and Python's default blur (the method's own: medium's 1 px, ssdo's interleave width).
     EXPECT_EQ(params.find("blur")->props.ints(kOfxParamPropDefault), (std::vector<int>{obscura::Settings().blur}));
     EXPECT_EQ(params.find("maxScreenRadius")->props.doubles(kOfxParamPropDefault), (std::vector<double>{256.0}));
+    // The lens and the depth encodings of the CLI (--focal-mm, --aperture-mm, --depth, --depth-range).
+    EXPECT_EQ(params.find("projection")->props.strings(kOfxParamPropChoiceOption),
+              (std::vector<std::string>{"perspective", "orthographic", "perspective (focal length)"}));
+    EXPECT_EQ(params.find("depthKind")->props.strings(kOfxParamPropChoiceOption),
+              (std::vector<std::string>{"planar", "radial", "inverse", "normalized"}));
+    EXPECT_EQ(params.find("focalMm")->props.doubles(kOfxParamPropDefault), (std::vector<double>{50.0}));
+    EXPECT_EQ(params.find("apertureMm")->props.doubles(kOfxParamPropDefault), (std::vector<double>{36.0}));
     EXPECT_EQ(params.find("device")->props.strings(kOfxParamPropChoiceOption),
               (std::vector<std::string>{"cpu", "auto", "gl", "gl-egl", "gl-osmesa"}));
 }
@@ -485,6 +523,17 @@ INSTANTIATE_TEST_SUITE_P(Configs, OfxMatchesCli,
                                            [] {
                                                Config c = cfg("no_normal_clip_normals_from_depth");
                                                c.normals = NormalSpace::Depth, c.blur = 1, c.overscan = 3;
+                                               return c;
+                                           }(),
+                                           [] {
+                                               Config c = cfg("film_back_inverse_depth_no_normal_clip");
+                                               c.filmBack = true, c.stored = "inverse", c.normals = NormalSpace::Depth;
+                                               c.overscan = 2;
+                                               return c;
+                                           }(),
+                                           [] {
+                                               Config c = cfg("film_back_normalized_depth_white_near");
+                                               c.filmBack = true, c.stored = "normalized", c.blur = 1;
                                                return c;
                                            }(),
                                            [] {
@@ -1287,6 +1336,26 @@ TEST(OfxHostFindings, MissingDepthFailsThroughTheMessageSuite) {
     ASSERT_EQ(msgs.size(), 1u);
     EXPECT_NE(msgs[0].find("OfxMessageError"), std::string::npos) << msgs[0];
     EXPECT_NE(msgs[0].find("Depth clip is not connected"), std::string::npos) << msgs[0];
+    EXPECT_EQ(l.host->liveImages(), 0);
+}
+
+// Normalized depth with its range unset (both ends 0, the default) is refused through the
+// message suite, in the words of the node's parameters, as the CLI refuses --depth normalized
+// without --depth-range.
+TEST(OfxHostFindings, NormalizedDepthWithoutARangeFails) {
+    Config c;
+    c.stored = "normalized";
+    const Scene s = makeScene(c);
+    Loaded l = instantiateIn(s, project(kW, kH), {"Depth", "Normal"});
+    ASSERT_TRUE(l.inst);
+    applyConfig(*l.inst, c, s);
+    ASSERT_EQ(l.inst->setDouble("depthRangeNear", 0.0), kOfxStatOK);
+    ASSERT_EQ(l.inst->setDouble("depthRangeFar", 0.0), kOfxStatOK);
+    HostImage frame(OfxRectI{0, 0, kW, kH}, 4);
+    EXPECT_EQ(l.inst->render({0, 0, kW, kH}, frame), kOfxStatFailed);
+    const auto msgs = l.host->messages();
+    ASSERT_EQ(msgs.size(), 1u);
+    EXPECT_NE(msgs[0].find("normalized depth needs Depth Near and Depth Far"), std::string::npos) << msgs[0];
     EXPECT_EQ(l.host->liveImages(), 0);
 }
 

@@ -29,13 +29,16 @@ std::string text(const NumberSetting& n, double v) {
 }
 
 // --inspect with the flag (and what it needs to be read: its method, a preview to expose, the
-// depth encoding it is for). A setting of two values gets `value` first and the other end of the
-// range second (a range's two ends must differ).
+// depth encoding it is for, the other half of the film back). A setting of two values gets
+// `value` first and the other end of the range second (a range's two ends must differ).
 CliResult inspectWith(const NumberSetting& n, double value) {
     const double other = value == n.max ? n.min + (n.minExcluded ? 1 : 0) : n.max;
     const std::string values = n.count == 2 ? text(n, value) + "," + text(n, other) : text(n, value);
     std::vector<std::string> args = {kRoom, "--inspect", n.flag, values};
     if (std::string(n.flag) == "--depth-range") args.insert(args.end(), {"--depth", "normalized"});
+    // The film back's two halves go together.
+    if (std::string(n.flag) == "--focal-mm") args.insert(args.end(), {"--aperture-mm", "36"});
+    if (std::string(n.flag) == "--aperture-mm") args.insert(args.end(), {"--focal-mm", "50"});
     const std::vector<std::string> readers = methodsReading(n.flag);
     if (!readers.empty()) args.insert(args.end(), {"--method", readers.front()});
     if (std::string(n.flag) == "--preview-exposure") args.insert(args.end(), {"--preview", "unused.png"});

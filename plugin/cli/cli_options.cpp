@@ -186,6 +186,10 @@ std::vector<Flag> makeFlags() {
          [](Options& o, const std::string& v) { o.job.settings.blur = (int)toSetting("--blur", v); }},
         {"--fov-deg", "F", "perspective camera, horizontal field of view of the display window",
          [](Options& o, const std::string& v) { o.job.camera.fovDeg = toSetting("--fov-deg", v); }},
+        {"--focal-mm", "F", "perspective camera, focal length (with --aperture-mm, as a compositing app's camera node)",
+         [](Options& o, const std::string& v) { o.job.camera.focalMm = toSetting("--focal-mm", v); }},
+        {"--aperture-mm", "W", "with --focal-mm: the horizontal film back, spanning the display window's width",
+         [](Options& o, const std::string& v) { o.job.camera.apertureMm = toSetting("--aperture-mm", v); }},
         {"--ortho-width", "W", "orthographic camera, W world units across the display window",
          [](Options& o, const std::string& v) { o.job.camera.orthoWidth = toSetting("--ortho-width", v); }},
         {"--camera-to-world", "m00,...,m33", "16 numbers, row-major, OpenGL convention (camera looks down -Z)",
@@ -456,6 +460,7 @@ Options parseArgs(int argc, char** argv) {
     if (o.job.previewExposure && o.job.previewPath.empty()) throw UsageError("--preview-exposure needs --preview FILE.png");
     if (o.job.depthRange && o.job.depthEncoding != DepthEncoding::Normalized)
         throw UsageError("--depth-range is read by --depth normalized only");
+    if (const std::string lens = lensProblem(o.job.camera, Spelling::Flag); !lens.empty()) throw UsageError(lens);
     const MethodInfo& m = *findMethod(o.job.settings.method);
     const std::string& d = o.job.settings.device;
     if (!m.gl && d != "cpu" && d != "auto")

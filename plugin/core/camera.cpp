@@ -15,6 +15,17 @@ Camera Camera::perspectiveFromFov(double horizontalFovRad, int displayWidth, int
     return c;
 }
 
+Camera Camera::perspectiveFromFilmBack(double focal, double aperture, int displayWidth, int displayHeight,
+                                      double pixelAspect) {
+    Camera c;
+    c.projection = Projection::Perspective;
+    c.fx = displayWidth * focal / aperture;
+    c.fy = c.fx * pixelAspect;
+    c.cx = 0.5 * displayWidth;
+    c.cy = 0.5 * displayHeight;
+    return c;
+}
+
 Camera Camera::orthographic(double width, int displayWidth, int displayHeight, double pixelAspect) {
     Camera c;
     c.projection = Projection::Orthographic;

@@ -29,6 +29,11 @@ struct Camera {
     // point at the display centre.
     static Camera perspectiveFromFov(double horizontalFovRad, int displayWidth, int displayHeight,
                                      double pixelAspect = 1.0);
+    // The same from a focal length and the horizontal film back (aperture) it spans, in one unit
+    // (mm, as a compositing app's camera node): the film back maps onto the display window's
+    // width, so fx = W * focal / aperture.
+    static Camera perspectiveFromFilmBack(double focal, double aperture, int displayWidth, int displayHeight,
+                                          double pixelAspect = 1.0);
     // Orthographic camera `width` world units across the display window.
     static Camera orthographic(double width, int displayWidth, int displayHeight, double pixelAspect = 1.0);
 

@@ -16,6 +16,8 @@ const std::vector<NumberSetting>& numberSettings() {
         {"threads", "--threads", "threads", 0, 1024, false, true, 0},
         {"fov_deg", "--fov-deg", "fovDeg", 0, 179.999, true, false, 1e-3},
         {"ortho_width", "--ortho-width", "orthoWidth", 0, 1e12, true, false, 1e-9},
+        {"focal_mm", "--focal-mm", "focalMm", 0, 1e6, true, false, 1e-3},
+        {"aperture_mm", "--aperture-mm", "apertureMm", 0, 1e6, true, false, 1e-3},
         {"sky_depth", "--sky-depth", "skyDepth", 0, 1e38, true, false, 1e-6},
         {"env_rotate", "--env-rotate", "envRotation", -36000, 36000, false, false, -36000},
         {"env_intensity", "--env-intensity", "envIntensity", 0, 1e9, false, false, 0},

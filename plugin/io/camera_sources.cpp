@@ -158,13 +158,14 @@ std::optional<Camera> fromVRay(const Imf::Header& h, Box2i display, glm::dmat4 m
 std::string describeFlags(const CameraRequest& r) {
     std::string s;
     if (r.fovDeg) s = "--fov-deg " + fmt(*r.fovDeg);
+    if (r.focalMm && r.apertureMm) s = "--focal-mm " + fmt(*r.focalMm) + " --aperture-mm " + fmt(*r.apertureMm);
     if (r.orthoWidth) s = "--ortho-width " + fmt(*r.orthoWidth);
     if (r.cameraToWorld) s += std::string(s.empty() ? "" : " ") + "--camera-to-world";
     return s;
 }
 
 const char* kNoCamera =
-    "no camera: give --fov-deg or --ortho-width (and --camera-to-world for world-space normals), "
+    "no camera: give --fov-deg, --focal-mm with --aperture-mm, or --ortho-width (and --camera-to-world for world-space normals), "
     "a JSON sidecar with --camera, or include a position pass";
 
 } // namespace
@@ -273,22 +274,47 @@ std::optional<Camera> cameraFromHeader(const Imf::Header& header, Box2i display)
     return std::nullopt;
 }
 
+std::string lensProblem(const CameraRequest& r, Spelling spelling) {
+    const bool flag = spelling == Spelling::Flag;
+    const char* focal = flag ? "--focal-mm" : "focal_mm";
+    const char* aperture = flag ? "--aperture-mm" : "aperture_mm";
+    if (r.focalMm.has_value() != r.apertureMm.has_value())
+        return std::string(r.focalMm ? focal : aperture) + " needs " + (r.focalMm ? aperture : focal) +
+               ": the focal length and the horizontal film back (aperture) go together";
+    std::vector<std::string> lenses;
+    if (r.fovDeg) lenses.push_back(flag ? "--fov-deg" : "fov_deg");
+    if (r.focalMm) lenses.push_back(std::string(focal) + (flag ? "/" : " and ") + aperture);
+    if (r.orthoWidth) lenses.push_back(flag ? "--ortho-width" : "ortho_width");
+    if (lenses.size() < 2) return "";
+    return "give either " + lenses[0] + " or " + lenses[1] + ", not both";
+}
+
+Camera lensFromFlags(const CameraRequest& r, Box2i display, double pixelAspect) {
+    Camera c;
+    const int w = display.width(), h = display.height();
+    if (r.fovDeg) c = Camera::perspectiveFromFov(*r.fovDeg * kPi / 180, w, h, pixelAspect);
+    if (r.focalMm && r.apertureMm) c = Camera::perspectiveFromFilmBack(*r.focalMm, *r.apertureMm, w, h, pixelAspect);
+    if (r.orthoWidth) c = Camera::orthographic(*r.orthoWidth, w, h, pixelAspect);
+    // The principal point is the display window's centre, wherever the data window lies in it.
+    c.cx += display.x0;
+    c.cy += display.y0;
+    return c;
+}
+
 Camera resolveCamera(const CameraRequest& request, const Imf::Header* header, ConstPlane worldPosition,
                      Box2i dataWindow, Box2i display, double pixelAspect) {
-    if (request.fovDeg && request.orthoWidth) throw Error("give either --fov-deg or --ortho-width, not both");
+    if (const std::string problem = lensProblem(request, Spelling::Flag); !problem.empty()) throw Error(problem);
     if (request.fovDeg && !(*request.fovDeg > 0 && *request.fovDeg < 180))
         throw Error("--fov-deg must be between 0 and 180, got " + fmt(*request.fovDeg));
     if (request.orthoWidth && !(*request.orthoWidth > 0))
         throw Error("--ortho-width must be positive, got " + fmt(*request.orthoWidth));
+    for (const auto& [value, name] : {std::pair{request.focalMm, "--focal-mm"}, {request.apertureMm, "--aperture-mm"}})
+        if (value && !(*value > 0 && std::isfinite(*value)))
+            throw Error(std::string(name) + " must be positive, got " + fmt(*value));
 
     // Flags: each half (intrinsics, pose) is optional.
-    Camera flags;
-    const bool flagIntrinsics = request.fovDeg || request.orthoWidth;
-    if (request.fovDeg)
-        flags = Camera::perspectiveFromFov(*request.fovDeg * kPi / 180, display.width(), display.height(), pixelAspect);
-    if (request.orthoWidth) flags = Camera::orthographic(*request.orthoWidth, display.width(), display.height(), pixelAspect);
-    flags.cx += display.x0;
-    flags.cy += display.y0;
+    const bool flagIntrinsics = request.fovDeg || request.focalMm || request.orthoWidth;
+    Camera flags = lensFromFlags(request, display, pixelAspect);
     if (request.cameraToWorld) {
         flags.cameraToWorld = cameraToWorldFromRows(*request.cameraToWorld, "--camera-to-world");
         flags.hasPose = true;
@@ -342,7 +368,9 @@ Camera resolveCamera(const CameraRequest& request, const Imf::Header* header, Co
         return flags;
     }
     if (!found || !found->valid()) {
-        if (flags.hasPose) throw Error("--camera-to-world needs --fov-deg or --ortho-width (no other source gives the lens)");
+        if (flags.hasPose)
+            throw Error("--camera-to-world needs --fov-deg, --focal-mm with --aperture-mm, or --ortho-width (no other "
+                        "source gives the lens)");
         throw Error(kNoCamera);
     }
     Camera c = *found;

@@ -2,6 +2,7 @@
 // fit to the world-position pass (first match wins; see docs/conventions.md, "Camera sources").
 #pragma once
 #include "core/camera.h"
+#include "core/methods.h"
 #include "base/image.h"
 
 #include <OpenEXR/ImfForward.h>
@@ -14,9 +15,18 @@ namespace obscura {
 
 struct CameraRequest {
     std::optional<double> fovDeg, orthoWidth;                 // --fov-deg / --ortho-width
+    std::optional<double> focalMm, apertureMm;                // --focal-mm / --aperture-mm (horizontal film back)
     std::optional<std::array<double, 16>> cameraToWorld;     // --camera-to-world, row-major, OpenGL convention
     std::string sidecarPath;                                  // --camera FILE.json (or findSidecar's answer)
 };
+
+// "" when the request names at most one lens (--fov-deg, --focal-mm with --aperture-mm, or
+// --ortho-width) and the film back's two halves come together; else the one-line refusal in
+// the host's spelling. Ranges are the settings schema's (core/settings_schema.h).
+std::string lensProblem(const CameraRequest& request, Spelling spelling);
+
+// The lens the flags give (fx = 0 for none): display window `display`, principal point at its centre.
+Camera lensFromFlags(const CameraRequest& request, Box2i display, double pixelAspect);
 
 // The JSON sidecar (see tests/data/*.json): "camera_to_world" (4 rows of 4, or 16
 // numbers row-major, OpenGL convention), "projection" "persp"|"ortho", and

@@ -59,7 +59,7 @@ std::string sidecarFor(const FrameJob& job) {
 }
 
 bool cameraFullyGiven(const FrameJob& job) {
-    const bool lens = job.camera.fovDeg || job.camera.orthoWidth;
+    const bool lens = job.camera.fovDeg || job.camera.focalMm || job.camera.orthoWidth;
     // Normals in camera space or from the depth need no pose.
     const bool pose = job.camera.cameraToWorld || (job.normalSpace && job.normalSpace != NormalSpace::World);
     return (lens && pose) || !sidecarFor(job).empty();

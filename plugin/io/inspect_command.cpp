@@ -49,6 +49,8 @@ std::vector<std::string> argsFor(const FrameJob& job) {
     const CameraRequest& c = job.camera;
     if (!c.sidecarPath.empty()) a.insert(a.end(), {"--camera", c.sidecarPath});
     if (c.fovDeg) a.insert(a.end(), {"--fov-deg", number(*c.fovDeg)});
+    if (c.focalMm) a.insert(a.end(), {"--focal-mm", number(*c.focalMm)});
+    if (c.apertureMm) a.insert(a.end(), {"--aperture-mm", number(*c.apertureMm)});
     if (c.orthoWidth) a.insert(a.end(), {"--ortho-width", number(*c.orthoWidth)});
     if (c.cameraToWorld) {
         std::string m;
@@ -68,7 +70,7 @@ Camera cameraForRun(FrameJob& run, const FramePasses& p, std::vector<std::string
     try {
         return resolveFrameCamera(run, p);
     } catch (const Error&) {
-        if (run.camera.fovDeg || run.camera.orthoWidth) throw;
+        if (run.camera.fovDeg || run.camera.focalMm || run.camera.orthoWidth) throw;
     }
     run.camera.fovDeg = kAssumedFovDeg;
     notes.push_back("camera: none in the file; the command assumes --fov-deg " + number(kAssumedFovDeg) +

@@ -42,7 +42,10 @@ glm::dmat4 parseCameraToWorld(const std::string& text) {
 
 Camera makeCamera(const Params& p, const FrameMap& f) {
     Camera cam;
-    if (p.projection == Projection::Perspective) {
+    if (p.filmBack) {
+        if (!(p.focalMm > 0 && p.apertureMm > 0)) throw Error("the focal length and the aperture must be positive");
+        cam = Camera::perspectiveFromFilmBack(p.focalMm, p.apertureMm, f.displayW, f.displayH, f.pixelAspect());
+    } else if (p.projection == Projection::Perspective) {
         if (!(p.fovDeg > 0 && p.fovDeg < 180)) throw Error("the field of view must be between 0 and 180 degrees");
         cam = Camera::perspectiveFromFov(p.fovDeg * 3.14159265358979323846 / 180, f.displayW, f.displayH,
                                          f.pixelAspect());

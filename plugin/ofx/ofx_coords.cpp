@@ -57,9 +57,10 @@ float radiusCap(const Params& p, const FrameMap& f) {
 int apronPixels(const Params& p, const Camera& cam, float cap) {
     const bool ssdo = p.settings.method == "ssdo";
     double reach = cap;
+    // R across the larger focal length: with non-square pixels it reaches farther in rows.
+    const double f = std::max(cam.fx, cam.fy);
     if (cam.projection == Projection::Orthographic)
-        reach = ssdo ? std::min<double>((double)p.settings.radius * cam.fx, 1e7)
-                     : std::min<double>(p.settings.radius * cam.fx, cap);
+        reach = ssdo ? std::min<double>((double)p.settings.radius * f, 1e7) : std::min<double>(p.settings.radius * f, cap);
     const int blur = resolvedBlur(p.settings);
     const MethodInfo* m = findMethod(p.settings.method);
     const int extra = m && m->extraApron ? m->extraApron(p.settings) : 0;

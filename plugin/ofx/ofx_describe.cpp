@@ -162,10 +162,18 @@ void describeMain(ParamDef& d) {
 
 void describeCamera(ParamDef& d) {
     d.group(kGroupCamera, "Camera");
-    d.choice(kParamProjection, "Projection", "Perspective (field of view) or orthographic (width) camera",
-             {kProjections[0], kProjections[1]}, 0, kGroupCamera);
+    d.choice(kParamProjection, "Projection",
+             "Perspective from the field of view, orthographic (width), or perspective from the focal length and "
+             "horizontal aperture (film back) as a compositing app's camera node",
+             {kProjections[0], kProjections[1], kProjections[2]}, 0, kGroupCamera);
     d.real(kParamFov, "Field of View", "Horizontal field of view across the project format, degrees (--fov-deg)",
            39.5977, lo(kParamFov), hi(kParamFov), 1.0, 120.0, kGroupCamera, kOfxParamDoubleTypeAngle);
+    d.real(kParamFocal, "Focal Length", "Focal length, mm (--focal-mm)", 50.0, lo(kParamFocal), hi(kParamFocal), 5.0,
+           300.0, kGroupCamera);
+    d.real(kParamAperture, "Horizontal Aperture",
+           "Horizontal film back, mm, spanning the project format's width (--aperture-mm); 36 with a 50 mm focal "
+           "length is the default field of view",
+           36.0, lo(kParamAperture), hi(kParamAperture), 5.0, 50.0, kGroupCamera);
     d.real(kParamOrthoWidth, "Ortho Width", "World units across the project format (--ortho-width)", 10.0,
            lo(kParamOrthoWidth), hi(kParamOrthoWidth), 0.1, 100.0, kGroupCamera);
     OfxPropertySetHandle p = d.define(kOfxParamTypeString, kParamCameraToWorld, "Camera to World",
@@ -175,8 +183,17 @@ void describeCamera(ParamDef& d) {
     gProp->propSetString(p, kOfxParamPropDefault, 0, "");
     gProp->propSetString(p, kOfxParamPropStringMode, 0, kOfxParamStringIsSingleLine);
     gProp->propSetInt(p, kOfxParamPropAnimates, 0, 0);
-    d.choice(kParamDepthKind, "Depth", "planar: camera-space Z; radial: distance to the eye (--depth)",
-             {kDepthKinds[0], kDepthKinds[1]}, 0, kGroupCamera);
+    d.choice(kParamDepthKind, "Depth",
+             "How the Depth clip stores it: planar: camera-space Z; radial: distance to the eye; inverse: 1/Z "
+             "(Nuke's ScanlineRender); normalized: 0 at Depth Near, 1 at Depth Far (--depth)",
+             {kDepthKinds[0], kDepthKinds[1], kDepthKinds[2], kDepthKinds[3]}, 0, kGroupCamera);
+    // --depth-range A,B as its two ends; (0, 0) is unset, refused when normalized is chosen.
+    const NumberSetting& range = numberSetting("depth_range");
+    d.real(kParamDepthNear, "Depth Near", "normalized: the distance stored as 0 (--depth-range A,B: A)", 0.0,
+           range.ofxMin, range.max, 0.0, 1000.0, kGroupCamera);
+    d.real(kParamDepthFar, "Depth Far",
+           "normalized: the distance stored as 1 (--depth-range A,B: B; below Depth Near when white is near)", 0.0,
+           range.ofxMin, range.max, 0.0, 1000.0, kGroupCamera);
     d.choice(kParamNormalSpace, "Normals",
              "Space of the Normal clip's RGB, or depth: reconstructed from the Depth clip, as they are without "
              "a Normal clip (--normals)",

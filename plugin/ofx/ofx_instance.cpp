@@ -37,13 +37,18 @@ void enable(OfxParamHandle h, bool on) {
 }
 
 void updateEnabled(const Instance& in) {
-    int projection = 0, normals = 0, output = 0;
+    int projection = 0, normals = 0, output = 0, depthKind = 0;
     gParam->paramGetValue(in.projection, &projection);
+    gParam->paramGetValue(in.depthKind, &depthKind);
     gParam->paramGetValue(in.normalSpace, &normals);
     gParam->paramGetValue(in.output_, &output);
     const OutputKind kind = outputAt(output).kind;
     enable(in.fov, projection == 0);
     enable(in.orthoWidth, projection == 1);
+    enable(in.focal, projection == 2);
+    enable(in.aperture, projection == 2);
+    enable(in.depthNear, depthKind == 3);  // normalized
+    enable(in.depthFar, depthKind == 3);
     enable(in.cameraToWorld, normals == 0);
     // DO, GI and Relit are SSDO whatever the method; Times Albedo concerns DO and GI only.
     const bool ao = kind == OutputKind::Ao || kind == OutputKind::BeautyTimesAo;
@@ -82,10 +87,14 @@ void bindParams(Instance& in, OfxParamSetHandle set) {
         {&Instance::blur, kParamBlur},
         {&Instance::projection, kParamProjection},
         {&Instance::fov, kParamFov},
+        {&Instance::focal, kParamFocal},
+        {&Instance::aperture, kParamAperture},
         {&Instance::orthoWidth, kParamOrthoWidth},
         {&Instance::cameraToWorld, kParamCameraToWorld},
         {&Instance::depthKind, kParamDepthKind},
         {&Instance::normalSpace, kParamNormalSpace},
+        {&Instance::depthNear, kParamDepthNear},
+        {&Instance::depthFar, kParamDepthFar},
         {&Instance::skyDepth, kParamSkyDepth},
         {&Instance::maxScreenRadius, kParamMaxScreenRadius},
         {&Instance::device, kParamDevice},

@@ -15,7 +15,8 @@ struct Instance {
                        output = nullptr;
     OfxParamHandle output_ = nullptr, strength = nullptr, method = nullptr, radius = nullptr, directions = nullptr,
                    steps = nullptr, weighting = nullptr, falloff = nullptr, blur = nullptr, projection = nullptr,
-                   fov = nullptr, orthoWidth = nullptr, cameraToWorld = nullptr, depthKind = nullptr,
+                   fov = nullptr, focal = nullptr, aperture = nullptr, orthoWidth = nullptr, cameraToWorld = nullptr,
+                   depthKind = nullptr, depthNear = nullptr, depthFar = nullptr,
                    normalSpace = nullptr, skyDepth = nullptr, maxScreenRadius = nullptr, device = nullptr,
                    threads = nullptr;
     OfxParamHandle ssdoSamples = nullptr, interleave = nullptr, skyColour = nullptr, envMap = nullptr,

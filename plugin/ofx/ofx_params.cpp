@@ -73,11 +73,20 @@ void readMethodParams(const Instance& in, OfxTime t, Settings& s) {
 
 // The camera group and the frame's screen-radius cap.
 void readCamera(const Instance& in, OfxTime t, Params& p) {
-    p.projection = choiceAt(in.projection, t, 2) == 0 ? Projection::Perspective : Projection::Orthographic;
+    const int projection = choiceAt(in.projection, t, (int)std::size(kProjections));
+    p.projection = projection == 1 ? Projection::Orthographic : Projection::Perspective;
+    p.filmBack = projection == 2;
     p.fovDeg = doubleAt(in.fov, t);
+    p.focalMm = doubleAt(in.focal, t);
+    p.apertureMm = doubleAt(in.aperture, t);
     p.orthoWidth = doubleAt(in.orthoWidth, t);
     p.cameraToWorld = stringAt(in.cameraToWorld, t);
-    p.depthKind = choiceAt(in.depthKind, t, 2) == 0 ? DepthKind::Planar : DepthKind::Radial;
+    const DepthEncoding encodings[] = {DepthEncoding::Planar, DepthEncoding::Radial, DepthEncoding::Inverse,
+                                       DepthEncoding::Normalized};
+    p.depthEncoding = encodings[choiceAt(in.depthKind, t, (int)std::size(kDepthKinds))];
+    p.depthKind = decodedKind(p.depthEncoding);
+    p.depthRange[0] = doubleAt(in.depthNear, t);
+    p.depthRange[1] = doubleAt(in.depthFar, t);
     // Without a Normal clip the normals come from the depth, as the CLI's for a file without a normal layer.
     const NormalSpace spaces[] = {NormalSpace::World, NormalSpace::Camera, NormalSpace::Depth};
     p.normalSpace = connected(in.normal) ? spaces[choiceAt(in.normalSpace, t, 3)] : NormalSpace::Depth;

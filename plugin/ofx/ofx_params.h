@@ -39,8 +39,9 @@ inline const OutputOption& outputAt(int index) { return kOutputOptions[std::clam
 inline constexpr const char* kUpAxes[] = {"y", "z"};
 inline constexpr const char* kWeightings[] = {"uniform", "cosine"};
 inline constexpr const char* kFalloffs[] = {"linear", "none"};
-inline constexpr const char* kProjections[] = {"perspective", "orthographic"};
-inline constexpr const char* kDepthKinds[] = {"planar", "radial"};
+// Appended only (stored as indices): the film back came after the field of view.
+inline constexpr const char* kProjections[] = {"perspective", "orthographic", "perspective (focal length)"};
+inline constexpr const char* kDepthKinds[] = {"planar", "radial", "inverse", "normalized"};
 inline constexpr const char* kNormalSpaces[] = {"world", "camera", "depth"};
 
 // The parameter values at one time, as the operator wants them.
@@ -49,9 +50,12 @@ struct Params {
     double strength = 1;
     Settings settings;
     Projection projection = Projection::Perspective;
-    double fovDeg = 0, orthoWidth = 0;
+    bool filmBack = false;  // perspective from the focal length and horizontal aperture, not the fov
+    double fovDeg = 0, orthoWidth = 0, focalMm = 0, apertureMm = 0;
     std::string cameraToWorld;
-    DepthKind depthKind = DepthKind::Planar;
+    DepthEncoding depthEncoding = DepthEncoding::Planar;  // as the Depth clip stores it (--depth)
+    double depthRange[2] = {0, 0};                        // normalized's 0 and 1 (--depth-range)
+    DepthKind depthKind = DepthKind::Planar;              // what the operator reads once decoded
     NormalSpace normalSpace = NormalSpace::World;
     double maxScreenRadius = 0;  // 0 = automatic (frame extent)
     std::string envPath;         // lat-long environment map ("" = the sky colour)

@@ -16,7 +16,11 @@
 
 #include "base/error.h"
 #include "core/operator.h"
+#include "core/settings_schema.h"
+#include "io/depth_encoding.h"
 
+#include <array>
+#include <limits>
 #include <memory>
 #include <string>
 #include <utility>
@@ -57,6 +61,20 @@ std::shared_ptr<const Image> environmentOf(const Instance& in, const Params& p) 
     return nullptr;
 }
 
+// The Depth clip's values as the operator reads them (planar or radial, sky +inf), as the CLI's
+// --depth and --depth-range decode a file's.
+void decodeClipDepth(const Params& p, Image& depth) {
+    DepthDecoding d;
+    d.encoding = p.depthEncoding;
+    if (d.encoding == DepthEncoding::Normalized) {
+        const std::string problem = depthRangeProblem(p.depthRange[0], p.depthRange[1], Spelling::Key);
+        if (!problem.empty())
+            throw Error("normalized depth needs Depth Near and Depth Far, two different distances (" + problem + ")");
+        d.range = std::array<double, 2>{p.depthRange[0], p.depthRange[1]};
+    }
+    decodeDepth(depth, d);
+}
+
 // The operator's inputs: the planes over `data` within the display window, seen by the camera.
 OperatorInputs operatorInputs(const Params& p, const FrameMap& f, const PixRect& data, const Image& depth,
                               const Image& normal, const Image& radiance, const Image* environment) {
@@ -86,8 +104,9 @@ bool occlude(OfxImageEffectHandle effect, const Instance& in, OfxTime t, const P
         fetchOrThrow(normal, in.normal, t, region, "Normal");
         if (normal.components() < 3) throw Error("the Normal clip must be RGB(A): normals are three channels");
     }
-    // Holes outside what the host delivered read as sky (depth 0) and missing normals.
-    const Image depthPlane = toDisplayPlane(depth, occ.data, f, 1, 0.0f);
+    // Holes outside what the host delivered read as sky (+inf in every encoding) and missing normals.
+    Image depthPlane = toDisplayPlane(depth, occ.data, f, 1, std::numeric_limits<float>::infinity());
+    decodeClipDepth(p, depthPlane);
     const Image normalPlane = normals ? toDisplayPlane(normal, occ.data, f, 3, 0.0f) : Image();
     Image radiancePlane;
     if (optionOf(p).bounce) {

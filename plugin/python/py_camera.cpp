@@ -1,11 +1,13 @@
 // obscura.Camera: core's Camera (core/camera.h) with constructors named like the CLI's camera
 // flags, and the sidecar reader of plugin/io.
+#include "core/settings_schema.h"
 #include "io/camera_sources.h"
 #include "python/py_args.h"
 #include "python/py_bind.h"
 
 #include <cmath>
 #include <sstream>
+#include <utility>
 #include <string>
 
 namespace obscura::python {
@@ -24,6 +26,10 @@ unit; fy defaults to fx), principal point (cx, cy) in display pixels.)doc";
 
 const char* kPerspectiveDoc = R"doc(Perspective camera with horizontal field of view fov_deg across a display window of
 width x height pixels (the CLI's --fov-deg); optional 4x4 camera_to_world (--camera-to-world).)doc";
+
+const char* kFilmBackDoc = R"doc(Perspective camera from a focal length and the horizontal film back (aperture) spanning a
+display window of width x height pixels, both in mm (the CLI's --focal-mm, --aperture-mm), as a
+compositing app's camera node gives them; optional 4x4 camera_to_world.)doc";
 
 const char* kOrthographicDoc = R"doc(Orthographic camera width_world world units across a display window of width x height
 pixels (the CLI's --ortho-width).)doc";
@@ -79,6 +85,18 @@ Camera perspective(double fovDeg, int width, int height, py::object c2w, double 
     return withPose(c, c2w);
 }
 
+Camera filmBack(double focalMm, double apertureMm, int width, int height, py::object c2w, double pixelAspect) {
+    for (const auto& [value, key] : {std::pair{focalMm, "focal_mm"}, {apertureMm, "aperture_mm"}}) {
+        const std::string problem = numberProblem(numberSetting(key), value, Spelling::Key);
+        if (!problem.empty()) valueError(problem);
+    }
+    checkDisplaySize(width, height);
+    if (!(pixelAspect > 0) || !std::isfinite(pixelAspect)) valueError("pixel_aspect must be positive");
+    Camera c = Camera::perspectiveFromFilmBack(focalMm, apertureMm, width, height, pixelAspect);
+    c.source = "python (film back)";
+    return withPose(c, c2w);
+}
+
 Camera orthographic(double widthWorld, int width, int height, py::object c2w, double pixelAspect) {
     if (!(widthWorld > 0) || !std::isfinite(widthWorld)) valueError("width_world must be positive");
     checkDisplaySize(width, height);
@@ -112,6 +130,9 @@ void bindConstructors(py::class_<Camera>& cls) {
             py::arg("cy"), py::arg("camera_to_world") = py::none(), py::arg("orthographic") = false, kInitDoc)
         .def_static("perspective", &perspective, py::arg("fov_deg"), py::arg("width"), py::arg("height"),
                     py::arg("camera_to_world") = py::none(), py::arg("pixel_aspect") = 1.0, kPerspectiveDoc)
+        .def_static("film_back", &filmBack, py::arg("focal_mm"), py::arg("aperture_mm"), py::arg("width"),
+                    py::arg("height"), py::arg("camera_to_world") = py::none(), py::arg("pixel_aspect") = 1.0,
+                    kFilmBackDoc)
         .def_static("orthographic", &orthographic, py::arg("width_world"), py::arg("width"), py::arg("height"),
                     py::arg("camera_to_world") = py::none(), py::arg("pixel_aspect") = 1.0, kOrthographicDoc)
         .def_static("from_sidecar", &fromSidecar, py::arg("path"), py::arg("width"), py::arg("height"),

@@ -38,7 +38,8 @@ data window.
 
 Keywords as process(): preset ('auto', 'blender', 'arnold', 'renderman', 'vray', 'karma',
 'generic'), layer={role: name}, camera (sidecar path; default NAME.json next to the file),
-fov_deg, ortho_width, camera_to_world (4x4 row-major), depth ('planar', 'radial', 'inverse',
+fov_deg (or focal_mm with aperture_mm: the horizontal film back), ortho_width, camera_to_world (4x4
+row-major), depth ('planar', 'radial', 'inverse',
 'normalized'), depth_range ((A, B): normalized's 0 and 1, A > B for white near), normals,
 sky_depth, max_pixels, view (a multi-view file's view to read; default the first with a depth).
 Raises obscura.Error for a missing/unreadable file or missing passes.)doc";
@@ -59,7 +60,8 @@ The layers written, by argument (the CLI's flags write the same):
 
 Keywords are the CLI's flags with underscores: quality, method (a key of obscura.METHODS), radius,
 directions, steps, weighting, falloff, blur, device, threads; preset, layer={role: name}, camera
-(sidecar path), fov_deg, ortho_width, camera_to_world (4x4 or 16 numbers, row-major), depth
+(sidecar path), fov_deg (or focal_mm with aperture_mm: the horizontal film back), ortho_width,
+camera_to_world (4x4 or 16 numbers, row-major), depth
 ('planar' | 'radial'), normals ('world' | 'camera'), sky_depth, max_pixels (refuse a data or
 display window above it before allocating, as --max-pixels; default 16384^2), view (a multi-view
 file's views to process: a name or a list, as --view; default every view with a depth); out_layer (above),
@@ -231,11 +233,12 @@ void bindReadPasses(py::module_& m) {
     m.def(
         "read_passes",
         [](const py::object& path, const py::args& extra, py::object preset, py::object layer, py::object camera,
-           py::object fovDeg, py::object orthoWidth, py::object c2w, py::object depth, py::object depthRange, py::object normals,
+           py::object fovDeg, py::object focalMm, py::object apertureMm, py::object orthoWidth, py::object c2w,
+           py::object depth, py::object depthRange, py::object normals,
            py::object skyDepth, py::object maxPixels, py::object view, const py::kwargs& unknown) {
             checkFileCall("read_passes", extra, unknown, path);
-            return readPassesPy(path, FileArgs{preset, layer, camera, fovDeg, orthoWidth, c2w, depth, depthRange, normals, skyDepth,
-                                               maxPixels, view});
+            return readPassesPy(path, FileArgs{preset, layer, camera, fovDeg, focalMm, apertureMm, orthoWidth, c2w, depth,
+                                               depthRange, normals, skyDepth, maxPixels, view});
         },
         py::arg("path") = py::none(), OBSCURA_FILE_ARGS, kReadPassesDoc);
 }
@@ -247,7 +250,8 @@ void bindProcess(py::module_& m) {
         [](const py::object& path, const py::object& out, const py::args& extra, py::object quality,
            py::object method, py::object radius, py::object directions, py::object steps, py::object weighting, py::object falloff, py::object blur,
            py::object device, py::object threads, py::object preset, py::object layer, py::object camera,
-           py::object fovDeg, py::object orthoWidth, py::object c2w, py::object depth, py::object depthRange, py::object normals,
+           py::object fovDeg, py::object focalMm, py::object apertureMm, py::object orthoWidth, py::object c2w,
+           py::object depth, py::object depthRange, py::object normals,
            py::object skyDepth, py::object maxPixels, py::object view, py::object outLayer, py::object outType, py::object badPixels, py::object reference,
            py::object report, py::object preview, py::object inPlace, py::object samples, py::object interleave,
            py::object sky, py::object envRotate, py::object envIntensity, py::object lights, py::object bounce,
@@ -258,7 +262,9 @@ void bindProcess(py::module_& m) {
             required("process", path, "path", "the input EXR's path");
             required("process", out, "out", "the output EXR's path");
             const FrameJob job = processJob(
-                path, out, FileArgs{preset, layer, camera, fovDeg, orthoWidth, c2w, depth, depthRange, normals, skyDepth, maxPixels, view},
+                path, out,
+                FileArgs{preset, layer, camera, fovDeg, focalMm, apertureMm, orthoWidth, c2w, depth, depthRange, normals,
+                         skyDepth, maxPixels, view},
                 SettingArgs{quality, method, radius, directions, steps, weighting, falloff, blur, device, threads, own},
                 OutputArgs{outLayer, outType, badPixels, reference, report, preview, inPlace, write, previewExposure,
                            perElementAo},
@@ -280,11 +286,12 @@ void bindInspect(py::module_& m) {
     m.def(
         "inspect",
         [](const py::object& path, const py::args& extra, py::object preset, py::object layer, py::object camera,
-           py::object fovDeg, py::object orthoWidth, py::object c2w, py::object depth, py::object depthRange, py::object normals,
+           py::object fovDeg, py::object focalMm, py::object apertureMm, py::object orthoWidth, py::object c2w,
+           py::object depth, py::object depthRange, py::object normals,
            py::object skyDepth, py::object maxPixels, py::object view, py::object device, const py::kwargs& unknown) {
             checkFileCall("inspect", extra, unknown, path);
-            return inspectPy(path, FileArgs{preset, layer, camera, fovDeg, orthoWidth, c2w, depth, depthRange, normals, skyDepth,
-                                            maxPixels, view},
+            return inspectPy(path, FileArgs{preset, layer, camera, fovDeg, focalMm, apertureMm, orthoWidth, c2w, depth,
+                                            depthRange, normals, skyDepth, maxPixels, view},
                              device);
         },
         py::arg("path") = py::none(), OBSCURA_FILE_ARGS, py::arg("device") = py::none(), kInspectDoc);

@@ -103,7 +103,9 @@ FrameJob jobFrom(const py::object& path, const FileArgs& f) {
     if (!f.camera.is_none()) job.camera.sidecarPath = pathArg(f.camera, "camera");
     if (!f.fovDeg.is_none()) job.camera.fovDeg = numberArg(f.fovDeg, "fov_deg");
     if (!f.orthoWidth.is_none()) job.camera.orthoWidth = numberArg(f.orthoWidth, "ortho_width");
-    if (job.camera.fovDeg && job.camera.orthoWidth) valueError("give either fov_deg or ortho_width, not both");
+    if (!f.focalMm.is_none()) job.camera.focalMm = numberArg(f.focalMm, "focal_mm");
+    if (!f.apertureMm.is_none()) job.camera.apertureMm = numberArg(f.apertureMm, "aperture_mm");
+    if (const std::string lens = lensProblem(job.camera, Spelling::Key); !lens.empty()) valueError(lens);
     if (!f.cameraToWorld.is_none()) job.camera.cameraToWorld = matrixRowsArg(f.cameraToWorld, "camera_to_world");
     if (!f.depth.is_none())
         job.depthEncoding = enumArg<DepthEncoding>(f.depth, "depth", "'planar', 'radial', 'inverse' or 'normalized'");

@@ -12,7 +12,8 @@ namespace py = pybind11;
 
 // The keywords that find and read the passes (OBSCURA_FILE_ARGS, in this order).
 struct FileArgs {
-    py::object preset, layer, camera, fovDeg, orthoWidth, cameraToWorld, depth, depthRange, normals, skyDepth, maxPixels, view;
+    py::object preset, layer, camera, fovDeg, focalMm, apertureMm, orthoWidth, cameraToWorld,
+        depth, depthRange, normals, skyDepth, maxPixels, view;
 };
 
 // max_pixels=, as --max-pixels: a window above it is refused before anything is allocated.
@@ -40,7 +41,8 @@ FrameJob processJob(const py::object& path, const py::object& out, const FileArg
 
 #define OBSCURA_FILE_ARGS                                                                                           \
     py::arg("preset") = py::none(), py::arg("layer") = py::none(), py::arg("camera") = py::none(),                 \
-        py::arg("fov_deg") = py::none(), py::arg("ortho_width") = py::none(),                                      \
+        py::arg("fov_deg") = py::none(), py::arg("focal_mm") = py::none(), py::arg("aperture_mm") = py::none(),   \
+        py::arg("ortho_width") = py::none(),                                                                       \
         py::arg("camera_to_world") = py::none(), py::arg("depth") = py::none(), py::arg("depth_range") = py::none(), \
         py::arg("normals") = py::none(),                                                                           \
         py::arg("sky_depth") = py::none(), py::arg("max_pixels") = py::none(), py::arg("view") = py::none()
