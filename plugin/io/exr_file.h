@@ -55,6 +55,11 @@ void checkWindow(const std::string& path, const char* which, const Imath::Box2i&
 // its reader reports it.
 void checkWindowsBeforeOpening(const std::string& path, long long maxPixels);
 
+// Every attribute's size against the file's: OpenEXR's C++ API allocates and fills what a size
+// field claims (a 2 GB string attribute takes it half a minute) before it finds the file short.
+// Only the sizes are checked; anything else malformed is left to the libraries to report.
+void checkAttributeSizes(const std::string& path);
+
 // Headers only. Errors: missing file, not an EXR (magic number), deep data (unless allowDeep:
 // then deep parts are listed without channels, for a writer that copies them untouched),
 // unreadable header, a data or display window above maxPixels or larger than the file's size
