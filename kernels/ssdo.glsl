@@ -226,7 +226,9 @@ void ssdoLanes(lint x, lint y, OUT(lvec3) directional, OUT(lvec3) indirect, OUT(
     indirect = select(any, indirect * (PI / count), zero);
     ao = select(any, open / count, 1.0f);
 
-    // Directional lights: irradiance n.l, unless a few points towards the light within r_max are blocked.
+    // Directional lights: irradiance n.l, unless a point towards the light within r_max is blocked: one at
+    // r_max, behind any solid within it, and three stratified before it with the block's offset, for thin
+    // occluders (fixed points would draw every pixel's shadow edge at the same distances: bands).
     for (int k = 0; k < P.lightCount; ++k) {
         vec3 l = vec3(P.lightDirection[k]);
         lfloat cosL = dot(n, lvec3(l));
@@ -234,11 +236,12 @@ void ssdoLanes(lint x, lint y, OUT(lvec3) directional, OUT(lvec3) indirect, OUT(
         if (!anyLane(lit)) {
             continue;
         }
-        for (int s = 1; s <= 4; ++s) {
+        for (int s = 0; s < 4; ++s) {
+            lfloat along = s == 3 ? lfloat(1.0f) : (float(s) + distanceJitter) * (1.0f / 3.0f);
             lint tx;
             lint ty;
             lvec3 q;
-            lit = lit && !blockedBySurface(receiver + lvec3(l * (P.radius * float(s) * 0.25f)), receiver, n, centre, lit,
+            lit = lit && !blockedBySurface(receiver + lvec3(l) * (P.radius * max(along, 1e-3f)), receiver, n, centre, lit,
                                            tx, ty, q);
         }
         directional += select(lit, lvec3(vec3(P.lightIrradiance[k])) * cosL, zero);
