@@ -71,12 +71,13 @@ void projectToDisplay(lvec3 p, INOUT(lbool) visible, OUT(lvec2) displayPos) {
 
 // Where `asking`: whether the surface seen where a view-space point projects lies in front
 // of the point, within r_max of the receiver and above the receiver's tangent plane: then
-// the point is blocked, and texel (texelX, texelY) and `surface` say by what. The
+// the point is blocked, and texel (texelX, texelY) and `surface` say by what. `entered` relaxes
+// "within r_max" for the bounce (below). The
 // tangent-plane condition is geometry, not a bias: nothing below that plane can block a
 // direction of the hemisphere, and without it the pixel grid makes a flat surface shadow
 // itself at grazing sample directions.
 lbool blockedBySurface(lvec3 point, lvec3 receiver, lvec3 n, lvec2 centre, lbool asking, OUT(lint) texelX,
-                       OUT(lint) texelY, OUT(lvec3) surface) {
+                       OUT(lint) texelY, OUT(lvec3) surface, OUT(lbool) entered) {
     lbool ok = asking;
     lvec2 displayPos;
     projectToDisplay(point, ok, displayPos);
@@ -97,7 +98,11 @@ lbool blockedBySurface(lvec3 point, lvec3 receiver, lvec3 n, lvec2 centre, lbool
     lfloat distance2 = dot(toSurface, toSurface);
     // 1e-4 of the distance: float noise in a reconstructed plane stays below it.
     lbool above = dot(n, toSurface) > 1e-4f * sqrt(distance2);
-    return ok && -surface.z < -point.z && distance2 < P.radius * P.radius && above;
+    lbool behind = ok && -surface.z < -point.z && above;
+    // For the bounce's march: the point lies less than one step behind the surface seen, so the
+    // direction entered it since the last point, within r_max, wherever the surface seen is.
+    entered = behind && (-point.z) - (-surface.z) < P.radius * (1.0f / float(SSDO_STEPS - 1));
+    return behind && distance2 < P.radius * P.radius;
 }
 
 // Directional occlusion (irradiance from unblocked directions), one-bounce indirect
@@ -188,15 +193,17 @@ void ssdoLanes(lint x, lint y, OUT(lvec3) directional, OUT(lvec3) indirect, OUT(
             lint tx;
             lint ty;
             lvec3 q;
-            lbool blocked = blockedBySurface(point, receiver, n, centre, valid, tx, ty, q);
+            lbool entered;
+            lbool blocked = blockedBySurface(point, receiver, n, centre, valid, tx, ty, q, entered);
             if (!atEnd) {
                 openPoints += select(valid && !blocked, lfloat(1.0f), lfloat(0.0f));
             }
-            lbool first = blocked && !found; // the nearest blocked point: what the direction sees
+            lbool meets = blocked || entered;
+            lbool first = meets && !found; // the nearest blocked point: what the direction meets
             senderX = select(first, tx, senderX);
             senderY = select(first, ty, senderY);
             sender = select(first, q, sender);
-            found = found || blocked;
+            found = found || meets;
         }
         lfloat openShare = openPoints * (1.0f / float(SSDO_STEPS - 1));
         open += openShare;
@@ -226,9 +233,7 @@ void ssdoLanes(lint x, lint y, OUT(lvec3) directional, OUT(lvec3) indirect, OUT(
     indirect = select(any, indirect * (PI / count), zero);
     ao = select(any, open / count, 1.0f);
 
-    // Directional lights: irradiance n.l, unless a point towards the light within r_max is blocked: one at
-    // r_max, behind any solid within it, and three stratified before it with the block's offset, for thin
-    // occluders (fixed points would draw every pixel's shadow edge at the same distances: bands).
+    // Directional lights: irradiance n.l, unless a few points towards the light within r_max are blocked.
     for (int k = 0; k < P.lightCount; ++k) {
         vec3 l = vec3(P.lightDirection[k]);
         lfloat cosL = dot(n, lvec3(l));
@@ -236,13 +241,13 @@ void ssdoLanes(lint x, lint y, OUT(lvec3) directional, OUT(lvec3) indirect, OUT(
         if (!anyLane(lit)) {
             continue;
         }
-        for (int s = 0; s < 4; ++s) {
-            lfloat along = s == 3 ? lfloat(1.0f) : (float(s) + distanceJitter) * (1.0f / 3.0f);
+        for (int s = 1; s <= 4; ++s) {
             lint tx;
             lint ty;
             lvec3 q;
-            lit = lit && !blockedBySurface(receiver + lvec3(l) * (P.radius * max(along, 1e-3f)), receiver, n, centre, lit,
-                                           tx, ty, q);
+            lbool entered;
+            lit = lit && !blockedBySurface(receiver + lvec3(l * (P.radius * float(s) * 0.25f)), receiver, n, centre, lit,
+                                           tx, ty, q, entered);
         }
         directional += select(lit, lvec3(vec3(P.lightIrradiance[k])) * cosL, zero);
     }

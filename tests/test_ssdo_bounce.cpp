@@ -49,17 +49,14 @@ double wallIrradiance(double d) { return M_PI * (1 - cornerAo(Weighting::Cosine,
 
 } // namespace
 
-// An infinite lit plane at a right angle to the receiver plane: GI follows the closed form at
-// every distance. Screen space can only miss light, so it never exceeds it; it misses a
-// direction when the wall it meets, seen where the direction's points project, lies beyond R
-// (2-14% here, more as d grows).
+// An infinite lit plane at a right angle to the receiver plane, all of it that bounces on screen:
+// GI follows the closed form at every distance (within 3%: the noise of 41 pixels at 256 samples).
 TEST(SsdoBounce, WallAtRightAngleFollowsTheClosedForm) {
     const LitCorner corner;
     const Image gi = corner.gi(256, 1);
     for (double d : {0.05, 0.1, 0.2, 0.35, 0.5, 0.7}) {
         const double expected = wallIrradiance(d), got = meanOnCornerLine(corner.sb, gi, d);
-        EXPECT_LE(got, expected * 1.02) << "d = " << d;
-        EXPECT_GE(got, expected * 0.85) << "d = " << d;
+        EXPECT_NEAR(got / expected, 1.0, 0.03) << "d = " << d;
     }
     EXPECT_EQ(meanOnCornerLine(corner.sb, gi, 1.2), 0.0) << "the wall is beyond R";
 }
@@ -85,7 +82,6 @@ TEST(SsdoBounce, MeanIsIndependentOfTheSampleCount) {
         }
         for (int k = 1; k < 3; ++k)
             EXPECT_NEAR(means[k] / means[0], 1.0, 0.03) << counts[k] << " vs 64 samples, interleave " << interleave;
-        EXPECT_LE(means[2], expected * 1.02) << "interleave " << interleave;
-        EXPECT_GE(means[2], expected * 0.90) << "interleave " << interleave;
+        EXPECT_NEAR(means[2] / expected, 1.0, 0.03) << "interleave " << interleave;
     }
 }
