@@ -105,8 +105,58 @@ lbool blockedBySurface(lvec3 point, lvec3 receiver, lvec3 n, lvec2 centre, lbool
     return behind && distance2 < P.radius * P.radius;
 }
 
+// The points along one direction (receiver + dir t, t in (0, r_max]): how many of the stratified
+// ones are open, and the first point that lies inside a surface (`found`): the sender, seen at
+// texel (senderX, senderY), view position `sender`.
+void marchDirection(lvec3 receiver, lvec3 n, lvec2 centre, lvec3 dir, lfloat offset, lbool valid, lint x, lint y,
+                    OUT(lfloat) openPoints, OUT(lbool) found, OUT(lint) senderX, OUT(lint) senderY,
+                    OUT(lvec3) sender) {
+    openPoints = lfloat(0.0f);
+    found = openPoints < 0.0f; // no blocked point yet
+    senderX = x;               // the receiver's own texel until a sender is found
+    senderY = y;
+    sender = receiver;
+    for (int step = 0; step < SSDO_STEPS; ++step) {
+        bool atEnd = step == SSDO_STEPS - 1;
+        if (atEnd && P.bounce == 0) {
+            break;
+        }
+        lfloat along = atEnd ? lfloat(1.0f) : (float(step) + offset) * (1.0f / float(SSDO_STEPS - 1));
+        lvec3 point = receiver + dir * (P.radius * max(along, 1e-3f));
+        lint tx;
+        lint ty;
+        lvec3 q;
+        lbool entered;
+        lbool blocked = blockedBySurface(point, receiver, n, centre, valid, tx, ty, q, entered);
+        if (!atEnd) {
+            openPoints += select(valid && !blocked, lfloat(1.0f), lfloat(0.0f));
+        }
+        lbool meets = blocked || entered;
+        lbool first = meets && !found; // the nearest blocked point: what the direction meets
+        senderX = select(first, tx, senderX);
+        senderY = select(first, ty, senderY);
+        sender = select(first, q, sender);
+        found = found || meets;
+    }
+}
+
+// The bounce source's radiance of the sender where `found`, 0 elsewhere.
+lvec3 senderRadiance(lvec3 receiver, lvec3 sender, lbool found, lint senderX, lint senderY) {
+    // The sender's outgoing radiance arrives along the direction; a sender that turns its back
+    // to the receiver is the unlit side of what the direction meets, and sends nothing.
+    lvec3 toSender = sender - receiver;
+    lvec3 senderRay = viewRay(lvec2(lfloat(senderX + P.originX) + 0.5f, lfloat(senderY + P.originY) + 0.5f));
+    lvec3 senderNormal = viewNormal(gatherNormal(senderX, senderY, found), viewVector(senderRay));
+    lbool facing = found && dot(senderNormal, toSender) < 0.0f;
+    lvec3 radiance = gatherRadiance(senderX, senderY, facing);
+    if (P.senderAlbedo != 0) {
+        radiance = radiance * gatherAlbedo(senderX, senderY, facing);
+    }
+    return select(facing, radiance, lvec3(vec3(0.0f)));
+}
+
 // Directional occlusion (irradiance from unblocked directions), one-bounce indirect
-// irradiance, and the AO of the same samples (cosine-weighted, binary within r_max) of the
+// irradiance, and the AO of the same points (cosine-weighted, linear falloff) of the
 // buffer texels (x, y); texels outside the buffer, sky and holes get 0, 0 and 1.
 void ssdoLanes(lint x, lint y, OUT(lvec3) directional, OUT(lvec3) indirect, OUT(lfloat) ao) {
     lvec3 zero = lvec3(vec3(0.0f));
@@ -178,33 +228,12 @@ void ssdoLanes(lint x, lint y, OUT(lvec3) directional, OUT(lvec3) indirect, OUT(
         // Points stratified along the direction in (0, r_max]: a golden-ratio offset per direction,
         // decorrelated from it, shifts all of them, so each distance is as likely as any other.
         lfloat offset = fract(lfloat(i) * 0.618033988749895f + distanceJitter);
-        lfloat openPoints = lfloat(0.0f);
-        lbool found = openPoints < 0.0f; // no blocked point yet
-        lint senderX = x;
-        lint senderY = y;
-        lvec3 sender = receiver;
-        for (int step = 0; step < SSDO_STEPS; ++step) {
-            bool atEnd = step == SSDO_STEPS - 1;
-            if (atEnd && P.bounce == 0) {
-                break;
-            }
-            lfloat along = atEnd ? lfloat(1.0f) : (float(step) + offset) * (1.0f / float(SSDO_STEPS - 1));
-            lvec3 point = receiver + dir * (P.radius * max(along, 1e-3f));
-            lint tx;
-            lint ty;
-            lvec3 q;
-            lbool entered;
-            lbool blocked = blockedBySurface(point, receiver, n, centre, valid, tx, ty, q, entered);
-            if (!atEnd) {
-                openPoints += select(valid && !blocked, lfloat(1.0f), lfloat(0.0f));
-            }
-            lbool meets = blocked || entered;
-            lbool first = meets && !found; // the nearest blocked point: what the direction meets
-            senderX = select(first, tx, senderX);
-            senderY = select(first, ty, senderY);
-            sender = select(first, q, sender);
-            found = found || meets;
-        }
+        lfloat openPoints;
+        lbool found;
+        lint senderX;
+        lint senderY;
+        lvec3 sender;
+        marchDirection(receiver, n, centre, dir, offset, valid, x, y, openPoints, found, senderX, senderY, sender);
         lfloat openShare = openPoints * (1.0f / float(SSDO_STEPS - 1));
         open += openShare;
         lbool opening = openPoints > 0.0f;
@@ -214,17 +243,7 @@ void ssdoLanes(lint x, lint y, OUT(lvec3) directional, OUT(lvec3) indirect, OUT(
         if (P.bounce == 0 || !anyLane(found)) {
             continue;
         }
-        // The sender's outgoing radiance arrives along the direction; a sender that turns its back
-        // to the receiver is the unlit side of what the direction meets, and sends nothing.
-        lvec3 toSender = sender - receiver;
-        lvec3 senderRay = viewRay(lvec2(lfloat(senderX + P.originX) + 0.5f, lfloat(senderY + P.originY) + 0.5f));
-        lvec3 senderNormal = viewNormal(gatherNormal(senderX, senderY, found), viewVector(senderRay));
-        lbool facing = found && dot(senderNormal, toSender) < 0.0f;
-        lvec3 radiance = gatherRadiance(senderX, senderY, facing);
-        if (P.senderAlbedo != 0) {
-            radiance = radiance * gatherAlbedo(senderX, senderY, facing);
-        }
-        indirect += select(facing, radiance, zero);
+        indirect += senderRadiance(receiver, sender, found, senderX, senderY);
     }
     lbool any = computing && used > 0.0f;
     lfloat count = max(used, 1.0f);
