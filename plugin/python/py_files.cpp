@@ -232,13 +232,9 @@ py::array readLayerPy(const py::object& path, const py::object& nameObj, const p
 void bindReadPasses(py::module_& m) {
     m.def(
         "read_passes",
-        [](const py::object& path, const py::args& extra, py::object preset, py::object layer, py::object camera,
-           py::object fovDeg, py::object focalMm, py::object apertureMm, py::object orthoWidth, py::object c2w,
-           py::object depth, py::object depthRange, py::object normals,
-           py::object skyDepth, py::object maxPixels, py::object view, const py::kwargs& unknown) {
+        [](const py::object& path, const py::args& extra, OBSCURA_FILE_PARAMS, const py::kwargs& unknown) {
             checkFileCall("read_passes", extra, unknown, path);
-            return readPassesPy(path, FileArgs{preset, layer, camera, fovDeg, focalMm, apertureMm, orthoWidth, c2w, depth,
-                                               depthRange, normals, skyDepth, maxPixels, view});
+            return readPassesPy(path, OBSCURA_FILE_ARGS_MADE);
         },
         py::arg("path") = py::none(), OBSCURA_FILE_ARGS, kReadPassesDoc);
 }
@@ -249,10 +245,7 @@ void bindProcess(py::module_& m) {
         "process",
         [](const py::object& path, const py::object& out, const py::args& extra, py::object quality,
            py::object method, py::object radius, py::object directions, py::object steps, py::object weighting, py::object falloff, py::object blur,
-           py::object device, py::object threads, py::object preset, py::object layer, py::object camera,
-           py::object fovDeg, py::object focalMm, py::object apertureMm, py::object orthoWidth, py::object c2w,
-           py::object depth, py::object depthRange, py::object normals,
-           py::object skyDepth, py::object maxPixels, py::object view, py::object outLayer, py::object outType, py::object badPixels, py::object reference,
+           py::object device, py::object threads, OBSCURA_FILE_PARAMS, py::object outLayer, py::object outType, py::object badPixels, py::object reference,
            py::object report, py::object preview, py::object inPlace, py::object samples, py::object interleave,
            py::object sky, py::object envRotate, py::object envIntensity, py::object lights, py::object bounce,
            py::object bounceSource, py::object env, py::object envColorspace, py::object colorspace, py::object up,
@@ -263,8 +256,7 @@ void bindProcess(py::module_& m) {
             required("process", out, "out", "the output EXR's path");
             const FrameJob job = processJob(
                 path, out,
-                FileArgs{preset, layer, camera, fovDeg, focalMm, apertureMm, orthoWidth, c2w, depth, depthRange, normals,
-                         skyDepth, maxPixels, view},
+                OBSCURA_FILE_ARGS_MADE,
                 SettingArgs{quality, method, radius, directions, steps, weighting, falloff, blur, device, threads, own},
                 OutputArgs{outLayer, outType, badPixels, reference, report, preview, inPlace, write, previewExposure,
                            perElementAo},
@@ -285,13 +277,9 @@ void bindProcess(py::module_& m) {
 void bindInspect(py::module_& m) {
     m.def(
         "inspect",
-        [](const py::object& path, const py::args& extra, py::object preset, py::object layer, py::object camera,
-           py::object fovDeg, py::object focalMm, py::object apertureMm, py::object orthoWidth, py::object c2w,
-           py::object depth, py::object depthRange, py::object normals,
-           py::object skyDepth, py::object maxPixels, py::object view, py::object device, const py::kwargs& unknown) {
+        [](const py::object& path, const py::args& extra, OBSCURA_FILE_PARAMS, py::object device, const py::kwargs& unknown) {
             checkFileCall("inspect", extra, unknown, path);
-            return inspectPy(path, FileArgs{preset, layer, camera, fovDeg, focalMm, apertureMm, orthoWidth, c2w, depth,
-                                            depthRange, normals, skyDepth, maxPixels, view},
+            return inspectPy(path, OBSCURA_FILE_ARGS_MADE,
                              device);
         },
         py::arg("path") = py::none(), OBSCURA_FILE_ARGS, py::arg("device") = py::none(), kInspectDoc);

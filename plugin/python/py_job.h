@@ -39,6 +39,16 @@ FrameJob processJob(const py::object& path, const py::object& out, const FileArg
 
 } // namespace obscura::python
 
+// The lambda parameters OBSCURA_FILE_ARGS binds, in its order, and the FileArgs made of them: a
+// keyword that finds or reads the passes is added here, in FileArgs and in OBSCURA_FILE_ARGS.
+#define OBSCURA_FILE_PARAMS                                                                                       \
+    py::object preset, py::object layer, py::object camera, py::object fovDeg, py::object focalMm,              \
+        py::object apertureMm, py::object orthoWidth, py::object c2w, py::object depth, py::object depthRange,  \
+        py::object normals, py::object skyDepth, py::object maxPixels, py::object view
+#define OBSCURA_FILE_ARGS_MADE                                                                                    \
+    FileArgs { preset, layer, camera, fovDeg, focalMm, apertureMm, orthoWidth, c2w, depth, depthRange, normals, \
+               skyDepth, maxPixels, view }
+
 #define OBSCURA_FILE_ARGS                                                                                           \
     py::arg("preset") = py::none(), py::arg("layer") = py::none(), py::arg("camera") = py::none(),                 \
         py::arg("fov_deg") = py::none(), py::arg("focal_mm") = py::none(), py::arg("aperture_mm") = py::none(),   \
