@@ -242,6 +242,9 @@ lint discTopLevel(lvec3 xr) {
     return top;
 }
 
+// The receiver's walk down the pyramid, level by level (docs/discs.md's steps, in order). Longer
+// than a function should be: the walk's lane state (the bins, each level's open weights) lives
+// across every level, and cutting it up moves where GCC contracts multiply-adds (kernels.md).
 lfloat discsLanes(lint x, lint y) {
     lbool inside = insideBuffer(x, y);
     lint self = x + y * P.width;

@@ -157,7 +157,9 @@ lvec3 senderRadiance(lvec3 receiver, lvec3 sender, lbool found, lint senderX, li
 
 // Directional occlusion (irradiance from unblocked directions), one-bounce indirect
 // irradiance, and the AO of the same points (cosine-weighted, linear falloff) of the
-// buffer texels (x, y); texels outside the buffer, sky and holes get 0, 0 and 1.
+// buffer texels (x, y); texels outside the buffer, sky and holes get 0, 0 and 1. Longer than a
+// function should be: one loop over the directions feeds all three sums, and cutting it up moves
+// where GCC contracts multiply-adds (kernels.md).
 void ssdoLanes(lint x, lint y, OUT(lvec3) directional, OUT(lvec3) indirect, OUT(lfloat) ao) {
     lvec3 zero = lvec3(vec3(0.0f));
     directional = zero;

@@ -14,6 +14,8 @@ std::string frameFailureJson(const FrameJob& job, int frame, const std::string& 
     return j.dump(2);
 }
 
+// One statement per field of the report (docs/cli.md's schema): a table, so longer than a function
+// should be.
 std::string frameReportJson(const FrameJob& job, const FrameReport& r) {
     using nlohmann::json;
     const Settings& s = job.settings;
