@@ -165,15 +165,21 @@ struct BrokenFrame {
         for (y = 31; y > 0; --y)
             if (*planes.depth.at(x = 10, y) < 1e9f) break;
     }
+    // Writes the planes to DIR/NAME and runs the CLI on them with the scene's camera and `flags`,
+    // writing `out`.
+    CliResult run(const fs::path& dir, const std::string& name, const fs::path& out,
+                  const std::vector<std::string>& flags = {}) const {
+        const std::string in = writeGeneric(dir, name, planes);
+        return cli(cat(cat({in, "-o", out.string()}, flags), cameraFlags(scene)));
+    }
 };
 
 TEST(CliBadInput, NanDepthErrorsByDefault) {
     const fs::path dir = testDir();
     BrokenFrame f;
     *f.planes.depth.at(f.x, f.y) = std::numeric_limits<float>::quiet_NaN();
-    const std::string in = writeGeneric(dir, "nan.exr", f.planes);
     const fs::path out = dir / "out.exr";
-    const CliResult r = cli(cat({in, "-o", out.string()}, cameraFlags(f.scene)));
+    const CliResult r = f.run(dir, "nan.exr", out);
     expectCleanFailure(r, 1, out, {"NaN", std::to_string(f.x) + "," + std::to_string(f.y), "--bad-pixels skip"});
 }
 
@@ -182,10 +188,8 @@ TEST(CliBadInput, NanDepthSkipped) {
     BrokenFrame f;
     *f.planes.depth.at(f.x, f.y) = std::numeric_limits<float>::quiet_NaN();
     *f.planes.depth.at(f.x + 1, f.y) = std::numeric_limits<float>::quiet_NaN();
-    const std::string in = writeGeneric(dir, "nan.exr", f.planes);
     const fs::path out = dir / "out.exr";
-    const CliResult r =
-        cli(cat({in, "-o", out.string(), "--bad-pixels", "skip", "--out-type", "float"}, cameraFlags(f.scene)));
+    const CliResult r = f.run(dir, "nan.exr", out, {"--bad-pixels", "skip", "--out-type", "float"});
     expectSuccess(r, out);
     const FileData fd = readAll(out.string());
     const ChannelData* ao = fd.find(0, "obscura.AO.Y");
@@ -201,9 +205,8 @@ TEST(CliBadInput, NegativeDepthErrors) {
     const fs::path dir = testDir();
     BrokenFrame f;
     *f.planes.depth.at(f.x, f.y) = -2.0f;
-    const std::string in = writeGeneric(dir, "neg.exr", f.planes);
     const fs::path out = dir / "out.exr";
-    const CliResult r = cli(cat({in, "-o", out.string()}, cameraFlags(f.scene)));
+    const CliResult r = f.run(dir, "neg.exr", out);
     expectCleanFailure(r, 1, out, {"negative", std::to_string(f.x) + "," + std::to_string(f.y)});
 }
 
@@ -213,9 +216,8 @@ TEST(CliBadInput, InfiniteDepthIsSky) {
     for (int y = 0; y < 32; ++y)
         if (*f.planes.depth.at(0, y) >= 1e9f) *f.planes.depth.at(0, y) = std::numeric_limits<float>::infinity();
     *f.planes.depth.at(f.x, f.y) = std::numeric_limits<float>::infinity();  // a hole in a surface
-    const std::string in = writeGeneric(dir, "inf.exr", f.planes);
     const fs::path out = dir / "out.exr";
-    const CliResult r = cli(cat({in, "-o", out.string(), "--out-type", "float"}, cameraFlags(f.scene)));
+    const CliResult r = f.run(dir, "inf.exr", out, {"--out-type", "float"});
     expectSuccess(r, out);
     const std::vector<float> v = aoValues(out.string());
     ASSERT_EQ(v.size(), f.planes.depth.pixels.size());
@@ -231,9 +233,8 @@ TEST(CliBadInput, ZeroNormalsEverywhereErrors) {
     const fs::path dir = testDir();
     BrokenFrame f;
     std::fill(f.planes.normal.pixels.begin(), f.planes.normal.pixels.end(), 0.0f);
-    const std::string in = writeGeneric(dir, "zeron.exr", f.planes);
     const fs::path out = dir / "out.exr";
-    const CliResult r = cli(cat({in, "-o", out.string()}, cameraFlags(f.scene)));
+    const CliResult r = f.run(dir, "zeron.exr", out);
     expectCleanFailure(r, 1, out, {"normal", "zero"});
 }
 

@@ -136,7 +136,9 @@ void expectSsdoPixels(const HostImage& frame, const Expected& e, const OperatorO
     EXPECT_EQ(differing, 0) << what << ": " << differing << " pixels differ, first " << first;
 }
 
-Loaded instantiateSsdo(const Scene& s, const HostImage& albedo) {
+// The node loaded, described and instantiated on these clips (each test sets its parameters).
+Loaded instantiateSsdo(const HostImage& depth, const HostImage& normal, const HostImage& source,
+                       const HostImage& albedo) {
     Loaded l;
     l.host = std::make_unique<Host>(kBundle);
     EXPECT_EQ(l.host->error(), "");
@@ -147,8 +149,7 @@ Loaded instantiateSsdo(const Scene& s, const HostImage& albedo) {
     project.width = kW, project.height = kH;
     OfxStatus st = kOfxStatFailed;
     l.inst = l.host->createInstance(
-        project, {{"Depth", &s.depthClip}, {"Normal", &s.normalClip}, {"Source", &s.beautyClip}, {"Albedo", &albedo}},
-        &st);
+        project, {{"Depth", &depth}, {"Normal", &normal}, {"Source", &source}, {"Albedo", &albedo}}, &st);
     EXPECT_EQ(st, kOfxStatOK);
     return l;
 }
@@ -168,7 +169,7 @@ TEST_P(OfxSsdoMatchesOperator, DoGiRelitWholeFrameAndTiles) {
     for (float v : ref.indirect.pixels) giSum += v;
     EXPECT_GT(giSum, 0.0);
 
-    Loaded l = instantiateSsdo(s, albedo);
+    Loaded l = instantiateSsdo(s.depthClip, s.normalClip, s.beautyClip, albedo);
     ASSERT_TRUE(l.inst);
     applyConfig(*l.inst, c, s);
     applySsdo(*l.inst, o);
@@ -207,7 +208,7 @@ TEST(OfxSsdo, RegionsOfInterestFollowWhatEachOutputReads) {
     c.radius = 3.0, c.maxScreenRadius = 7.5;
     const Scene s = makeScene(c);
     const HostImage albedo = albedoClipOf(s);
-    Loaded l = instantiateSsdo(s, albedo);
+    Loaded l = instantiateSsdo(s.depthClip, s.normalClip, s.beautyClip, albedo);
     ASSERT_TRUE(l.inst);
     applyConfig(*l.inst, c, s);
     const OfxRectD window{40, 20, 56, 36};
@@ -283,17 +284,8 @@ TEST(OfxSsdo, FurnaceOpenPlaneUnderWhiteSkyGivesPi) {
             float* a = albedo.at(x, y);
             a[0] = 0.5f, a[1] = 0.25f, a[2] = 1.0f, a[3] = 1.0f;
         }
-    Loaded l;
-    l.host = std::make_unique<Host>(kBundle);
-    ASSERT_EQ(l.host->error(), "");
-    ASSERT_EQ(l.host->load(), kOfxStatOK);
-    ASSERT_EQ(l.host->describe(), kOfxStatOK);
-    ProjectSetup project;
-    project.width = kW, project.height = kH;
-    OfxStatus st = kOfxStatFailed;
-    l.inst = l.host->createInstance(
-        project, {{"Depth", &depth}, {"Normal", &normal}, {"Source", &beauty}, {"Albedo", &albedo}}, &st);
-    ASSERT_EQ(st, kOfxStatOK);
+    Loaded l = instantiateSsdo(depth, normal, beauty, albedo);
+    ASSERT_TRUE(l.inst);
     Instance& inst = *l.inst;
     EXPECT_EQ(inst.setInt("projection", 1), kOfxStatOK);
     EXPECT_EQ(inst.setDouble("orthoWidth", 10.0), kOfxStatOK);
@@ -336,7 +328,7 @@ SsdoOptions rotatedZUpMap() {
 // The SSDO node over the scene with `c` and `o`, lit by the map at `path`, outputting DO.
 Loaded ssdoNodeWithMap(const Config& c, const Scene& s, const HostImage& albedo, const SsdoOptions& o,
                        const std::string& path) {
-    Loaded l = instantiateSsdo(s, albedo);
+    Loaded l = instantiateSsdo(s.depthClip, s.normalClip, s.beautyClip, albedo);
     if (!l.inst) return l;
     applyConfig(*l.inst, c, s);
     applySsdo(*l.inst, o);
