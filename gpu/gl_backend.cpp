@@ -378,6 +378,34 @@ void GlBackend::runSsdo(const glsl::KernelParams& p, const SsdoInputs& in, Mutab
     if (timings) *timings = t;
 }
 
+void GlBackend::runHbaoGi(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane radiance,
+                          MutablePlane ao, MutablePlane gi, int blur, GlTimings* timings, long long maxTexels) {
+    if (info().maxStorageBindings < kBindings)
+        throw Error(info().backend + " offers " + std::to_string(info().maxStorageBindings) +
+                    " storage buffer bindings; hbao's GI needs " + std::to_string(kBindings) + "; use --device cpu");
+    GlTimings t;
+    std::vector<float> packed;
+    runTiled(
+        p, depth, normal, blur, maxTexels, t,
+        [&](const Box2i& buf, const glsl::KernelParams&) {
+            const size_t texels = (size_t)buf.width() * buf.height();
+            pack(radiance, buf, 3, packed);
+            uploadBuffer(kRadiance, GL_SHADER_STORAGE_BUFFER, packed.data(), packed.size() * sizeof(float));
+            uploadBuffer(kSignalOut, GL_SHADER_STORAGE_BUFFER, nullptr, texels * sizeof(float));
+            uploadBuffer(kIndirect, GL_SHADER_STORAGE_BUFFER, nullptr, texels * 3 * sizeof(float));
+        },
+        [&](const glsl::KernelParams& q) {
+            dispatch("hbao_gi", q);
+            blurBuffer(kIndirect, 3, blur, q);
+            blurBuffer(kSignalOut, 1, blur, q);
+        },
+        [&](const Box2i& inner, const Box2i& buf) {
+            readInner(kIndirect, 3, inner, buf, gi);
+            readInner(kSignalOut, 1, inner, buf, ao);
+        });
+    if (timings) *timings = t;
+}
+
 GlBackend& glBackendFor(const std::string& device) {
     // One backend per thread and device: a GL context is current on one thread only.
     thread_local std::map<std::string, std::unique_ptr<GlBackend>> cache;

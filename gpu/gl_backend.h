@@ -48,6 +48,11 @@ public:
         runAoWith("hbao", p, depth, normal, deep, ao, blur, timings, maxTexels);
     }
 
+    // HBAO with its indirect light (kernels/hbao_gi.glsl): AO and the irradiance `gi` (RGB) from
+    // `radiance`, the bounce source (RGB, albedo applied), then `blur` passes on each.
+    void runHbaoGi(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane radiance, MutablePlane ao,
+                   MutablePlane gi, int blur, GlTimings* timings = nullptr, long long maxTexels = 0);
+
     // View-space unit normals from the depth alone (kernels/depth_normal.glsl), 3 channels.
     void runDepthNormals(const glsl::KernelParams& p, ConstPlane depth, MutablePlane normal, GlTimings* timings = nullptr);
 

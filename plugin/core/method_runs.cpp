@@ -6,10 +6,34 @@
 #include "cpu/discs_cpu.h"
 
 #include <algorithm>
+#include <utility>
 
 namespace obscura {
 
+namespace {
+// HBAO with --bounce: the indirect light from the same march (kernels/hbao_gi.glsl), from the
+// bounce source times the albedo where one is given (SSDO's senders), multiplied once here.
+void runHbaoGi(const MethodRun& r) {
+    const OperatorInputs& in = r.in;
+    if (!in.radiance.valid()) throw Error("the bounce (GI) needs a radiance source: a direct-diffuse or beauty pass");
+    if (in.deepLayers.valid()) throw Error("hbao's bounce (GI) reads flat input only; leave out the deep layers");
+    checkPlane(in.radiance, 3, in.dataWindow, "bounce source");
+    const bool albedo = r.params.senderAlbedo != 0 && in.albedo.valid();
+    if (albedo) checkPlane(in.albedo, 3, in.dataWindow, "albedo");
+    const int w = in.dataWindow.width(), h = in.dataWindow.height();
+    Image source(w, h, 3);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int c = 0; c < 3; ++c)
+                source.at(x, y)[c] = in.radiance.at(x, y)[c] * (albedo ? in.albedo.at(x, y)[c] : 1.0f);
+    r.out.indirect = Image(w, h, 3, 0.0f);
+    r.backend.hbaoGi(r.params, in.depth, in.normal, std::as_const(source).view(), r.out.ao.view(),
+                     r.out.indirect.view(), resolvedBlur(r.settings), r.out.stats);
+}
+} // namespace
+
 void runHbaoMethod(const MethodRun& r) {
+    if (r.settings.bounce) return runHbaoGi(r);
     const ConstPlane deep = r.params.deepLayers > 0 ? r.in.deepLayers : ConstPlane{};
     r.backend.ao(AoKernel::Hbao, r.params, r.in.depth, r.in.normal, deep, r.out.ao.view(), resolvedBlur(r.settings),
                  r.out.stats);

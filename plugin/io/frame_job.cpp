@@ -171,9 +171,14 @@ void requestBounce(FrameJob& job) {
     job.writeRelit = true;
 }
 
+bool readsColour(const FrameJob& job) {
+    const std::string& method = job.settings.method;
+    return methodOutputs(method, "do") || (methodOutputs(method, "gi") && (job.writeIndirect || job.writeRelit));
+}
+
 SsdoReads planSsdoReads(const FrameJob& job, const FramePasses& p) {
     SsdoReads r;
-    if (!methodOutputs(job.settings.method, "do")) return r;  // AO alone reads no colour pass
+    if (!readsColour(job)) return r;  // AO alone reads no colour pass
     const ExrPart& part = p.info.parts[p.part];
     const bool bounce = job.writeIndirect || job.writeRelit;
     if (bounce) {
@@ -429,7 +434,7 @@ void addSsdoInputs(const FrameJob& job, FramePasses& p, Settings& settings, Oper
         report.plan.push_back("environment " + job.envPath + " (" + std::to_string(environment.width) + "x" +
                               std::to_string(environment.height) + ")");
     }
-    report.plan.push_back(std::string("ssdo") + (settings.bounce ? " + bounce from " + job.bounceSource : " (no bounce)"));
+    report.plan.push_back(settings.method + (settings.bounce ? " + bounce from " + job.bounceSource : " (no bounce)"));
 }
 
 // What the operator computes from: the passes' planes, the conventions and, as the method asks,
@@ -447,7 +452,7 @@ OperatorInputs operatorInputs(const FrameJob& job, FramePasses& p, Settings& set
     settings.skyDepth = report.skyDepth;
     deep = readDeepInput(job, p, report);
     if (!deep.empty()) in.deepLayers = deep.view();
-    if (methodOutputs(settings.method, "do")) addSsdoInputs(job, p, settings, in, environment, report);
+    if (readsColour(job)) addSsdoInputs(job, p, settings, in, environment, report);
     else report.plan.push_back(settings.method);
     return in;
 }
@@ -482,7 +487,7 @@ FrameReport runJob(const FrameJob& job) {
     writeFrameOutputs(job, p, out, report);
     if (!job.previewPath.empty()) {
         StageTimer timer{&report.stages, "preview"};
-        report.plan.push_back(writeFramePreview(job, p, out, methodOutputs(job.settings.method, "do")));
+        report.plan.push_back(writeFramePreview(job, p, out, readsColour(job)));
     }
     return report;
 }
