@@ -24,6 +24,23 @@ EnvironmentMap EnvironmentMap::load(const std::string& path, double rotationDeg)
     return m;
 }
 
+EnvironmentMap EnvironmentMap::fromFunction(int width, int height,
+                                            const std::function<glm::vec3(const glm::dvec3&)>& radiance) {
+    EnvironmentMap m;
+    m.width = width;
+    m.height = height;
+    m.rgb.resize(size_t(width) * height * 3);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            // Inverse of radiance()'s lookup: u = 0.5 + atan2(e.x, -e.z) / 2 pi, v = acos(e.y) / pi.
+            const double phi = 2 * M_PI * ((x + 0.5) / width - 0.5), theta = M_PI * (y + 0.5) / height;
+            const glm::dvec3 e(std::sin(theta) * std::sin(phi), std::cos(theta), -std::sin(theta) * std::cos(phi));
+            const glm::vec3 c = radiance(glm::dvec3(e.x, -e.z, e.y));  // env (x, z, -y) -> world, rotation 0
+            for (int k = 0; k < 3; ++k) m.rgb[(size_t(y) * width + x) * 3 + k] = c[k];
+        }
+    return m;
+}
+
 glm::dvec3 EnvironmentMap::worldToEnvironment(const glm::dvec3& w) const {
     // obscura: worldToEnv = mat3((1,0,0), (0,0,-1), (0,1,0)) (columns): (x, y, z) -> (x, z, -y);
     // spin = mat3((c,0,-s), (0,1,0), (s,0,c)) (columns), s = sin(rotation).
@@ -47,6 +64,17 @@ glm::dvec3 EnvironmentMap::radiance(const glm::dvec3& worldDir) const {
     };
     const glm::dvec3 top = glm::mix(at(x0, y0), at(x1, y0), fx), bottom = glm::mix(at(x0, y1), at(x1, y1), fx);
     return glm::mix(top, bottom, fy);
+}
+
+EnvironmentMap skyMap(const Lighting& lighting) {
+    return EnvironmentMap::fromFunction(128, 64, [&](const glm::dvec3& d) { return lighting.sky(d); });
+}
+
+void writeEnvironment(const std::string& path, const EnvironmentMap& map) {
+    auto out = OIIO::ImageOutput::create(path);
+    const OIIO::ImageSpec spec(map.width, map.height, 3, OIIO::TypeDesc::FLOAT);
+    if (!out || !out->open(path, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, map.rgb.data()) || !out->close())
+        throw std::runtime_error("cannot write environment " + path + ": " + OIIO::geterror());
 }
 
 } // namespace reference

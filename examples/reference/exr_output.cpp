@@ -44,7 +44,7 @@ struct Plane {
     std::vector<float> data;
 };
 
-std::vector<Plane> makePlanes(const Frame& f, bool directionalOcclusion) {
+std::vector<Plane> makePlanes(const Frame& f, bool directionalOcclusion, bool bounce) {
     const size_t n = f.pixels.size();
     std::vector<Plane> planes;
     auto add = [&](const std::string& name, const std::function<float(const PixelResult&)>& get) {
@@ -69,11 +69,16 @@ std::vector<Plane> makePlanes(const Frame& f, bool directionalOcclusion) {
     if (directionalOcclusion)
         for (int c = 0; c < 3; ++c)
             add(std::string("Reference.DO.") + rgb[c], [c](const PixelResult& p) { return p.directionalOcclusion[c]; });
+    if (bounce)
+        for (int c = 0; c < 3; ++c) {
+            add(std::string("Reference.GI.") + rgb[c], [c](const PixelResult& p) { return p.giNear[c]; });
+            add(std::string("Reference.GI_unlimited.") + rgb[c], [c](const PixelResult& p) { return p.giFull[c]; });
+        }
     return planes;
 }
 
 void writeExr(const std::string& path, const Frame& f, const PinholeCamera& camera, const OutputInfo& info) {
-    std::vector<Plane> planes = makePlanes(f, info.settings.environment != nullptr);
+    std::vector<Plane> planes = makePlanes(f, info.settings.environment != nullptr, info.settings.giRays > 0);
     // The camera and the display window are the width x height frame; overscan widens the data window.
     const Imath::Box2i display(Imath::V2i(0, 0), Imath::V2i(camera.width - 1, camera.height - 1));
     const Imath::Box2i data(Imath::V2i(f.originX, f.originY),
@@ -101,8 +106,14 @@ void writeExr(const std::string& path, const Frame& f, const PinholeCamera& came
         text("reference/doDefinition",
              "DO = integral over the hemisphere of L_env(w) (1 - W(t(w))) cos(theta) dw, W linear as AO_cosine_linear, "
              "from the same cosine-weighted rays; L_env = bilinear lookup of the level-0 lat-long map, world z up "
-             "-> env (x, z, -y), then rotated about up as obscura --up z --env-rotate; sky DO = 0");
+             "-> env (x, z, -y), then rotated about up as obscura --up z --env-rotate; sky DO = 0" +
+                 std::string(s.sunInDo ? "; plus the sun as obscura --light: pi x sunColour x cos unless hit within R" : ""));
     }
+    if (s.giRays > 0)
+        text("reference/giDefinition",
+             "GI = irradiance (not / pi) of one diffuse bounce: pi x mean over cosine-weighted rays of the radiance of "
+             "the first surface hit, albedo x (sun + point lights + one sky sample, DiffDir units); Reference.GI counts "
+             "hits within R (obscura's SSDO GI), Reference.GI_unlimited every hit (= pi x DiffInd)");
     Imf::FrameBuffer fb;
     for (Plane& p : planes) {
         header.channels().insert(p.name, Imf::Channel(Imf::FLOAT));

@@ -81,6 +81,10 @@ void Integrator::ambientOcclusion(const glm::dvec3& origin, const glm::dvec3& n,
         // Cosine-weighted: irradiance = pi / n * sum of L (1 - W).
         if (env) out.directionalOcclusion = glm::vec3(directional * (M_PI / count));
     }
+    const Lighting& l = scene_.lighting;
+    const double sunCos = glm::dot(n, l.sunDirection);
+    if (settings_.environment && settings_.sunInDo && sunCos > 0 && !tracer_.occluded(origin, l.sunDirection, 0, float(R)))
+        out.directionalOcclusion += l.sunColour * float(M_PI * sunCos);  // sunColour is DiffDir: irradiance / pi
 }
 
 // Cosine-weighted rays: a miss sees the sky (direct light, DiffDir); a hit sees a
@@ -90,7 +94,7 @@ void Integrator::diffuseLight(const glm::dvec3& origin, const glm::dvec3& n, uin
                               PixelResult& out) const {
     const int count = settings_.giRays;
     const SobolSet bounceSamples(hashCombine(pixelSeed, kBounceSet)), skySamples(hashCombine(pixelSeed, kBounceSkySet));
-    glm::dvec3 skySum(0.0), indirectSum(0.0);
+    glm::dvec3 skySum(0.0), indirectSum(0.0), nearSum(0.0);
     double lum = 0, lum2 = 0;
     for (int i = 0; i < count; ++i) {
         const glm::dvec3 dir = toWorld(cosineHemisphere(bounceSamples(uint32_t(i))), n);
@@ -106,12 +110,16 @@ void Integrator::diffuseLight(const glm::dvec3& origin, const glm::dvec3& n, uin
         if (!tracer_.occluded(q + eps * h.normal, skyDir, 0, kInfinity)) light += scene_.lighting.sky(skyDir);
         const glm::vec3 radiance = h.albedo * light;
         indirectSum += glm::dvec3(radiance);
+        if (h.t <= settings_.radius) nearSum += glm::dvec3(radiance);
         const double y = luminance(radiance);
         lum += y, lum2 += y * y;
     }
     if (count > 0) {
         out.direct += glm::vec3(skySum / double(count));
         out.indirect = glm::vec3(indirectSum / double(count));
+        // Irradiance = pi x the mean radiance of cosine-distributed rays.
+        out.giFull = glm::vec3(indirectSum * (M_PI / count));
+        out.giNear = glm::vec3(nearSum * (M_PI / count));
         out.indirectStdErr = standardError(lum, lum2, count);
     }
 }

@@ -27,6 +27,9 @@ struct RenderSettings {
     // --env: a lat-long map; when set, each pixel also gets the ground-truth directional
     // occlusion (Reference.DO), from the cosine-weighted AO rays.
     std::shared_ptr<const EnvironmentMap> environment;
+    // --do-sun: Reference.DO also holds the sun as obscura's --light: its irradiance (pi x sunColour) x cos,
+    // unless something lies within `radius` towards it.
+    bool sunInDo = false;
 };
 
 struct PixelResult {
@@ -39,6 +42,9 @@ struct PixelResult {
     double indirectStdErr = 0;  // of the luminance of `indirect`
     // With an environment: integral of L_env(w) (1 - W(t(w))) cos(theta) dw, W linear (obscura's SSDO DO).
     glm::vec3 directionalOcclusion{0.0f};
+    // One-bounce irradiance (not / pi): integral of L_s(w) cos(theta) dw, L_s = albedo x direct irradiance / pi of
+    // the first surface hit along w; `giNear` counts only hits within `radius` (SSDO's GI), `giFull` every hit.
+    glm::vec3 giNear{0.0f}, giFull{0.0f};
 };
 
 class Integrator {

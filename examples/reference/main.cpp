@@ -38,7 +38,9 @@ int usage(FILE* to) {
                  "                     W x H display window, as renderers write overscan (0)\n"
                  "  --env FILE.exr     lat-long environment: also write Reference.DO.R/G/B, the ground-truth\n"
                  "                     directional occlusion of obscura's SSDO (cosine AO rays, linear falloff)\n"
+                 "                     (FILE \"sky\": the scene's own sky as a 128x64 map, written to OUTPUT's stem + _sky.exr)\n"
                  "  --env-rotate DEG   rotation of the environment about up, as obscura --env-rotate (0)\n"
+                 "  --do-sun           Reference.DO also holds the sun, as obscura --light (blocked within the radius)\n"
                  "  --deep FILE.exr    also write every surface along each primary ray as a deep EXR\n"
                  "                     (one sample per solid: Z where the ray enters, ZBack where it leaves)\n"
                  "  --check            compare with closed forms (corner crease; open ground plane); exit 1 on failure\n"
@@ -63,6 +65,10 @@ void printConvergence(const RenderSettings& s, const Convergence& c, double seco
                     c.aoStdErrMax[l]);
     std::printf("%-30s %-9.4f %-15.5f %-15.5f\n", "ViewLayer.DiffInd (luminance)", c.indirectMean, c.indirectStdErrMean,
                 c.indirectStdErrMax);
+    if (s.giRays > 0)
+        std::printf("%-30s %-9.4f\n%-30s %-9.4f\n", "Reference.GI (luminance)", c.giNearMean,
+                    "Reference.GI_unlimited (lum.)", c.giFullMean);
+    if (s.environment) std::printf("%-30s %-9.4f\n", "Reference.DO (luminance)", c.directionalMean);
     std::printf("(standard errors are iid estimates; Owen-scrambled Sobol sampling does better)\n");
     std::printf("%zu surface pixels, %.2f s\n", c.surfacePixels, seconds);
 }
@@ -105,6 +111,7 @@ int main(int argc, char** argv) {
         else if (a == "--overscan") settings.overscan = int(integer(0, 16384));
         else if (a == "--check") check = true;
         else if (a == "--quiet") quiet = true;
+        else if (a == "--do-sun") settings.sunInDo = true;
         else if (a == "--env") envPath = value();
         else if (a == "--deep") deepPath = value();
         else if (a == "--env-rotate") {
@@ -138,7 +145,13 @@ int main(int argc, char** argv) {
         const auto start = std::chrono::steady_clock::now();
         const Scene scene = makeScene(sceneName);
         settings.radius = radius > 0 ? radius : scene.defaultRadius;
-        if (!envPath.empty())
+        if (envPath == "sky") {
+            EnvironmentMap sky = skyMap(scene.lighting);
+            sky.rotationDeg = envRotate;
+            const std::string skyPath = outPath.substr(0, outPath.rfind('.')) + "_sky.exr";
+            writeEnvironment(skyPath, sky);
+            settings.environment = std::make_shared<const EnvironmentMap>(std::move(sky));
+        } else if (!envPath.empty())
             settings.environment = std::make_shared<const EnvironmentMap>(EnvironmentMap::load(envPath, envRotate));
         const Tracer tracer(scene);
         const PinholeCamera camera = PinholeCamera::lookAt(scene.camera, settings.width, settings.height);

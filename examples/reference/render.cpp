@@ -40,7 +40,11 @@ Convergence summarise(const Frame& frame) {
             c.aoStdErrMean[l] += p.aoStdErr[l];
             c.aoStdErrMax[l] = std::max(c.aoStdErrMax[l], p.aoStdErr[l]);
         }
-        c.indirectMean += 0.2126 * p.indirect.r + 0.7152 * p.indirect.g + 0.0722 * p.indirect.b;
+        auto luminance = [](const glm::vec3& v) { return 0.2126 * v.r + 0.7152 * v.g + 0.0722 * v.b; };
+        c.indirectMean += luminance(p.indirect);
+        c.giNearMean += luminance(p.giNear);
+        c.giFullMean += luminance(p.giFull);
+        c.directionalMean += luminance(p.directionalOcclusion);
         c.indirectStdErrMean += p.indirectStdErr;
         c.indirectStdErrMax = std::max(c.indirectStdErrMax, p.indirectStdErr);
     }
@@ -48,6 +52,9 @@ Convergence summarise(const Frame& frame) {
         const double n = double(c.surfacePixels);
         for (int l = 0; l < kAoLayers; ++l) c.aoMean[l] /= n, c.aoStdErrMean[l] /= n;
         c.indirectMean /= n;
+        c.giNearMean /= n;
+        c.giFullMean /= n;
+        c.directionalMean /= n;
         c.indirectStdErrMean /= n;
     }
     return c;

@@ -19,6 +19,7 @@ struct Convergence {
     size_t surfacePixels = 0;
     std::array<double, kAoLayers> aoMean{}, aoStdErrMean{}, aoStdErrMax{};
     double indirectMean = 0, indirectStdErrMean = 0, indirectStdErrMax = 0;  // luminance
+    double giNearMean = 0, giFullMean = 0, directionalMean = 0;              // luminance of GI, GI_unlimited, DO
 };
 
 // row(y) for every y in [0, height), rows handed out one at a time to `threads` threads (0 =

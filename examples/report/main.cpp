@@ -4,6 +4,7 @@
 // timed (median after a warm-up) and measured against the reference over non-sky
 // pixels. Writes results.csv, results.json, <scene>_sheet.png and error_vs_time.png.
 #include "contact_sheet.h"
+#include "lit_outputs.h"
 #include "obscura_runs.h"
 #include "reference_runs.h"
 #include "report_options.h"
@@ -91,6 +92,83 @@ obscura::Image displayWindowOf(const obscura::Image& data, int overscan, int wid
     return out;
 }
 
+// The rows' shared fields, the scene's tag for progress lines, and where rows go.
+struct SceneRows {
+    const char* tag;
+    ResultRow base;
+    std::vector<ResultRow>& rows;
+};
+
+ResultRow litRow(const ResultRow& from, const std::string& quantity, const std::string& definition, const LitError& e) {
+    ResultRow r = from;
+    r.quantity = quantity;
+    r.definition = definition;
+    r.metrics = e.metrics;
+    r.relativeRmse = e.relativeRmse;
+    r.meanRatio = e.meanRatio;
+    return r;
+}
+
+void printLit(const SceneRows& out, const ResultRow& r) {
+    progress("%s %s %-8s %-9s: %-12s rel. RMSE %.3f, mean / reference %.3f\n", out.tag, r.method.c_str(),
+             r.preset.c_str(), r.device.c_str(), r.quantity.c_str(), r.relativeRmse, r.meanRatio);
+}
+
+// The ray tracer's own curves: AO (every definition in play) and DO from the same renders; GI from renders
+// with that many GI rays when a method bounces.
+void traceCurves(const SceneRig& rig, const ReferenceSettings& rs,
+                 const std::vector<std::pair<AoDefinition, const obscura::Image*>>& definitions,
+                 const LoadedFrame& frame, const LitReferences* lit, bool bounce, SceneRows& out) {
+    for (int rays : rs.curveRays) {
+        const TracedAo t = traceAo(rig, rs, rays);
+        ResultRow r = out.base;
+        r.method = "raytrace";
+        r.preset = "rays-" + std::to_string(rays);
+        r.device = "cpu-embree";
+        r.deviceDetail = "Embree 3, " + std::to_string(std::max(1u, std::thread::hardware_concurrency())) +
+                         " threads; both weightings traced";
+        r.rays = rays;
+        r.runs = t.runs;
+        r.timeMs = 1e3 * t.medianSeconds;
+        r.stageMs = {{"render", r.timeMs}};
+        for (const auto& [def, reference] : definitions) {
+            ResultRow a = r;
+            a.definition = def.name;
+            a.metrics = nonSkyError(t.ao[def.referenceLayer], *reference, frame);
+            progress("%s raytrace %4d rays (%s): %9.2f ms, %s\n", out.tag, rays, def.name.c_str(), a.timeMs,
+                     metricsText(a.metrics).c_str());
+            out.rows.push_back(a);
+        }
+        if (lit) {
+            out.rows.push_back(litRow(r, "do", "do_sky_sun", litError(t.directional, lit->directional, frame)));
+            printLit(out, out.rows.back());
+        }
+        if (!lit || !bounce) continue;
+        const TracedGi g = traceGi(rig, rs, rays);
+        ResultRow gr = r;
+        gr.runs = g.runs;
+        gr.timeMs = 1e3 * g.medianSeconds;
+        gr.stageMs = {{"render", gr.timeMs}};
+        gr.deviceDetail = "Embree 3; one AO ray per weighting, the lights' shadow rays, GI rays";
+        out.rows.push_back(litRow(gr, "gi", "gi_within_r", litError(g.gi, lit->gi, frame)));
+        printLit(out, out.rows.back());
+    }
+}
+
+// DO and GI rows of an obscura run (the AO row is already in).
+void addLitRows(const TimedOperator& t, const ResultRow& aoRow, const LitReferences& lit, const LoadedFrame& f,
+                SceneRows& out) {
+    if (!t.directional.empty()) {
+        out.rows.push_back(litRow(aoRow, "do", "do_sky_sun", litError(t.directional, lit.directional, f)));
+        printLit(out, out.rows.back());
+    }
+    if (t.indirect.empty()) return;
+    out.rows.push_back(litRow(aoRow, "gi", "gi_within_r", litError(t.indirect, lit.gi, f)));
+    printLit(out, out.rows.back());
+    out.rows.push_back(litRow(aoRow, "gi_unlimited", "gi_unlimited", litError(t.indirect, lit.giUnlimited, f)));
+    printLit(out, out.rows.back());
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -120,43 +198,27 @@ int main(int argc, char** argv) {
             else progress("%s   rendered in %.1f s -> %s\n", tag, conv.seconds, conv.path.c_str());
             const LoadedFrame frame = loadFrame(conv.path, o.definition.exrLayer());
             const obscura::Image& truth = frame.passes.reference;
-            // SSDO's inputs: the bounce source (DiffDir x DiffCol), DiffInd, and its AO definition's reference.
-            const bool anySsdo = anyMethod(o.methods, isSsdoMethod);
+            // The lit methods' inputs (SSDO, GI methods): the bounce source (DiffDir x DiffCol), the scene's sky
+            // as the map and its sun; their AO definition's reference (cosine_linear) and Reference.DO / GI.
+            const bool anyLit = anyMethod(o.methods, isLit), anyBounce = anyMethod(o.methods, hasBounce);
             AoDefinition ssdoDefinition;
             parseDefinition("cosine_linear", ssdoDefinition);
-            const LoadedFrame ssdoFrame = anySsdo ? loadFrame(conv.path, ssdoDefinition.exrLayer(), true) : LoadedFrame();
+            const LoadedFrame ssdoFrame = anyLit ? loadFrame(conv.path, ssdoDefinition.exrLayer(), true) : LoadedFrame();
+            const LitReferences lit = anyLit ? loadLitReferences(conv.path) : LitReferences();
+            const obscura::Image sky = skyEnvironment(rig.scene);
             // The AO definitions in play (the report's, and cosine_linear when SSDO runs), for the ray tracer's curve.
             std::vector<std::pair<AoDefinition, const obscura::Image*>> definitions = {{o.definition, &truth}};
-            if (anySsdo && ssdoDefinition.name != o.definition.name)
+            if (anyLit && ssdoDefinition.name != o.definition.name)
                 definitions.emplace_back(ssdoDefinition, &ssdoFrame.passes.reference);
 
-            ResultRow base;
-            base.scene = name;
-            base.definition = o.definition.name;
-            base.width = rs.width;
-            base.height = rs.height;
-            base.radius = frame.radius;
-
-            for (int rays : rs.curveRays) {
-                const TracedAo t = traceAo(rig, rs, rays);
-                for (const auto& [def, reference] : definitions) {
-                    ResultRow r = base;
-                    r.method = "raytrace";
-                    r.definition = def.name;
-                    r.preset = "rays-" + std::to_string(rays);
-                    r.device = "cpu-embree";
-                    r.deviceDetail = "Embree 3, " + std::to_string(std::max(1u, std::thread::hardware_concurrency())) +
-                                     " threads; both weightings traced";
-                    r.rays = rays;
-                    r.runs = t.runs;
-                    r.timeMs = 1e3 * t.medianSeconds;
-                    r.stageMs = {{"render", r.timeMs}};
-                    r.metrics = nonSkyError(t.ao[def.referenceLayer], *reference, frame);
-                    progress("%s raytrace %4d rays (%s): %9.2f ms, %s\n", tag, rays, def.name.c_str(), r.timeMs,
-                             metricsText(r.metrics).c_str());
-                    rows.push_back(r);
-                }
-            }
+            SceneRows out{tag, ResultRow(), rows};
+            out.base.scene = name;
+            out.base.definition = o.definition.name;
+            out.base.width = rs.width;
+            out.base.height = rs.height;
+            out.base.radius = frame.radius;
+            const ResultRow& base = out.base;
+            traceCurves(rig, rs, definitions, frame, anyLit ? &lit : nullptr, anyBounce, out);
 
             // --overscan: the same frame's passes with a margin past the display window; obscura's AO
             // is cropped back to the display window, so the reference and the non-sky mask are the frame's.
@@ -186,7 +248,7 @@ int main(int argc, char** argv) {
             for (const std::string& method : o.methods)
                 for (const std::string& preset : o.presets)
                     for (const std::string& device : devices) {
-                        const bool ssdo = isSsdoMethod(method), bounce = hasBounce(method);
+                        const bool ssdo = isSsdoMethod(method), bounce = hasBounce(method), lights = isLit(method);
                         const AoDefinition def = definitionFor(method, o.definition);
                         const LoadedFrame& f = ssdo ? ssdoFrame : frame;
                         obscura::Settings s;
@@ -197,8 +259,13 @@ int main(int argc, char** argv) {
                         s.falloff = def.falloff;
                         s.skyDepth = f.skyDepth;
                         s.device = device;
-                        TimedOperator t = timeOperator(ssdo ? operatorInputs(f, bounce, o.depthNormals) : usesDeep(method) ? deepIn : in, s, rs.runs,
-                                                       rs.runBudgetSeconds);
+                        obscura::OperatorInputs runIn = ssdo ? operatorInputs(f, bounce, o.depthNormals) : usesDeep(method) ? deepIn : in;
+                        if (lights) {
+                            applySceneLights(rig.scene, s);
+                            if (!ssdo) runIn = operatorInputs(ssdoFrame, true, o.depthNormals);  // + the bounce source
+                            runIn.environment = &sky;
+                        }
+                        TimedOperator t = timeOperator(runIn, s, rs.runs, rs.runBudgetSeconds);
                         ResultRow r = base;
                         r.method = method;
                         r.preset = preset;
@@ -228,16 +295,7 @@ int main(int argc, char** argv) {
                         progress("%s %s %-6s %-9s: %9.2f ms, AO (%s) %s\n", tag, method.c_str(), preset.c_str(),
                                  device.c_str(), r.timeMs, def.name.c_str(), metricsText(r.metrics).c_str());
                         rows.push_back(r);
-                        if (bounce) {
-                            ResultRow g = r;
-                            g.quantity = "gi";
-                            g.definition = "diffind_luminance";
-                            g.metrics = giError(t.indirect, f);
-                            progress("%s %s %-6s %-9s: GI / pi vs DiffInd (luminance) %s; means %.4f vs %.4f\n", tag,
-                                     method.c_str(), preset.c_str(), device.c_str(), metricsText(g.metrics).c_str(),
-                                     meanGiLuminance(t.indirect, f), meanDiffIndLuminance(f));
-                            rows.push_back(g);
-                        }
+                        if (lights) addLitRows(t, r, lit, f, out);
                         const bool wanted = method == o.methods.front() && preset == o.sheetPreset && device == o.sheetDevice;
                         if (sheetAo.empty() || wanted) {
                             sheetAo = std::move(t.ao);
@@ -261,7 +319,6 @@ int main(int argc, char** argv) {
                 progress("%s contact sheet -> %s\n", tag, sheet.c_str());
             }
             scenes.push_back({{"scene", name}, {"radius", frame.radius}, {"reference", conv.path},
-                              {"diffind_mean_luminance", anySsdo ? meanDiffIndLuminance(ssdoFrame) : 0.0},
                               {"reference_cached", conv.cached}, {"reference_render_s", conv.seconds},
                               {"sheet_ao", sheetLabel}});
         }
@@ -301,11 +358,14 @@ int main(int argc, char** argv) {
              "against the converged reference layer; the raytrace rows use an independent seed. quantity 'ao': "
              "the row's definition (HBAO: the report's --definition; SSDO: cosine_linear, which its AO is by "
              "construction); the ray tracer's curve appears once per definition in play (same renders). quantity "
-             "'gi' (ssdo+bounce): Rec. 709 luminance of GI / pi (obscura's one-bounce irradiance from senders "
-             "radiating DiffDir x DiffCol within r_max, in DiffInd's units) against the luminance of "
-             "ViewLayer.DiffInd of the converged render (gi_rays paths per pixel), which also holds light from "
-             "beyond r_max, off-screen and hidden senders and further bounces: an upper bound on what screen "
-             "space can recover; scenes[].diffind_mean_luminance gives its scale."},
+             "'do' (SSDO) and 'gi' (ssdo+bounce and any GI method): Rec. 709 luminance of the RGB irradiance "
+             "against Reference.DO (the scene's sky as a lat-long map through the open directions, linear "
+             "falloff, plus its sun unless blocked within R; obscura gets the same map and the sun as a light) "
+             "and Reference.GI (one bounce from surfaces within R radiating albedo x direct irradiance / pi, "
+             "gi_rays paths per pixel); 'gi_unlimited': the same GI against Reference.GI_unlimited (every "
+             "surface, = pi x DiffInd). rel_rmse = RMSE / mean(reference) over non-sky pixels is their "
+             "normalised error; mean_ratio = mean(result) / mean(reference) their bias. The ray tracer's DO "
+             "comes from its AO renders' cosine rays, its GI from renders with that many GI rays."},
         };
         const std::string csv = (fs::path(o.outDir) / "results.csv").string();
         const std::string json = (fs::path(o.outDir) / "results.json").string();

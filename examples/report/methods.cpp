@@ -45,7 +45,17 @@ bool parseDefinition(const std::string& name, AoDefinition& out) {
 
 bool isSsdoMethod(const std::string& method) { return method == "ssdo" || method == "ssdo+bounce" || method == "ssdo-noint"; }
 
-bool hasBounce(const std::string& method) { return method == "ssdo+bounce"; }
+bool hasBounce(const std::string& method) {
+    const std::string suffix = "+bounce";
+    if (method.size() > suffix.size() && method.compare(method.size() - suffix.size(), suffix.size(), suffix) == 0)
+        return true;  // "ssdo+bounce", or another method's bounce variant ("hbao+bounce")
+    // A method of the table whose only business is GI (an AO method that can also bounce needs a variant).
+    return !isSsdoMethod(method) && obscura::methodOutputs(method, "gi") && !obscura::methodOutputs(method, "ao");
+}
+
+bool hasDirectional(const std::string& method) { return obscura::methodOutputs(operatorMethod(method), "do"); }
+
+bool isLit(const std::string& method) { return hasBounce(method) || hasDirectional(method); }
 
 bool usesDeep(const std::string& method) { return method == "hbao+deep"; }
 
@@ -77,6 +87,7 @@ void configureMethod(const std::string& method, const std::string& preset, obscu
         if (method == "discs-blend") s.discsBlendLevels = true;
         if (method == "discs-nopoly") s.discsNoPolygon = true;
         if (method == "discs-sum") s.discsSum = true;
+        s.bounce = hasBounce(method);
         return;
     }
     s.method = "ssdo";

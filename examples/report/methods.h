@@ -40,8 +40,13 @@ bool parseDefinition(const std::string& name, AoDefinition& out);
 
 // True for the report's SSDO variants ("ssdo", "ssdo+bounce", "ssdo-noint").
 bool isSsdoMethod(const std::string& method);
-// True when the method computes the one-bounce GI (its rows also measure GI).
+// True when the method computes the one-bounce GI (its rows also measure GI): a "+bounce" variant
+// ("ssdo+bounce", "hbao+bounce"), or a method of the table with a "gi" output and no "ao" one.
 bool hasBounce(const std::string& method);
+// True when the method writes directional occlusion (its rows also measure DO): SSDO's variants.
+bool hasDirectional(const std::string& method);
+// hasBounce or hasDirectional: the method runs under the scene's lights (sky map, sun, DiffDir x DiffCol).
+bool isLit(const std::string& method);
 // hbao+deep: hbao with the scene's deep reference as extra layers (docs/deep.md).
 bool usesDeep(const std::string& method);
 // True when `test` holds for one of `methods` (e.g. anyMethod(o.methods, isSsdoMethod)).

@@ -25,10 +25,6 @@ LoadedFrame loadFrame(const std::string& exrPath, const std::string& referenceLa
     if (withBounce) {
         if (f.passes.radiance.empty() || f.passes.albedo.empty())
             throw obscura::Error("'" + exrPath + "' has no DiffDir/DiffCol for the bounce");
-        obscura::FrameJob gi = job;  // the same reader, with DiffInd as the "bounce source"
-        gi.referenceLayer.clear();
-        gi.bounceSource = "ViewLayer.DiffInd";
-        f.diffInd = std::move(obscura::loadFramePasses(gi, false).radiance);
     }
     f.camera = obscura::resolveFrameCamera(job, f.passes);
     f.skyDepth = f.passes.plan.skyDepth;
@@ -83,6 +79,7 @@ TimedOperator timeOperator(const obscura::OperatorInputs& in, const obscura::Set
     for (const std::string& name : order) out.stageMedians.emplace_back(name, median(stages[name]));
     out.deviceDetail = result.stats.device;
     out.ao = std::move(result.ao);
+    out.directional = std::move(result.directional);
     out.indirect = std::move(result.indirect);
     return out;
 }
@@ -94,47 +91,6 @@ obscura::ErrorMetrics nonSkyError(const obscura::Image& ao, const obscura::Image
         const float d = *depth.at(x, y);
         return d > 0.0f && d < sky;
     });
-}
-
-} // namespace report
-
-namespace report {
-
-namespace {
-obscura::Image luminance(const obscura::Image& rgb, float scale) {
-    obscura::Image y(rgb.width, rgb.height, 1);
-    for (size_t i = 0, n = size_t(rgb.width) * rgb.height; i < n; ++i)
-        y.pixels[i] = scale * (0.2126f * rgb.pixels[3 * i] + 0.7152f * rgb.pixels[3 * i + 1] +
-                               0.0722f * rgb.pixels[3 * i + 2]);
-    return y;
-}
-} // namespace
-
-obscura::ErrorMetrics giError(const obscura::Image& indirect, const LoadedFrame& f) {
-    if (indirect.empty() || f.diffInd.empty()) throw obscura::Error("giError: no GI or no DiffInd");
-    return nonSkyError(luminance(indirect, float(1.0 / M_PI)), luminance(f.diffInd, 1.0f), f);
-}
-
-namespace {
-double meanNonSky(const obscura::Image& y, const LoadedFrame& f) {
-    double sum = 0;
-    long long n = 0;
-    for (int yy = 0; yy < y.height; ++yy)
-        for (int x = 0; x < y.width; ++x) {
-            const float d = *f.passes.depth.at(x, yy);
-            if (d > 0.0f && d < f.skyDepth) {
-                sum += *y.at(x, yy);
-                ++n;
-            }
-        }
-    return n ? sum / double(n) : 0.0;
-}
-} // namespace
-
-double meanDiffIndLuminance(const LoadedFrame& f) { return meanNonSky(luminance(f.diffInd, 1.0f), f); }
-
-double meanGiLuminance(const obscura::Image& indirect, const LoadedFrame& f) {
-    return meanNonSky(luminance(indirect, float(1.0 / M_PI)), f);
 }
 
 } // namespace report

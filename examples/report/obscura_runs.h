@@ -18,12 +18,11 @@ struct LoadedFrame {
     float skyDepth = 1e9f;
     double radius = 1;            // the reference's AO distance (sidecar "ao_distance")
     // withBounce only: passes.radiance = ViewLayer.DiffDir, passes.albedo = ViewLayer.DiffCol (what the
-    // CLI's --bounce-source direct-diffuse reads) and the ray-traced one-bounce light ViewLayer.DiffInd.
-    obscura::Image diffInd;       // RGB, same units as DiffDir (diffuse = DiffCol x (DiffDir + DiffInd))
+    // CLI's --bounce-source direct-diffuse reads).
 };
 
 // Reads `exrPath` with the Blender preset and `referenceLayer` (e.g. Reference.AO_cosine_none);
-// with `withBounce`, also the bounce source, the albedo and DiffInd.
+// with `withBounce`, also the bounce source and the albedo.
 LoadedFrame loadFrame(const std::string& exrPath, const std::string& referenceLayer, bool withBounce = false);
 // The operator's inputs: views into `frame`, valid while it lives; with `withBounce`, the bounce
 // source (radiance = DiffDir, albedo = DiffCol: senders radiate DiffDir x DiffCol); with
@@ -36,7 +35,8 @@ struct TimedOperator {
     std::vector<std::pair<std::string, double>> stageMedians;  // seconds, in the operator's stage order
     std::string deviceDetail;  // OperatorStats::device
     obscura::Image ao;         // from the last run
-    obscura::Image indirect;   // SSDO with bounce: GI irradiance E, RGB, from the last run
+    obscura::Image directional;  // SSDO: DO irradiance, RGB, from the last run
+    obscura::Image indirect;   // with bounce: GI irradiance E, RGB, from the last run
 };
 
 // One warm-up run, then `runs` timed runs of runOperator, stopping early (after at least
@@ -46,13 +46,5 @@ TimedOperator timeOperator(const obscura::OperatorInputs& in, const obscura::Set
 
 // `ao` against `reference` over the frame's non-sky pixels (depth in (0, sky)).
 obscura::ErrorMetrics nonSkyError(const obscura::Image& ao, const obscura::Image& reference, const LoadedFrame& frame);
-
-// One-bounce GI against the ray tracer: luminance (Rec. 709 weights) of GI / pi against the luminance
-// of `frame.diffInd`, over non-sky pixels. `frame` must have been loaded withBounce.
-obscura::ErrorMetrics giError(const obscura::Image& indirect, const LoadedFrame& frame);
-// Mean luminance of DiffInd over non-sky pixels (the scale the GI errors are read against).
-double meanDiffIndLuminance(const LoadedFrame& frame);
-// Mean luminance of GI / pi over the same pixels (compare with meanDiffIndLuminance: the bias).
-double meanGiLuminance(const obscura::Image& indirect, const LoadedFrame& frame);
 
 } // namespace report

@@ -1,15 +1,18 @@
 #!/usr/bin/env python3
-"""Draws obscura_report's error-against-run-time chart from results.json.
+"""Draws obscura_report's error-against-run-time charts from results.json.
 
 usage: plot_report.py results.json error_vs_time.png
 
-Writes error_vs_time.png (log-log, x = time per frame in ms, y = AO RMSE, both the mean
-over the report's scenes): one curve per method + device through the quality presets
-(HBAO against the report's definition, SSDO against cosine_linear), and the ray tracer's
-own curve through its AO ray counts, once per definition in play. Points are labelled with
-their preset or ray count (one curve per method: its devices run the same presets). Also
-writes <stem>_by_scene.png with the same chart for each scene, and, when the rows hold GI
-(quantity "gi": ssdo+bounce against the ray tracer's DiffInd), <stem>_gi.png.
+Each chart is log-log, x = time per frame in ms, y = the error, both the mean over the
+report's scenes; one curve per method + device through the quality presets (colour: the
+method; line style: the device), and the ray tracer's own curve through its ray counts.
+Writes, next to error_vs_time.png:
+  error_vs_time.png            AO: the methods at their defaults (no variants), RMSE
+  error_vs_time_by_scene.png   the same per scene
+  error_vs_time_variants.png   AO of each method's variants (HBAO's first), one panel per method
+  error_vs_time_do.png         DO (quantity "do"): relative RMSE against Reference.DO
+  error_vs_time_gi.png         GI (quantity "gi"): relative RMSE against Reference.GI (within r_max)
+The DO and GI charts appear when the rows hold those quantities.
 """
 import json
 import math
@@ -24,8 +27,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 RAYTRACE = "raytrace"
 
 
-def curves(rows, preset_order):
-    """{(method, device): [(label, time_ms, rmse), ...]} in preset / ray-count order."""
+def curves(rows, preset_order, metric="rmse"):
+    """{(method, device): [(label, time_ms, error), ...]} in preset / ray-count order."""
     out = {}
     for r in rows:
         key = (r["method"], r["device"])
@@ -40,13 +43,13 @@ def curves(rows, preset_order):
         else:
             group.sort(key=lambda r: preset_order.index(r["preset"]) if r["preset"] in preset_order else 99)
             labels = [r["preset"] for r in group]
-        result[key] = [(lab, r["time_ms"], r["rmse"]) for lab, r in zip(labels, group)]
+        result[key] = [(lab, r["time_ms"], r[metric]) for lab, r in zip(labels, group)]
     return result
 
 
-def mean_curves(rows, preset_order, scenes):
-    """Per (method, device) and point label: mean time and mean RMSE over the scenes."""
-    per_scene = [curves([r for r in rows if r["scene"] == s], preset_order) for s in scenes]
+def mean_curves(rows, preset_order, scenes, metric="rmse"):
+    """Per (method, device) and point label: mean time and mean error over the scenes."""
+    per_scene = [curves([r for r in rows if r["scene"] == s], preset_order, metric) for s in scenes]
     merged = {}
     for c in per_scene:
         for key, points in c.items():
@@ -64,26 +67,30 @@ def mean_curves(rows, preset_order, scenes):
     return result
 
 
+DEVICE_STYLES = {"cpu": "-", "gl-osmesa": "--", "gl-egl": ":"}
+
+
 def draw(ax, curve_map, title, label_points=True, ylabel="RMSE vs converged reference"):
+    """Colour = method, line style = device; the ray tracer's curves in black."""
     colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    obscura_keys = sorted(k for k in curve_map if k[0] != RAYTRACE)
     markers = "osD^v<>p"
+    methods = sorted({k[0] for k in curve_map if k[0] != RAYTRACE})
     labelled = set()  # methods whose presets are labelled (devices share sample counts, so one curve each)
     traced = sorted(k for k in curve_map if k[0] == RAYTRACE)
-    for i, key in enumerate(obscura_keys + traced):
+    obscura_keys = sorted((k for k in curve_map if k[0] != RAYTRACE), key=lambda k: (methods.index(k[0]), k[1]))
+    for key in obscura_keys + traced:
         pts = [p for p in curve_map[key] if p[1] > 0 and p[2] > 0]
         if not pts:
             continue
         xs, ys = [p[1] for p in pts], [p[2] for p in pts]
         if key[0] == RAYTRACE:
             style = "k--x" if traced.index(key) == 0 else "k:+"
-            ax.plot(xs, ys, style, lw=1.2, ms=6, label=f"ray traced ({key[1]}, {key[2]})")
+            ax.plot(xs, ys, style, lw=1.2, ms=6, label=f"ray traced ({key[2]})" if key[2] else "ray traced")
         else:
-            ax.plot(xs, ys, "-", marker=markers[i % len(markers)], color=colours[i % len(colours)], lw=1.5, ms=5,
-                    label=f"{key[0]} on {key[1]}")
-        # ssdo+bounce runs ssdo's presets at the same AO: its labels would sit on ssdo's (unless it is alone)
-        quiet = key[0] == "ssdo+bounce" and any(k[0] == "ssdo" for k in curve_map)
-        if label_points and not quiet and key[:1] + key[2:] not in labelled:
+            m = methods.index(key[0])
+            ax.plot(xs, ys, DEVICE_STYLES.get(key[1], "-."), marker=markers[m % len(markers)],
+                    color=colours[m % len(colours)], lw=1.5, ms=5, label=f"{key[0]} on {key[1]}")
+        if label_points and key[:1] + key[2:] not in labelled:
             labelled.add(key[:1] + key[2:])
             for lab, x, y in pts:
                 ax.annotate(lab, (x, y), textcoords="offset points", xytext=(4, 3), fontsize=7)
@@ -95,6 +102,43 @@ def draw(ax, curve_map, title, label_points=True, ylabel="RMSE vs converged refe
     ax.grid(True, which="both", lw=0.3, alpha=0.6)
 
 
+def family(method):
+    """The method a variant belongs to: "hbao+open" -> "hbao", "discs-sum" -> "discs", "ssdo-noint" -> "ssdo"."""
+    for sep in "+-":
+        method = method.split(sep)[0]
+    return method
+
+
+def is_variant(method):
+    return method != RAYTRACE and family(method) != method
+
+
+def single_chart(path, curve_map, title, ylabel):
+    fig, ax = plt.subplots(figsize=(8, 6), dpi=120)
+    draw(ax, curve_map, title, ylabel=ylabel)
+    ax.legend(fontsize=8, loc="best")
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+
+
+def variants_chart(path, rows, order, scenes, definition):
+    """One panel per method that has variants (HBAO first), each with the ray tracer's curve."""
+    families = sorted({family(r["method"]) for r in rows if is_variant(r["method"])}, key=lambda f: (f != "hbao", f))
+    if not families:
+        return False
+    fig, axes = plt.subplots(1, len(families), figsize=(6.5 * len(families), 5.5), dpi=100, squeeze=False)
+    for ax, fam in zip(axes[0], families):
+        chosen = [r for r in rows if family(r["method"]) == fam or
+                  (r["method"] == RAYTRACE and r["definition"] == (definition if fam != "ssdo" else "cosine_linear"))]
+        draw(ax, mean_curves(chosen, order, scenes), f"{fam} and its variants (AO)")
+        ax.legend(fontsize=7, loc="best")
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+    return True
+
+
 def main():
     if len(sys.argv) != 3:
         sys.exit(__doc__)
@@ -102,49 +146,51 @@ def main():
         data = json.load(f)
     meta, rows = data["meta"], data["rows"]
     rows = [r for r in rows if r.get("rmse") is not None and math.isfinite(r["rmse"])]
-    gi_rows = [r for r in rows if r.get("quantity", "ao") == "gi"]
-    rows = [r for r in rows if r.get("quantity", "ao") == "ao"]
+    by_quantity = {}
+    for r in rows:
+        by_quantity.setdefault(r.get("quantity", "ao"), []).append(r)
+    ao = by_quantity.get("ao", [])
+    main_ao = [r for r in ao if not is_variant(r["method"])]
     scenes = [s["scene"] for s in meta["scenes"]]
     order = meta.get("preset_order", [])
     size = f'{meta["width"]}x{meta["height"]}'
     out = sys.argv[2]
+    stem, ext = os.path.splitext(out)
+    where = f"mean over {len(scenes)} scene(s) at {size}"
 
-    fig, ax = plt.subplots(figsize=(8, 6), dpi=120)
-    draw(ax, mean_curves(rows, order, scenes),
-         f"AO error against time, mean over {len(scenes)} scene(s) at {size}\n"
-         f'HBAO vs {meta["definition"]}, SSDO vs cosine_linear; reference {meta["converged_rays"]} rays per pixel')
-    ax.legend(fontsize=8, loc="best")
-    fig.tight_layout()
-    fig.savefig(out)
-    plt.close(fig)
+    single_chart(out, mean_curves(main_ao, order, scenes),
+                 f"AO error against time, {where}\n"
+                 f'HBAO etc. vs {meta["definition"]}, SSDO vs cosine_linear; reference {meta["converged_rays"]} rays '
+                 "per pixel", "RMSE vs converged reference")
+    written = [out]
 
     cols = min(4, max(1, len(scenes)))
     nrows = math.ceil(len(scenes) / cols)
     fig, axes = plt.subplots(nrows, cols, figsize=(4.2 * cols, 3.4 * nrows), dpi=100, squeeze=False)
     for i, scene in enumerate(scenes):
-        draw(axes[i // cols][i % cols], curves([r for r in rows if r["scene"] == scene], order), scene)
+        draw(axes[i // cols][i % cols], curves([r for r in main_ao if r["scene"] == scene], order), scene,
+             label_points=False)
     for j in range(len(scenes), nrows * cols):
         axes[j // cols][j % cols].axis("off")
     handles, labels = axes[0][0].get_legend_handles_labels()
     fig.legend(handles, labels, fontsize=8, loc="lower center", ncol=min(4, len(labels)))
-    fig.tight_layout(rect=(0, 0.06, 1, 1))
-    stem, ext = os.path.splitext(out)
+    fig.tight_layout(rect=(0, 0.08, 1, 1))
     fig.savefig(stem + "_by_scene" + ext)
     plt.close(fig)
-    written = [out, stem + "_by_scene" + ext]
-    if gi_rows:
-        fig, ax = plt.subplots(figsize=(8, 6), dpi=120)
-        draw(ax, mean_curves(gi_rows, order, scenes),
-             f"one-bounce GI error against time, mean over {len(scenes)} scene(s) at {size}\n"
-             "luminance of GI / pi vs ray-traced DiffInd (which includes light from beyond r_max and off screen)",
-             ylabel="RMSE of GI / pi vs DiffInd (luminance)")
-        ax.set_yscale("linear")
-        ax.set_ylim(bottom=0)
-        ax.legend(fontsize=8, loc="best")
-        fig.tight_layout()
-        fig.savefig(stem + "_gi" + ext)
-        plt.close(fig)
-        written.append(stem + "_gi" + ext)
+    written.append(stem + "_by_scene" + ext)
+
+    if variants_chart(stem + "_variants" + ext, ao, order, scenes, meta["definition"]):
+        written.append(stem + "_variants" + ext)
+    lit = {"do": ("directional occlusion (DO)", "Reference.DO: sky map through the open directions + sun"),
+           "gi": ("one-bounce GI", "Reference.GI: one bounce from surfaces within r_max")}
+    for quantity, (name, reference) in lit.items():
+        if not by_quantity.get(quantity):
+            continue
+        path = f"{stem}_{quantity}{ext}"
+        single_chart(path, mean_curves(by_quantity[quantity], order, scenes, "rel_rmse"),
+                     f"{name} error against time, {where}\nluminance vs {reference}",
+                     "relative RMSE = RMSE / mean(reference)")
+        written.append(path)
     print("plot_report: wrote " + ", ".join(written))
 
 

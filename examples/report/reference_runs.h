@@ -17,11 +17,12 @@ namespace report {
 struct ReferenceSettings {
     int width = 320, height = 240;
     int convergedRays = 1024;                        // AO rays per pixel and weighting, seed 1
-    int giRays = 64;                                 // for the beauty of the converged render only
-    std::vector<int> curveRays = {1, 4, 16, 64, 256};  // the ray tracer's own curve, seed 2
+    int giRays = 1024;                               // of the converged render: its beauty, Reference.GI (+ _unlimited)
+    std::vector<int> curveRays = {1, 4, 16, 64, 256};  // the ray tracer's own curve, seed 2 (AO and DO rays; GI rays)
     int runs = 3;                                    // timed runs per point (median), after a warm-up for obscura
     double runBudgetSeconds = 2.0;                   // fewer runs (at least 1) once a point has taken this long
     int threads = 0;                                 // 0 = all cores
+    double radiusScale = 1;                          // R = the scene's default radius x this (--radius-scale)
 };
 
 // A scene with its Embree BVH and camera, built once per scene; building is not timed.
@@ -36,7 +37,9 @@ struct SceneRig {
 };
 
 struct ConvergedReference {
-    std::string path;     // <cacheDir>/<scene>_<W>x<H>_ao<N>_gi<M>.exr (+ the .json camera sidecar)
+    // <cacheDir>/<scene>_<W>x<H>_ao<N>_gi<M>_lit.exr (+ the .json camera sidecar); "_lit": the scene's sky
+    // as the DO map and its sun in Reference.DO, with Reference.GI and GI_unlimited (older caches lack them).
+    std::string path;
     bool cached = false;  // found on disk, not rendered now
     double seconds = 0;   // render time when rendered now
 };
@@ -59,10 +62,20 @@ struct TracedAo {
     int runs = 0;              // timed renders (fewer than asked when over the run budget)
     double medianSeconds = 0;  // whole render: primary rays, light shadow rays, AO rays of both weightings
     obscura::Image ao[reference::kAoLayers];  // every AO layer (reference::AoLayer order), one channel each
+    obscura::Image directional;               // Reference.DO's quantity from the cosine rays, RGB
 };
 
 // Renders AO only (no GI) with `rays` AO rays per pixel, s.runs times (within the run budget),
 // and keeps every AO layer (one render traces both weightings; the falloff is a weight).
+// DO comes from the same cosine rays (the scene's sky as the map, its sun as a light).
 TracedAo traceAo(const SceneRig& rig, const ReferenceSettings& s, int rays);
+
+struct TracedGi {
+    int rays = 0, runs = 0;
+    double medianSeconds = 0;  // whole render: primary rays, lights, `rays` GI rays (+ 1 AO ray per weighting)
+    obscura::Image gi;         // Reference.GI's quantity (within R), RGB
+};
+// The ray tracer's own GI curve: a render with `rays` cosine GI rays per pixel, timed like traceAo.
+TracedGi traceGi(const SceneRig& rig, const ReferenceSettings& s, int rays);
 
 } // namespace report

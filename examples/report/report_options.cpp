@@ -33,8 +33,9 @@ void usage(FILE* to) {
         "                         uniform_linear (cosine_none: what a ray tracer's AO pass computes)\n"
         "  --width W, --height H  render size (320 x 240)\n"
         "  --converged-rays N     AO rays per pixel of the converged reference (1024)\n"
-        "  --gi-rays N            GI rays of the converged render, for the beauty panel (64)\n"
-        "  --rt-rays A,B          ray counts of the ray tracer's own curve (1,4,16,64,256)\n"
+        "  --gi-rays N            GI rays of the converged render: beauty, Reference.GI (1024)\n"
+        "  --radius-scale F       every scene's AO distance R times F (1; references cached per F)\n"
+        "  --rt-rays A,B          ray counts of the ray tracer's own curves, AO/DO and GI (1,4,16,64,256)\n"
         "  --runs N               timed runs after one warm-up; the median is reported (3)\n"
         "  --run-budget S         stop timing a point after S seconds of runs (at least one run) (2)\n"
         "  --sheet-preset P       preset shown on the contact sheets (high)\n"
@@ -134,7 +135,12 @@ ReportOptions parseReportOptions(int argc, char** argv) {
         } else if (a == "--width") o.reference.width = toInt(a, value(), 8, 8192);
         else if (a == "--height") o.reference.height = toInt(a, value(), 8, 8192);
         else if (a == "--converged-rays") o.reference.convergedRays = toInt(a, value(), 1, 1 << 16);
-        else if (a == "--gi-rays") o.reference.giRays = toInt(a, value(), 0, 1 << 16);
+        else if (a == "--gi-rays") o.reference.giRays = toInt(a, value(), 1, 1 << 16);
+        else if (a == "--radius-scale") {
+            const std::string s = value();
+            o.reference.radiusScale = std::strtod(s.c_str(), nullptr);
+            if (!(o.reference.radiusScale > 0)) fail("--radius-scale needs a positive number, got " + s);
+        }
         else if (a == "--rt-rays") {
             o.reference.curveRays.clear();
             for (const std::string& r : splitList(value())) o.reference.curveRays.push_back(toInt(a, r, 1, 1 << 16));

@@ -31,7 +31,7 @@ nlohmann::json finiteOrNull(double v) { return std::isfinite(v) ? nlohmann::json
 const std::vector<std::string>& csvColumns() {
     static const std::vector<std::string> columns = {
         "scene", "method", "preset", "device", "quantity", "definition", "width", "height", "radius", "directions",
-        "steps", "samples", "interleave", "blur", "rays", "runs", "time_ms", "stage_ms", "pixels", "mae", "rmse", "psnr_db", "p99", "max_abs", "overscan"};
+        "steps", "samples", "interleave", "blur", "rays", "runs", "time_ms", "stage_ms", "pixels", "mae", "rmse", "psnr_db", "p99", "max_abs", "overscan", "rel_rmse", "mean_ratio"};
     return columns;
 }
 
@@ -57,7 +57,7 @@ void writeCsv(const std::string& path, const std::vector<ResultRow>& rows) {
             std::to_string(r.samples), std::to_string(r.interleave), std::to_string(r.blur),
             std::to_string(r.rays), std::to_string(r.runs), number(r.timeMs, "%.4f"), stageText(r),
             std::to_string(m.pixels), number(m.mae), number(m.rmse), number(m.psnr, "%.3f"), number(m.p99),
-            number(m.maxAbs), std::to_string(r.overscan)};
+            number(m.maxAbs), std::to_string(r.overscan), number(r.relativeRmse), number(r.meanRatio)};
         std::string line;
         for (const std::string& c : cells) line += (line.empty() ? "" : ",") + c;  // no cell holds a comma
         text += line + "\n";
@@ -77,7 +77,7 @@ void writeJson(const std::string& path, const std::vector<ResultRow>& rows, cons
                         {"steps", r.steps}, {"samples", r.samples}, {"interleave", r.interleave}, {"blur", r.blur}, {"rays", r.rays}, {"runs", r.runs},
                         {"time_ms", r.timeMs}, {"stage_ms", stages}, {"pixels", m.pixels}, {"mae", m.mae},
                         {"rmse", m.rmse}, {"psnr_db", finiteOrNull(m.psnr)}, {"p99", m.p99}, {"max_abs", m.maxAbs},
-                        {"overscan", r.overscan}});
+                        {"overscan", r.overscan}, {"rel_rmse", r.relativeRmse}, {"mean_ratio", r.meanRatio}});
     }
     writeTextFile(path, nlohmann::json{{"meta", meta}, {"rows", list}}.dump(1) + "\n");
 }

@@ -13,7 +13,9 @@ namespace report {
 
 struct ResultRow {
     std::string scene, method, preset, device, definition;
-    std::string quantity = "ao";   // "ao": AO vs Reference.AO_<definition>; "gi": GI / pi vs ViewLayer.DiffInd
+    // "ao": AO vs Reference.AO_<definition>; "do": DO vs Reference.DO; "gi": GI vs Reference.GI (surfaces within
+    // R); "gi_unlimited": GI vs Reference.GI_unlimited (every surface). DO and GI: luminance of RGB irradiance.
+    std::string quantity = "ao";
     std::string deviceDetail;      // e.g. "gl-osmesa: llvmpipe (LLVM 15.0.6, 256 bits), OpenGL 4.5 ..." (JSON only)
     int width = 0, height = 0;
     double radius = 0;
@@ -25,6 +27,8 @@ struct ResultRow {
     double timeMs = 0;                         // median time per frame (obscura: runOperator; ray tracer: render)
     std::vector<std::pair<std::string, double>> stageMs;  // median of each stage, ms
     obscura::ErrorMetrics metrics;             // against the converged reference, non-sky pixels
+    double relativeRmse = 0;                   // the normalised error: RMSE / mean(reference), non-sky pixels
+    double meanRatio = 0;                      // mean(result) / mean(reference): 1 = no bias
 };
 
 // The CSV header, in column order.

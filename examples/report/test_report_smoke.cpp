@@ -46,7 +46,7 @@ TEST(ReportSmoke, QuickRunWritesTableSheetAndChart) {
                                                "height", "radius", "directions", "steps", "samples", "interleave",
                                                "blur", "rays", "runs", "time_ms",
                                                "stage_ms", "pixels", "mae", "rmse", "psnr_db", "p99", "max_abs",
-                                               "overscan"};
+                                               "overscan", "rel_rmse", "mean_ratio"};
     const std::vector<std::string> header = splitCsvLine(line);
     ASSERT_EQ(header, expected);
 
@@ -58,8 +58,13 @@ TEST(ReportSmoke, QuickRunWritesTableSheetAndChart) {
         for (size_t i = 0; i < cells.size(); ++i) row[header[i]] = cells[i];
         ++perMethod[row["method"] + "/" + row["quantity"]];
         EXPECT_EQ(row["scene"], "corner");
+        const bool lit = row["quantity"] != "ao";  // DO and GI: irradiance, rel_rmse is their normalised error
         if (row["quantity"] == "gi") {
-            EXPECT_EQ(row["definition"], "diffind_luminance");
+            EXPECT_EQ(row["definition"], "gi_within_r");
+        } else if (row["quantity"] == "gi_unlimited") {
+            EXPECT_EQ(row["definition"], "gi_unlimited");
+        } else if (row["quantity"] == "do") {
+            EXPECT_EQ(row["definition"], "do_sky_sun");
         } else if (row["method"].rfind("ssdo", 0) == 0) {
             EXPECT_EQ(row["definition"], "cosine_linear");
         } else if (row["method"] == "hbao") {
@@ -69,12 +74,13 @@ TEST(ReportSmoke, QuickRunWritesTableSheetAndChart) {
         EXPECT_EQ(row["height"], "48");
         EXPECT_GT(std::stol(row["pixels"]), 0) << line;
         EXPECT_GT(std::stod(row["time_ms"]), 0.0) << line;
-        for (const char* metric : {"mae", "rmse", "psnr_db", "p99", "max_abs"}) {
+        for (const char* metric : {"mae", "rmse", "psnr_db", "p99", "max_abs", "rel_rmse", "mean_ratio"}) {
             const double v = std::stod(row[metric]);
             EXPECT_TRUE(std::isfinite(v)) << metric << " in " << line;
             EXPECT_GE(v, 0.0) << metric << " in " << line;
         }
-        EXPECT_LE(std::stod(row["rmse"]), 1.0) << line;
+        if (!lit) EXPECT_LE(std::stod(row["rmse"]), 1.0) << line;
+        if (lit) EXPECT_GT(std::stod(row["mean_ratio"]), 0.0) << line;
         if (row["method"] == "hbao") {
             EXPECT_EQ(row["preset"], "low");
             EXPECT_EQ(row["device"], "cpu");
@@ -86,10 +92,17 @@ TEST(ReportSmoke, QuickRunWritesTableSheetAndChart) {
     EXPECT_EQ(perMethod["ssdo-noint/ao"], 1);
     EXPECT_EQ(perMethod["ssdo+bounce/ao"], 1);
     EXPECT_EQ(perMethod["ssdo+bounce/gi"], 1);
+    EXPECT_EQ(perMethod["ssdo+bounce/gi_unlimited"], 1);
+    EXPECT_EQ(perMethod["ssdo/do"], 1);
+    EXPECT_EQ(perMethod["ssdo+bounce/do"], 1);
     EXPECT_EQ(perMethod["raytrace/ao"], 4);  // 1 and 4 rays, against cosine_none and cosine_linear
+    EXPECT_EQ(perMethod["raytrace/do"], 2);  // the ray tracer's own DO and GI curves: 1 and 4 rays
+    EXPECT_EQ(perMethod["raytrace/gi"], 2);
 
     EXPECT_TRUE(nonEmptyFile(dir / "results.json"));
     EXPECT_TRUE(nonEmptyFile(dir / "corner_sheet.png"));
     EXPECT_TRUE(nonEmptyFile(dir / "error_vs_time.png"));
     EXPECT_TRUE(nonEmptyFile(dir / "error_vs_time_gi.png"));
+    EXPECT_TRUE(nonEmptyFile(dir / "error_vs_time_do.png"));
+    EXPECT_TRUE(nonEmptyFile(dir / "error_vs_time_variants.png"));
 }
