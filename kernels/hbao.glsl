@@ -115,6 +115,9 @@ lfloat hbaoLanes(lint x, lint y) {
         lbool left = r.computing && march.stepsInside < float(P.steps);
         if (P.hbaoBorder != HBAO_BORDER_OPEN && !march.interior && anyLane(left)) {
             takeBorder(r, slice, march, left, o);
+            if (HBAO_GI != 0) {
+                takeBorderGi(r, slice, march, left, lit);
+            }
         }
         // 6. The slice's integral (Eq. 3's integrand): F at the horizon, and the sectors above it.
         occlusion += sliceIntegral(slice, o);
