@@ -279,3 +279,50 @@ TEST_P(Stiff, BlurAtTinyDepthsStaysFinite) {
         checkedMin(runOperator(sb.inputs(), s).ao);
     }
 }
+
+// HBAO's indirect light (--method hbao --bounce) on the same stiff frames: the nine-decade plane
+// receives nothing, the corner at extreme radii and through holes (NaN, negative and infinite
+// depths, a NaN in the source) stays finite, non-negative and below the furnace's pi L.
+TEST_P(Stiff, HbaoBounceStaysFiniteAndBounded) {
+    const int W = 96, H = 64;
+    const double fovRad = 100.0 * M_PI / 180, f = 0.5 * W / std::tan(0.5 * fovRad);
+    const double pitch = std::atan((0.5 * H - 2.5) / f) + 1e-9;
+    const dvec3 eye(0, 1e-3, 0);
+    SceneBuffers plane = renderScene(ground(), lookAtPerspective(eye, eye + dvec3(0, -std::sin(pitch), -std::cos(pitch)),
+                                                                 fovRad, W, H), W, H);
+    SceneBuffers edge = renderScene(corner(), cornerCamera(W, H), W, H);
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const float holes[] = {nan, -1.0f, std::numeric_limits<float>::infinity(), 1e-45f};
+    for (int i = 0; i < 4; ++i) *edge.depth.at(10 + 7 * i, H / 2) = holes[i];
+    const float L = 3.0f;
+    Image source(W, H, 3, L);
+    source.at(W / 2, H / 3)[1] = nan; // a bad source texel (a renderer's NaN) sends no light
+    Settings s;
+    s.device = GetParam();
+    s.method = "hbao";
+    s.bounce = true;
+    s.blur = 0;
+    for (float T : {kThicknessInfinite, kThicknessAuto, 0.1f})
+        for (float R : {1e-4f, 1e-2f, 10.0f, 1e4f}) {
+            s.thickness = T;
+            s.radius = R;
+            OperatorInputs in = plane.inputs();
+            in.radiance = source.view();
+            const OperatorOutputs open = runOperator(in, s);
+            checkedMin(open.ao);
+            for (float v : open.indirect.pixels) EXPECT_LE(v, L * M_PI * 1e-3f) << "plane R=" << R << " T=" << T;
+            in = edge.inputs();
+            in.radiance = source.view();
+            const OperatorOutputs out = runOperator(in, s);
+            checkedMin(out.ao);
+            int lit = 0;
+            for (size_t i = 0; i < out.indirect.pixels.size(); ++i) {
+                const float v = out.indirect.pixels[i];
+                EXPECT_TRUE(v >= 0.0f && v <= L * M_PI * 1.001f) << v << " R=" << R << " T=" << T;
+                lit += v > 0.0f;
+            }
+            if (R >= 10.0f) {
+                EXPECT_GT(lit, W * H / 4) << "the wall lights the floor, R=" << R << " T=" << T;
+            }
+        }
+}

@@ -6,6 +6,7 @@
 #include "cpu/discs_cpu.h"
 
 #include <algorithm>
+#include <cmath>
 #include <utility>
 
 namespace obscura {
@@ -24,8 +25,11 @@ void runHbaoGi(const MethodRun& r) {
     Image source(w, h, 3);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
-            for (int c = 0; c < 3; ++c)
-                source.at(x, y)[c] = in.radiance.at(x, y)[c] * (albedo ? in.albedo.at(x, y)[c] : 1.0f);
+            for (int c = 0; c < 3; ++c) {
+                // A renderer's NaN or infinity in a pass sends no light (0 x NaN would spread it).
+                const float v = in.radiance.at(x, y)[c] * (albedo ? in.albedo.at(x, y)[c] : 1.0f);
+                source.at(x, y)[c] = std::isfinite(v) ? v : 0.0f;
+            }
     r.out.indirect = Image(w, h, 3, 0.0f);
     r.backend.hbaoGi(r.params, in.depth, in.normal, std::as_const(source).view(), r.out.ao.view(),
                      r.out.indirect.view(), resolvedBlur(r.settings), r.out.stats);
