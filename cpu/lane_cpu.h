@@ -44,7 +44,8 @@ void runHbaoDeep(const KernelParams& p, ConstPlane depth, ConstPlane normal, Con
                  int threads, const std::string& isa = "");
 
 // HBAO with its indirect light (kernels/hbao_gi.glsl): `radiance` the bounce source over the same
-// buffer (3 channels, albedo applied), `gi` the irradiance (3 channels); flat input only.
+// buffer (albedo applied, one packed RGB word per texel: kernels/hbao_gi.glsl), `gi` the irradiance
+// (3 channels); flat input only.
 void runHbaoGi(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane radiance, MutablePlane ao,
                MutablePlane gi, int threads, const std::string& isa = "");
 

@@ -83,12 +83,13 @@ struct LaneCpuKernel {
         const lfloat column = select(x < 0.5f, 2.0f * w + y, 2.0f * w + h + y);
         return lint(select(y < 0.5f, x, select(y > h - 1.5f, w + x, column))) * 4;
     }
-    // HBAO's indirect light: the bounce source (3 channels, albedo already applied) at a display corner.
+    // HBAO's indirect light: the bounce source (one packed word per texel, kernels/hbao_gi.glsl) at
+    // a display corner; 0 (black) where not used.
     const float* radianceData = nullptr;
     int radianceXStride = 0, radianceYStride = 0;
-    lvec3 gatherRadianceAtDisplay(lvec2 corner, lbool use) const {
+    luint gatherRadianceBitsAtDisplay(lvec2 corner, lbool use) const {
         const lint i = (lint(corner.y) - P.originY) * radianceYStride + (lint(corner.x) - P.originX) * radianceXStride;
-        return lvec3(gather(radianceData, i, use), gather(radianceData + 1, i, use), gather(radianceData + 2, i, use));
+        return floatBitsToUint(gather(radianceData, i, use));
     }
     lfloat gatherEdgeDepth(lvec2 edgeCorner, lbool use) const { return gather(edgeData, edgeRecord(edgeCorner), use); }
     lvec4 gatherEdgeTexel(lvec2 edgeCorner, lbool use) const { return gatherRecord4(edgeData, edgeRecord(edgeCorner), use); }

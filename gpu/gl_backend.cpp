@@ -389,7 +389,7 @@ void GlBackend::runHbaoGi(const glsl::KernelParams& p, ConstPlane depth, ConstPl
         p, depth, normal, blur, maxTexels, t,
         [&](const Box2i& buf, const glsl::KernelParams&) {
             const size_t texels = (size_t)buf.width() * buf.height();
-            pack(radiance, buf, 3, packed);
+            pack(radiance, buf, 1, packed);
             uploadBuffer(kRadiance, GL_SHADER_STORAGE_BUFFER, packed.data(), packed.size() * sizeof(float));
             uploadBuffer(kSignalOut, GL_SHADER_STORAGE_BUFFER, nullptr, texels * sizeof(float));
             uploadBuffer(kIndirect, GL_SHADER_STORAGE_BUFFER, nullptr, texels * 3 * sizeof(float));

@@ -49,7 +49,7 @@ public:
     }
 
     // HBAO with its indirect light (kernels/hbao_gi.glsl): AO and the irradiance `gi` (RGB) from
-    // `radiance`, the bounce source (RGB, albedo applied), then `blur` passes on each.
+    // `radiance`, the bounce source (albedo applied, one packed RGB word per texel), then `blur` passes on each.
     void runHbaoGi(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane radiance, MutablePlane ao,
                    MutablePlane gi, int blur, GlTimings* timings = nullptr, long long maxTexels = 0);
 

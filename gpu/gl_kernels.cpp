@@ -65,8 +65,10 @@ vec4 gatherEdgeTexel(vec2 edgeCorner, bool use) {
     return vec4(gatherEdgeDepth(edgeCorner, use), normal);
 }
 vec3 gatherRadiance(int x, int y, bool use) { return use ? loadRadiance(ivec2(x, y)) : vec3(0.0f); }
-vec3 gatherRadianceAtDisplay(vec2 corner, bool use) {
-    return gatherRadiance(int(corner.x) - P.originX, int(corner.y) - P.originY, use);
+// HBAO's indirect light: one packed word per texel in the radiance binding (kernels/hbao_gi.glsl).
+uint gatherRadianceBitsAtDisplay(vec2 corner, bool use) {
+    return use ? floatBitsToUint(radianceData[texelIndex(ivec2(int(corner.x) - P.originX, int(corner.y) - P.originY))])
+               : 0u;
 }
 vec3 gatherAlbedo(int x, int y, bool use) { return use ? loadAlbedo(ivec2(x, y)) : vec3(1.0f); }
 vec3 gatherEnv(int x, int y, bool use) { return use ? loadEnv(ivec2(x, y)) : vec3(0.0f); }

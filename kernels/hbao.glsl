@@ -105,7 +105,7 @@ lfloat hbaoLanes(lint x, lint y) {
                 takeSampleHorizon(smp, r, slice, o);
             }
             if (HBAO_GI != 0) {
-                takeSampleGi(smp, slice, lit);
+                takeSampleGi(smp, r, slice, lit);
             }
         }
         if (HBAO_RUNS != 0) {

@@ -10,9 +10,21 @@
 // What a sample covers follows the plan's model: the horizon's interval reaches down to the
 // tangent (exact F, no sectors); a thickness sets the interval from the sample's front to T
 // behind it, sectors above the horizon when apart from it (hbao_bitmask.glsl's 32 sectors, each
-// weighed exactly). The measured thickness applies to AO; GI takes its cap T for every sample
-// (docs/hbao.md). Past the buffer's edge the border policy's continued surface radiates its edge
+// weighed exactly). The measured thickness (hbao_runs.glsl) needs a run's whole width, known when
+// it ends; the light cannot wait for it, so each sample takes the width of its run so far: a pole
+// stays thin, and along a wall the later samples, deeper, cover what the first ones left. Past the buffer's edge the border policy's continued surface radiates its edge
 // texel's light; sky samples send nothing.
+
+// The bounce source as the backends hand it over: one 32-bit word per texel, RGB with a shared
+// exponent (9 bits each, 5 of exponent; core/method_runs.cpp packs it), so a sample reads one word
+// as it reads one depth, not three floats (their gathers were most of the light's cost).
+lvec3 sharedExponentRgb(luint bits) {
+    lfloat scale = uintBitsToFloat(((bits >> 27u) + luint(103u)) << 23u); // 2^(e - 15 - 9)
+    lfloat r = lfloat(bits & luint(511u));
+    lfloat g = lfloat((bits >> 9u) & luint(511u));
+    lfloat b = lfloat((bits >> 18u) & luint(511u));
+    return lvec3(r * scale, g * scale, b * scale);
+}
 
 // Irradiance of the receiver's lanes, written by hbaoLanes when HBAO_GI is 1 (a global: GLSL's
 // per-invocation variable, a member of the CPU's kernel object).
@@ -32,6 +44,9 @@ struct HbaoGi {
     lfloat horizonF;           // cosineF at the horizon
     luint sectors;             // covered sectors above the horizon (thickness models)
     lvec3 irradiance;          // the slice's sum of L dF_cos
+    lfloat firstA, firstB;     // HBAO_MEASURED_THICKNESS: the first sample of the run going on
+    lfloat lastA, lastB;       // ... and the last one
+    lbool going;               // ... the last sample was in a run (above the tangent)
 };
 
 HbaoGi nothingLit() {
@@ -41,6 +56,11 @@ HbaoGi nothingLit() {
     g.horizonF = lfloat(0.0f);
     g.sectors = luint(0u);
     g.irradiance = lvec3(lfloat(0.0f), lfloat(0.0f), lfloat(0.0f));
+    g.firstA = lfloat(0.0f);
+    g.firstB = lfloat(0.0f);
+    g.lastA = lfloat(0.0f);
+    g.lastB = lfloat(0.0f);
+    g.going = lfloat(0.0f) > 0.0f; // false in every lane
     return g;
 }
 
@@ -54,8 +74,9 @@ lfloat coveredBetween(luint sectors, lfloat lowF, lfloat highF, IN(ProjectedNorm
     }
     lfloat wCos = 0.5f * np.nLen * np.cosB;
     lfloat wSin = 0.5f * np.nLen * np.sinB;
-    int last = findMSB(any);
-    for (int k = findLSB(any); k <= last; ++k) {
+    // Only the sectors some lane has set: most slices set few, far apart.
+    for (uint left = any; left != 0u; left &= left - 1u) {
+        int k = findLSB(left);
         lfloat lowerF = wCos * P.sectorTerms[k].z + wSin * P.sectorTerms[k].w;
         lfloat upperF = wCos * P.sectorTerms[k + 1].z + wSin * P.sectorTerms[k + 1].w;
         lfloat share = max(min(upperF, highF) - max(lowerF, lowF), 0.0f);
@@ -86,7 +107,7 @@ void coverGi(lfloat a, lfloat b, lfloat backA, lfloat backB, lbool counts, lvec2
         lfloat f = max(cosineF(a * invLen, b * invLen, np), g.horizonF);
         lfloat rise = f - g.horizonF;
         if (HBAO_MODEL != HBAO_HORIZON) {
-            rise = max(rise - coveredBetween(g.sectors, g.horizonF, f, np), 0.0f);
+            rise = max(rise - coveredBetween(select(raises, g.sectors, luint(0u)), g.horizonF, f, np), 0.0f);
         }
         gained = select(raises, rise, gained);
         g.horizonA = select(raises, a, g.horizonA);
@@ -101,13 +122,37 @@ void coverGi(lfloat a, lfloat b, lfloat backA, lfloat backB, lbool counts, lvec2
         gained = select(apart, share, gained);
         g.sectors = g.sectors | interval;
     }
-    g.irradiance += gatherRadianceAtDisplay(corner, gains) * gained;
+    g.irradiance += sharedExponentRgb(gatherRadianceBitsAtDisplay(corner, gains)) * gained;
 }
 
-// A sample's light: its interval, from its front to T behind it (the horizon's: down to the tangent).
-void takeSampleGi(IN(HbaoSample) smp, IN(HbaoSlice) sl, INOUT(HbaoGi) g) {
+// The measured thickness of a sample, from the width of its run so far (hbao_runs.glsl's runs:
+// samples above the tangent whose depth along V changes by at most P.runJump), at most T.
+lfloat runSoFarThickness(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, INOUT(HbaoGi) g) {
+    lfloat toEye = (smp.b - g.lastB) * sl.np.nV - (smp.a - g.lastA) * sl.np.nE;
+    lbool continues = g.going && smp.above && abs(toEye) <= sl.runJump;
+    g.firstA = select(continues, g.firstA, smp.a);
+    g.firstB = select(continues, g.firstB, smp.b);
+    g.lastA = smp.a;
+    g.lastB = smp.b;
+    g.going = smp.above;
+    lfloat dA = smp.a - g.firstA;
+    lfloat dB = smp.b - g.firstB;
+    lfloat width = sqrt(dA * dA + dB * dB) * sl.np.invNLen + r.footprint;
+    return min(P.runDepthPerWidth * width, lfloat(P.thickness));
+}
+
+// A sample's light: its interval, from its front to its thickness behind it (pushed along -V, as
+// the AO's; the horizon's: down to the tangent).
+void takeSampleGi(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, INOUT(HbaoGi) g) {
+    lfloat backA = smp.a + sl.backShiftA;
+    lfloat backB = smp.b + sl.backShiftB;
+    if (HBAO_MODEL == HBAO_MEASURED_THICKNESS) {
+        lfloat t = runSoFarThickness(smp, r, sl, g);
+        backA = smp.a + t * sl.np.nE;
+        backB = smp.b - t * sl.np.nV;
+    }
     if (anyLane(smp.counts)) {
-        coverGi(smp.a, smp.b, smp.a + sl.backShiftA, smp.b + sl.backShiftB, smp.counts, smp.corner, sl.np, g);
+        coverGi(smp.a, smp.b, backA, backB, smp.counts, smp.corner, sl.np, g);
     }
 }
 
