@@ -327,11 +327,15 @@ void GlBackend::runDiscs(const glsl::KernelParams& p, const float* pyramid, size
     if (timings) *timings = t;
 }
 
+void GlBackend::requireEveryBinding(const char* what) const {
+    if (info().maxStorageBindings < kBindings)
+        throw Error(info().backend + " offers " + std::to_string(info().maxStorageBindings) + " storage buffer bindings; " +
+                    what + " needs " + std::to_string(kBindings) + "; use --device cpu");
+}
+
 void GlBackend::runSsdo(const glsl::KernelParams& p, const SsdoInputs& in, MutablePlane directional, MutablePlane indirect,
                         MutablePlane ao, int blur, GlTimings* timings) {
-    if (info().maxStorageBindings < kBindings)
-        throw Error(info().backend + " offers " + std::to_string(info().maxStorageBindings) +
-                    " storage buffer bindings; ssdo needs " + std::to_string(kBindings) + "; use --device cpu");
+    requireEveryBinding("ssdo");
     GlTimings t;
     std::vector<float> packed;
     runTiled(
@@ -380,9 +384,7 @@ void GlBackend::runSsdo(const glsl::KernelParams& p, const SsdoInputs& in, Mutab
 
 void GlBackend::runHbaoGi(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane radiance,
                           MutablePlane ao, MutablePlane gi, int blur, GlTimings* timings, long long maxTexels) {
-    if (info().maxStorageBindings < kBindings)
-        throw Error(info().backend + " offers " + std::to_string(info().maxStorageBindings) +
-                    " storage buffer bindings; hbao's GI needs " + std::to_string(kBindings) + "; use --device cpu");
+    requireEveryBinding("hbao's GI");
     GlTimings t;
     std::vector<float> packed;
     runTiled(

@@ -70,6 +70,8 @@ public:
                  MutablePlane ao, int blur, GlTimings* timings = nullptr);
 
 private:
+    // Throws unless the context offers every storage binding the light's programs use (`what` needs them).
+    void requireEveryBinding(const char* what) const;
     void runAoWith(const char* program, const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal,
                    ConstPlane deep, MutablePlane ao, int blur, GlTimings* timings, long long maxTexels);
     void runTiled(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, int blur, long long maxTexels,

@@ -166,18 +166,12 @@ lbool chordEndCounts(lvec3 X, lfloat a, lfloat b, lbool use, IN(HbaoSlice) sl) {
 // within R radiates the edge texel's light. Where it is one plane it covers the angles between
 // its ends (the lower one T deep); else its higher end stands alone, T deep.
 void takeBorderGi(IN(HbaoReceiver) r, IN(HbaoSlice) sl, IN(HbaoMarch) m, lbool left, INOUT(HbaoGi) g) {
-    lvec2 exitCorner = floor(m.start + m.step * m.stepsInside);
-    lvec2 lastCorner = floor(m.start + m.step * float(P.steps - 1));
-    lvec3 X0;
-    lvec3 X1;
-    lbool valid;
-    lbool onePlane;
-    continuedChord(exitCorner, lastCorner, left, r, X0, X1, valid, onePlane);
+    BorderChord c = borderChord(r, m, left);
     lvec3 P0;
     lvec3 P1;
     lbool meets;
-    clipToBall(X0, X1, r.radius2, P0, P1, meets);
-    lbool use = valid && meets;
+    clipToBall(c.X0, c.X1, r.radius2, P0, P1, meets);
+    lbool use = c.valid && meets;
     if (!anyLane(use)) {
         return;
     }
@@ -190,9 +184,9 @@ void takeBorderGi(IN(HbaoReceiver) r, IN(HbaoSlice) sl, IN(HbaoMarch) m, lbool l
     lbool oneHigher = counts1 && (!counts0 || aboveHorizon(a1, b1, a0, b0));
     lfloat frontA = select(oneHigher, a1, a0);
     lfloat frontB = select(oneHigher, b1, b0);
-    lbool span = counts0 && counts1 && onePlane;
+    lbool span = counts0 && counts1 && c.onePlane;
     lfloat lowA = select(span, select(oneHigher, a0, a1), frontA);
     lfloat lowB = select(span, select(oneHigher, b0, b1), frontB);
     coverGi(frontA, frontB, lowA + sl.backShiftA, lowB + sl.backShiftB, counts0 || counts1,
-            nearestBufferCorner(exitCorner), sl.np, g);
+            nearestBufferCorner(c.exitCorner), sl.np, g);
 }

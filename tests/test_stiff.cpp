@@ -47,6 +47,16 @@ float checkedMin(const Image& ao) {
 
 std::vector<Rect> ground() { return {planeRect(dvec3(0), dvec3(1, 0, 0), dvec3(0, 0, 1), 1e7)}; }
 
+// The endless floor a millimetre under a camera pitched so that the centre ray of row 2 meets it
+// 1e-9 rad below the horizon: depths from 1e-3 to beyond 1e5 in one frame (100 degrees wide).
+SceneBuffers nineDecadePlane(int W, int H) {
+    const double fovRad = 100.0 * M_PI / 180, f = 0.5 * W / std::tan(0.5 * fovRad);
+    const double pitch = std::atan((0.5 * H - 2.5) / f) + 1e-9;
+    const dvec3 eye(0, 1e-3, 0);
+    return renderScene(ground(), lookAtPerspective(eye, eye + dvec3(0, -std::sin(pitch), -std::cos(pitch)), fovRad, W, H),
+                       W, H);
+}
+
 std::vector<Rect> corner() {
     const double L = 1e3;
     return {Rect{dvec3(-L, 0, -L), dvec3(L, 0, 0), dvec3(0, 0, 2 * L)},
@@ -237,11 +247,7 @@ TEST_P(Stiff, SsaoPlanesAndCorner) {
 // so it is held to the range only), and the corner at extreme radii stays finite in [0, 1].
 TEST_P(Stiff, EveryMethodStaysInRange) {
     const int W = 96, H = 64;
-    const double fovRad = 100.0 * M_PI / 180, f = 0.5 * W / std::tan(0.5 * fovRad);
-    const double pitch = std::atan((0.5 * H - 2.5) / f) + 1e-9;
-    const dvec3 eye(0, 1e-3, 0);
-    SceneBuffers plane = renderScene(ground(), lookAtPerspective(eye, eye + dvec3(0, -std::sin(pitch), -std::cos(pitch)),
-                                                                 fovRad, W, H), W, H);
+    SceneBuffers plane = nineDecadePlane(W, H);
     SceneBuffers edge = renderScene(corner(), cornerCamera(W, H), W, H);
     for (const MethodInfo& m : methods()) {
         if (std::string(GetParam()) != "cpu" && !m.gl) continue;
@@ -285,11 +291,7 @@ TEST_P(Stiff, BlurAtTinyDepthsStaysFinite) {
 // depths, a NaN in the source) stays finite, non-negative and below the furnace's pi L.
 TEST_P(Stiff, HbaoBounceStaysFiniteAndBounded) {
     const int W = 96, H = 64;
-    const double fovRad = 100.0 * M_PI / 180, f = 0.5 * W / std::tan(0.5 * fovRad);
-    const double pitch = std::atan((0.5 * H - 2.5) / f) + 1e-9;
-    const dvec3 eye(0, 1e-3, 0);
-    SceneBuffers plane = renderScene(ground(), lookAtPerspective(eye, eye + dvec3(0, -std::sin(pitch), -std::cos(pitch)),
-                                                                 fovRad, W, H), W, H);
+    SceneBuffers plane = nineDecadePlane(W, H);
     SceneBuffers edge = renderScene(corner(), cornerCamera(W, H), W, H);
     const float nan = std::numeric_limits<float>::quiet_NaN();
     const float holes[] = {nan, -1.0f, std::numeric_limits<float>::infinity(), 1e-45f};
