@@ -45,7 +45,7 @@ struct KernelParams {
     int hbaoModel;               // hbao: HBAO_HORIZON, ... below (core/hbao_plan.h, HbaoModel)
 
     float envIntensity;          // multiplies the environment (map or sky)
-    float sampleArea;            // A_s = pi r_max^2 / N: the disc area one bounce sample stands for
+    float reserved0;             // unused: keeps this vec4 slot's std140 layout
     float runDepthPerWidth;      // hbao, HBAO_MEASURED_THICKNESS: a run's thickness per unit of its width
     float runJump;               // hbao, runs and deep footprints: the largest depth change (world units) within one occluder
 

@@ -2,21 +2,27 @@
 // Seidel, I3D 2009), written on lane types: one pixel per GPU thread, several pixels per
 // CPU register (cpu/lanes.h). Per-pixel branches are masks; loops are uniform over the lanes.
 //
-// N points are placed in the normal-oriented hemisphere within r_max (cosine-
-// distributed directions, so each unoccluded direction adds pi/N times its radiance
-// to the irradiance). Each point is projected into the depth image: if the surface
-// seen there lies in front of the point (and within r_max of the pixel), the point's
-// direction is blocked; otherwise light from the environment arrives along it.
-// Blocked points are where the bounce comes from: the surface seen there is a small
-// area light of area A_s = pi r_max^2 / N, oriented by its own normal, radiating the
-// bounce source (times its albedo); its irradiance at the pixel is
-//   L_s A_s cos(theta_s) cos(theta_r) / d^2.
+// N points are placed in the normal-oriented hemisphere within r_max: N / SSDO_STEPS
+// cosine-distributed directions, each with SSDO_STEPS - 1 points stratified along it and one at
+// r_max. Each point is projected into the depth image: if the surface seen there lies in front
+// of the point (and within r_max of the pixel), the point is blocked. A direction's share of
+// open stratified points weighs the environment's radiance along it (pi/n per direction:
+// irradiance with a linear falloff, as AO's). The first blocked point of a direction says what
+// the direction meets within r_max (the point at r_max finds anything the others missed): the
+// surface there, whose outgoing radiance (the bounce source, times its albedo) arrives along it.
+// With cosine-distributed directions the irradiance is pi times the mean radiance arriving,
+// so each direction adds pi/n times its sender's radiance (docs/ssdo.md derives it).
 // Interleaved sampling: the pixels of an M x M block use disjoint subsets of one
-// rotated sample set, and a geometry-aware blur of size M gathers them back.
+// rotated direction set, and a geometry-aware blur of size M gathers them back.
 //
 // Requires the lane loads (0 where `use` is false, albedo 1): lfloat gatherDepth(lint x,
 // lint y, lbool use), and lvec3 gatherNormal, gatherRadiance, gatherAlbedo, and gatherEnv
 // (texel (x, y) of the prefiltered environment level) with the same arguments.
+
+// Points per direction: the stratified ones give DO its linear falloff (a point at a uniform
+// distance finds a surface at distance t with probability 1 - t / r_max); the last, at r_max,
+// finds every surface within r_max for the bounce.
+CONST_GLOBAL int SSDO_STEPS = 4;
 
 // Radical inverse in base 2 (van der Corput): the second coordinate of a Hammersley set.
 lfloat radicalInverse2(luint i) {
@@ -65,12 +71,13 @@ void projectToDisplay(lvec3 p, INOUT(lbool) visible, OUT(lvec2) displayPos) {
 
 // Where `asking`: whether the surface seen where a view-space point projects lies in front
 // of the point, within r_max of the receiver and above the receiver's tangent plane: then
-// the point is blocked, and texel (texelX, texelY) and `surface` say by what. The
+// the point is blocked, and texel (texelX, texelY) and `surface` say by what. `entered` relaxes
+// "within r_max" for the bounce (below). The
 // tangent-plane condition is geometry, not a bias: nothing below that plane can block a
 // direction of the hemisphere, and without it the pixel grid makes a flat surface shadow
 // itself at grazing sample directions.
 lbool blockedBySurface(lvec3 point, lvec3 receiver, lvec3 n, lvec2 centre, lbool asking, OUT(lint) texelX,
-                       OUT(lint) texelY, OUT(lvec3) surface) {
+                       OUT(lint) texelY, OUT(lvec3) surface, OUT(lbool) entered) {
     lbool ok = asking;
     lvec2 displayPos;
     projectToDisplay(point, ok, displayPos);
@@ -91,11 +98,65 @@ lbool blockedBySurface(lvec3 point, lvec3 receiver, lvec3 n, lvec2 centre, lbool
     lfloat distance2 = dot(toSurface, toSurface);
     // 1e-4 of the distance: float noise in a reconstructed plane stays below it.
     lbool above = dot(n, toSurface) > 1e-4f * sqrt(distance2);
-    return ok && -surface.z < -point.z && distance2 < P.radius * P.radius && above;
+    lbool behind = ok && -surface.z < -point.z && above;
+    // For the bounce's march: the point lies less than one step behind the surface seen, so the
+    // direction entered it since the last point, within r_max, wherever the surface seen is.
+    entered = behind && (-point.z) - (-surface.z) < P.radius * (1.0f / float(SSDO_STEPS - 1));
+    return behind && distance2 < P.radius * P.radius;
+}
+
+// The points along one direction (receiver + dir t, t in (0, r_max]): how many of the stratified
+// ones are open, and the first point that lies inside a surface (`found`): the sender, seen at
+// texel (senderX, senderY), view position `sender`.
+void marchDirection(lvec3 receiver, lvec3 n, lvec2 centre, lvec3 dir, lfloat offset, lbool valid, lint x, lint y,
+                    OUT(lfloat) openPoints, OUT(lbool) found, OUT(lint) senderX, OUT(lint) senderY,
+                    OUT(lvec3) sender) {
+    openPoints = lfloat(0.0f);
+    found = openPoints < 0.0f; // no blocked point yet
+    senderX = x;               // the receiver's own texel until a sender is found
+    senderY = y;
+    sender = receiver;
+    for (int step = 0; step < SSDO_STEPS; ++step) {
+        bool atEnd = step == SSDO_STEPS - 1;
+        if (atEnd && P.bounce == 0) {
+            break;
+        }
+        lfloat along = atEnd ? lfloat(1.0f) : (float(step) + offset) * (1.0f / float(SSDO_STEPS - 1));
+        lvec3 point = receiver + dir * (P.radius * max(along, 1e-3f));
+        lint tx;
+        lint ty;
+        lvec3 q;
+        lbool entered;
+        lbool blocked = blockedBySurface(point, receiver, n, centre, valid, tx, ty, q, entered);
+        if (!atEnd) {
+            openPoints += select(valid && !blocked, lfloat(1.0f), lfloat(0.0f));
+        }
+        lbool meets = blocked || entered;
+        lbool first = meets && !found; // the nearest blocked point: what the direction meets
+        senderX = select(first, tx, senderX);
+        senderY = select(first, ty, senderY);
+        sender = select(first, q, sender);
+        found = found || meets;
+    }
+}
+
+// The bounce source's radiance of the sender where `found`, 0 elsewhere.
+lvec3 senderRadiance(lvec3 receiver, lvec3 sender, lbool found, lint senderX, lint senderY) {
+    // The sender's outgoing radiance arrives along the direction; a sender that turns its back
+    // to the receiver is the unlit side of what the direction meets, and sends nothing.
+    lvec3 toSender = sender - receiver;
+    lvec3 senderRay = viewRay(lvec2(lfloat(senderX + P.originX) + 0.5f, lfloat(senderY + P.originY) + 0.5f));
+    lvec3 senderNormal = viewNormal(gatherNormal(senderX, senderY, found), viewVector(senderRay));
+    lbool facing = found && dot(senderNormal, toSender) < 0.0f;
+    lvec3 radiance = gatherRadiance(senderX, senderY, facing);
+    if (P.senderAlbedo != 0) {
+        radiance = radiance * gatherAlbedo(senderX, senderY, facing);
+    }
+    return select(facing, radiance, lvec3(vec3(0.0f)));
 }
 
 // Directional occlusion (irradiance from unblocked directions), one-bounce indirect
-// irradiance, and the AO of the same samples (cosine-weighted, binary within r_max) of the
+// irradiance, and the AO of the same points (cosine-weighted, linear falloff) of the
 // buffer texels (x, y); texels outside the buffer, sky and holes get 0, 0 and 1.
 void ssdoLanes(lint x, lint y, OUT(lvec3) directional, OUT(lvec3) indirect, OUT(lfloat) ao) {
     lvec3 zero = lvec3(vec3(0.0f));
@@ -141,13 +202,14 @@ void ssdoLanes(lint x, lint y, OUT(lvec3) directional, OUT(lvec3) indirect, OUT(
 
     lfloat used = lfloat(0.0f);
     lfloat open = lfloat(0.0f);
-    int perPixel = (P.ssdoSamples + stride - 1) / stride;
+    int directions = max(P.ssdoSamples / SSDO_STEPS, stride); // at least one per pixel of the block
+    int perPixel = (directions + stride - 1) / stride;
     for (int k = 0; k < perPixel; ++k) {
         lint i = subset + k * stride;
-        lbool valid = computing && i < P.ssdoSamples;
+        lbool valid = computing && i < directions;
         used += select(valid, lfloat(1.0f), lfloat(0.0f));
         // Hammersley point, rotated per block (Cranley-Patterson), mapped to a cosine-weighted direction.
-        lfloat u1 = fract((lfloat(i) + 0.5f) / float(P.ssdoSamples) + rotationX);
+        lfloat u1 = fract((lfloat(i) + 0.5f) / float(directions) + rotationX);
         lfloat cosPhi;
         lfloat sinPhi;
         if (splits) {
@@ -163,41 +225,31 @@ void ssdoLanes(lint x, lint y, OUT(lvec3) directional, OUT(lvec3) indirect, OUT(
         }
         lfloat r = sqrt(u1);
         lvec3 dir = (r * cosPhi) * b1 + (r * sinPhi) * b2 + sqrt(max(1.0f - u1, 0.0f)) * n;
-        // Distance in (0, r_max]: a golden-ratio sequence, decorrelated from the direction.
-        lfloat along = fract(lfloat(i) * 0.618033988749895f + distanceJitter);
-        lvec3 point = receiver + dir * (P.radius * max(along, 1e-3f));
-
+        // Points stratified along the direction in (0, r_max]: a golden-ratio offset per direction,
+        // decorrelated from it, shifts all of them, so each distance is as likely as any other.
+        lfloat offset = fract(lfloat(i) * 0.618033988749895f + distanceJitter);
+        lfloat openPoints;
+        lbool found;
         lint senderX;
         lint senderY;
         lvec3 sender;
-        lbool blocked = blockedBySurface(point, receiver, n, centre, valid, senderX, senderY, sender);
-        lbool opening = valid && !blocked;
-        open += select(opening, lfloat(1.0f), lfloat(0.0f));
+        marchDirection(receiver, n, centre, dir, offset, valid, x, y, openPoints, found, senderX, senderY, sender);
+        lfloat openShare = openPoints * (1.0f / float(SSDO_STEPS - 1));
+        open += openShare;
+        lbool opening = openPoints > 0.0f;
         if (anyLane(opening)) {
-            directional += select(opening, environmentRadiance(dir, opening), zero);
+            directional += select(opening, environmentRadiance(dir, opening) * openShare, zero);
         }
-        if (P.bounce == 0 || !anyLane(blocked)) {
+        if (P.bounce == 0 || !anyLane(found)) {
             continue;
         }
-        // The blocking surface as a small area light (both cosines, area A_s, 1/d^2).
-        lvec3 toSender = sender - receiver;
-        lfloat d2 = max(dot(toSender, toSender), P.sampleArea * (1.0f / PI)); // never closer than the disc's own radius
-        lvec3 w = toSender * inversesqrt(d2);
-        lvec3 senderNormal = viewNormal(gatherNormal(senderX, senderY, blocked), -w);
-        lfloat cosReceiver = max(dot(n, w), 0.0f);
-        lfloat cosSender = max(dot(senderNormal, -w), 0.0f);
-        lvec3 radiance = gatherRadiance(senderX, senderY, blocked);
-        if (P.senderAlbedo != 0) {
-            radiance = radiance * gatherAlbedo(senderX, senderY, blocked);
-        }
-        indirect += select(blocked, radiance * (P.sampleArea * cosReceiver * cosSender / d2), zero);
+        indirect += senderRadiance(receiver, sender, found, senderX, senderY);
     }
     lbool any = computing && used > 0.0f;
     lfloat count = max(used, 1.0f);
-    // Cosine-weighted sampling: irradiance = pi / n * sum of radiance over open directions.
+    // Cosine-weighted directions: irradiance = pi / n * sum of the radiance arriving along them.
     directional = select(any, directional * (PI / count), zero);
-    // Each pixel's subset stands for the whole set: its bounce sum is scaled to N samples.
-    indirect = select(any, indirect * (float(P.ssdoSamples) / count), zero);
+    indirect = select(any, indirect * (PI / count), zero);
     ao = select(any, open / count, 1.0f);
 
     // Directional lights: irradiance n.l, unless a few points towards the light within r_max are blocked.
@@ -212,8 +264,9 @@ void ssdoLanes(lint x, lint y, OUT(lvec3) directional, OUT(lvec3) indirect, OUT(
             lint tx;
             lint ty;
             lvec3 q;
+            lbool entered;
             lit = lit && !blockedBySurface(receiver + lvec3(l * (P.radius * float(s) * 0.25f)), receiver, n, centre, lit,
-                                           tx, ty, q);
+                                           tx, ty, q, entered);
         }
         directional += select(lit, lvec3(vec3(P.lightIrradiance[k])) * cosL, zero);
     }

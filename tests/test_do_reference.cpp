@@ -121,7 +121,8 @@ protected:
         EXPECT_FALSE(radius.empty());
         const auto r = runProgram(OBSCURA_CLI_PATH, {ref, "-o", out, "--method", "ssdo", "--env", mapPath(scene),
                                                      "--env-rotate", obscuraRotate, "--up", "z", "--radius", radius,
-                                                     "--samples", "256", "--interleave", "1", "--out-type", "float",
+                                                     // 1024 points: 256 directions of 3 points (docs/ssdo.md)
+                                                     "--samples", "1024", "--interleave", "1", "--out-type", "float",
                                                      "--quiet"});
         EXPECT_EQ(r.exitCode, 0) << r.err;
         if (r.exitCode != 0) return a;

@@ -9,7 +9,8 @@ method; line style: the device), and the ray tracer's own curve through its ray 
 Writes, next to error_vs_time.png:
   error_vs_time.png            AO: the methods at their defaults (no variants), RMSE
   error_vs_time_by_scene.png   the same per scene
-  error_vs_time_variants.png   AO of each method's variants (HBAO's first), one panel per method
+  error_vs_time_hbao.png       AO of HBAO and its variants
+  error_vs_time_variants.png   AO of the other methods' variants, one panel per method
   error_vs_time_do.png         DO (quantity "do"): relative RMSE against Reference.DO
   error_vs_time_gi.png         GI (quantity "gi"): relative RMSE against Reference.GI (within r_max)
 The DO and GI charts appear when the rows hold those quantities.
@@ -70,8 +71,9 @@ def mean_curves(rows, preset_order, scenes, metric="rmse"):
 DEVICE_STYLES = {"cpu": "-", "gl-osmesa": "--", "gl-egl": ":"}
 
 
-def draw(ax, curve_map, title, label_points=True, ylabel="RMSE vs converged reference"):
-    """Colour = method, line style = device; the ray tracer's curves in black."""
+def draw(ax, curve_map, title, label_points=True, ylabel="RMSE vs converged reference", label_only=None):
+    """Colour = method, line style = device; the ray tracer's curves in black. Points are labelled with
+    their preset (for `label_only`'s method alone when given), above and below the line by turns."""
     colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     markers = "osD^v<>p"
     methods = sorted({k[0] for k in curve_map if k[0] != RAYTRACE})
@@ -90,10 +92,12 @@ def draw(ax, curve_map, title, label_points=True, ylabel="RMSE vs converged refe
             m = methods.index(key[0])
             ax.plot(xs, ys, DEVICE_STYLES.get(key[1], "-."), marker=markers[m % len(markers)],
                     color=colours[m % len(colours)], lw=1.5, ms=5, label=f"{key[0]} on {key[1]}")
-        if label_points and key[:1] + key[2:] not in labelled:
+        wanted = label_only is None or key[0] in (label_only, RAYTRACE)
+        if label_points and wanted and key[:1] + key[2:] not in labelled:
             labelled.add(key[:1] + key[2:])
+            below = key[0] != RAYTRACE and methods.index(key[0]) % 2 == 1
             for lab, x, y in pts:
-                ax.annotate(lab, (x, y), textcoords="offset points", xytext=(4, 3), fontsize=7)
+                ax.annotate(lab, (x, y), textcoords="offset points", xytext=(4, -10 if below else 3), fontsize=7)
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlabel("time per frame (ms)")
@@ -113,30 +117,48 @@ def is_variant(method):
     return method != RAYTRACE and family(method) != method
 
 
-def single_chart(path, curve_map, title, ylabel):
+def single_chart(path, curve_map, title, ylabel, label_only=None):
     fig, ax = plt.subplots(figsize=(8, 6), dpi=120)
-    draw(ax, curve_map, title, ylabel=ylabel)
+    draw(ax, curve_map, title, ylabel=ylabel, label_only=label_only)
     ax.legend(fontsize=8, loc="best")
     fig.tight_layout()
     fig.savefig(path)
     plt.close(fig)
 
 
-def variants_chart(path, rows, order, scenes, definition):
-    """One panel per method that has variants (HBAO first), each with the ray tracer's curve."""
-    families = sorted({family(r["method"]) for r in rows if is_variant(r["method"])}, key=lambda f: (f != "hbao", f))
-    if not families:
-        return False
-    fig, axes = plt.subplots(1, len(families), figsize=(6.5 * len(families), 5.5), dpi=100, squeeze=False)
-    for ax, fam in zip(axes[0], families):
-        chosen = [r for r in rows if family(r["method"]) == fam or
-                  (r["method"] == RAYTRACE and r["definition"] == (definition if fam != "ssdo" else "cosine_linear"))]
-        draw(ax, mean_curves(chosen, order, scenes), f"{fam} and its variants (AO)")
-        ax.legend(fontsize=7, loc="best")
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
-    return True
+def family_rows(rows, fam, definition):
+    """The rows of a method and its variants, with the ray tracer's curve of their AO definition."""
+    ray_def = "cosine_linear" if fam == "ssdo" else definition
+    return [r for r in rows if family(r["method"]) == fam or (r["method"] == RAYTRACE and r["definition"] == ray_def)]
+
+
+def variants_charts(stem, ext, rows, order, scenes, definition):
+    """HBAO's variants on their own chart; the other methods' variants one panel each, two columns."""
+    written = []
+    families = sorted({family(r["method"]) for r in rows if is_variant(r["method"])})
+    if "hbao" in families:
+        path = f"{stem}_hbao{ext}"
+        single_chart(path, mean_curves(family_rows(rows, "hbao", definition), order, scenes),
+                     "HBAO and its variants: AO error against time", "RMSE vs converged reference", "hbao")
+        written.append(path)
+    others = [f for f in families if f != "hbao"]
+    if others:
+        cols = min(2, len(others))
+        nrows = math.ceil(len(others) / cols)
+        fig, axes = plt.subplots(nrows, cols, figsize=(7.5 * cols, 5.5 * nrows), dpi=100, squeeze=False)
+        for i, fam in enumerate(others):
+            ax = axes[i // cols][i % cols]
+            draw(ax, mean_curves(family_rows(rows, fam, definition), order, scenes), f"{fam} and its variants (AO)",
+                 label_only=fam)
+            ax.legend(fontsize=8, loc="best")
+        for j in range(len(others), nrows * cols):
+            axes[j // cols][j % cols].axis("off")
+        fig.tight_layout()
+        path = f"{stem}_variants{ext}"
+        fig.savefig(path)
+        plt.close(fig)
+        written.append(path)
+    return written
 
 
 def main():
@@ -179,15 +201,16 @@ def main():
     plt.close(fig)
     written.append(stem + "_by_scene" + ext)
 
-    if variants_chart(stem + "_variants" + ext, ao, order, scenes, meta["definition"]):
-        written.append(stem + "_variants" + ext)
+    written += variants_charts(stem, ext, ao, order, scenes, meta["definition"])
     lit = {"do": ("directional occlusion (DO)", "Reference.DO: sky map through the open directions + sun"),
            "gi": ("one-bounce GI", "Reference.GI: one bounce from surfaces within r_max")}
     for quantity, (name, reference) in lit.items():
         if not by_quantity.get(quantity):
             continue
         path = f"{stem}_{quantity}{ext}"
-        single_chart(path, mean_curves(by_quantity[quantity], order, scenes, "rel_rmse"),
+        # A bounce variant's DO is its method's, at a higher cost: it would only lie on top of it.
+        chosen = [r for r in by_quantity[quantity] if quantity != "do" or not r["method"].endswith("+bounce")]
+        single_chart(path, mean_curves(chosen, order, scenes, "rel_rmse"),
                      f"{name} error against time, {where}\nluminance vs {reference}",
                      "relative RMSE = RMSE / mean(reference)")
         written.append(path)

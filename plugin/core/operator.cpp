@@ -80,7 +80,6 @@ void fillSsdoParams(const OperatorInputs& in, const Settings& s, KernelParams& p
     p.bounce = s.bounce && in.radiance.valid() ? 1 : 0;
     p.senderAlbedo = in.albedo.valid() ? 1 : 0;
     p.envIntensity = s.envIntensity;
-    p.sampleArea = (float)M_PI * s.radius * s.radius / (float)s.ssdoSamples;
     p.envWidth = p.envHeight = 0; // set by the caller once the map is prefiltered
 }
 
