@@ -109,9 +109,11 @@ TEST(MethodFlags, OutputsTheMethodCannotWriteAreRefused) {
             EXPECT_NE(r.err.find("the " + std::string(output) + " output is written by --method "), std::string::npos)
                 << outcome(r);
             EXPECT_NE(r.err.find("only, not by --method " + std::string(m.name)), std::string::npos) << outcome(r);
-            for (const MethodInfo& writer : methods())
-                if (methodOutputs(writer.name, output))
+            for (const MethodInfo& writer : methods()) {
+                if (methodOutputs(writer.name, output)) {
                     EXPECT_NE(r.err.find("--method " + std::string(writer.name)), std::string::npos) << outcome(r);
+                }
+            }
         }
 }
 
