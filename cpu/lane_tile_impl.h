@@ -21,22 +21,18 @@ namespace {
 // Gi: HBAO's indirect light too (kernels/hbao_gi.glsl), a specialisation of its own so that AO
 // alone runs none of it.
 template <int Cosine, int Linear, int Model, int Runs, int Gi>
-struct ParamsPerspPlanar : KernelParams {
-    static constexpr int cosineWeighting = Cosine;
-    static constexpr int linearFalloff = Linear;
-    static constexpr int hbaoModel = Model;
-    static constexpr int hbaoRuns = Runs;
-    static constexpr int hbaoGi = Gi;
-    static constexpr int orthographic = 0;
-    static constexpr int radialDepth = 0;
-};
-template <int Cosine, int Linear, int Model, int Runs, int Gi>
 struct ParamsAnyCamera : KernelParams {
     static constexpr int cosineWeighting = Cosine;
     static constexpr int linearFalloff = Linear;
     static constexpr int hbaoModel = Model;
     static constexpr int hbaoRuns = Runs;
     static constexpr int hbaoGi = Gi;
+};
+// The common camera: perspective, planar depth.
+template <int Cosine, int Linear, int Model, int Runs, int Gi>
+struct ParamsPerspPlanar : ParamsAnyCamera<Cosine, Linear, Model, Runs, Gi> {
+    static constexpr int orthographic = 0;
+    static constexpr int radialDepth = 0;
 };
 
 template <class Params>
