@@ -43,6 +43,12 @@ void runLaneKernel(LaneKernel kernel, const KernelParams& p, ConstPlane depth, C
 void runHbaoDeep(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, MutablePlane ao,
                  int threads, const std::string& isa = "");
 
+// HBAO with its indirect light (kernels/hbao_gi.glsl): `radiance` the bounce source over the same
+// buffer (albedo applied, one packed RGB word per texel: kernels/hbao_gi.glsl), `gi` the irradiance
+// (3 channels); flat input only.
+void runHbaoGi(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane radiance, MutablePlane ao,
+               MutablePlane gi, int threads, const std::string& isa = "");
+
 inline void runHbao(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, int threads,
                     const std::string& isa = "") {
     runLaneKernel(LaneKernel::Hbao, p, depth, normal, ao, threads, isa);

@@ -18,16 +18,19 @@ namespace {
 
 // A parameter block whose switches are fixed at compile time: the static members
 // hide KernelParams' run-time ones, so `P.cosineWeighting` in the kernel is a constant.
-template <int Cosine, int Linear, int Model, int Runs>
+// Gi: HBAO's indirect light too (kernels/hbao_gi.glsl), a specialisation of its own so that AO
+// alone runs none of it.
+template <int Cosine, int Linear, int Model, int Runs, int Gi>
 struct ParamsAnyCamera : KernelParams {
     static constexpr int cosineWeighting = Cosine;
     static constexpr int linearFalloff = Linear;
     static constexpr int hbaoModel = Model;
     static constexpr int hbaoRuns = Runs;
+    static constexpr int hbaoGi = Gi;
 };
-// The common camera fixed too: perspective with planar depth.
-template <int Cosine, int Linear, int Model, int Runs>
-struct ParamsPerspPlanar : ParamsAnyCamera<Cosine, Linear, Model, Runs> {
+// The common camera: perspective, planar depth.
+template <int Cosine, int Linear, int Model, int Runs, int Gi>
+struct ParamsPerspPlanar : ParamsAnyCamera<Cosine, Linear, Model, Runs, Gi> {
     static constexpr int orthographic = 0;
     static constexpr int radialDepth = 0;
 };
@@ -76,6 +79,14 @@ struct LaneCpuKernel {
         const lfloat column = select(x < 0.5f, 2.0f * w + y, 2.0f * w + h + y);
         return lint(select(y < 0.5f, x, select(y > h - 1.5f, w + x, column))) * 4;
     }
+    // HBAO's indirect light: the bounce source (one packed word per texel, kernels/hbao_gi.glsl) at
+    // a display corner; 0 (black) where not used.
+    const float* radianceData = nullptr;
+    int radianceXStride = 0, radianceYStride = 0;
+    luint gatherRadianceBitsAtDisplay(lvec2 corner, lbool use) const {
+        const lint i = (lint(corner.y) - P.originY) * radianceYStride + (lint(corner.x) - P.originX) * radianceXStride;
+        return floatBitsToUint(gather(radianceData, i, use));
+    }
     lfloat gatherEdgeDepth(lvec2 edgeCorner, lbool use) const { return gather(edgeData, edgeRecord(edgeCorner), use); }
     lvec4 gatherEdgeTexel(lvec2 edgeCorner, lbool use) const { return gatherRecord4(edgeData, edgeRecord(edgeCorner), use); }
 
@@ -83,9 +94,11 @@ struct LaneCpuKernel {
 // The plan's switches as the kernel reads them: compile-time constants of Params here (defines on OpenGL).
 #define HBAO_MODEL P.hbaoModel
 #define HBAO_RUNS P.hbaoRuns
+#define HBAO_GI P.hbaoGi
 #include "kernels/hbao.glsl"
 #undef HBAO_MODEL
 #undef HBAO_RUNS
+#undef HBAO_GI
 #include "kernels/ssao.glsl"
 };
 
@@ -100,15 +113,35 @@ constexpr int kLanesHere = OBSCURA_LANES;
 
 enum class Entry { Hbao, Ssao };
 
+// The planes a tile reads and writes; those a kernel does not use are invalid.
+struct TilePlanes {
+    ConstPlane depth, normal, deep, edges, radiance;
+    MutablePlane ao, gi;
+};
+
+// Lane i of v (a pixel's value).
+template <class V>
+float laneOf(const V& v, int i) {
+#if OBSCURA_LANES == 1
+    (void)i;
+    return v;
+#else
+    return v[i];
+#endif
+}
+
 template <Entry E, class Params>
-void runTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, ConstPlane edges,
-             MutablePlane ao, const Box2i& tile) {
+void runTile(const KernelParams& p, const TilePlanes& t, const Box2i& tile) {
     glsl::LaneCpuKernel<Params> k;
     static_cast<KernelParams&>(k.P) = p;
-    k.edgeData = edges.data;
-    k.deepData = deep.data;
-    k.deepXStride = (int)deep.xStride;
-    k.deepYStride = (int)deep.yStride;
+    k.edgeData = t.edges.data;
+    k.deepData = t.deep.data;
+    k.deepXStride = (int)t.deep.xStride;
+    k.deepYStride = (int)t.deep.yStride;
+    k.radianceData = t.radiance.data;
+    k.radianceXStride = (int)t.radiance.xStride;
+    k.radianceYStride = (int)t.radiance.yStride;
+    const ConstPlane& depth = t.depth;
     k.depthData = depth.data;
     k.depthXStride = (int)depth.xStride;
     k.depthYStride = (int)depth.yStride;
@@ -119,60 +152,68 @@ void runTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPl
     // Only formed (and only dereferenced at in-buffer texels) when the offsets fit.
     k.depthAtDisplayOrigin =
         k.displayOffsetsExactInFloat ? depth.data - (p.originY * depth.yStride + p.originX * depth.xStride) : depth.data;
-    k.normalData = normal.data;
-    k.normalXStride = (int)normal.xStride;
-    k.normalYStride = (int)normal.yStride;
+    k.normalData = t.normal.data;
+    k.normalXStride = (int)t.normal.xStride;
+    k.normalYStride = (int)t.normal.yStride;
     const auto lane = glsl::laneIndex();
     for (int y = tile.y0; y < tile.y1; ++y)
         for (int x = tile.x0; x < tile.x1; x += kLanesHere) {
             // Lanes past the tile compute a neighbour (or, past the buffer, nothing) and are not stored.
             const auto v = E == Entry::Hbao ? k.hbaoLanes(lane + x, y) : k.ssaoLanes(lane + x, y);
             const int count = tile.x1 - x < kLanesHere ? tile.x1 - x : kLanesHere;
-            for (int i = 0; i < count; ++i) {
-#if OBSCURA_LANES == 1
-                *ao.at(x + i, y) = v;
-#else
-                *ao.at(x + i, y) = v[i];
-#endif
-            }
+            for (int i = 0; i < count; ++i) *t.ao.at(x + i, y) = laneOf(v, i);
+            if constexpr (Params::hbaoGi != 0)
+                for (int i = 0; i < count; ++i) {
+                    float* g = t.gi.at(x + i, y);
+                    g[0] = laneOf(k.hbaoIrradiance.x, i);
+                    g[1] = laneOf(k.hbaoIrradiance.y, i);
+                    g[2] = laneOf(k.hbaoIrradiance.z, i);
+                }
         }
 }
 
-template <Entry E, int Cosine, int Linear, int Model, int Runs>
-void runTileFor(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, ConstPlane edges,
-                MutablePlane ao, const Box2i& tile) {
+template <Entry E, int Cosine, int Linear, int Model, int Runs, int Gi>
+void runTileFor(const KernelParams& p, const TilePlanes& t, const Box2i& tile) {
     if (p.orthographic == 0 && p.radialDepth == 0)
-        runTile<E, glsl::ParamsPerspPlanar<Cosine, Linear, Model, Runs>>(p, depth, normal, deep, edges, ao, tile);
+        runTile<E, glsl::ParamsPerspPlanar<Cosine, Linear, Model, Runs, Gi>>(p, t, tile);
     else
-        runTile<E, glsl::ParamsAnyCamera<Cosine, Linear, Model, Runs>>(p, depth, normal, deep, edges, ao, tile);
+        runTile<E, glsl::ParamsAnyCamera<Cosine, Linear, Model, Runs, Gi>>(p, t, tile);
 }
 
 // One variant (HBAO's model, runs and falloff as core/hbao_plan.cpp plans them) if p asks for it,
 // with the weighting as a template argument too.
-template <Entry E, int Model, int Runs, int Linear>
-bool runIf(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, ConstPlane edges,
-           MutablePlane ao, const Box2i& tile) {
+template <Entry E, int Model, int Runs, int Linear, int Gi = 0>
+bool runIf(const KernelParams& p, const TilePlanes& t, const Box2i& tile) {
     if (p.hbaoModel != Model || p.hbaoRuns != Runs || p.linearFalloff != Linear) return false;
-    if (p.cosineWeighting != 0) runTileFor<E, 1, Linear, Model, Runs>(p, depth, normal, deep, edges, ao, tile);
-    else runTileFor<E, 0, Linear, Model, Runs>(p, depth, normal, deep, edges, ao, tile);
+    if (p.cosineWeighting != 0) runTileFor<E, 1, Linear, Model, Runs, Gi>(p, t, tile);
+    else runTileFor<E, 0, Linear, Model, Runs, Gi>(p, t, tile);
     return true;
 }
 
 // HBAO's plans, each its own instantiation, so the untaken models leave the march: input without
 // deep layers runs no deep code, and the runs' bookkeeping (a run-time test in the march slowed
 // it by a tenth) only where they are planned.
-void runHbaoPlan(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, ConstPlane edges,
-                 MutablePlane ao, const Box2i& tile) {
+void runHbaoPlan(const KernelParams& p, const TilePlanes& t, const Box2i& tile) {
     using glsl::HBAO_HORIZON, glsl::HBAO_FIXED_THICKNESS, glsl::HBAO_MEASURED_THICKNESS, glsl::HBAO_DEEP;
     constexpr Entry H = Entry::Hbao;
-    const bool planned = runIf<H, HBAO_HORIZON, 0, 0>(p, depth, normal, deep, edges, ao, tile) ||
-                         runIf<H, HBAO_HORIZON, 0, 1>(p, depth, normal, deep, edges, ao, tile) ||
-                         runIf<H, HBAO_FIXED_THICKNESS, 0, 0>(p, depth, normal, deep, edges, ao, tile) ||
-                         runIf<H, HBAO_FIXED_THICKNESS, 1, 1>(p, depth, normal, deep, edges, ao, tile) ||
-                         runIf<H, HBAO_MEASURED_THICKNESS, 1, 0>(p, depth, normal, deep, edges, ao, tile) ||
-                         runIf<H, HBAO_MEASURED_THICKNESS, 1, 1>(p, depth, normal, deep, edges, ao, tile) ||
-                         runIf<H, HBAO_DEEP, 0, 0>(p, depth, normal, deep, edges, ao, tile);
+    const bool planned = runIf<H, HBAO_HORIZON, 0, 0>(p, t, tile) || runIf<H, HBAO_HORIZON, 0, 1>(p, t, tile) ||
+                         runIf<H, HBAO_FIXED_THICKNESS, 0, 0>(p, t, tile) ||
+                         runIf<H, HBAO_FIXED_THICKNESS, 1, 1>(p, t, tile) ||
+                         runIf<H, HBAO_MEASURED_THICKNESS, 1, 0>(p, t, tile) ||
+                         runIf<H, HBAO_MEASURED_THICKNESS, 1, 1>(p, t, tile) || runIf<H, HBAO_DEEP, 0, 0>(p, t, tile);
     if (!planned) std::abort(); // a parameter block core/hbao_plan.cpp did not fill
+}
+
+// The same plans with the indirect light (flat input only: no deep layers).
+void runHbaoGiPlan(const KernelParams& p, const TilePlanes& t, const Box2i& tile) {
+    using glsl::HBAO_HORIZON, glsl::HBAO_FIXED_THICKNESS, glsl::HBAO_MEASURED_THICKNESS;
+    constexpr Entry H = Entry::Hbao;
+    const bool planned = runIf<H, HBAO_HORIZON, 0, 0, 1>(p, t, tile) || runIf<H, HBAO_HORIZON, 0, 1, 1>(p, t, tile) ||
+                         runIf<H, HBAO_FIXED_THICKNESS, 0, 0, 1>(p, t, tile) ||
+                         runIf<H, HBAO_FIXED_THICKNESS, 1, 1, 1>(p, t, tile) ||
+                         runIf<H, HBAO_MEASURED_THICKNESS, 1, 0, 1>(p, t, tile) ||
+                         runIf<H, HBAO_MEASURED_THICKNESS, 1, 1, 1>(p, t, tile);
+    if (!planned) std::abort(); // deep input or a parameter block core/hbao_plan.cpp did not fill
 }
 
 } // namespace
@@ -180,25 +221,30 @@ void runHbaoPlan(const KernelParams& p, ConstPlane depth, ConstPlane normal, Con
 void hbaoTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane edges, MutablePlane ao,
               const Box2i& tile) {
     if (p.hbaoModel == glsl::HBAO_DEEP) std::abort(); // deep layers come through hbaoDeepTile
-    runHbaoPlan(p, depth, normal, ConstPlane{}, edges, ao, tile);
+    runHbaoPlan(p, TilePlanes{depth, normal, {}, edges, {}, ao, {}}, tile);
 }
 
 void hbaoDeepTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, ConstPlane edges,
                   MutablePlane ao, const Box2i& tile) {
-    runHbaoPlan(p, depth, normal, deep, edges, ao, tile);
+    runHbaoPlan(p, TilePlanes{depth, normal, deep, edges, {}, ao, {}}, tile);
+}
+
+void hbaoGiTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane radiance, ConstPlane edges,
+                MutablePlane ao, MutablePlane gi, const Box2i& tile) {
+    runHbaoGiPlan(p, TilePlanes{depth, normal, {}, edges, radiance, ao, gi}, tile);
 }
 
 void ssaoTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile) {
     // SSAO reads the weighting and the falloff, no HBAO switch (HBAO's horizon instantiations serve).
     constexpr Entry S = Entry::Ssao;
     constexpr int H = glsl::HBAO_HORIZON;
-    const ConstPlane none{};
+    const TilePlanes t{depth, normal, {}, {}, {}, ao, {}};
     if (p.cosineWeighting != 0) {
-        if (p.linearFalloff != 0) runTileFor<S, 1, 1, H, 0>(p, depth, normal, none, none, ao, tile);
-        else runTileFor<S, 1, 0, H, 0>(p, depth, normal, none, none, ao, tile);
+        if (p.linearFalloff != 0) runTileFor<S, 1, 1, H, 0, 0>(p, t, tile);
+        else runTileFor<S, 1, 0, H, 0, 0>(p, t, tile);
     } else {
-        if (p.linearFalloff != 0) runTileFor<S, 0, 1, H, 0>(p, depth, normal, none, none, ao, tile);
-        else runTileFor<S, 0, 0, H, 0>(p, depth, normal, none, none, ao, tile);
+        if (p.linearFalloff != 0) runTileFor<S, 0, 1, H, 0, 0>(p, t, tile);
+        else runTileFor<S, 0, 0, H, 0, 0>(p, t, tile);
     }
 }
 

@@ -283,6 +283,9 @@ inline luint operator>>(luint a, luint s) { return a.v >> s.v; }
 inline luint operator-(luint a, luint b) { return a.v - b.v; }
 inline luint operator~(luint a) { return ~a.v; }
 inline luint select(lbool c, luint a, luint b) { return (vuint)select(c, lint((vint)a.v), lint((vint)b.v)).v; }
+// GLSL's bit casts between float and uint lanes.
+inline lfloat uintBitsToFloat(luint a) { return (vfloat)a.v; }
+inline luint floatBitsToUint(lfloat a) { return (vuint)a.v; }
 // The bits set in any lane, as a uniform (GLSL: the pixel's own value).
 inline std::uint32_t lanesOr(luint a) {
     std::uint32_t any = 0;

@@ -327,11 +327,15 @@ void GlBackend::runDiscs(const glsl::KernelParams& p, const float* pyramid, size
     if (timings) *timings = t;
 }
 
+void GlBackend::requireEveryBinding(const char* what) const {
+    if (info().maxStorageBindings < kBindings)
+        throw Error(info().backend + " offers " + std::to_string(info().maxStorageBindings) + " storage buffer bindings; " +
+                    what + " needs " + std::to_string(kBindings) + "; use --device cpu");
+}
+
 void GlBackend::runSsdo(const glsl::KernelParams& p, const SsdoInputs& in, MutablePlane directional, MutablePlane indirect,
                         MutablePlane ao, int blur, GlTimings* timings) {
-    if (info().maxStorageBindings < kBindings)
-        throw Error(info().backend + " offers " + std::to_string(info().maxStorageBindings) +
-                    " storage buffer bindings; ssdo needs " + std::to_string(kBindings) + "; use --device cpu");
+    requireEveryBinding("ssdo");
     GlTimings t;
     std::vector<float> packed;
     runTiled(
@@ -373,6 +377,32 @@ void GlBackend::runSsdo(const glsl::KernelParams& p, const SsdoInputs& in, Mutab
         [&](const Box2i& inner, const Box2i& buf) {
             readInner(kDirectional, 3, inner, buf, directional);
             if (p.bounce) readInner(kIndirect, 3, inner, buf, indirect);
+            readInner(kSignalOut, 1, inner, buf, ao);
+        });
+    if (timings) *timings = t;
+}
+
+void GlBackend::runHbaoGi(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane radiance,
+                          MutablePlane ao, MutablePlane gi, int blur, GlTimings* timings, long long maxTexels) {
+    requireEveryBinding("hbao's GI");
+    GlTimings t;
+    std::vector<float> packed;
+    runTiled(
+        p, depth, normal, blur, maxTexels, t,
+        [&](const Box2i& buf, const glsl::KernelParams&) {
+            const size_t texels = (size_t)buf.width() * buf.height();
+            pack(radiance, buf, 1, packed);
+            uploadBuffer(kRadiance, GL_SHADER_STORAGE_BUFFER, packed.data(), packed.size() * sizeof(float));
+            uploadBuffer(kSignalOut, GL_SHADER_STORAGE_BUFFER, nullptr, texels * sizeof(float));
+            uploadBuffer(kIndirect, GL_SHADER_STORAGE_BUFFER, nullptr, texels * 3 * sizeof(float));
+        },
+        [&](const glsl::KernelParams& q) {
+            dispatch("hbao_gi", q);
+            blurBuffer(kIndirect, 3, blur, q);
+            blurBuffer(kSignalOut, 1, blur, q);
+        },
+        [&](const Box2i& inner, const Box2i& buf) {
+            readInner(kIndirect, 3, inner, buf, gi);
             readInner(kSignalOut, 1, inner, buf, ao);
         });
     if (timings) *timings = t;

@@ -48,6 +48,11 @@ public:
         runAoWith("hbao", p, depth, normal, deep, ao, blur, timings, maxTexels);
     }
 
+    // HBAO with its indirect light (kernels/hbao_gi.glsl): AO and the irradiance `gi` (RGB) from
+    // `radiance`, the bounce source (albedo applied, one packed RGB word per texel), then `blur` passes on each.
+    void runHbaoGi(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane radiance, MutablePlane ao,
+                   MutablePlane gi, int blur, GlTimings* timings = nullptr, long long maxTexels = 0);
+
     // View-space unit normals from the depth alone (kernels/depth_normal.glsl), 3 channels.
     void runDepthNormals(const glsl::KernelParams& p, ConstPlane depth, MutablePlane normal, GlTimings* timings = nullptr);
 
@@ -65,6 +70,8 @@ public:
                  MutablePlane ao, int blur, GlTimings* timings = nullptr);
 
 private:
+    // Throws unless the context offers every storage binding the light's programs use (`what` needs them).
+    void requireEveryBinding(const char* what) const;
     void runAoWith(const char* program, const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal,
                    ConstPlane deep, MutablePlane ao, int blur, GlTimings* timings, long long maxTexels);
     void runTiled(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, int blur, long long maxTexels,

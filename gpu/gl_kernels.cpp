@@ -65,6 +65,11 @@ vec4 gatherEdgeTexel(vec2 edgeCorner, bool use) {
     return vec4(gatherEdgeDepth(edgeCorner, use), normal);
 }
 vec3 gatherRadiance(int x, int y, bool use) { return use ? loadRadiance(ivec2(x, y)) : vec3(0.0f); }
+// HBAO's indirect light: one packed word per texel in the radiance binding (kernels/hbao_gi.glsl).
+uint gatherRadianceBitsAtDisplay(vec2 corner, bool use) {
+    return use ? floatBitsToUint(radianceData[texelIndex(ivec2(int(corner.x) - P.originX, int(corner.y) - P.originY))])
+               : 0u;
+}
 vec3 gatherAlbedo(int x, int y, bool use) { return use ? loadAlbedo(ivec2(x, y)) : vec3(1.0f); }
 vec3 gatherEnv(int x, int y, bool use) { return use ? loadEnv(ivec2(x, y)) : vec3(0.0f); }
 vec4 gatherSignal(int x, int y, bool use) { return use ? loadSignal(ivec2(x, y)) : vec4(0.0f); }
@@ -85,11 +90,14 @@ std::string hbaoDefines(const glsl::KernelParams& p) {
     return "#define HBAO_MODEL " + std::to_string(p.hbaoModel) + "\n#define HBAO_RUNS " + std::to_string(p.hbaoRuns) +
            "\n";
 }
+// HBAO with its indirect light: the same plan, and HBAO_GI (kernels/hbao.glsl leaves it 0 for AO alone).
+std::string hbaoGiDefines(const glsl::KernelParams& p) { return hbaoDefines(p) + "#define HBAO_GI 1\n"; }
 } // namespace
 
 const std::vector<GlKernel>& glKernels() {
     static const std::vector<GlKernel> kernels = {
         {"hbao", "hbao.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; signalOut[texelIndex(t)] = hbaoLanes(t.x, t.y); }", hbaoDefines},
+        {"hbao_gi", "hbao.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; int i = texelIndex(t); signalOut[i] = hbaoLanes(t.x, t.y); for (int c = 0; c < 3; ++c) indirectOut[3 * i + c] = hbaoIrradiance[c]; }", hbaoGiDefines},
         {"ssao", "ssao.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; signalOut[texelIndex(t)] = ssaoLanes(t.x, t.y); }"},
         {"discs", "discs.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; signalOut[texelIndex(t)] = discsLanes(t.x, t.y); }"},
         {"blur", "blur.glsl", "void main() { ivec2 t = ivec2(gl_GlobalInvocationID.xy); if (outsideDispatch(t)) return; storeSignal(t, blurLanes(t.x, t.y, blurAxis, blurRadius)); }"},

@@ -9,6 +9,7 @@
 // cpu/lane_tile_impl.h; defines on OpenGL, gpu/gl_kernels.cpp):
 //   HBAO_MODEL  HBAO_HORIZON, HBAO_FIXED_THICKNESS, HBAO_MEASURED_THICKNESS or HBAO_DEEP
 //   HBAO_RUNS   1: samples are applied per occluder, a run of them, when it ends
+//   HBAO_GI     1: also the indirect light the march's samples send (hbao_gi.glsl); 0 if undefined
 // The paper's AO (its Eq. 3) is 1 - 1/(2 pi) \int (sin h(phi) - sin t(phi)) W(phi) dphi over the
 // azimuth phi, h the horizon's elevation and t the tangent's. Directions are slices around the
 // view vector V (as in GTAO), so every slice is a plane through the eye and its samples lie on one
@@ -22,6 +23,10 @@
 #include "hbao_runs.glsl"    // HBAO_RUNS: a run of samples per occluder (HBAO_MEASURED_THICKNESS)
 #include "hbao_deep.glsl"    // HBAO_DEEP: the renderer's layers, each texel's footprint
 #include "hbao_border.glsl"  // past the buffer's edge: the continued surface
+#ifndef HBAO_GI
+#define HBAO_GI 0
+#endif
+#include "hbao_gi.glsl"      // HBAO_GI: each newly covered angle's bounce light
 
 // The slice's integral of F: at the horizon, plus the sectors set above it (none without a
 // thickness); linear falloff has summed its weighted rises as it marched.
@@ -45,6 +50,9 @@ lfloat sliceIntegral(IN(HbaoSlice) sl, IN(HbaoOccluded) o) {
 // Ambient occlusion in [0,1] (1 = unoccluded) of the buffer texels (x, y); texels outside
 // the buffer, sky and holes get 1.
 lfloat hbaoLanes(lint x, lint y) {
+    if (HBAO_GI != 0) {
+        hbaoIrradiance = lvec3(lfloat(0.0f), lfloat(0.0f), lfloat(0.0f));
+    }
     // 1. The receiver's point and normal, and R projected on the screen, which bounds the march
     //    (the paper's projected radius); nothing to do off surfaces or where R spans no whole pixel.
     HbaoReceiver r;
@@ -61,11 +69,13 @@ lfloat hbaoLanes(lint x, lint y) {
     //    per-pixel rotation of the directions).
     HbaoAzimuth azimuth = firstAzimuth(r);
     lfloat occlusion = lfloat(0.0f);
+    lvec3 irradiance = lvec3(lfloat(0.0f), lfloat(0.0f), lfloat(0.0f)); // HBAO_GI only
     for (int d = 0; d < P.directions; ++d) {
         HbaoSlice slice = nextSlice(r, azimuth);
         HbaoOccluded o = nothingOccluded();
         OccluderRun run = noRun();                         // HBAO_RUNS only
         FootprintPrevious previous = receiverFootprint(r); // HBAO_DEEP only
+        HbaoGi lit = nothingLit();                          // HBAO_GI only
         // 3. The horizon h(phi): N_s steps along the slice's image line, from one pixel out to R,
         //    jittered per pixel and snapped to texel centres (the paper's ray marching).
         HbaoMarch march = startMarch(r, slice);
@@ -94,6 +104,9 @@ lfloat hbaoLanes(lint x, lint y) {
             } else {
                 takeSampleHorizon(smp, r, slice, o);
             }
+            if (HBAO_GI != 0) {
+                takeSampleGi(smp, r, slice, lit);
+            }
         }
         if (HBAO_RUNS != 0) {
             closeUnfinishedRun(run, slice, o);
@@ -102,12 +115,23 @@ lfloat hbaoLanes(lint x, lint y) {
         lbool left = r.computing && march.stepsInside < float(P.steps);
         if (P.hbaoBorder != HBAO_BORDER_OPEN && !march.interior && anyLane(left)) {
             takeBorder(r, slice, march, left, o);
+            if (HBAO_GI != 0) {
+                takeBorderGi(r, slice, march, left, lit);
+            }
         }
         // 6. The slice's integral (Eq. 3's integrand): F at the horizon, and the sectors above it.
         occlusion += sliceIntegral(slice, o);
+        if (HBAO_GI != 0) {
+            irradiance += lit.irradiance;
+        }
     }
     // 7. AO = 1 - the sum normalised. Uniform: (1/2pi) * (2pi/N_d) * sum. Cosine: (1/pi) *
     //    (2pi/N_d) * sum.
     float norm = (P.cosineWeighting != 0 ? 2.0f : 1.0f) / float(P.directions);
+    if (HBAO_GI != 0) {
+        // E = (2 pi / N_d) * the slices' sums of L dF_cos.
+        lvec3 none = lvec3(lfloat(0.0f), lfloat(0.0f), lfloat(0.0f));
+        hbaoIrradiance = select(r.computing, irradiance * (TWO_PI / float(P.directions)), none);
+    }
     return select(r.computing, clamp(1.0f - occlusion * norm, 0.0f, 1.0f), 1.0f);
 }

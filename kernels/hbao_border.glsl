@@ -134,21 +134,32 @@ void takeContinued(lvec3 P0, lvec3 P1, lbool use, lbool onePlane, lfloat weight,
     }
 }
 
+// The chord of the lanes that `left` the buffer on a march (continuedChord), and where they left.
+struct BorderChord {
+    lvec2 exitCorner;
+    lvec3 X0, X1;
+    lbool valid, onePlane;
+};
+
+BorderChord borderChord(IN(HbaoReceiver) r, IN(HbaoMarch) m, lbool left) {
+    BorderChord c;
+    c.exitCorner = floor(m.start + m.step * m.stepsInside);
+    lvec2 lastCorner = floor(m.start + m.step * float(P.steps - 1));
+    continuedChord(c.exitCorner, lastCorner, left, r, c.X0, c.X1, c.valid, c.onePlane);
+    return c;
+}
+
 // The lanes that `left` the buffer (off the interior: where the march left it) take the continued
 // surface's chord, where it can rise above the horizon.
 void takeBorder(IN(HbaoReceiver) r, IN(HbaoSlice) sl, IN(HbaoMarch) m, lbool left, INOUT(HbaoOccluded) o) {
-    lvec2 exitCorner = floor(m.start + m.step * m.stepsInside);
-    lvec2 lastCorner = floor(m.start + m.step * float(P.steps - 1));
-    lvec3 X0;
-    lvec3 X1;
-    lbool valid;
-    lbool onePlane;
-    continuedChord(exitCorner, lastCorner, left, r, X0, X1, valid, onePlane);
+    BorderChord c = borderChord(r, m, left);
+    lvec3 X0 = c.X0;
+    lvec3 X1 = c.X1;
     // Only a point above the horizon adds anything, and which side of the horizon's line a point
     // lies on is linear along the chord: where both ends are on or under that line, so is all of
     // it (the receiver's own ground continued, say), and the lane takes nothing.
-    lbool rises = valid && (aboveHorizon(dot(sl.T, X0), dot(sl.n, X0), o.horizonA, o.horizonB) ||
-                            aboveHorizon(dot(sl.T, X1), dot(sl.n, X1), o.horizonA, o.horizonB));
+    lbool rises = c.valid && (aboveHorizon(dot(sl.T, X0), dot(sl.n, X0), o.horizonA, o.horizonB) ||
+                              aboveHorizon(dot(sl.T, X1), dot(sl.n, X1), o.horizonA, o.horizonB));
     if (anyLane(rises)) {
         lvec3 P0;
         lvec3 P1;
@@ -157,6 +168,6 @@ void takeBorder(IN(HbaoReceiver) r, IN(HbaoSlice) sl, IN(HbaoMarch) m, lbool lef
         // Linear falloff: the chord's rises weighed at its near end (the angle a plane covers
         // grows fastest nearest the receiver; measured against the mean and the far end's W).
         lfloat weight = falloffWeight(dot(P0, P0), r.invRadius);
-        takeContinued(P0, P1, rises && meets, onePlane, weight, sl, o);
+        takeContinued(P0, P1, rises && meets, c.onePlane, weight, sl, o);
     }
 }

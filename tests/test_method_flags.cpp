@@ -105,8 +105,15 @@ TEST(MethodFlags, OutputsTheMethodCannotWriteAreRefused) {
                 continue;
             }
             EXPECT_EQ(r.exitCode, 2) << m.name << " " << output << "\n" << outcome(r);
-            EXPECT_NE(r.err.find("the " + std::string(output) + " output is written by --method ssdo only"), std::string::npos)
+            // The refusal names every method that writes it (ssdo; gi and relit hbao's bounce too).
+            EXPECT_NE(r.err.find("the " + std::string(output) + " output is written by --method "), std::string::npos)
                 << outcome(r);
+            EXPECT_NE(r.err.find("only, not by --method " + std::string(m.name)), std::string::npos) << outcome(r);
+            for (const MethodInfo& writer : methods()) {
+                if (methodOutputs(writer.name, output)) {
+                    EXPECT_NE(r.err.find("--method " + std::string(writer.name)), std::string::npos) << outcome(r);
+                }
+            }
         }
 }
 

@@ -88,6 +88,24 @@ TEST_F(SsdoCli, BounceRunsOnlyWhenAskedFor) {
     for (const char* c : {"obscura.GI.R", "obscura.GI.B", "Relit.G", "obscura.AO.Y"}) EXPECT_TRUE(has(j["written"], c)) << c;
 }
 
+// hbao's bounce (kernels/hbao_gi.glsl) writes GI and relit as ssdo's does, and no DO: it has none.
+TEST_F(SsdoCli, HbaoBounceWritesGiAndRelit) {
+    const fs::path out = dir / "hbao_gi.exr", rep = dir / "hbao_gi.json";
+    CliResult r = run({kRoom.string(), "-o", out.string(), "--method", "hbao", "--bounce", "--radius", "1", "--quiet",
+                       "--report", rep.string()});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const auto j = report(rep);
+    EXPECT_TRUE(has(j["plan"], "hbao + bounce from direct-diffuse"));
+    for (const char* c : {"obscura.AO.Y", "obscura.GI.R", "obscura.GI.B", "obscura.relit.G"})
+        EXPECT_TRUE(has(j["written"], c)) << c;
+    EXPECT_FALSE(has(j["written"], "obscura.DO"));
+    const fs::path out2 = dir / "hbao_do.exr";
+    r = run({kRoom.string(), "-o", out2.string(), "--method", "hbao", "--bounce", "--out-layer", "do=DO", "--quiet"});
+    EXPECT_EQ(r.exitCode, 2) << r.err;
+    EXPECT_NE(r.err.find("written by --method ssdo only"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out2));
+}
+
 // An environment map is read (and listed in the plan) only for ssdo.
 TEST_F(SsdoCli, EnvironmentLoadsOnlyForSsdo) {
     const fs::path env = dir / "env.exr", out = dir / "env_out.exr", rep = dir / "env.json";

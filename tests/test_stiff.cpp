@@ -47,6 +47,16 @@ float checkedMin(const Image& ao) {
 
 std::vector<Rect> ground() { return {planeRect(dvec3(0), dvec3(1, 0, 0), dvec3(0, 0, 1), 1e7)}; }
 
+// The endless floor a millimetre under a camera pitched so that the centre ray of row 2 meets it
+// 1e-9 rad below the horizon: depths from 1e-3 to beyond 1e5 in one frame (100 degrees wide).
+SceneBuffers nineDecadePlane(int W, int H) {
+    const double fovRad = 100.0 * M_PI / 180, f = 0.5 * W / std::tan(0.5 * fovRad);
+    const double pitch = std::atan((0.5 * H - 2.5) / f) + 1e-9;
+    const dvec3 eye(0, 1e-3, 0);
+    return renderScene(ground(), lookAtPerspective(eye, eye + dvec3(0, -std::sin(pitch), -std::cos(pitch)), fovRad, W, H),
+                       W, H);
+}
+
 std::vector<Rect> corner() {
     const double L = 1e3;
     return {Rect{dvec3(-L, 0, -L), dvec3(L, 0, 0), dvec3(0, 0, 2 * L)},
@@ -237,11 +247,7 @@ TEST_P(Stiff, SsaoPlanesAndCorner) {
 // so it is held to the range only), and the corner at extreme radii stays finite in [0, 1].
 TEST_P(Stiff, EveryMethodStaysInRange) {
     const int W = 96, H = 64;
-    const double fovRad = 100.0 * M_PI / 180, f = 0.5 * W / std::tan(0.5 * fovRad);
-    const double pitch = std::atan((0.5 * H - 2.5) / f) + 1e-9;
-    const dvec3 eye(0, 1e-3, 0);
-    SceneBuffers plane = renderScene(ground(), lookAtPerspective(eye, eye + dvec3(0, -std::sin(pitch), -std::cos(pitch)),
-                                                                 fovRad, W, H), W, H);
+    SceneBuffers plane = nineDecadePlane(W, H);
     SceneBuffers edge = renderScene(corner(), cornerCamera(W, H), W, H);
     for (const MethodInfo& m : methods()) {
         if (std::string(GetParam()) != "cpu" && !m.gl) continue;
@@ -278,4 +284,47 @@ TEST_P(Stiff, BlurAtTinyDepthsStaysFinite) {
         s.blur = blur;
         checkedMin(runOperator(sb.inputs(), s).ao);
     }
+}
+
+// HBAO's indirect light (--method hbao --bounce) on the same stiff frames: the nine-decade plane
+// receives nothing, the corner at extreme radii and through holes (NaN, negative and infinite
+// depths, a NaN in the source) stays finite, non-negative and below the furnace's pi L.
+TEST_P(Stiff, HbaoBounceStaysFiniteAndBounded) {
+    const int W = 96, H = 64;
+    SceneBuffers plane = nineDecadePlane(W, H);
+    SceneBuffers edge = renderScene(corner(), cornerCamera(W, H), W, H);
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const float holes[] = {nan, -1.0f, std::numeric_limits<float>::infinity(), 1e-45f};
+    for (int i = 0; i < 4; ++i) *edge.depth.at(10 + 7 * i, H / 2) = holes[i];
+    const float L = 3.0f;
+    Image source(W, H, 3, L);
+    source.at(W / 2, H / 3)[1] = nan; // a bad source texel (a renderer's NaN) sends no light
+    Settings s;
+    s.device = GetParam();
+    s.method = "hbao";
+    s.bounce = true;
+    s.blur = 0;
+    for (float T : {kThicknessInfinite, kThicknessAuto, 0.1f})
+        for (float R : {1e-4f, 1e-2f, 10.0f, 1e4f}) {
+            s.thickness = T;
+            s.radius = R;
+            OperatorInputs in = plane.inputs();
+            in.radiance = source.view();
+            const OperatorOutputs open = runOperator(in, s);
+            checkedMin(open.ao);
+            for (float v : open.indirect.pixels) EXPECT_LE(v, L * M_PI * 1e-3f) << "plane R=" << R << " T=" << T;
+            in = edge.inputs();
+            in.radiance = source.view();
+            const OperatorOutputs out = runOperator(in, s);
+            checkedMin(out.ao);
+            int lit = 0;
+            for (size_t i = 0; i < out.indirect.pixels.size(); ++i) {
+                const float v = out.indirect.pixels[i];
+                EXPECT_TRUE(v >= 0.0f && v <= L * M_PI * 1.001f) << v << " R=" << R << " T=" << T;
+                lit += v > 0.0f;
+            }
+            if (R >= 10.0f) {
+                EXPECT_GT(lit, W * H / 4) << "the wall lights the floor, R=" << R << " T=" << T;
+            }
+        }
 }

@@ -13,7 +13,8 @@ const std::vector<std::string>& registeredMethods() {
         for (const obscura::MethodInfo& m : obscura::methods()) {
             if (obscura::methodOutputs(m.name, "do")) continue;  // SSDO's variants below
             v.push_back(m.name);
-            if (std::string(m.name) == "hbao") v.insert(v.end(), {"hbao+horizon", "hbao+open", "hbao+clamp", "hbao+deep"});
+            if (std::string(m.name) == "hbao")
+                v.insert(v.end(), {"hbao+horizon", "hbao+open", "hbao+clamp", "hbao+deep", "hbao+bounce"});
             if (std::string(m.name) == "rtao") v.insert(v.end(), {"rtao+sheet", "rtao+thick"});
             // Disc AO with one of its corrections switched (docs/discs.md).
             if (std::string(m.name) == "discs") v.insert(v.end(), {"discs+vis", "discs-blend", "discs-nopoly", "discs-sum"});

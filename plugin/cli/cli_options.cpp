@@ -261,7 +261,7 @@ std::vector<Flag> makeFlags() {
              else if (role == "relit") o.job.relitLayer = name, o.job.writeRelit = true;
              else throw UsageError("--out-layer: unknown output '" + role + "' (ao, do, gi, relit)");
          }},
-        {"--bounce", nullptr, "ssdo: relight: one indirect bounce (GI layer) and relit = albedo x (DO + GI) / pi",
+        {"--bounce", nullptr, "ssdo, hbao: one indirect bounce (GI layer) and relit = albedo x (DO + GI) / pi (hbao: no DO)",
          [](Options& o, const std::string&) { requestBounce(o.job); }},
         {"--bounce-source", "direct-diffuse|beauty|LAYER",
          "radiance of the bouncing surfaces (default direct-diffuse, times the albedo pass)",

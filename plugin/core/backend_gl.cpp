@@ -37,6 +37,13 @@ public:
         record(st, t);
     }
 
+    void hbaoGi(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane radiance, MutablePlane ao,
+                MutablePlane gi, int blur, OperatorStats& st) const override {
+        gpu::GlTimings t;
+        gl_.runHbaoGi(p, depth, normal, radiance, ao, gi, blur, &t);
+        record(st, t);
+    }
+
     void discs(const KernelParams& p, const cpu::DiscPyramid& pyramid, ConstPlane depth, ConstPlane normal,
                MutablePlane ao, int blur, OperatorStats& st) const override {
         gpu::GlTimings t;

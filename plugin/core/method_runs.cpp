@@ -6,10 +6,63 @@
 #include "cpu/discs_cpu.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <utility>
 
 namespace obscura {
 
+namespace {
+// RGB in one 32-bit word with a shared exponent, the form kernels/hbao_gi.glsl reads (as GL's
+// RGB9_E5 texture format): 9-bit mantissas m and a 5-bit exponent e, channel = m 2^(e - 24).
+// Channels are clamped to [0, 65408]; non-finite ones (a renderer's bad pixel) send no light.
+float packSharedExponent(const float rgb[3]) {
+    float c[3];
+    for (int i = 0; i < 3; ++i) c[i] = std::isfinite(rgb[i]) ? std::clamp(rgb[i], 0.0f, 65408.0f) : 0.0f;
+    int exponent = 0; // most = f 2^exponent, f in [0.5, 1): floor(log2(most)) = exponent - 1
+    std::frexp(std::max(std::max(c[0], c[1]), c[2]), &exponent);
+    std::uint32_t e = (std::uint32_t)std::clamp(exponent + 15, 0, 31), m[3];
+    for (int pass = 0; pass < 2; ++pass) { // a maximum that rounds up to 512 takes the next exponent
+        const std::uint32_t inverseBits = (151u - e) << 23; // 2^(24 - e), exact
+        float inverse;
+        std::memcpy(&inverse, &inverseBits, sizeof inverse);
+        for (int i = 0; i < 3; ++i) m[i] = (std::uint32_t)(c[i] * inverse + 0.5f);
+        if (std::max(std::max(m[0], m[1]), m[2]) < 512u || e == 31u) break;
+        ++e;
+    }
+    std::uint32_t bits = e << 27;
+    for (int i = 0; i < 3; ++i) bits |= std::min(m[i], 511u) << (9 * i);
+    float word;
+    std::memcpy(&word, &bits, sizeof word);
+    return word;
+}
+
+// HBAO with --bounce: the indirect light from the same march (kernels/hbao_gi.glsl), from the
+// bounce source times the albedo where one is given (SSDO's senders), packed once here.
+void runHbaoGi(const MethodRun& r) {
+    const OperatorInputs& in = r.in;
+    if (!in.radiance.valid()) throw Error("the bounce (GI) needs a radiance source: a direct-diffuse or beauty pass");
+    if (in.deepLayers.valid()) throw Error("hbao's bounce (GI) reads flat input only; leave out the deep layers");
+    checkPlane(in.radiance, 3, in.dataWindow, "bounce source");
+    const bool albedo = r.params.senderAlbedo != 0 && in.albedo.valid();
+    if (albedo) checkPlane(in.albedo, 3, in.dataWindow, "albedo");
+    const int w = in.dataWindow.width(), h = in.dataWindow.height();
+    Image source(w, h, 1);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            float rgb[3];
+            for (int c = 0; c < 3; ++c) rgb[c] = in.radiance.at(x, y)[c] * (albedo ? in.albedo.at(x, y)[c] : 1.0f);
+            *source.at(x, y) = packSharedExponent(rgb);
+        }
+    r.out.indirect = Image(w, h, 3, 0.0f);
+    r.backend.hbaoGi(r.params, in.depth, in.normal, std::as_const(source).view(), r.out.ao.view(),
+                     r.out.indirect.view(), resolvedBlur(r.settings), r.out.stats);
+}
+} // namespace
+
 void runHbaoMethod(const MethodRun& r) {
+    if (r.settings.bounce) return runHbaoGi(r);
     const ConstPlane deep = r.params.deepLayers > 0 ? r.in.deepLayers : ConstPlane{};
     r.backend.ao(AoKernel::Hbao, r.params, r.in.depth, r.in.normal, deep, r.out.ao.view(), resolvedBlur(r.settings),
                  r.out.stats);

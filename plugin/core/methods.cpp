@@ -74,7 +74,8 @@ MethodParam deepLayersParam() {
 std::vector<MethodInfo> makeTable() {
     std::vector<MethodInfo> t;
     t.push_back({"hbao", "horizon-based ambient occlusion (Bavoil et al. 2008): slices around the view vector",
-                 "kernels/hbao.glsl", true, true, {"depth", "normal", "deep"}, {"ao"},
+                 "kernels/hbao.glsl", true, true,
+                 {"depth", "normal", "deep", "beauty|direct-diffuse", "albedo"}, {"ao", "gi", "relit"},
                  {{"low", "4x4 + blur 2", [](Settings& s) { hbaoLevel(s, 0); }},
                   {"medium", "8x8 + blur 1", [](Settings& s) { hbaoLevel(s, 1); }},
                   {"high", "16x12", [](Settings& s) { hbaoLevel(s, 2); }},
@@ -228,12 +229,13 @@ std::string checkParam(const MethodParam& p, double v, bool named) {
 namespace {
 std::vector<MethodOption> makeOptions() {
     // The four AO integrals weigh and fade their samples; SSDO's DO has its own definition.
-    const std::vector<const char*> ao = {"hbao", "ssao", "rtao", "discs"}, ssdo = {"ssdo"};
+    // HBAO's --bounce reads the bounce source too (kernels/hbao_gi.glsl): no map, no lights.
+    const std::vector<const char*> ao = {"hbao", "ssao", "rtao", "discs"}, ssdo = {"ssdo"}, bounce = {"ssdo", "hbao"};
     return {
         {"weighting", "--weighting", "weighting", ao},
         {"falloff", "--falloff", "falloff", ao},
-        {"bounce", "--bounce", nullptr, ssdo},
-        {"bounce_source", "--bounce-source", nullptr, ssdo},
+        {"bounce", "--bounce", nullptr, bounce},
+        {"bounce_source", "--bounce-source", nullptr, bounce},
         {"env", "--env", "envMap", ssdo},
         {"env_rotate", "--env-rotate", "envRotation", ssdo},
         {"env_intensity", "--env-intensity", "envIntensity", ssdo},
@@ -241,10 +243,10 @@ std::vector<MethodOption> makeOptions() {
         {"sky", "--sky", "skyColour", ssdo},
         {"lights", "--light", nullptr, ssdo},
         {"up", "--up", "upAxis", ssdo},
-        // Only SSDO reads colour passes (the bounce source, albedo, direct light).
-        {"colorspace", "--colorspace", nullptr, ssdo},
-        {"times_albedo", "--times-albedo", "timesAlbedo", ssdo},
-        {"relit_direct", "--relit-direct", nullptr, ssdo},
+        // Only SSDO and HBAO's bounce read colour passes (the bounce source, albedo, direct light).
+        {"colorspace", "--colorspace", nullptr, bounce},
+        {"times_albedo", "--times-albedo", "timesAlbedo", bounce},
+        {"relit_direct", "--relit-direct", nullptr, bounce},
     };
 }
 

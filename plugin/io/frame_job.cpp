@@ -175,9 +175,14 @@ void requestBounce(FrameJob& job) {
     job.writeRelit = true;
 }
 
+bool readsColour(const FrameJob& job) {
+    const std::string& method = job.settings.method;
+    return methodOutputs(method, "do") || (methodOutputs(method, "gi") && (job.writeIndirect || job.writeRelit));
+}
+
 SsdoReads planSsdoReads(const FrameJob& job, const FramePasses& p) {
     SsdoReads r;
-    if (!methodOutputs(job.settings.method, "do")) return r;  // AO alone reads no colour pass
+    if (!readsColour(job)) return r;  // AO alone reads no colour pass
     const ExrPart& part = p.info.parts[p.part];
     const bool bounce = job.writeIndirect || job.writeRelit;
     if (bounce) {
@@ -439,7 +444,7 @@ void addSsdoInputs(const FrameJob& job, FramePasses& p, Settings& settings, Oper
         report.plan.push_back("environment " + job.envPath + " (" + std::to_string(environment.width) + "x" +
                               std::to_string(environment.height) + ")");
     }
-    report.plan.push_back(std::string("ssdo") + (settings.bounce ? " + bounce from " + job.bounceSource : " (no bounce)"));
+    report.plan.push_back(settings.method + (settings.bounce ? " + bounce from " + job.bounceSource : " (no bounce)"));
 }
 
 // What the operator computes from: the passes' planes, the conventions and, as the method asks,
@@ -457,7 +462,7 @@ OperatorInputs operatorInputs(const FrameJob& job, FramePasses& p, Settings& set
     settings.skyDepth = report.skyDepth;
     if (deep.empty()) deep = readDeepInput(job, p, report);  // deep elements bring their merge's
     if (!deep.empty() && methodReads(settings.method, "deep")) in.deepLayers = deep.view();
-    if (methodOutputs(settings.method, "do")) addSsdoInputs(job, p, settings, in, environment, report);
+    if (readsColour(job)) addSsdoInputs(job, p, settings, in, environment, report);
     else report.plan.push_back(settings.method);
     return in;
 }
@@ -470,8 +475,6 @@ void compareWithReference(const FramePasses& p, const OperatorOutputs& out, Fram
                                        [&](int x, int y) { return isSurface(*p.depth.at(x, y), sky); });
 }
 
-// One view of the frame (the whole frame for a file without views): its passes read, the
-// operator run on them. keepAll: every channel kept raw too, for a copy.
 // One view's (or the merged deep elements') passes through the operator. `merged`: deep
 // elements, whose surfaces are the deep input and whose per-element AO goes to `elementAo`.
 ViewResult computeView(const FrameJob& job, FramePasses passes, FrameReport& report,
@@ -539,7 +542,7 @@ FrameReport runJob(const FrameJob& job) {
     writeFrameOutputs(job, results, report, std::move(elementAo));
     if (!job.previewPath.empty()) {
         StageTimer timer{&report.stages, "preview"};
-        report.plan.push_back(writeFramePreview(job, results[0].passes, results[0].out, methodOutputs(job.settings.method, "do")));
+        report.plan.push_back(writeFramePreview(job, results[0].passes, results[0].out, readsColour(job)));
     }
     return report;
 }

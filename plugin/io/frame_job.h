@@ -130,6 +130,8 @@ std::string normalsSourceLine(const FrameJob& job, const LayerPlan& plan);
 // bounce is for; relit needs an albedo pass. Naming an output (--out-layer gi=NAME) asks for that
 // layer alone.
 void requestBounce(FrameJob& job);
+// Whether the job reads colour passes and writes light: ssdo always, hbao with the bounce.
+bool readsColour(const FrameJob& job);
 
 // The colour passes an SSDO request reads (R, G, B, in the part that holds each); empty for HBAO.
 struct SsdoReads {

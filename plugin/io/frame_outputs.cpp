@@ -36,9 +36,10 @@ Image ssdoLayerImage(const FrameJob& job, const FramePasses& p, const Image& e) 
     return r;
 }
 
-// albedo x (DO + GI) / pi, plus the render's direct diffuse light with --relit-direct.
+// albedo x (DO + GI) / pi, plus the render's direct diffuse light with --relit-direct; HBAO's
+// bounce has no DO (albedo x GI / pi: the bounce alone, or added to the direct light).
 Image relitImage(const FrameJob& job, const FramePasses& p, const OperatorOutputs& out) {
-    Image relit = out.directional;
+    Image relit = out.directional.empty() ? Image(out.indirect.width, out.indirect.height, 3, 0.0f) : out.directional;
     for (size_t i = 0; i < relit.pixels.size(); ++i) {
         relit.pixels[i] = p.albedo.pixels[i] * (relit.pixels[i] + out.indirect.pixels[i]) * (float)(1.0 / M_PI);
         if (job.relitWithDirect) relit.pixels[i] += p.albedo.pixels[i] * p.directDiffuse.pixels[i];
@@ -64,7 +65,7 @@ std::vector<std::string> addSsdoLayers(const FrameJob& job, const FramePasses& p
         if (units) attrs.push_back({outPart, "obscura/" + layer + "/units", units});
     };
     const char* units = job.timesAlbedo ? "radiance (albedo E / pi)" : "irradiance E";
-    if (job.writeDirectional) emit(job.doLayer, ssdoLayerImage(job, p, out.directional), units);
+    if (job.writeDirectional && !out.directional.empty()) emit(job.doLayer, ssdoLayerImage(job, p, out.directional), units);
     if (job.writeIndirect) emit(job.giLayer, ssdoLayerImage(job, p, out.indirect), units);
     if (job.writeRelit) emit(job.relitLayer, relitImage(job, p, out), nullptr);
     return layers;
@@ -149,7 +150,8 @@ std::string describeWrite(const FrameJob& job, const ExrInfo& info, int part) {
 // is; light has no fixed scale (a sunlit floor is far above 1), so it is exposed automatically
 // unless --preview-exposure says how. Returns the report's plan line.
 std::string writeFramePreview(const FrameJob& job, const FramePasses& p, const OperatorOutputs& out, bool ssdo) {
-    const Image colour = !ssdo ? Image() : job.writeRelit ? relitImage(job, p, out) : ssdoLayerImage(job, p, out.directional);
+    const Image& light = out.directional.empty() ? out.indirect : out.directional; // hbao's bounce: GI
+    const Image colour = !ssdo ? Image() : job.writeRelit ? relitImage(job, p, out) : ssdoLayerImage(job, p, light);
     Image view = displayPart(ssdo ? colour : out.ao, p);
     if (ssdo) {
         const ColourManager& cm = colourManager();
@@ -158,7 +160,7 @@ std::string writeFramePreview(const FrameJob& job, const FramePasses& p, const O
     const float ev = job.previewExposure ? *job.previewExposure : ssdo ? autoExposureEv(view) : 0.0f;
     writePreviewPng(job.previewPath, view, ev);
     char line[160];
-    std::snprintf(line, sizeof line, "preview: %s, exposure %+.2f EV%s", !ssdo ? "AO" : job.writeRelit ? "relit" : "DO",
+    std::snprintf(line, sizeof line, "preview: %s, exposure %+.2f EV%s", !ssdo ? "AO" : job.writeRelit ? "relit" : out.directional.empty() ? "GI" : "DO",
                   ev, job.previewExposure || !ssdo ? "" : " (auto: the 99th percentile of the largest channel at 0.8)");
     return line;
 }
@@ -166,7 +168,7 @@ std::string writeFramePreview(const FrameJob& job, const FramePasses& p, const O
 void writeFrameOutputs(const FrameJob& job, std::vector<ViewResult>& views, FrameReport& report,
                        std::vector<NewChannel> extra) {
     const bool copy = job.write == WriteMode::Copy;
-    const bool ssdo = methodOutputs(job.settings.method, "do");
+    const bool ssdo = readsColour(job);  // the light layers: ssdo's, or hbao's bounce
     const bool append = job.write == WriteMode::Append;
     StageTimer timer{append ? nullptr : &report.stages, "write"};  // append times its own stages
     const Imf::PixelType type = job.aoFloat ? Imf::FLOAT : Imf::HALF;

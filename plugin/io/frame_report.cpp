@@ -53,8 +53,8 @@ std::string frameReportJson(const FrameJob& job, const FrameReport& r) {
     }
     if (!r.aoChannel.empty()) {
         j["output_channels"] = {{"ao", r.aoChannel}};
-        if (methodOutputs(s.method, "do")) {
-            if (job.writeDirectional) j["output_channels"]["do"] = job.doLayer;
+        if (readsColour(job)) {
+            if (job.writeDirectional && methodOutputs(s.method, "do")) j["output_channels"]["do"] = job.doLayer;
             if (job.writeIndirect) j["output_channels"]["gi"] = job.giLayer;
             if (job.writeRelit) j["output_channels"]["relit"] = job.relitLayer;
         }

@@ -8,6 +8,8 @@
 //   PRESET      the quality presets, to show that time follows the sample count (ns/sample);
 //               each as the horizon (--thickness inf --border open), the defaults, and the
 //               defaults with one option back at the horizon's (border:open, thickness:inf);
+//   PRESET/bounce  the defaults with the indirect light (--bounce, a uniform source times an albedo),
+//               each iteration also running the AO alone: "xAo" = its time / AO's, same process;
 //   PRESET/deep:K  the same with deep input of K layers (synthetic: the visible surface as a
 //               slab, then surfaces and slabs behind it), the cost of reading and testing them;
 //   METHOD_PRESET  the other AO methods of the method table at their quality levels;
@@ -216,6 +218,31 @@ void runHbaoBench(benchmark::State& state, const Settings& s, const std::string&
 
 void BM_Hbao(benchmark::State& state, Settings s, std::string caseName) { runHbaoBench(state, s, caseName, 0); }
 
+// --bounce against AO alone at the same settings, alternating in one loop so that both see the
+// same load: "xAo" is the ratio the target (1.5) is about.
+void BM_HbaoBounce(benchmark::State& state, Settings s) {
+    const SceneBuffers& sb = scene();
+    const Image radiance(sb.depth.width, sb.depth.height, 3, 1.0f), albedo(sb.depth.width, sb.depth.height, 3, 0.5f);
+    OperatorInputs in = sb.inputs();
+    in.radiance = radiance.view();
+    in.albedo = albedo.view();
+    Settings ao = s;
+    s.bounce = true;
+    double giSeconds = 0, aoSeconds = 0;
+    for (auto _ : state) {
+        auto t0 = std::chrono::steady_clock::now();
+        OperatorOutputs out = runOperator(in, s);
+        giSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        benchmark::DoNotOptimize(out.indirect.pixels.data());
+        t0 = std::chrono::steady_clock::now();
+        out = runOperator(sb.inputs(), ao);
+        aoSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        benchmark::DoNotOptimize(out.ao.pixels.data());
+    }
+    report(state, giSeconds / (double)state.iterations(), (double)s.directions * s.steps);
+    state.counters["xAo"] = giSeconds / aoSeconds;
+}
+
 void BM_HbaoDeep(benchmark::State& state, Settings s, int layers) { runHbaoBench(state, s, "preset", layers); }
 
 // The GL devices that can be opened here, each with its renderer, printed once.
@@ -309,6 +336,7 @@ int main(int argc, char** argv) {
                                                      std::string("preset")));
         };
         registerSplit(name, s);
+        options(benchmark::RegisterBenchmark((name + "/bounce").c_str(), BM_HbaoBounce, s));
         Settings thin = s;
         thin.thickness = 0.1f;
         options(benchmark::RegisterBenchmark((name + "/thickness:0.1").c_str(), BM_Hbao, thin, std::string("preset")));

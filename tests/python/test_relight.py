@@ -48,8 +48,9 @@ def test_process_ssdo_relit_writes_layers_and_plan(tmp):
     (dict(up="x"), "up must be one of"),
     (dict(env_intensity=float("nan")), "env_intensity must be finite"),
     (dict(out_layer={"bogus": "X"}), "unknown output 'bogus'"),
-    (dict(method="hbao", bounce=True), "bounce is read by method='ssdo' only, not by method='hbao'"),
-    (dict(method="hbao", out_layer={"relit": "R"}), "out_layer 'relit' is written by method='ssdo' only"),
+    (dict(method="ssao", bounce=True), "bounce is read by method='ssdo' or method='hbao' only, not by method='ssao'"),
+    (dict(method="ssao", out_layer={"relit": "R"}), "out_layer 'relit' is written by method='hbao' or method='ssdo' only"),
+    (dict(method="hbao", out_layer={"do": "D"}), "out_layer 'do' is written by method='ssdo' only, not by method='hbao'"),
     (dict(method="nope"), "method must be one of"),
 ])
 def test_process_ssdo_bad_values(tmp, kwargs, message):

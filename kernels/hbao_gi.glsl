@@ -1,0 +1,192 @@
+// HBAO's indirect light (kernels/hbao.glsl with HBAO_GI 1), as the bitmask paper (Therrien,
+// Levesque & Gilet 2023) takes it from the march that finds the occluded angles: every angle of a
+// slice that a sample newly covers receives that sample's outgoing radiance L (the bounce source),
+// weighted by its cosine-weighted measure, so the irradiance is
+//   E = 2 pi / N_d  sum over slices  sum over newly covered spans  L dF_cos,
+// F_cos the cosine form of F (hbao_slice.glsl): the same sum that makes cosine-weighted AO, with
+// radiance in place of 1. The first sample to cover an angle is the one seen from the receiver
+// along it (the march goes outwards), so nearer surfaces hide farther ones.
+//
+// What a sample covers follows the plan's model: the horizon's interval reaches down to the
+// tangent (exact F, no sectors); a thickness sets the interval from the sample's front to T
+// behind it, sectors above the horizon when apart from it (hbao_bitmask.glsl's 32 sectors, each
+// weighed exactly). The measured thickness (hbao_runs.glsl) needs a run's whole width, known when
+// it ends; the light cannot wait for it, so each sample takes the width of its run so far: a pole
+// stays thin, and along a wall the later samples, deeper, cover what the first ones left. Past the buffer's edge the border policy's continued surface radiates its edge
+// texel's light; sky samples send nothing.
+
+// The bounce source as the backends hand it over: one 32-bit word per texel, RGB with a shared
+// exponent (9 bits each, 5 of exponent; core/method_runs.cpp packs it), so a sample reads one word
+// as it reads one depth, not three floats (their gathers were most of the light's cost).
+lvec3 sharedExponentRgb(luint bits) {
+    lfloat scale = uintBitsToFloat(((bits >> 27u) + luint(103u)) << 23u); // 2^(e - 15 - 9)
+    lfloat r = lfloat(bits & luint(511u));
+    lfloat g = lfloat((bits >> 9u) & luint(511u));
+    lfloat b = lfloat((bits >> 18u) & luint(511u));
+    return lvec3(r * scale, g * scale, b * scale);
+}
+
+// Irradiance of the receiver's lanes, written by hbaoLanes when HBAO_GI is 1 (a global: GLSL's
+// per-invocation variable, a member of the CPU's kernel object).
+lvec3 hbaoIrradiance;
+
+// F's cosine form at a unit direction (cos theta, sin theta) above the tangent, whatever
+// P.cosineWeighting: irradiance weighs every direction by its cosine to the normal.
+lfloat cosineF(lfloat cosTheta, lfloat sinTheta, IN(ProjectedNormal) np) {
+    lfloat theta = atan(sinTheta, cosTheta);
+    return 0.5f * np.nLen * (np.sinB * sinTheta * sinTheta + np.cosB * (theta - sinTheta * cosTheta));
+}
+
+// What a slice's light has covered so far: an interval from the tangent up to its horizon, and
+// sectors above it.
+struct HbaoGi {
+    lfloat horizonA, horizonB; // the horizon's direction in the slice's axes; (1, 0): the tangent
+    lfloat horizonF;           // cosineF at the horizon
+    luint sectors;             // covered sectors above the horizon (thickness models)
+    lvec3 irradiance;          // the slice's sum of L dF_cos
+    lfloat firstA, firstB;     // HBAO_MEASURED_THICKNESS: the first sample of the run going on
+    lfloat lastA, lastB;       // ... and the last one
+    lbool going;               // ... the last sample was in a run (above the tangent)
+};
+
+HbaoGi nothingLit() {
+    HbaoGi g;
+    g.horizonA = lfloat(1.0f);
+    g.horizonB = lfloat(0.0f);
+    g.horizonF = lfloat(0.0f);
+    g.sectors = luint(0u);
+    g.irradiance = lvec3(lfloat(0.0f), lfloat(0.0f), lfloat(0.0f));
+    g.firstA = lfloat(0.0f);
+    g.firstB = lfloat(0.0f);
+    g.lastA = lfloat(0.0f);
+    g.lastB = lfloat(0.0f);
+    g.going = lfloat(0.0f) > 0.0f; // false in every lane
+    return g;
+}
+
+// The cosine-weighted measure of the set sectors between F values lowF and highF (each sector's
+// span of F_cos cut to [lowF, highF]; P.sectorTerms' z and w are the bounds' cosine terms).
+lfloat coveredBetween(luint sectors, lfloat lowF, lfloat highF, IN(ProjectedNormal) np) {
+    uint any = lanesOr(sectors);
+    lfloat between = lfloat(0.0f);
+    if (any == 0u) {
+        return between;
+    }
+    lfloat wCos = 0.5f * np.nLen * np.cosB;
+    lfloat wSin = 0.5f * np.nLen * np.sinB;
+    // Only the sectors some lane has set: most slices set few, far apart.
+    for (uint left = any; left != 0u; left &= left - 1u) {
+        int k = findLSB(left);
+        lfloat lowerF = wCos * P.sectorTerms[k].z + wSin * P.sectorTerms[k].w;
+        lfloat upperF = wCos * P.sectorTerms[k + 1].z + wSin * P.sectorTerms[k + 1].w;
+        lfloat share = max(min(upperF, highF) - max(lowerF, lowF), 0.0f);
+        between += lfloat((sectors >> uint(k)) & luint(1u)) * share;
+    }
+    return between;
+}
+
+// Covers, in lanes `counts`, the angles from the back (backA, backB) up to the front (a, b) with
+// radiance read at display corner `corner`: the measure not covered before, times the radiance.
+// An interval that reaches down to the horizon's (always without a thickness) may raise it, less
+// what sectors already covered there; one apart from it sets sectors not set before.
+void coverGi(lfloat a, lfloat b, lfloat backA, lfloat backB, lbool counts, lvec2 corner, IN(ProjectedNormal) np,
+             INOUT(HbaoGi) g) {
+    lbool joins = counts;
+    if (HBAO_MODEL != HBAO_HORIZON) {
+        joins = joins && joinsHorizon(backA, backB, g.horizonA, g.horizonB);
+    }
+    lbool raises = joins && aboveHorizon(a, b, g.horizonA, g.horizonB);
+    lbool apart = counts && !joins;
+    lbool gains = raises || apart;
+    if (!anyLane(gains)) {
+        return;
+    }
+    lfloat gained = lfloat(0.0f);
+    if (anyLane(raises)) {
+        lfloat invLen = inversesqrt(max(a * a + b * b, 1e-30f));
+        lfloat f = max(cosineF(a * invLen, b * invLen, np), g.horizonF);
+        lfloat rise = f - g.horizonF;
+        if (HBAO_MODEL != HBAO_HORIZON) {
+            rise = max(rise - coveredBetween(select(raises, g.sectors, luint(0u)), g.horizonF, f, np), 0.0f);
+        }
+        gained = select(raises, rise, gained);
+        g.horizonA = select(raises, a, g.horizonA);
+        g.horizonB = select(raises, b, g.horizonB);
+        g.horizonF = select(raises, f, g.horizonF);
+    }
+    if (HBAO_MODEL != HBAO_HORIZON && anyLane(apart)) {
+        lint front = sectorBound(sectorPseudoAngle(a, b));
+        lint back = sectorBound(select(backB > 0.0f, sectorPseudoAngle(backA, backB), lfloat(0.0f)));
+        luint interval = select(apart, bitsBelow(front) & ~bitsBelow(back), luint(0u));
+        lfloat share = coveredBetween(interval & ~g.sectors, g.horizonF, lfloat(3.0e38f), np);
+        gained = select(apart, share, gained);
+        g.sectors = g.sectors | interval;
+    }
+    g.irradiance += sharedExponentRgb(gatherRadianceBitsAtDisplay(corner, gains)) * gained;
+}
+
+// The measured thickness of a sample, from the width of its run so far (hbao_runs.glsl's runs:
+// samples above the tangent whose depth along V changes by at most P.runJump), at most T.
+lfloat runSoFarThickness(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, INOUT(HbaoGi) g) {
+    lfloat toEye = (smp.b - g.lastB) * sl.np.nV - (smp.a - g.lastA) * sl.np.nE;
+    lbool continues = g.going && smp.above && abs(toEye) <= sl.runJump;
+    g.firstA = select(continues, g.firstA, smp.a);
+    g.firstB = select(continues, g.firstB, smp.b);
+    g.lastA = smp.a;
+    g.lastB = smp.b;
+    g.going = smp.above;
+    lfloat dA = smp.a - g.firstA;
+    lfloat dB = smp.b - g.firstB;
+    lfloat width = sqrt(dA * dA + dB * dB) * sl.np.invNLen + r.footprint;
+    return min(P.runDepthPerWidth * width, lfloat(P.thickness));
+}
+
+// A sample's light: its interval, from its front to its thickness behind it (pushed along -V, as
+// the AO's; the horizon's: down to the tangent).
+void takeSampleGi(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, INOUT(HbaoGi) g) {
+    lfloat backA = smp.a + sl.backShiftA;
+    lfloat backB = smp.b + sl.backShiftB;
+    if (HBAO_MODEL == HBAO_MEASURED_THICKNESS) {
+        lfloat t = runSoFarThickness(smp, r, sl, g);
+        backA = smp.a + t * sl.np.nE;
+        backB = smp.b - t * sl.np.nV;
+    }
+    if (anyLane(smp.counts)) {
+        coverGi(smp.a, smp.b, backA, backB, smp.counts, smp.corner, sl.np, g);
+    }
+}
+
+// Where a chord's end counts: within the ball, above the tangent by more than rounding, on the E
+// side (as hbao_border.glsl's takeContinued).
+lbool chordEndCounts(lvec3 X, lfloat a, lfloat b, lbool use, IN(HbaoSlice) sl) {
+    return use && b > 0.0f && b * b > 1e-4f * dot(X, X) && a * sl.np.nV + b * sl.np.nE > 0.0f;
+}
+
+// Past the buffer's edge (the border policy, hbao_border.glsl): the continued surface's chord
+// within R radiates the edge texel's light. Where it is one plane it covers the angles between
+// its ends (the lower one T deep); else its higher end stands alone, T deep.
+void takeBorderGi(IN(HbaoReceiver) r, IN(HbaoSlice) sl, IN(HbaoMarch) m, lbool left, INOUT(HbaoGi) g) {
+    BorderChord c = borderChord(r, m, left);
+    lvec3 P0;
+    lvec3 P1;
+    lbool meets;
+    clipToBall(c.X0, c.X1, r.radius2, P0, P1, meets);
+    lbool use = c.valid && meets;
+    if (!anyLane(use)) {
+        return;
+    }
+    lfloat a0 = dot(sl.T, P0);
+    lfloat b0 = dot(sl.n, P0);
+    lfloat a1 = dot(sl.T, P1);
+    lfloat b1 = dot(sl.n, P1);
+    lbool counts0 = chordEndCounts(P0, a0, b0, use, sl);
+    lbool counts1 = chordEndCounts(P1, a1, b1, use, sl);
+    lbool oneHigher = counts1 && (!counts0 || aboveHorizon(a1, b1, a0, b0));
+    lfloat frontA = select(oneHigher, a1, a0);
+    lfloat frontB = select(oneHigher, b1, b0);
+    lbool span = counts0 && counts1 && c.onePlane;
+    lfloat lowA = select(span, select(oneHigher, a0, a1), frontA);
+    lfloat lowB = select(span, select(oneHigher, b0, b1), frontB);
+    coverGi(frontA, frontB, lowA + sl.backShiftA, lowB + sl.backShiftB, counts0 || counts1,
+            nearestBufferCorner(c.exitCorner), sl.np, g);
+}
