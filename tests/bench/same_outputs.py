@@ -132,6 +132,29 @@ def run_one(binary, out_dir, key, flags, isa):
     return None
 
 
+def header(data):
+    """The header's attributes (name: value bytes) and the offset just past it."""
+    i = 8  # magic and version
+    attributes = {}
+    while data[i] != 0:
+        name_end = data.index(b"\0", i)
+        type_end = data.index(b"\0", name_end + 1)
+        size = int.from_bytes(data[type_end + 1:type_end + 5], "little")
+        attributes[data[i:name_end].decode()] = data[type_end + 5:type_end + 5 + size]
+        i = type_end + 5 + size
+    return attributes, i
+
+
+def channels(path):
+    """The channel names of a single-part file, in its order."""
+    chlist, names, i = header(Path(path).read_bytes())[0]["channels"], [], 0
+    while chlist[i] != 0:  # name, then pixel type, pLinear, 3 reserved, x and y sampling: 16 bytes
+        end = chlist.index(b"\0", i)
+        names.append(chlist[i:end].decode())
+        i = end + 1 + 16
+    return names
+
+
 # Scanlines per chunk of each OpenEXR compression (NONE, RLE, ZIPS, ZIP, PIZ, PXR24, B44, B44A,
 # DWAA, DWAB).
 LINES_PER_CHUNK = [1, 1, 1, 16, 32, 16, 32, 32, 32, 256]
@@ -141,25 +164,12 @@ def pixel_bytes(path):
     """The file's chunks (scanline y, size, pixel data) after its header and offset table: the
     header names the output, so its length, and with it the table's file offsets, differ."""
     data = Path(path).read_bytes()
-    i = 8  # magic and version
-    attributes = {}
-    while data[i] != 0:
-        name_end = data.index(b"\0", i)
-        type_end = data.index(b"\0", name_end + 1)
-        size = int.from_bytes(data[type_end + 1:type_end + 5], "little")
-        attributes[data[i:name_end].decode()] = data[type_end + 5:type_end + 5 + size]
-        i = type_end + 5 + size
+    attributes, i = header(data)
     window = attributes["dataWindow"]
     y_min, y_max = (int.from_bytes(window[k:k + 4], "little", signed=True) for k in (4, 12))
     per_chunk = LINES_PER_CHUNK[attributes["compression"][0]]
     chunks = (y_max - y_min + per_chunk) // per_chunk
     return data[i + 1 + 8 * chunks:]
-
-
-def channels(path):
-    info = subprocess.run(["oiiotool", "--info", "-v", str(path)], capture_output=True, text=True).stdout
-    line = next(l for l in info.splitlines() if "channel list:" in l)
-    return [c.strip() for c in line.split(":", 1)[1].split(",")]
 
 
 def same_pixels(a, b):
