@@ -55,12 +55,6 @@ struct LitRoof {
     }
 };
 
-double maxAbsDifference(const Image& a, const Image& b) {
-    double most = 0;
-    for (size_t i = 0; i < a.pixels.size(); ++i) most = std::max(most, (double)std::abs(a.pixels[i] - b.pixels[i]));
-    return most;
-}
-
 } // namespace
 
 // A lit block hidden under a roof beyond R: the flat input's floor beside it gets no light (the
@@ -104,7 +98,7 @@ TEST(HbaoDeepGi, OneLayerPerPixelGivesTheFlatLight) {
         double most = 0;
         for (float v : flat.indirect.pixels) most = std::max(most, (double)v);
         ASSERT_GT(most, 0.1) << "the studio's walls light its floor";
-        EXPECT_LE(maxAbsDifference(flat.indirect, withDeep.indirect), 1e-5 * M_PI) << "T " << T;
+        EXPECT_LE(maxAbsDiff(flat.indirect, withDeep.indirect), 1e-5 * M_PI) << "T " << T;
     }
 }
 
@@ -133,8 +127,8 @@ TEST(HbaoDeepGi, OpenGlMatchesCpu) {
                     ASSERT_EQ(gl.stats.device.rfind(device, 0), 0u) << gl.stats.device;
                     const std::string what = std::string(device) + (studio ? " studio" : " roof") + " T " +
                                              std::to_string(T) + " blur " + std::to_string(blur);
-                    EXPECT_LE(maxAbsDifference(cpu.ao, gl.ao), 1e-3) << what;
-                    EXPECT_LE(maxAbsDifference(cpu.indirect, gl.indirect), 1e-3 * M_PI) << what;
+                    EXPECT_LE(maxAbsDiff(cpu.ao, gl.ao), 1e-3) << what;
+                    EXPECT_LE(maxAbsDiff(cpu.indirect, gl.indirect), 1e-3 * M_PI) << what;
                 }
             }
 }
@@ -163,8 +157,8 @@ TEST(HbaoDeepGi, GlTilesReadEachLayersWord) {
     double most = 0;
     for (float v : gi.pixels) most = std::max(most, (double)v);
     EXPECT_GT(most, 0.1);
-    EXPECT_LE(maxAbsDifference(ao, glAo), 1e-3);
-    EXPECT_LE(maxAbsDifference(gi, glGi), 1e-3 * M_PI);
+    EXPECT_LE(maxAbsDiff(ao, glAo), 1e-3);
+    EXPECT_LE(maxAbsDiff(gi, glGi), 1e-3 * M_PI);
 }
 
 // A deep file's colour per surface: the samples of one surface composited front to back, then
@@ -207,17 +201,12 @@ std::vector<DeepSample> blueBoard(const double d[3]) {
 
 // The ground pixels beside the wall, where the camera sees the ground.
 std::vector<bool> groundBesideWall(int W, int H) {
-    std::vector<bool> on;
-    for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x) {
-            double ray[3];
-            deepRay(x, y, W, H, ray);
-            const std::vector<DeepSample> g = deepGround(ray);
-            bool beside = !g.empty() && redWall(ray).empty() && blueBoard(ray).empty();
-            beside = beside && ray[0] * g[0].z > -0.4 && ray[0] * g[0].z < 0.25 && g[0].z > 7.7 && g[0].z < 8.3;
-            on.push_back(beside);
-        }
-    return on;
+    const DeepHit groundAlone = [](const double* ray) {
+        std::vector<DeepSample> g = deepGround(ray);
+        const bool seen = !g.empty() && redWall(ray).empty() && blueBoard(ray).empty();
+        return seen && g[0].z > 7.7f && g[0].z < 8.3f ? g : std::vector<DeepSample>{};
+    };
+    return deepCoverage(groundAlone, W, H, [](double x) { return x > -0.4 && x < 0.25; });
 }
 
 } // namespace

@@ -65,7 +65,7 @@ DeepRead readSamples(const std::string& path, const DeepChannelNames& names, boo
     return out;
 }
 
-// `over` composited under `acc` (premultiplied RGBA, front to back).
+// The sample `under` composited behind `acc` (premultiplied RGBA, front to back: "over").
 void compositeUnder(float* acc, const float* under) {
     const float t = 1.0f - acc[3];
     for (int c = 0; c < 4; ++c) acc[c] += t * under[c];
@@ -175,14 +175,23 @@ Image DeepLayerBuilder::planes(int width, int height) const {
     return out;
 }
 
-void DeepLayerBuilder::writePlanes(Image& out, size_t first) const {
-    for (size_t p = 0; p + 1 < start_.size(); ++p) {
+namespace {
+// put(v, k) for every kept surface k of every pixel p (its surfaces start[p] .. start[p + 1]),
+// v its `width` floats in pixel first + p of `out`.
+template <class Put>
+void writeKept(const std::vector<size_t>& start, Image& out, size_t first, int width, Put put) {
+    for (size_t p = 0; p + 1 < start.size(); ++p) {
         float* v = out.pixels.data() + (first + p) * out.channels;
-        for (size_t k = start_[p]; k < start_[p + 1]; ++k, v += 2) {
-            v[0] = kept_[k].front;
-            v[1] = kept_[k].back;
-        }
+        for (size_t k = start[p]; k < start[p + 1]; ++k, v += width) put(v, k);
     }
+}
+} // namespace
+
+void DeepLayerBuilder::writePlanes(Image& out, size_t first) const {
+    writeKept(start_, out, first, 2, [&](float* v, size_t k) {
+        v[0] = kept_[k].front;
+        v[1] = kept_[k].back;
+    });
 }
 
 Image DeepLayerBuilder::colourPlanes(int width, int height) const {
@@ -192,13 +201,10 @@ Image DeepLayerBuilder::colourPlanes(int width, int height) const {
 }
 
 void DeepLayerBuilder::writeColour(Image& out, size_t first) const {
-    for (size_t p = 0; p + 1 < start_.size(); ++p) {
-        float* v = out.pixels.data() + (first + p) * out.channels;
-        for (size_t k = start_[p]; k < start_[p + 1]; ++k, v += 3) {
-            const float* c = &colour_[4 * k];
-            for (int i = 0; i < 3; ++i) v[i] = c[3] > 0.0f ? c[i] / c[3] : 0.0f;
-        }
-    }
+    writeKept(start_, out, first, 3, [&](float* v, size_t k) {
+        const float* c = &colour_[4 * k];
+        for (int i = 0; i < 3; ++i) v[i] = c[3] > 0.0f ? c[i] / c[3] : 0.0f;
+    });
 }
 
 Image deepPlanesOver(Image&& planes, const Box2i& from, const Box2i& data, float fill) {

@@ -258,4 +258,11 @@ Image deepLayersFromDepth(const Image& depth, const std::vector<std::pair<float,
     return deep;
 }
 
+double maxAbsDiff(const Image& a, const Image& b) {
+    if (a.pixels.size() != b.pixels.size()) return std::numeric_limits<double>::infinity();
+    double m = 0;
+    for (size_t i = 0; i < a.pixels.size(); ++i) m = std::max(m, (double)std::abs(a.pixels[i] - b.pixels[i]));
+    return m;
+}
+
 } // namespace obscura::test
