@@ -155,6 +155,24 @@ Loaded instantiateSsdo(const HostImage& depth, const HostImage& normal, const Ho
     return l;
 }
 
+// The bounce is really there (a test would be weak on an all-black GI).
+void expectSomeGi(const OperatorOutputs& ref) {
+    ASSERT_FALSE(ref.indirect.empty());
+    double giSum = 0;
+    for (float v : ref.indirect.pixels) giSum += v;
+    EXPECT_GT(giSum, 0.0);
+}
+
+// The node on the scene's clips, set to the config and the SSDO options.
+Loaded nodeOn(const Config& c, const Scene& s, const HostImage& albedo, const SsdoOptions& o) {
+    Loaded l = instantiateSsdo(s.depthClip, s.normalClip, s.beautyClip, albedo);
+    if (l.inst) {
+        applyConfig(*l.inst, c, s);
+        applySsdo(*l.inst, o);
+    }
+    return l;
+}
+
 class OfxSsdoMatchesOperator : public ::testing::TestWithParam<Config> {};
 
 TEST_P(OfxSsdoMatchesOperator, DoGiRelitWholeFrameAndTiles) {
@@ -164,16 +182,9 @@ TEST_P(OfxSsdoMatchesOperator, DoGiRelitWholeFrameAndTiles) {
     SsdoOptions o;
     o.sky[0] = 0.8f, o.sky[1] = 1.0f, o.sky[2] = 1.3f;
     const OperatorOutputs ref = ssdoReference(c, s, o, true);
-    ASSERT_FALSE(ref.indirect.empty());
-    // The bounce is really there (the test would be weak on an all-black GI).
-    double giSum = 0;
-    for (float v : ref.indirect.pixels) giSum += v;
-    EXPECT_GT(giSum, 0.0);
-
-    Loaded l = instantiateSsdo(s.depthClip, s.normalClip, s.beautyClip, albedo);
+    expectSomeGi(ref);
+    Loaded l = nodeOn(c, s, albedo, o);
     ASSERT_TRUE(l.inst);
-    applyConfig(*l.inst, c, s);
-    applySsdo(*l.inst, o);
     for (Expected e : {Expected{kOutDo, false}, Expected{kOutGi, false}, Expected{kOutRelit, false},
                        Expected{kOutDo, true}, Expected{kOutGi, true}}) {
         const std::string what = std::string(e.output == kOutDo ? "DO" : e.output == kOutGi ? "GI" : "relit") +
@@ -213,13 +224,9 @@ TEST(OfxSsdo, GiMethodHbaoGivesTheHorizonBounce) {
     const SsdoOptions o;
     const OperatorOutputs ref = ssdoReference(c, s, o, true, nullptr, "hbao");
     ASSERT_TRUE(ref.directional.empty());
-    double giSum = 0;
-    for (float v : ref.indirect.pixels) giSum += v;
-    EXPECT_GT(giSum, 0.0);
-    Loaded l = instantiateSsdo(s.depthClip, s.normalClip, s.beautyClip, albedo);
+    expectSomeGi(ref);
+    Loaded l = nodeOn(c, s, albedo, o);
     ASSERT_TRUE(l.inst);
-    applyConfig(*l.inst, c, s);
-    applySsdo(*l.inst, o);
     std::vector<std::string> problems;
     ASSERT_EQ(l.inst->setInt("output", kOutDo), kOfxStatOK);
     const HostImage ssdoDo = l.inst->renderFrame(0, 0, 1, problems);

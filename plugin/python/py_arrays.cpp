@@ -243,44 +243,39 @@ py::array aoFromPasses(const py::dict& passes, const SettingArgs& sa) {
                      sa, py::none());
 }
 
+// compute_ao's and compute_gi's shared parameters: the lambda's, the keywords declaring them (in the
+// same order) and the argument structs made of them.
+#define OBSCURA_ARRAY_PARAMS                                                                                       \
+    const py::object &depth, const py::object &normal, const py::args &extra, py::object camera, py::object normals, \
+        py::object depthKind, py::object skyDepth, py::object dataWindow, py::object displayWindow,                 \
+        py::object quality, py::object method, py::object radius, py::object directions, py::object steps,          \
+        py::object weighting, py::object falloff, py::object blur, py::object device, py::object threads
+#define OBSCURA_ARRAY_ARGS                                                                                         \
+    py::arg("depth") = py::none(), py::arg("normal") = py::none(), py::arg("camera") = py::none(),                \
+        py::arg("normals") = "world", py::arg("depth_kind") = "planar", py::arg("sky_depth") = 1e9,                 \
+        py::arg("data_window") = py::none(), py::arg("display_window") = py::none(), OBSCURA_SETTING_ARGS
+#define OBSCURA_ARRAY_VIEW ViewArgs{camera, normals, depthKind, skyDepth, dataWindow, displayWindow}
+#define OBSCURA_ARRAY_SETTINGS                                                                                     \
+    SettingArgs { quality, method, radius, directions, steps, weighting, falloff, blur, device, threads, own }
+
 void bindComputeAo(py::module_& m) {
     m.def(
         "compute_ao",
-        [](const py::object& depth, const py::object& normal, const py::args& extra, py::object camera,
-           py::object normals, py::object depthKind, py::object skyDepth, py::object dataWindow,
-           py::object displayWindow, py::object quality, py::object method, py::object radius, py::object directions,
-           py::object steps, py::object weighting, py::object falloff, py::object blur, py::object device,
-           py::object threads, py::object deep, const py::kwargs& own) {
+        [](OBSCURA_ARRAY_PARAMS, py::object deep, const py::kwargs& own) {
             checkArrayCall("compute_ao", extra, depth, normal, camera, normals);
-            return computeAo(depth, normal, ViewArgs{camera, normals, depthKind, skyDepth, dataWindow, displayWindow},
-                             SettingArgs{quality, method, radius, directions, steps, weighting, falloff, blur, device,
-                                         threads, own},
-                             deep);
+            return computeAo(depth, normal, OBSCURA_ARRAY_VIEW, OBSCURA_ARRAY_SETTINGS, deep);
         },
-        py::arg("depth") = py::none(), py::arg("normal") = py::none(), py::arg("camera") = py::none(),
-        py::arg("normals") = "world",
-        py::arg("depth_kind") = "planar", py::arg("sky_depth") = 1e9, py::arg("data_window") = py::none(),
-        py::arg("display_window") = py::none(), OBSCURA_SETTING_ARGS, py::arg("deep") = py::none(), kComputeAoDoc);
+        OBSCURA_ARRAY_ARGS, py::arg("deep") = py::none(), kComputeAoDoc);
 }
 
 void bindComputeGi(py::module_& m) {
     m.def(
         "compute_gi",
-        [](const py::object& depth, const py::object& normal, const py::args& extra, py::object camera,
-           py::object radiance, py::object albedo, py::object normals, py::object depthKind, py::object skyDepth,
-           py::object dataWindow, py::object displayWindow, py::object quality, py::object method, py::object radius,
-           py::object directions, py::object steps, py::object weighting, py::object falloff, py::object blur,
-           py::object device, py::object threads, const py::kwargs& own) {
+        [](OBSCURA_ARRAY_PARAMS, py::object radiance, py::object albedo, const py::kwargs& own) {
             checkArrayCall("compute_gi", extra, depth, normal, camera, normals);
-            return computeGi(depth, normal, ViewArgs{camera, normals, depthKind, skyDepth, dataWindow, displayWindow},
-                             SettingArgs{quality, method, radius, directions, steps, weighting, falloff, blur, device,
-                                         threads, own},
-                             radiance, albedo);
+            return computeGi(depth, normal, OBSCURA_ARRAY_VIEW, OBSCURA_ARRAY_SETTINGS, radiance, albedo);
         },
-        py::arg("depth") = py::none(), py::arg("normal") = py::none(), py::arg("camera") = py::none(),
-        py::arg("radiance") = py::none(), py::arg("albedo") = py::none(), py::arg("normals") = "world",
-        py::arg("depth_kind") = "planar", py::arg("sky_depth") = 1e9, py::arg("data_window") = py::none(),
-        py::arg("display_window") = py::none(), OBSCURA_SETTING_ARGS, kComputeGiDoc);
+        OBSCURA_ARRAY_ARGS, py::arg("radiance") = py::none(), py::arg("albedo") = py::none(), kComputeGiDoc);
 }
 
 void bindComputeSsdo(py::module_& m) {
