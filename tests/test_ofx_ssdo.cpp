@@ -371,10 +371,8 @@ SsdoOptions rotatedZUpMap() {
 // The SSDO node over the scene with `c` and `o`, lit by the map at `path`, outputting DO.
 Loaded ssdoNodeWithMap(const Config& c, const Scene& s, const HostImage& albedo, const SsdoOptions& o,
                        const std::string& path) {
-    Loaded l = instantiateSsdo(s.depthClip, s.normalClip, s.beautyClip, albedo);
+    Loaded l = nodeOn(c, s, albedo, o);
     if (!l.inst) return l;
-    applyConfig(*l.inst, c, s);
-    applySsdo(*l.inst, o);
     EXPECT_EQ(l.inst->setString("envMap", path), kOfxStatOK);
     EXPECT_EQ(l.inst->setInt("output", kOutDo), kOfxStatOK);
     return l;
