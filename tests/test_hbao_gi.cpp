@@ -21,15 +21,6 @@ Settings giSettings(float radius, float thickness, Weighting w = Weighting::Cosi
     return s;
 }
 
-// A bounce source of radiance `value` (grey) on every surface texel.
-Image uniformRadiance(const SceneBuffers& sb, float value) {
-    Image r(sb.depth.width, sb.depth.height, 3, 0.0f);
-    for (size_t i = 0; i < sb.depth.pixels.size(); ++i)
-        if (sb.depth.pixels[i] < 1e9f)
-            for (int c = 0; c < 3; ++c) r.pixels[3 * i + c] = value;
-    return r;
-}
-
 OperatorOutputs runGi(const SceneBuffers& sb, const Image& radiance, const Settings& s) {
     OperatorInputs in = sb.inputs();
     in.radiance = radiance.view();
@@ -47,28 +38,6 @@ Image channel(const Image& rgb, int c) {
 // the wall within R only: pi L times the wall's share of the cosine-weighted hemisphere, which is
 // what cosine-weighted binary AO leaves out (c = d / R; 2 L (pi/4) = pi L / 2 when R -> inf).
 double cornerIrradiance(double L, double c) { return M_PI * L * (1.0 - cornerAo(Weighting::Cosine, Falloff::None, c)); }
-
-// Form factor from a point to a parallel a x b rectangle at height h with one corner above it.
-double cornerRectFormFactor(double a, double b, double h) {
-    const double A = a / h, B = b / h, sa = std::sqrt(1 + A * A), sb = std::sqrt(1 + B * B);
-    return (A / sa * std::atan(B / sa) + B / sb * std::atan(A / sb)) / (2 * M_PI);
-}
-
-// A square well: floor y = 0 over [-a, a]^2, four walls up to y = h, ground y = h outside.
-std::vector<Rect> wellScene(double a, double h) {
-    const double L = 1e3;
-    std::vector<Rect> r = {Rect{dvec3(-a, 0, -a), dvec3(2 * a, 0, 0), dvec3(0, 0, 2 * a)},
-                           Rect{dvec3(-a, 0, -a), dvec3(0, h, 0), dvec3(0, 0, 2 * a)},
-                           Rect{dvec3(a, 0, -a), dvec3(0, h, 0), dvec3(0, 0, 2 * a)},
-                           Rect{dvec3(-a, 0, -a), dvec3(0, h, 0), dvec3(2 * a, 0, 0)},
-                           Rect{dvec3(-a, 0, a), dvec3(0, h, 0), dvec3(2 * a, 0, 0)}};
-    // The ground around the opening, in four strips.
-    r.push_back(Rect{dvec3(-L, h, -L), dvec3(2 * L, 0, 0), dvec3(0, 0, L - a)});
-    r.push_back(Rect{dvec3(-L, h, a), dvec3(2 * L, 0, 0), dvec3(0, 0, L - a)});
-    r.push_back(Rect{dvec3(-L, h, -a), dvec3(L - a, 0, 0), dvec3(0, 0, 2 * a)});
-    r.push_back(Rect{dvec3(a, h, -a), dvec3(L - a, 0, 0), dvec3(0, 0, 2 * a)});
-    return r;
-}
 
 } // namespace
 
@@ -136,7 +105,7 @@ TEST(HbaoGi, ReceiverInALitWellMatchesClosedForm) {
     SceneBuffers sb = renderScene(wellScene(a, h), cam, W, H);
     const float L = 1.0f;
     const Image radiance = uniformRadiance(sb, L);
-    const double expected = M_PI * L * (1.0 - 4.0 * cornerRectFormFactor(a, a, h));
+    const double expected = wellIrradiance(L, a, h);
     for (float T : {kThicknessInfinite, kThicknessAuto}) {
         const OperatorOutputs out = runGi(sb, radiance, giSettings(2.5f, T));
         double sum = 0;

@@ -66,7 +66,7 @@ void applySsdo(Instance& inst, const SsdoOptions& o) {
 
 // runOperator as the plugin calls it for a whole frame: the same planes, camera and settings.
 OperatorOutputs ssdoReference(const Config& c, const Scene& s, const SsdoOptions& o, bool bounce,
-                              const Image* environment = nullptr) {
+                              const Image* environment = nullptr, const char* method = "ssdo") {
     OperatorInputs in;
     in.displayWindow = Box2i{0, 0, kW, kH};
     in.dataWindow = s.buf.data;
@@ -82,7 +82,7 @@ OperatorOutputs ssdoReference(const Config& c, const Scene& s, const SsdoOptions
     if (bounce) in.radiance = radiance.view();
     in.environment = environment;
     Settings st;
-    st.method = "ssdo";
+    st.method = method;
     st.radius = (float)c.radius;
     st.directions = c.directions, st.steps = c.steps;
     st.weighting = c.cosine ? Weighting::Cosine : Weighting::Uniform;
@@ -116,7 +116,8 @@ void expectSsdoPixels(const HostImage& frame, const Expected& e, const OperatorO
             const int oy = kH - 1 - dy;
             const float* p = frame.at(dx, oy);
             const float* alb = albedo.at(dx, oy);
-            const float* d = ref.directional.at(dx - data.x0, dy - data.y0);
+            static constexpr float kNoDo[3] = {0.0f, 0.0f, 0.0f};  // hbao's bounce has no DO
+            const float* d = ref.directional.empty() ? kNoDo : ref.directional.at(dx - data.x0, dy - data.y0);
             const float* g = e.output == kOutDo ? nullptr : ref.indirect.at(dx - data.x0, dy - data.y0);
             float want[4];
             for (int c = 0; c < 3; ++c) {
@@ -154,6 +155,24 @@ Loaded instantiateSsdo(const HostImage& depth, const HostImage& normal, const Ho
     return l;
 }
 
+// The bounce is really there (a test would be weak on an all-black GI).
+void expectSomeGi(const OperatorOutputs& ref) {
+    ASSERT_FALSE(ref.indirect.empty());
+    double giSum = 0;
+    for (float v : ref.indirect.pixels) giSum += v;
+    EXPECT_GT(giSum, 0.0);
+}
+
+// The node on the scene's clips, set to the config and the SSDO options.
+Loaded nodeOn(const Config& c, const Scene& s, const HostImage& albedo, const SsdoOptions& o) {
+    Loaded l = instantiateSsdo(s.depthClip, s.normalClip, s.beautyClip, albedo);
+    if (l.inst) {
+        applyConfig(*l.inst, c, s);
+        applySsdo(*l.inst, o);
+    }
+    return l;
+}
+
 class OfxSsdoMatchesOperator : public ::testing::TestWithParam<Config> {};
 
 TEST_P(OfxSsdoMatchesOperator, DoGiRelitWholeFrameAndTiles) {
@@ -163,16 +182,9 @@ TEST_P(OfxSsdoMatchesOperator, DoGiRelitWholeFrameAndTiles) {
     SsdoOptions o;
     o.sky[0] = 0.8f, o.sky[1] = 1.0f, o.sky[2] = 1.3f;
     const OperatorOutputs ref = ssdoReference(c, s, o, true);
-    ASSERT_FALSE(ref.indirect.empty());
-    // The bounce is really there (the test would be weak on an all-black GI).
-    double giSum = 0;
-    for (float v : ref.indirect.pixels) giSum += v;
-    EXPECT_GT(giSum, 0.0);
-
-    Loaded l = instantiateSsdo(s.depthClip, s.normalClip, s.beautyClip, albedo);
+    expectSomeGi(ref);
+    Loaded l = nodeOn(c, s, albedo, o);
     ASSERT_TRUE(l.inst);
-    applyConfig(*l.inst, c, s);
-    applySsdo(*l.inst, o);
     for (Expected e : {Expected{kOutDo, false}, Expected{kOutGi, false}, Expected{kOutRelit, false},
                        Expected{kOutDo, true}, Expected{kOutGi, true}}) {
         const std::string what = std::string(e.output == kOutDo ? "DO" : e.output == kOutGi ? "GI" : "relit") +
@@ -202,6 +214,37 @@ INSTANTIATE_TEST_SUITE_P(Configs, OfxSsdoMatchesOperator,
                                                return c;
                                            }()),
                          [](const ::testing::TestParamInfo<Config>& i) { return i.param.name; });
+
+// GI Method = hbao: the GI and Relit outputs are hbao's bounce of Source (--method hbao --bounce
+// --bounce-source beauty), relit = albedo GI / pi, whole frame and tiled alike; DO stays SSDO's.
+TEST(OfxSsdo, GiMethodHbaoGivesTheHorizonBounce) {
+    const Config c = cfg("perspective");
+    const Scene s = makeScene(c);
+    const HostImage albedo = albedoClipOf(s);
+    const SsdoOptions o;
+    const OperatorOutputs ref = ssdoReference(c, s, o, true, nullptr, "hbao");
+    ASSERT_TRUE(ref.directional.empty());
+    expectSomeGi(ref);
+    Loaded l = nodeOn(c, s, albedo, o);
+    ASSERT_TRUE(l.inst);
+    std::vector<std::string> problems;
+    ASSERT_EQ(l.inst->setInt("output", kOutDo), kOfxStatOK);
+    const HostImage ssdoDo = l.inst->renderFrame(0, 0, 1, problems);
+    ASSERT_EQ(l.inst->setInt("giMethod", 0), kOfxStatOK);  // hbao: the first GI writer in the table
+    const HostImage doWithHbaoGi = l.inst->renderFrame(0, 0, 1, problems);
+    EXPECT_TRUE(sameBits(doWithHbaoGi, ssdoDo)) << "DO must stay SSDO's";
+    for (Expected e : {Expected{kOutGi, false}, Expected{kOutRelit, false}, Expected{kOutGi, true}}) {
+        const std::string what = std::string(e.output == kOutGi ? "hbao GI" : "hbao relit") + (e.timesAlbedo ? " x albedo" : "");
+        ASSERT_EQ(l.inst->setInt("output", e.output), kOfxStatOK);
+        ASSERT_EQ(l.inst->setInt("timesAlbedo", e.timesAlbedo ? 1 : 0), kOfxStatOK);
+        const HostImage whole = l.inst->renderFrame(0, 0, 1, problems);
+        expectSsdoPixels(whole, e, ref, s, albedo, what + ", whole frame");
+        const HostImage tiled = l.inst->renderFrame(17, 11, 3, problems);
+        EXPECT_TRUE(sameBits(tiled, whole)) << what << ": tiles differ from the whole frame";
+    }
+    EXPECT_EQ(joined(problems), "");
+    EXPECT_EQ(l.host->messages(), std::vector<std::string>{});
+}
 
 TEST(OfxSsdo, RegionsOfInterestFollowWhatEachOutputReads) {
     Config c;
@@ -328,10 +371,8 @@ SsdoOptions rotatedZUpMap() {
 // The SSDO node over the scene with `c` and `o`, lit by the map at `path`, outputting DO.
 Loaded ssdoNodeWithMap(const Config& c, const Scene& s, const HostImage& albedo, const SsdoOptions& o,
                        const std::string& path) {
-    Loaded l = instantiateSsdo(s.depthClip, s.normalClip, s.beautyClip, albedo);
+    Loaded l = nodeOn(c, s, albedo, o);
     if (!l.inst) return l;
-    applyConfig(*l.inst, c, s);
-    applySsdo(*l.inst, o);
     EXPECT_EQ(l.inst->setString("envMap", path), kOfxStatOK);
     EXPECT_EQ(l.inst->setInt("output", kOutDo), kOfxStatOK);
     return l;

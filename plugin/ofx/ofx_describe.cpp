@@ -143,8 +143,13 @@ void describeMain(ParamDef& d) {
     // From the method table, in its order: hosts store the index, and methods are only appended.
     std::vector<const char*> methodChoices;
     for (const MethodInfo& m : methods()) methodChoices.push_back(m.name);
-    d.choice(kParamMethod, "Method", "Occlusion method for the AO outputs (--method); DO, GI and Relit always use ssdo",
-             methodChoices, 0);
+    d.choice(kParamMethod, "Method",
+             "Occlusion method for the AO outputs (--method); DO uses ssdo, GI and Relit the GI Method", methodChoices,
+             0);
+    d.choice(kParamGiMethod, "GI Method",
+             "Method of the GI and Relit outputs: ssdo (its point samples), or hbao (the light its horizon march "
+             "finds, as --method hbao --bounce); both bounce Source",
+             giMethods(), ssdoGiMethodIndex());
     d.real(kParamRadius, "Radius", "Radius in world units (--radius)", 1.0, lo(kParamRadius), hi(kParamRadius), 0.01, 10.0);
     d.tableInteger(kParamDirections, "Directions", "Slices per pixel (--directions)", 1, 32);
     d.tableInteger(kParamSteps, "Steps", "Samples per slice (--steps)", 1, 32);

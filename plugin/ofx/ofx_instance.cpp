@@ -79,6 +79,7 @@ void bindParams(Instance& in, OfxParamSetHandle set) {
         {&Instance::output_, kParamOutput},
         {&Instance::strength, kParamStrength},
         {&Instance::method, kParamMethod},
+        {&Instance::giMethod, kParamGiMethod},
         {&Instance::radius, kParamRadius},
         {&Instance::directions, kParamDirections},
         {&Instance::steps, kParamSteps},

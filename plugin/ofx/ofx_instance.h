@@ -13,7 +13,7 @@ struct Instance {
     OfxImageEffectHandle effect = nullptr;
     OfxImageClipHandle source = nullptr, depth = nullptr, normal = nullptr, position = nullptr, albedo = nullptr,
                        output = nullptr;
-    OfxParamHandle output_ = nullptr, strength = nullptr, method = nullptr, radius = nullptr, directions = nullptr,
+    OfxParamHandle output_ = nullptr, strength = nullptr, method = nullptr, giMethod = nullptr, radius = nullptr, directions = nullptr,
                    steps = nullptr, weighting = nullptr, falloff = nullptr, blur = nullptr, projection = nullptr,
                    fov = nullptr, focal = nullptr, aperture = nullptr, orthoWidth = nullptr, cameraToWorld = nullptr,
                    depthKind = nullptr, depthNear = nullptr, depthFar = nullptr,

@@ -22,6 +22,7 @@ inline constexpr const char* kClipOutput = kOfxImageEffectOutputClipName;
 inline constexpr const char* kParamOutput = "output";
 inline constexpr const char* kParamStrength = "strength";
 inline constexpr const char* kParamMethod = "method";
+inline constexpr const char* kParamGiMethod = "giMethod";
 inline constexpr const char* kParamRadius = "radius";
 inline constexpr const char* kParamDirections = "directions";
 inline constexpr const char* kParamSteps = "steps";

@@ -48,7 +48,10 @@ void ssdoPixel(const Composite& c, float* o, int x, int y, bool inside, int dx, 
     const OutputKind kind = c.option.kind;
     const int ac = c.albedo.components();
     const float* a = c.withAlbedo ? c.albedo.pixel(x, y) : nullptr;
-    const float* e = (kind == OutputKind::Indirect ? c.occ.result.indirect : c.occ.result.directional).at(dx, dy);
+    // hbao's bounce has no DO: its relit is albedo GI / pi.
+    static constexpr float kNoLight[3] = {0.0f, 0.0f, 0.0f};
+    const Image& light = kind == OutputKind::Indirect ? c.occ.result.indirect : c.occ.result.directional;
+    const float* e = light.empty() ? kNoLight : light.at(dx, dy);
     const float* gi = kind == OutputKind::Relit ? c.occ.result.indirect.at(dx, dy) : nullptr;
     float rgb[3];
     for (int ch = 0; ch < 3; ++ch) {
@@ -105,7 +108,7 @@ void writeOutput(const Params& p, const FrameMap& f, const Occlusion& occ, const
             const bool inFrame = f.rod.contains(x, y);
             const bool inData = occ.computed && occ.data.contains(x, y);
             const int dx = x - occ.data.x1, dy = occ.data.y2 - 1 - y;  // FrameMap::ofxRow, inverted
-            if (c.option.ssdo)
+            if (c.option.light)
                 ssdoPixel(c, o, x, y, inFrame && inData, dx, dy);
             else if (!c.option.needsSource)
                 aoPixel(o, oc, inFrame, aoAt(c, inData, dx, dy));

@@ -8,6 +8,7 @@
 
 #include <iterator>
 #include <mutex>
+#include <string>
 #include <vector>
 
 namespace obscura::ofx {
@@ -95,13 +96,30 @@ void readCamera(const Instance& in, OfxTime t, Params& p) {
 
 } // namespace
 
+std::vector<const char*> giMethods() {
+    std::vector<const char*> names;
+    for (const MethodInfo& m : methods())
+        if (methodOutputs(m.name, "gi")) names.push_back(m.name);
+    return names;
+}
+
+int ssdoGiMethodIndex() {
+    const std::vector<const char*> names = giMethods();
+    for (size_t i = 0; i < names.size(); ++i)
+        if (std::string(names[i]) == "ssdo") return (int)i;
+    return 0;
+}
+
 Params readParams(const Instance& in, OfxTime t) {
     Params p;
     const OutputOption& o = kOutputOptions[choiceAt(in.output_, t, kOutputCount)];
     p.output = o.kind;
     p.strength = std::clamp(doubleAt(in.strength, t), 0.0, 1.0);
     Settings& s = p.settings;
-    s.method = o.ssdo ? "ssdo" : methods()[choiceAt(in.method, t, (int)methods().size())].name;
+    const std::vector<const char*> gi = giMethods();
+    s.method = !o.light                               ? methods()[choiceAt(in.method, t, (int)methods().size())].name
+               : o.kind == OutputKind::Directional ? "ssdo"
+                                                   : gi[choiceAt(in.giMethod, t, (int)gi.size())];
     s.bounce = o.bounce;
     s.ssdoSamples = intAt(in.ssdoSamples, t);
     s.interleave = intAt(in.interleave, t);

@@ -20,7 +20,7 @@ struct OutputOption {
     OutputKind kind;
     const char* label;
     bool needsSource;  // reads the Source (beauty) clip
-    bool ssdo;         // an SSDO quantity: the method is ssdo whatever the Method parameter says
+    bool light;        // DO, GI or relit: run by ssdo (DO) or the GI Method parameter's method, not Method
     bool bounce;       // runs the bounce, reading Source over the window + apron (the senders)
 };
 inline constexpr OutputOption kOutputOptions[] = {
@@ -34,6 +34,11 @@ inline constexpr int kOutputCount = int(sizeof(kOutputOptions) / sizeof(kOutputO
 
 // The option a stored choice index names (out-of-range indices clamp to the table).
 inline const OutputOption& outputAt(int index) { return kOutputOptions[std::clamp(index, 0, kOutputCount - 1)]; }
+
+// The methods that write GI (the GI Method choice), in the method table's order, and the index of
+// ssdo among them: the default, so projects saved before the choice existed keep SSDO's GI.
+std::vector<const char*> giMethods();
+int ssdoGiMethodIndex();
 
 // The choices' words, in their stored order.
 inline constexpr const char* kUpAxes[] = {"y", "z"};
@@ -68,7 +73,7 @@ Params readParams(const Instance& in, OfxTime t);
 // What an output reads and computes (regions of interest and render agree through these).
 inline const OutputOption& optionOf(const Params& p) { return kOutputOptions[(int)p.output]; }
 // AO outputs with strength 0 compute nothing; the SSDO quantities ignore Strength.
-inline bool computes(const Params& p) { return optionOf(p).ssdo || p.strength > 0; }
+inline bool computes(const Params& p) { return optionOf(p).light || p.strength > 0; }
 inline bool needsAlbedo(const Params& p) {
     return p.output == OutputKind::Relit ||
            (p.timesAlbedo && (p.output == OutputKind::Directional || p.output == OutputKind::Indirect));

@@ -1,8 +1,8 @@
 // The render action: one render window of the Output clip. The node checks its inputs, runs
 // the operator (core/operator.h) over the window's data region, and writes the chosen output.
 //
-// SSDO outputs (DO, GI, relit) run the operator's "ssdo" method with the Source clip
-// (the beauty) as the bounce source, as the CLI's --bounce-source beauty: the beauty
+// The light outputs (DO, GI, relit) run "ssdo" (DO) or the GI Method's method (GI, relit) with the
+// Source clip (the beauty) as the bounce source, as the CLI's --bounce-source beauty: the beauty
 // already carries the senders' albedo, so the Albedo clip is not a sender albedo; it only
 // forms relit (albedo (DO + GI) / pi) and the "times albedo" radiance (albedo E / pi).
 #include "ofx_actions.h"

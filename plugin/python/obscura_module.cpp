@@ -3,7 +3,7 @@
 // converted; the GIL is released while pixels are read, computed or written.
 //
 // The parts, one file each (py_bind.h): py_camera.cpp (obscura.Camera), py_arrays.cpp
-// (compute_ao, compute_ssdo, ao_from_passes), py_files.cpp (read_passes, process, inspect,
+// (compute_ao, compute_gi, compute_ssdo, ao_from_passes), py_files.cpp (read_passes, process, inspect,
 // read_layer), py_tables.cpp (METHODS and the other tables); the keywords they take are
 // converted by py_args.h (one argument), py_settings.h (Settings), py_job.h (FrameJob) and
 // call_args.h (the call as a whole).
@@ -27,6 +27,8 @@ The same operator and file pipeline as the ``obscura`` command, for numpy:
 
 - ``compute_ao(depth, normal, camera=..., **settings)`` -> float32 (H, W) AO from arrays
   (viewed in place, never converted: float32, shape (H, W) and (H, W, 3)).
+- ``compute_gi(depth, normal, camera=..., radiance=, albedo=, **settings)`` -> dict of 'gi'
+  (H, W, 3) and 'ao' (H, W): HBAO's one bounce of radiance, from arrays.
 - ``compute_ssdo(depth, normal, camera=..., radiance=, albedo=, environment=, bounce=, ...)``
   -> dict of 'do' (H, W, 3), 'gi' (H, W, 3) or None, 'ao' (H, W), from arrays.
 - ``read_passes(path)`` -> dict of the depth/normal/position planes, camera and conventions

@@ -1,4 +1,4 @@
-// compute_ao, compute_ssdo and ao_from_passes: the operator (core/operator.h) over numpy
+// compute_ao, compute_gi, compute_ssdo and ao_from_passes: the operator (core/operator.h) over numpy
 // arrays, viewed in place; the GIL is released while it runs.
 #include "base/error.h"
 #include "core/methods.h"
@@ -55,6 +55,17 @@ copy is made); None lights with the constant sky. Settings as the CLI's: radius 
 sky (r, g, b) (default white), env_rotate (degrees), env_intensity, up ('y' | 'z'), lights
 (up to 4 ((x, y, z), (r, g, b))), device, threads. The GIL is released while computing.)doc";
 
+const char* kComputeGiDoc = R"doc(One bounce of indirect light from HBAO's march (as --method hbao --bounce) of in-memory
+passes, as a dict: 'gi' float32 (H, W, 3) irradiance E from the surfaces within radius, 'ao' float32
+(H, W) the AO of the same run.
+
+depth, normal, camera and the settings: as compute_ao (method='hbao', its default, is the one
+method whose bounce has no DO; for SSDO's use compute_ssdo(bounce=True)). radiance: float32
+(H, W, 3), the light leaving each pixel's surface (the bounce source), required; albedo: float32
+(H, W, 3), optional, multiplies radiance (give both for the CLI's default bounce source,
+direct-diffuse x albedo). Both viewed in place, in the working colour space. The GIL is released
+while computing.)doc";
+
 const char* kAoFromPassesDoc = R"doc(compute_ao over a read_passes() dict, with its camera, conventions (normals, depth_kind,
 sky_depth) and windows: the same AO that process() writes for that file and these settings.
 Raises obscura.Error when the passes have no camera (see passes['camera_error']).)doc";
@@ -63,7 +74,15 @@ struct ViewArgs {
     py::object camera, normals, depthKind, skyDepth, dataWindow, displayWindow;
 };
 
-// The inputs and settings compute_ao and compute_ssdo share: planes viewed in place, checked.
+// A plane given beside depth must cover the same pixels.
+void sameSizeAsDepth(const ConstPlane& p, const char* what, const ConstPlane& depth) {
+    if (p.width != depth.width || p.height != depth.height)
+        valueError(std::string(what) + " covers " + std::to_string(p.height) + "x" + std::to_string(p.width) +
+                   " pixels (H x W) but depth covers " + std::to_string(depth.height) + "x" +
+                   std::to_string(depth.width) + "; they must be the same size");
+}
+
+// The inputs and settings compute_ao, compute_gi and compute_ssdo share: planes viewed in place, checked.
 OperatorInputs viewInputs(const py::object& depthObj, const py::object& normalObj, const ViewArgs& v,
                           Settings& settings) {
     OperatorInputs in;
@@ -71,10 +90,7 @@ OperatorInputs viewInputs(const py::object& depthObj, const py::object& normalOb
     if (!v.normals.is_none()) in.normalSpace = enumArg<NormalSpace>(v.normals, "normals", "'world', 'camera' or 'depth'");
     // normals='depth': reconstructed from the depth; a normal array, if given, is not read.
     if (in.normalSpace != NormalSpace::Depth) in.normal = planeArg(normalObj, "normal", 3);
-    if (in.normal.valid() && (in.normal.width != in.depth.width || in.normal.height != in.depth.height))
-        valueError("normal covers " + std::to_string(in.normal.height) + "x" + std::to_string(in.normal.width) +
-                   " pixels (H x W) but depth covers " + std::to_string(in.depth.height) + "x" +
-                   std::to_string(in.depth.width) + "; they must be the same size");
+    if (in.normal.valid()) sameSizeAsDepth(in.normal, "normal", in.depth);
     const Box2i full{0, 0, in.depth.width, in.depth.height};
     in.dataWindow = v.dataWindow.is_none() ? full : boxArg(v.dataWindow, "data_window");
     if (in.dataWindow.width() != in.depth.width || in.dataWindow.height() != in.depth.height)
@@ -140,6 +156,18 @@ Image ownedRgb(const ConstPlane& p) {
     return image;
 }
 
+// radiance= and albedo=, the bounce source, viewed in place.
+void bounceSource(const py::object& radiance, const py::object& albedo, OperatorInputs& in) {
+    if (!radiance.is_none()) {
+        in.radiance = planeArg(radiance, "radiance", 3);
+        sameSizeAsDepth(in.radiance, "radiance", in.depth);
+    }
+    if (!albedo.is_none()) {
+        in.albedo = planeArg(albedo, "albedo", 3);
+        sameSizeAsDepth(in.albedo, "albedo", in.depth);
+    }
+}
+
 py::dict computeSsdo(const py::object& depthObj, const py::object& normalObj, const ViewArgs& v,
                      const SettingArgs& sa, const SsdoArgs& ssdoArgs, const SsdoArrayArgs& x) {
     Settings settings = settingsFrom(sa, "ssdo");
@@ -147,20 +175,7 @@ py::dict computeSsdo(const py::object& depthObj, const py::object& normalObj, co
     settings.bounce = !x.bounce.is_none() && py::bool_(x.bounce);
     if (!x.up.is_none()) settings.zUp = upArg(x.up);
     OperatorInputs in = viewInputs(depthObj, normalObj, v, settings);
-    auto sameSize = [&](const ConstPlane& p, const char* what) {
-        if (p.width != in.depth.width || p.height != in.depth.height)
-            valueError(std::string(what) + " covers " + std::to_string(p.height) + "x" + std::to_string(p.width) +
-                       " pixels (H x W) but depth covers " + std::to_string(in.depth.height) + "x" +
-                       std::to_string(in.depth.width) + "; they must be the same size");
-    };
-    if (!x.radiance.is_none()) {
-        in.radiance = planeArg(x.radiance, "radiance", 3);
-        sameSize(in.radiance, "radiance");
-    }
-    if (!x.albedo.is_none()) {
-        in.albedo = planeArg(x.albedo, "albedo", 3);
-        sameSize(in.albedo, "albedo");
-    }
+    bounceSource(x.radiance, x.albedo, in);
     if (settings.bounce && !in.radiance.valid())
         valueError("bounce=True needs radiance: the light leaving the bouncing surfaces, float32 (H, W, 3) "
                    "(e.g. the direct-diffuse pass, with albedo=the albedo pass)");
@@ -184,6 +199,31 @@ py::dict computeSsdo(const py::object& depthObj, const py::object& normalObj, co
     return d;
 }
 
+// compute_gi: a method whose bounce has no DO (hbao's horizon light), its GI and AO.
+py::dict computeGi(const py::object& depthObj, const py::object& normalObj, const ViewArgs& v, const SettingArgs& sa,
+                   const py::object& radiance, const py::object& albedo) {
+    Settings settings = settingsFrom(sa);
+    if (!methodOutputs(settings.method, "gi") || methodOutputs(settings.method, "do"))
+        valueError("compute_gi computes the bounce of a method without DO (method='hbao'); method='" +
+                   settings.method + "' " +
+                   (methodOutputs(settings.method, "do") ? "is SSDO's: use compute_ssdo(bounce=True)" : "has no bounce"));
+    settings.bounce = true;
+    OperatorInputs in = viewInputs(depthObj, normalObj, v, settings);
+    bounceSource(radiance, albedo, in);
+    if (!in.radiance.valid())
+        valueError("compute_gi needs radiance: the light leaving the bouncing surfaces, float32 (H, W, 3) "
+                   "(e.g. the direct-diffuse pass, with albedo=the albedo pass)");
+    OperatorOutputs out;
+    {
+        py::gil_scoped_release release;
+        out = runOperator(in, settings);
+    }
+    py::dict d;
+    d["gi"] = imageToArray(std::move(out.indirect), false);
+    d["ao"] = imageToArray(std::move(out.ao), true);
+    return d;
+}
+
 // ao_from_passes: compute_ao over a read_passes() dict, its camera and conventions included.
 py::array aoFromPasses(const py::dict& passes, const SettingArgs& sa) {
     for (const char* key : {"depth", "normal", "camera"})
@@ -203,24 +243,39 @@ py::array aoFromPasses(const py::dict& passes, const SettingArgs& sa) {
                      sa, py::none());
 }
 
+// compute_ao's and compute_gi's shared parameters: the lambda's, the keywords declaring them (in the
+// same order) and the argument structs made of them.
+#define OBSCURA_ARRAY_PARAMS                                                                                       \
+    const py::object &depth, const py::object &normal, const py::args &extra, py::object camera, py::object normals, \
+        py::object depthKind, py::object skyDepth, py::object dataWindow, py::object displayWindow,                 \
+        py::object quality, py::object method, py::object radius, py::object directions, py::object steps,          \
+        py::object weighting, py::object falloff, py::object blur, py::object device, py::object threads
+#define OBSCURA_ARRAY_ARGS                                                                                         \
+    py::arg("depth") = py::none(), py::arg("normal") = py::none(), py::arg("camera") = py::none(),                \
+        py::arg("normals") = "world", py::arg("depth_kind") = "planar", py::arg("sky_depth") = 1e9,                 \
+        py::arg("data_window") = py::none(), py::arg("display_window") = py::none(), OBSCURA_SETTING_ARGS
+#define OBSCURA_ARRAY_VIEW ViewArgs{camera, normals, depthKind, skyDepth, dataWindow, displayWindow}
+#define OBSCURA_ARRAY_SETTINGS                                                                                     \
+    SettingArgs { quality, method, radius, directions, steps, weighting, falloff, blur, device, threads, own }
+
 void bindComputeAo(py::module_& m) {
     m.def(
         "compute_ao",
-        [](const py::object& depth, const py::object& normal, const py::args& extra, py::object camera,
-           py::object normals, py::object depthKind, py::object skyDepth, py::object dataWindow,
-           py::object displayWindow, py::object quality, py::object method, py::object radius, py::object directions,
-           py::object steps, py::object weighting, py::object falloff, py::object blur, py::object device,
-           py::object threads, py::object deep, const py::kwargs& own) {
+        [](OBSCURA_ARRAY_PARAMS, py::object deep, const py::kwargs& own) {
             checkArrayCall("compute_ao", extra, depth, normal, camera, normals);
-            return computeAo(depth, normal, ViewArgs{camera, normals, depthKind, skyDepth, dataWindow, displayWindow},
-                             SettingArgs{quality, method, radius, directions, steps, weighting, falloff, blur, device,
-                                         threads, own},
-                             deep);
+            return computeAo(depth, normal, OBSCURA_ARRAY_VIEW, OBSCURA_ARRAY_SETTINGS, deep);
         },
-        py::arg("depth") = py::none(), py::arg("normal") = py::none(), py::arg("camera") = py::none(),
-        py::arg("normals") = "world",
-        py::arg("depth_kind") = "planar", py::arg("sky_depth") = 1e9, py::arg("data_window") = py::none(),
-        py::arg("display_window") = py::none(), OBSCURA_SETTING_ARGS, py::arg("deep") = py::none(), kComputeAoDoc);
+        OBSCURA_ARRAY_ARGS, py::arg("deep") = py::none(), kComputeAoDoc);
+}
+
+void bindComputeGi(py::module_& m) {
+    m.def(
+        "compute_gi",
+        [](OBSCURA_ARRAY_PARAMS, py::object radiance, py::object albedo, const py::kwargs& own) {
+            checkArrayCall("compute_gi", extra, depth, normal, camera, normals);
+            return computeGi(depth, normal, OBSCURA_ARRAY_VIEW, OBSCURA_ARRAY_SETTINGS, radiance, albedo);
+        },
+        OBSCURA_ARRAY_ARGS, py::arg("radiance") = py::none(), py::arg("albedo") = py::none(), kComputeGiDoc);
 }
 
 void bindComputeSsdo(py::module_& m) {
@@ -265,6 +320,7 @@ void bindAoFromPasses(py::module_& m) {
 
 void bindArrays(py::module_& m) {
     bindComputeAo(m);
+    bindComputeGi(m);
     bindComputeSsdo(m);
     bindAoFromPasses(m);
 }

@@ -1,4 +1,5 @@
-"""SSDO from Python: process(method='ssdo') keywords, compute_ssdo, batch_relight.py and relit contact sheets."""
+"""The bounce from Python: process(method='ssdo') keywords, compute_ssdo, compute_gi (hbao), batch_relight.py and relit
+contact sheets."""
 import json
 import os
 import shutil
@@ -115,6 +116,38 @@ def test_compute_ssdo_matches_process(tmp):
     np.testing.assert_array_equal(r["do"], rgb(out, "obscura.DO"))
     np.testing.assert_array_equal(r["gi"], rgb(out, "obscura.GI"))
     assert r["gi"].max() > 0
+
+
+def test_compute_gi_matches_process_and_an_open_plane_gets_none(tmp):
+    """compute_gi is hbao's bounce: the CLI's GI and AO bit for bit; an open plane receives nothing."""
+    out = tmp / "room_hbao_gi.exr"
+    obscura.process(ROOM, out, method="hbao", bounce=True, out_type="float")
+    p = obscura.read_passes(ROOM)
+    radiance = obscura.read_layer(ROOM, "ViewLayer.DiffDir")[..., :3]
+    albedo = obscura.read_layer(ROOM, "ViewLayer.DiffCol")[..., :3]
+    r = obscura.compute_gi(p["depth"], p["normal"], camera=p["camera"], normals=p["normals"],
+                           depth_kind=p["depth_kind"], sky_depth=p["sky_depth"], data_window=p["data_window"],
+                           display_window=p["display_window"], radiance=radiance, albedo=albedo)
+    np.testing.assert_array_equal(r["gi"], rgb(out, "obscura.GI"))
+    np.testing.assert_array_equal(r["ao"], read_channel(out, "obscura.AO.Y"))
+    assert r["gi"].max() > 0
+
+    h, w = 48, 64
+    depth = np.full((h, w), 4.0, np.float32)
+    normal = np.zeros((h, w, 3), np.float32)
+    normal[..., 2] = 1.0
+    cam = obscura.Camera.perspective(50.0, w, h)
+    r = obscura.compute_gi(depth, normal, camera=cam, normals="camera", radiance=np.ones((h, w, 3), np.float32),
+                           radius=0.5)
+    assert r["gi"].shape == (h, w, 3) and r["gi"].dtype == np.float32
+    assert np.all(r["gi"] == 0.0)
+    np.testing.assert_allclose(r["ao"], 1.0, atol=1e-6)
+    with pytest.raises(ValueError, match="compute_gi needs radiance"):
+        obscura.compute_gi(depth, normal, camera=cam, normals="camera")
+    with pytest.raises(ValueError, match="use compute_ssdo"):
+        obscura.compute_gi(depth, normal, camera=cam, normals="camera", radiance=normal, method="ssdo")
+    with pytest.raises(ValueError, match="has no bounce"):
+        obscura.compute_gi(depth, normal, camera=cam, normals="camera", radiance=normal, method="ssao")
 
 
 # ------------------------------------------------------------------------------------------

@@ -23,5 +23,14 @@ inline double cornerAo(Weighting w, Falloff f, double c) {
     return 1 - (2 / M_PI) * (capCos - c * capCosOverU);
 }
 
+// Form factor from a point to a parallel a x b rectangle at height h with one corner above it.
+inline double cornerRectFormFactor(double a, double b, double h) {
+    const double A = a / h, B = b / h, sa = std::sqrt(1 + A * A), sb = std::sqrt(1 + B * B);
+    return (A / sa * std::atan(B / sa) + B / sb * std::atan(A / sb)) / (2 * M_PI);
+}
+
+// Irradiance at the bottom centre of wellScene(a, h) whose every surface radiates L: pi L less
+// what leaves through the opening, four quarter-rectangles at height h.
+inline double wellIrradiance(double L, double a, double h) { return M_PI * L * (1.0 - 4.0 * cornerRectFormFactor(a, a, h)); }
 
 } // namespace obscura::test

@@ -265,4 +265,28 @@ Image deepLayersFromDepth(const Image& depth, const std::vector<std::pair<float,
     return deep;
 }
 
+std::vector<Rect> wellScene(double a, double h) {
+    using glm::dvec3;
+    const double L = 1e3;
+    std::vector<Rect> r = {Rect{dvec3(-a, 0, -a), dvec3(2 * a, 0, 0), dvec3(0, 0, 2 * a)},
+                           Rect{dvec3(-a, 0, -a), dvec3(0, h, 0), dvec3(0, 0, 2 * a)},
+                           Rect{dvec3(a, 0, -a), dvec3(0, h, 0), dvec3(0, 0, 2 * a)},
+                           Rect{dvec3(-a, 0, -a), dvec3(0, h, 0), dvec3(2 * a, 0, 0)},
+                           Rect{dvec3(-a, 0, a), dvec3(0, h, 0), dvec3(2 * a, 0, 0)}};
+    // The ground around the opening, in four strips.
+    r.push_back(Rect{dvec3(-L, h, -L), dvec3(2 * L, 0, 0), dvec3(0, 0, L - a)});
+    r.push_back(Rect{dvec3(-L, h, a), dvec3(2 * L, 0, 0), dvec3(0, 0, L - a)});
+    r.push_back(Rect{dvec3(-L, h, -a), dvec3(L - a, 0, 0), dvec3(0, 0, 2 * a)});
+    r.push_back(Rect{dvec3(a, h, -a), dvec3(L - a, 0, 0), dvec3(0, 0, 2 * a)});
+    return r;
+}
+
+Image uniformRadiance(const SceneBuffers& sb, float value) {
+    Image r(sb.depth.width, sb.depth.height, 3, 0.0f);
+    for (size_t i = 0; i < sb.depth.pixels.size(); ++i)
+        if (sb.depth.pixels[i] < 1e9f)
+            for (int c = 0; c < 3; ++c) r.pixels[3 * i + c] = value;
+    return r;
+}
+
 } // namespace obscura::test

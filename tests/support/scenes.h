@@ -54,6 +54,12 @@ Camera studioCamera(int width, int height);
 std::vector<Rect> benchRoomScene();
 Camera benchRoomCamera(int width, int height);
 
+// A square well: floor y = 0 over [-a, a]^2, four walls up to y = h, ground y = h outside (a
+// furnace for GI: the closed form is closed_forms.h's wellIrradiance).
+std::vector<Rect> wellScene(double a, double h);
+// A bounce source of radiance `value` (grey) on every surface texel.
+Image uniformRadiance(const SceneBuffers& sb, float value);
+
 // The rectangle of a plane through `point` spanned by unit vectors s, t, `half` units each way.
 Rect planeRect(glm::dvec3 point, glm::dvec3 s, glm::dvec3 t, double half = 1e4);
 
