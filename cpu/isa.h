@@ -44,9 +44,10 @@ struct IsaKernels {
     void (*hbaoDeepTile)(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep,
                          ConstPlane edges, MutablePlane ao, const Box2i& tile);
     // HBAO with its indirect light (kernels/hbao_gi.glsl): `radiance` the bounce source (one
-    // packed RGB word per texel), `gi` the irradiance (3 channels).
-    void (*hbaoGiTile)(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane radiance,
-                       ConstPlane edges, MutablePlane ao, MutablePlane gi, const Box2i& tile);
+    // packed RGB word per texel and layer), `gi` the irradiance (3 channels); `deep` as hbaoDeepTile's
+    // with HBAO_DEEP, else invalid.
+    void (*hbaoGiTile)(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep,
+                       ConstPlane radiance, ConstPlane edges, MutablePlane ao, MutablePlane gi, const Box2i& tile);
 };
 
 #define OBSCURA_DECLARE_ISA(isa) \

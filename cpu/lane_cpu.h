@@ -45,9 +45,10 @@ void runHbaoDeep(const KernelParams& p, ConstPlane depth, ConstPlane normal, Con
 
 // HBAO with its indirect light (kernels/hbao_gi.glsl): `radiance` the bounce source over the same
 // buffer (albedo applied, one packed RGB word per texel: kernels/hbao_gi.glsl), `gi` the irradiance
-// (3 channels); flat input only.
-void runHbaoGi(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane radiance, MutablePlane ao,
-               MutablePlane gi, int threads, const std::string& isa = "");
+// (3 channels). With deep input (`deep` valid, p.hbaoModel HBAO_DEEP) `radiance` holds
+// p.deepLayers words per texel: the visible layer's source, then each hidden layer's colour.
+void runHbaoGi(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, ConstPlane radiance,
+               MutablePlane ao, MutablePlane gi, int threads, const std::string& isa = "");
 
 inline void runHbao(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, int threads,
                     const std::string& isa = "") {

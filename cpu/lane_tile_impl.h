@@ -79,13 +79,13 @@ struct LaneCpuKernel {
         const lfloat column = select(x < 0.5f, 2.0f * w + y, 2.0f * w + h + y);
         return lint(select(y < 0.5f, x, select(y > h - 1.5f, w + x, column))) * 4;
     }
-    // HBAO's indirect light: the bounce source (one packed word per texel, kernels/hbao_gi.glsl) at
-    // a display corner; 0 (black) where not used.
+    // HBAO's indirect light: the bounce source (one packed word per texel and layer, kernels/hbao_gi.glsl)
+    // at a display corner; 0 (black) where not used.
     const float* radianceData = nullptr;
     int radianceXStride = 0, radianceYStride = 0;
-    luint gatherRadianceBitsAtDisplay(lvec2 corner, lbool use) const {
+    luint gatherRadianceBitsAtDisplay(lvec2 corner, int layer, lbool use) const {
         const lint i = (lint(corner.y) - P.originY) * radianceYStride + (lint(corner.x) - P.originX) * radianceXStride;
-        return floatBitsToUint(gather(radianceData, i, use));
+        return floatBitsToUint(gather(radianceData + layer, i, use));
     }
     lfloat gatherEdgeDepth(lvec2 edgeCorner, lbool use) const { return gather(edgeData, edgeRecord(edgeCorner), use); }
     lvec4 gatherEdgeTexel(lvec2 edgeCorner, lbool use) const { return gatherRecord4(edgeData, edgeRecord(edgeCorner), use); }
@@ -204,16 +204,17 @@ void runHbaoPlan(const KernelParams& p, const TilePlanes& t, const Box2i& tile) 
     if (!planned) std::abort(); // a parameter block core/hbao_plan.cpp did not fill
 }
 
-// The same plans with the indirect light (flat input only: no deep layers).
+// The same plans with the indirect light.
 void runHbaoGiPlan(const KernelParams& p, const TilePlanes& t, const Box2i& tile) {
-    using glsl::HBAO_HORIZON, glsl::HBAO_FIXED_THICKNESS, glsl::HBAO_MEASURED_THICKNESS;
+    using glsl::HBAO_HORIZON, glsl::HBAO_FIXED_THICKNESS, glsl::HBAO_MEASURED_THICKNESS, glsl::HBAO_DEEP;
     constexpr Entry H = Entry::Hbao;
     const bool planned = runIf<H, HBAO_HORIZON, 0, 0, 1>(p, t, tile) || runIf<H, HBAO_HORIZON, 0, 1, 1>(p, t, tile) ||
                          runIf<H, HBAO_FIXED_THICKNESS, 0, 0, 1>(p, t, tile) ||
                          runIf<H, HBAO_FIXED_THICKNESS, 1, 1, 1>(p, t, tile) ||
                          runIf<H, HBAO_MEASURED_THICKNESS, 1, 0, 1>(p, t, tile) ||
-                         runIf<H, HBAO_MEASURED_THICKNESS, 1, 1, 1>(p, t, tile);
-    if (!planned) std::abort(); // deep input or a parameter block core/hbao_plan.cpp did not fill
+                         runIf<H, HBAO_MEASURED_THICKNESS, 1, 1, 1>(p, t, tile) ||
+                         runIf<H, HBAO_DEEP, 0, 0, 1>(p, t, tile);
+    if (!planned) std::abort(); // a parameter block core/hbao_plan.cpp did not fill
 }
 
 } // namespace
@@ -229,9 +230,9 @@ void hbaoDeepTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, Co
     runHbaoPlan(p, TilePlanes{depth, normal, deep, edges, {}, ao, {}}, tile);
 }
 
-void hbaoGiTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane radiance, ConstPlane edges,
-                MutablePlane ao, MutablePlane gi, const Box2i& tile) {
-    runHbaoGiPlan(p, TilePlanes{depth, normal, {}, edges, radiance, ao, gi}, tile);
+void hbaoGiTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, ConstPlane radiance,
+                ConstPlane edges, MutablePlane ao, MutablePlane gi, const Box2i& tile) {
+    runHbaoGiPlan(p, TilePlanes{depth, normal, deep, edges, radiance, ao, gi}, tile);
 }
 
 void ssaoTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile) {

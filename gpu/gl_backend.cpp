@@ -93,6 +93,11 @@ void pack(ConstPlane plane, const Box2i& box, int channels, std::vector<float>& 
         }
 }
 
+// The texels a tile of deep input may hold: its signal-in buffer holds 2K floats a texel.
+long long deepTileTexels(const ContextInfo& ci, const glsl::KernelParams& p) {
+    return ci.maxStorageBlockBytes / (std::max(3, 2 * p.deepLayers) * (long long)sizeof(float));
+}
+
 std::string hex(unsigned v) {
     char b[16];
     std::snprintf(b, sizeof b, "0x%04x", v);
@@ -247,20 +252,20 @@ void GlBackend::readInner(int binding, int channels, const Box2i& inner, const B
         }
 }
 
+void GlBackend::uploadDeep(ConstPlane deep, const Box2i& buf, const glsl::KernelParams& q, std::vector<float>& packed) {
+    pack(deep, buf, 2 * q.deepLayers, packed);
+    uploadBuffer(kSignalIn, GL_SHADER_STORAGE_BUFFER, packed.data(), packed.size() * sizeof(float));
+}
+
 void GlBackend::runAoWith(const char* program, const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal,
                           ConstPlane deep, MutablePlane ao, int blur, GlTimings* timings, long long maxTexels) {
     GlTimings t;
     std::vector<float> packed;
-    // The deep pairs ride in the signal-in buffer (HBAO reads no signal), so a tile holds 2K floats a texel.
-    if (deep.valid() && maxTexels <= 0)
-        maxTexels = info().maxStorageBlockBytes / (std::max(3, 2 * p.deepLayers) * (long long)sizeof(float));
+    if (deep.valid() && maxTexels <= 0) maxTexels = deepTileTexels(info(), p);
     runTiled(
         p, depth, normal, blur, maxTexels, t,
         [&](const Box2i& buf, const glsl::KernelParams& q) {
-            if (deep.valid()) {
-                pack(deep, buf, 2 * q.deepLayers, packed);
-                uploadBuffer(kSignalIn, GL_SHADER_STORAGE_BUFFER, packed.data(), packed.size() * sizeof(float));
-            }
+            if (deep.valid()) uploadDeep(deep, buf, q, packed);
             uploadBuffer(kSignalOut, GL_SHADER_STORAGE_BUFFER, nullptr, (size_t)buf.width() * buf.height() * sizeof(float));
         },
         [&](const glsl::KernelParams& q) {
@@ -382,16 +387,20 @@ void GlBackend::runSsdo(const glsl::KernelParams& p, const SsdoInputs& in, Mutab
     if (timings) *timings = t;
 }
 
-void GlBackend::runHbaoGi(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane radiance,
-                          MutablePlane ao, MutablePlane gi, int blur, GlTimings* timings, long long maxTexels) {
+void GlBackend::runHbaoGi(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep,
+                          ConstPlane radiance, MutablePlane ao, MutablePlane gi, int blur, GlTimings* timings,
+                          long long maxTexels) {
     requireEveryBinding("hbao's GI");
     GlTimings t;
     std::vector<float> packed;
+    // Deep input: its pairs as runAoWith's, and the radiance has a word per layer.
+    if (deep.valid() && maxTexels <= 0) maxTexels = deepTileTexels(info(), p);
     runTiled(
         p, depth, normal, blur, maxTexels, t,
-        [&](const Box2i& buf, const glsl::KernelParams&) {
+        [&](const Box2i& buf, const glsl::KernelParams& q) {
             const size_t texels = (size_t)buf.width() * buf.height();
-            pack(radiance, buf, 1, packed);
+            if (deep.valid()) uploadDeep(deep, buf, q, packed);
+            pack(radiance, buf, deep.valid() ? q.deepLayers : 1, packed);
             uploadBuffer(kRadiance, GL_SHADER_STORAGE_BUFFER, packed.data(), packed.size() * sizeof(float));
             uploadBuffer(kSignalOut, GL_SHADER_STORAGE_BUFFER, nullptr, texels * sizeof(float));
             uploadBuffer(kIndirect, GL_SHADER_STORAGE_BUFFER, nullptr, texels * 3 * sizeof(float));

@@ -50,8 +50,9 @@ public:
 
     // HBAO with its indirect light (kernels/hbao_gi.glsl): AO and the irradiance `gi` (RGB) from
     // `radiance`, the bounce source (albedo applied, one packed RGB word per texel), then `blur` passes on each.
-    void runHbaoGi(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane radiance, MutablePlane ao,
-                   MutablePlane gi, int blur, GlTimings* timings = nullptr, long long maxTexels = 0);
+    // With deep input (`deep` valid, as runHbaoDeep's), `radiance` holds p.deepLayers words per texel.
+    void runHbaoGi(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, ConstPlane radiance,
+                   MutablePlane ao, MutablePlane gi, int blur, GlTimings* timings = nullptr, long long maxTexels = 0);
 
     // View-space unit normals from the depth alone (kernels/depth_normal.glsl), 3 channels.
     void runDepthNormals(const glsl::KernelParams& p, ConstPlane depth, MutablePlane normal, GlTimings* timings = nullptr);
@@ -79,6 +80,8 @@ private:
                   const std::function<void(const glsl::KernelParams& q)>& run,
                   const std::function<void(const Box2i& inner, const Box2i& buf)>& readback);
     void uploadBuffer(int binding, unsigned target, const void* data, size_t bytes);
+    // HBAO's deep pairs over `buf` into the signal-in buffer (HBAO reads no signal), 2 q.deepLayers floats a texel.
+    void uploadDeep(ConstPlane deep, const Box2i& buf, const glsl::KernelParams& q, std::vector<float>& packed);
     void dispatch(const char* program, const glsl::KernelParams& q);
     unsigned program(const char* name, const glsl::KernelParams& q); // compiled on first use
     void blurBuffer(int binding, int channels, int radius, const glsl::KernelParams& q);

@@ -65,10 +65,11 @@ vec4 gatherEdgeTexel(vec2 edgeCorner, bool use) {
     return vec4(gatherEdgeDepth(edgeCorner, use), normal);
 }
 vec3 gatherRadiance(int x, int y, bool use) { return use ? loadRadiance(ivec2(x, y)) : vec3(0.0f); }
-// HBAO's indirect light: one packed word per texel in the radiance binding (kernels/hbao_gi.glsl).
-uint gatherRadianceBitsAtDisplay(vec2 corner, bool use) {
-    return use ? floatBitsToUint(radianceData[texelIndex(ivec2(int(corner.x) - P.originX, int(corner.y) - P.originY))])
-               : 0u;
+// HBAO's indirect light: packed words in the radiance binding (kernels/hbao_gi.glsl), one per texel
+// and layer (P.deepLayers of them with deep input, else one).
+uint gatherRadianceBitsAtDisplay(vec2 corner, int layer, bool use) {
+    int i = texelIndex(ivec2(int(corner.x) - P.originX, int(corner.y) - P.originY));
+    return use ? floatBitsToUint(radianceData[i * max(P.deepLayers, 1) + layer]) : 0u;
 }
 vec3 gatherAlbedo(int x, int y, bool use) { return use ? loadAlbedo(ivec2(x, y)) : vec3(1.0f); }
 vec3 gatherEnv(int x, int y, bool use) { return use ? loadEnv(ivec2(x, y)) : vec3(0.0f); }

@@ -104,7 +104,9 @@ lfloat hbaoLanes(lint x, lint y) {
             } else {
                 takeSampleHorizon(smp, r, slice, o);
             }
-            if (HBAO_GI != 0) {
+            if (HBAO_GI != 0 && HBAO_MODEL == HBAO_DEEP) {
+                takeSampleDeepGi(smp, r, slice, lit);
+            } else if (HBAO_GI != 0) {
                 takeSampleGi(smp, r, slice, lit);
             }
         }

@@ -8,24 +8,31 @@
 // depth is unknown and the thickness rule pushes its front back, as without deep input (with no
 // thickness, P.thickness = +inf, its back lies at -inf below the tangent: the horizon's interval).
 
+// A layer's interval in a slice: front (a, b) to back (backA, backB), in lanes `counts`. The AO
+// occupies it (occupyInterval), the light covers it (hbao_gi.glsl's coverGi).
+struct DeepInterval {
+    lfloat a, b, backA, backB;
+    lbool counts;
+};
+
 // One layer at a sample texel, front frontX and back backX (offsets from the receiver): a span
 // counts for its part inside the sphere of radius R (a long span whose front lies beyond R may
 // still pass close by), a point sample when its front is within R; then, as for the visible
 // layer, only when that front is above the tangent plane and on the E side.
-void occupySpan(lvec3 frontX, lvec3 backX, lbool span, lbool use, IN(HbaoSlice) sl, float radius2,
-                INOUT(HbaoOccluded) o) {
+DeepInterval spanInterval(lvec3 frontX, lvec3 backX, lbool span, lbool use, IN(HbaoSlice) sl, float radius2) {
     lvec3 spanFront;
     lvec3 back;
     lbool chord;
     clipToBall(frontX, backX, radius2, spanFront, back, chord);
     lbool meets = (span && chord) || (!span && dot(frontX, frontX) <= radius2);
     lvec3 front = select(span, spanFront, frontX);
-    lfloat a = dot(sl.T, front);
-    lfloat b = dot(sl.n, front);
-    lfloat backA = select(span, dot(sl.T, back), a + sl.backShiftA);
-    lfloat backB = select(span, dot(sl.n, back), b + sl.backShiftB);
-    lbool counts = use && meets && b > 0.0f && a * sl.np.nV + b * sl.np.nE > 0.0f;
-    occupyInterval(a, b, backA, backB, counts, o);
+    DeepInterval i;
+    i.a = dot(sl.T, front);
+    i.b = dot(sl.n, front);
+    i.backA = select(span, dot(sl.T, back), i.a + sl.backShiftA);
+    i.backB = select(span, dot(sl.n, back), i.b + sl.backShiftB);
+    i.counts = use && meets && i.b > 0.0f && i.a * sl.np.nV + i.b * sl.np.nE > 0.0f;
+    return i;
 }
 
 // The texel one pixel from a sample texel (display corner `corner`, surface point on sampleRay at
@@ -171,17 +178,30 @@ void occupyFootprint(IN(HbaoSample) smp, lvec3 sampleRay, lvec3 m, lbool use, IN
 }
 
 // Hidden layer k (>= 1) at a sample texel: a surface on that texel's ray behind the visible one.
-void occupyDeepLayer(int k, IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, INOUT(HbaoOccluded) o) {
+// Its back is read only where some lane has the layer.
+DeepInterval hiddenLayerInterval(int k, IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl) {
     lfloat front = gatherDeepAtDisplay(smp.corner, 2 * k, smp.sampled) * P.depthScale;
-    lbool counts = smp.sampled && isSurfaceDepth(front);
-    if (anyLane(counts)) {
-        lfloat back = gatherDeepAtDisplay(smp.corner, 2 * k + 1, counts) * P.depthScale;
-        lbool span = counts && back > front && isSurfaceDepth(back);
-        front = select(counts, front, r.depth);
+    DeepInterval i;
+    i.a = i.b = i.backA = i.backB = lfloat(0.0f);
+    i.counts = smp.sampled && isSurfaceDepth(front);
+    if (anyLane(i.counts)) {
+        lfloat back = gatherDeepAtDisplay(smp.corner, 2 * k + 1, i.counts) * P.depthScale;
+        lbool span = i.counts && back > front && isSurfaceDepth(back);
+        front = select(i.counts, front, r.depth);
         lvec3 frontX = viewOffset(r.ray, r.depth, smp.w, front);
         lvec3 backX = viewOffset(r.ray, r.depth, smp.w, select(span, back, front));
-        occupySpan(frontX, backX, span, counts, sl, r.radius2, o);
+        i = spanInterval(frontX, backX, span, i.counts, sl, r.radius2);
     }
+    return i;
+}
+
+// The visible layer's interval: its span where the renderer saw the ray leave its solid, else
+// its point pushed T back (as takeSampleFixed).
+DeepInterval visibleLayerInterval(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl) {
+    lfloat back = gatherDeepAtDisplay(smp.corner, 1, smp.surface) * P.depthScale;
+    lbool span = smp.surface && back > smp.depth && isSurfaceDepth(back);
+    lvec3 backX = viewOffset(r.ray, r.depth, smp.w, select(span, back, smp.depth));
+    return spanInterval(smp.X, backX, span, smp.surface, sl, r.radius2);
 }
 
 // HBAO_DEEP's step: the visible layer's span where the renderer saw the ray leave its solid, the
@@ -190,15 +210,16 @@ void occupyDeepLayer(int k, IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice
 void takeSampleDeep(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, INOUT(FootprintPrevious) previous,
                     INOUT(HbaoOccluded) o) {
     vec2 origin = vec2(bufferOrigin());
-    lfloat back = gatherDeepAtDisplay(smp.corner, 1, smp.surface) * P.depthScale;
-    lbool span = smp.surface && back > smp.depth && isSurfaceDepth(back);
-    lvec3 backX = viewOffset(r.ray, r.depth, smp.w, select(span, back, smp.depth));
-    occupySpan(smp.X, backX, span, smp.surface, sl, r.radius2, o);
+    DeepInterval visible = visibleLayerInterval(smp, r, sl);
+    occupyInterval(visible.a, visible.b, visible.backA, visible.backB, visible.counts, o);
     lvec3 sampleRay = lvec3(r.ray.x + smp.w.x, r.ray.y + smp.w.y, r.ray.z);
     lvec3 m = viewNormal(gatherNormal(lint(smp.corner.x - origin.x), lint(smp.corner.y - origin.y), smp.surface),
                          viewVector(sampleRay));
     occupyFootprint(smp, sampleRay, m, smp.surface, previous, sl, r.radius2, o);
     for (int k = 1; k < P.deepLayers; ++k) {
-        occupyDeepLayer(k, smp, r, sl, o);
+        DeepInterval hidden = hiddenLayerInterval(k, smp, r, sl);
+        if (anyLane(hidden.counts)) {
+            occupyInterval(hidden.a, hidden.b, hidden.backA, hidden.backB, hidden.counts, o);
+        }
     }
 }

@@ -86,11 +86,12 @@ lfloat coveredBetween(luint sectors, lfloat lowF, lfloat highF, IN(ProjectedNorm
 }
 
 // Covers, in lanes `counts`, the angles from the back (backA, backB) up to the front (a, b) with
-// radiance read at display corner `corner`: the measure not covered before, times the radiance.
+// radiance read at display corner `corner`, layer `layer` (0: the visible surface; HBAO_DEEP's
+// hidden ones after it): the measure not covered before, times the radiance.
 // An interval that reaches down to the horizon's (always without a thickness) may raise it, less
 // what sectors already covered there; one apart from it sets sectors not set before.
-void coverGi(lfloat a, lfloat b, lfloat backA, lfloat backB, lbool counts, lvec2 corner, IN(ProjectedNormal) np,
-             INOUT(HbaoGi) g) {
+void coverGi(lfloat a, lfloat b, lfloat backA, lfloat backB, lbool counts, lvec2 corner, int layer,
+             IN(ProjectedNormal) np, INOUT(HbaoGi) g) {
     lbool joins = counts;
     if (HBAO_MODEL != HBAO_HORIZON) {
         joins = joins && joinsHorizon(backA, backB, g.horizonA, g.horizonB);
@@ -122,7 +123,7 @@ void coverGi(lfloat a, lfloat b, lfloat backA, lfloat backB, lbool counts, lvec2
         gained = select(apart, share, gained);
         g.sectors = g.sectors | interval;
     }
-    g.irradiance += sharedExponentRgb(gatherRadianceBitsAtDisplay(corner, gains)) * gained;
+    g.irradiance += sharedExponentRgb(gatherRadianceBitsAtDisplay(corner, layer, gains)) * gained;
 }
 
 // The measured thickness of a sample, from the width of its run so far (hbao_runs.glsl's runs:
@@ -152,7 +153,25 @@ void takeSampleGi(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, INOU
         backB = smp.b - t * sl.np.nV;
     }
     if (anyLane(smp.counts)) {
-        coverGi(smp.a, smp.b, backA, backB, smp.counts, smp.corner, sl.np, g);
+        coverGi(smp.a, smp.b, backA, backB, smp.counts, smp.corner, 0, sl.np, g);
+    }
+}
+
+// HBAO_DEEP's light: each layer of the sample's texel covers the interval its AO occupies
+// (hbao_deep.glsl), the visible one with the bounce source, each hidden one with the colour the
+// deep file holds for it (black without one). The texel's footprint is left to the AO: it refines
+// where a grazing plane hides, and the light takes the texel's point as flat input does, so a deep
+// file of one surface per pixel gives the flat input's light.
+void takeSampleDeepGi(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, INOUT(HbaoGi) g) {
+    DeepInterval visible = visibleLayerInterval(smp, r, sl);
+    if (anyLane(visible.counts)) {
+        coverGi(visible.a, visible.b, visible.backA, visible.backB, visible.counts, smp.corner, 0, sl.np, g);
+    }
+    for (int k = 1; k < P.deepLayers; ++k) {
+        DeepInterval hidden = hiddenLayerInterval(k, smp, r, sl);
+        if (anyLane(hidden.counts)) {
+            coverGi(hidden.a, hidden.b, hidden.backA, hidden.backB, hidden.counts, smp.corner, k, sl.np, g);
+        }
     }
 }
 
@@ -188,5 +207,5 @@ void takeBorderGi(IN(HbaoReceiver) r, IN(HbaoSlice) sl, IN(HbaoMarch) m, lbool l
     lfloat lowA = select(span, select(oneHigher, a0, a1), frontA);
     lfloat lowB = select(span, select(oneHigher, b0, b1), frontB);
     coverGi(frontA, frontB, lowA + sl.backShiftA, lowB + sl.backShiftB, counts0 || counts1,
-            nearestBufferCorner(c.exitCorner), sl.np, g);
+            nearestBufferCorner(c.exitCorner), 0, sl.np, g);
 }

@@ -58,14 +58,6 @@ std::vector<bool> coverage(const DeepHit& hit, const std::function<bool(double x
     return deepCoverage(hit, W, H, side);
 }
 
-double meanOver(const std::vector<float>& v, const std::vector<bool>& on) {
-    double sum = 0;
-    int n = 0;
-    for (size_t i = 0; i < v.size(); ++i)
-        if (on[i]) sum += v[i], ++n;
-    return n ? sum / n : NAN;
-}
-
 void expectOneLineFailure(const CliResult& r, const std::string& file, const std::string& what, const fs::path& out) {
     EXPECT_EQ(r.exitCode, 1) << outcome(r);
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;

@@ -56,12 +56,6 @@ SceneBuffers cornerView(int W, int H) {
     return renderScene(cornerScene(), cornerCamera(W, H), W, H);
 }
 
-double maxAbsDiff(const Image& a, const Image& b) {
-    double m = 0;
-    for (size_t i = 0; i < a.pixels.size(); ++i) m = std::max(m, (double)std::abs(a.pixels[i] - b.pixels[i]));
-    return m;
-}
-
 } // namespace
 
 // An open plane's elements lie in every receiver's tangent plane: form factor 0, AO exactly

@@ -25,14 +25,6 @@ namespace {
 
 const char* kGlDevices[] = {"gl-osmesa", "gl-egl"};
 
-double maxAbsDiff(const Image& a, const Image& b) {
-    EXPECT_EQ(a.pixels.size(), b.pixels.size());
-    double m = 0;
-    for (size_t i = 0; i < a.pixels.size() && i < b.pixels.size(); ++i)
-        m = std::max(m, (double)std::abs(a.pixels[i] - b.pixels[i]));
-    return m;
-}
-
 // The studio scene through a perspective and an orthographic camera.
 std::vector<SceneBuffers> studioViews(int W, int H) {
     std::vector<SceneBuffers> views;

@@ -328,3 +328,40 @@ TEST_P(Stiff, HbaoBounceStaysFiniteAndBounded) {
             }
         }
 }
+
+// The same with deep input (docs/deep.md): three layers behind every surface, the hidden ones
+// radiating the deep file's colour, some of it bad (NaN, infinite, negative). The plane's
+// layers lie below its tangent and light nothing; elsewhere no interval is lit twice, so the light
+// stays under the furnace's pi times the brightest radiance (bad colours send none).
+TEST_P(Stiff, HbaoDeepBounceStaysFiniteAndBounded) {
+    const int W = 96, H = 64;
+    SceneBuffers plane = nineDecadePlane(W, H);
+    SceneBuffers edge = renderScene(corner(), cornerCamera(W, H), W, H);
+    const std::vector<std::pair<float, float>> behind = {{0.0f, 0.0f}, {0.05f, 0.3f}, {1.0f, 1.0f}, {2.0f, 1e30f}};
+    const Image planeDeep = deepLayersFromDepth(plane.depth, behind), edgeDeep = deepLayersFromDepth(edge.depth, behind);
+    const float inf = std::numeric_limits<float>::infinity();
+    const float L = 3.0f, bad[] = {std::numeric_limits<float>::quiet_NaN(), inf, -inf, -5.0f};
+    Image source(W, H, 3, L), colour(W, H, 12, L);
+    for (int i = 0; i < 4; ++i) colour.at(5 + 11 * i, H / 2)[3 + 3 * (i % 3) + i % 3] = bad[i];
+    Settings s;
+    s.device = GetParam();
+    s.method = "hbao";
+    s.bounce = true;
+    s.blur = 0;
+    for (float T : {kThicknessInfinite, 0.1f})
+        for (float R : {1e-4f, 1e-2f, 10.0f, 1e4f}) {
+            s.thickness = T;
+            s.radius = R;
+            for (bool open : {true, false}) {
+                OperatorInputs in = open ? plane.inputs() : edge.inputs();
+                in.deepLayers = open ? planeDeep.view() : edgeDeep.view();
+                in.radiance = source.view();
+                in.deepColour = colour.view();
+                const OperatorOutputs out = runOperator(in, s);
+                checkedMin(out.ao);
+                const float most = open ? L * M_PI * 1e-3f : L * M_PI * 1.001f;
+                for (float v : out.indirect.pixels)
+                    EXPECT_TRUE(v >= 0.0f && v <= most) << v << (open ? " plane" : " corner") << " R=" << R << " T=" << T;
+            }
+        }
+}

@@ -37,10 +37,10 @@ public:
         record(st, t);
     }
 
-    void hbaoGi(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane radiance, MutablePlane ao,
-                MutablePlane gi, int blur, OperatorStats& st) const override {
+    void hbaoGi(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, ConstPlane radiance,
+                MutablePlane ao, MutablePlane gi, int blur, OperatorStats& st) const override {
         gpu::GlTimings t;
-        gl_.runHbaoGi(p, depth, normal, radiance, ao, gi, blur, &t);
+        gl_.runHbaoGi(p, depth, normal, deep, radiance, ao, gi, blur, &t);
         record(st, t);
     }
 

@@ -39,24 +39,30 @@ float packSharedExponent(const float rgb[3]) {
 }
 
 // HBAO with --bounce: the indirect light from the same march (kernels/hbao_gi.glsl), from the
-// bounce source times the albedo where one is given (SSDO's senders), packed once here.
+// bounce source times the albedo where one is given (SSDO's senders), packed once here. With deep
+// layers, a word per texel and layer: the visible layer's bounce source, then each hidden layer's
+// colour from the deep file (black where it has none).
 void runHbaoGi(const MethodRun& r) {
     const OperatorInputs& in = r.in;
     if (!in.radiance.valid()) throw Error("the bounce (GI) needs a radiance source: a direct-diffuse or beauty pass");
-    if (in.deepLayers.valid()) throw Error("hbao's bounce (GI) reads flat input only; leave out the deep layers");
     checkPlane(in.radiance, 3, in.dataWindow, "bounce source");
     const bool albedo = r.params.senderAlbedo != 0 && in.albedo.valid();
     if (albedo) checkPlane(in.albedo, 3, in.dataWindow, "albedo");
+    const ConstPlane deep = r.params.deepLayers > 0 ? in.deepLayers : ConstPlane{};
+    const int layers = std::max(r.params.deepLayers, 1);
+    const int coloured = deep.valid() && in.deepColour.valid() ? std::min(layers, in.deepColour.channels / 3) : 1;
     const int w = in.dataWindow.width(), h = in.dataWindow.height();
-    Image source(w, h, 1);
+    Image source(w, h, layers, 0.0f);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             float rgb[3];
             for (int c = 0; c < 3; ++c) rgb[c] = in.radiance.at(x, y)[c] * (albedo ? in.albedo.at(x, y)[c] : 1.0f);
-            *source.at(x, y) = packSharedExponent(rgb);
+            float* words = source.at(x, y);
+            words[0] = packSharedExponent(rgb);
+            for (int k = 1; k < coloured; ++k) words[k] = packSharedExponent(in.deepColour.at(x, y) + 3 * k);
         }
     r.out.indirect = Image(w, h, 3, 0.0f);
-    r.backend.hbaoGi(r.params, in.depth, in.normal, std::as_const(source).view(), r.out.ao.view(),
+    r.backend.hbaoGi(r.params, in.depth, in.normal, deep, std::as_const(source).view(), r.out.ao.view(),
                      r.out.indirect.view(), resolvedBlur(r.settings), r.out.stats);
 }
 } // namespace

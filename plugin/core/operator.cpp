@@ -200,6 +200,12 @@ OperatorOutputs runOperator(const OperatorInputs& given, const Settings& s) {
             throw Error("the deep layers plane has " + std::to_string(in.deepLayers.channels) +
                         " channels; it needs (front, back) pairs");
     }
+    if (in.deepColour.valid()) {
+        checkPlane(in.deepColour, 3, in.dataWindow, "deep colour");
+        if (in.deepColour.channels % 3 != 0)
+            throw Error("the deep colour plane has " + std::to_string(in.deepColour.channels) +
+                        " channels; it needs RGB per layer");
+    }
     const KernelParams params = makeKernelParams(in, s);
 
     OperatorOutputs out;

@@ -26,6 +26,9 @@ struct OperatorInputs {
     // (front, back) depths in the depth pass's units and kind, nearest first; layer 0 is the
     // visible surface; front +inf past a ray's last surface; back == front where the span is unknown.
     ConstPlane deepLayers;
+    // HBAO's bounce with deep layers, optional: 3L channels, the RGB (un-premultiplied) each layer
+    // radiates, as the deep file holds it; invalid: the hidden layers send no light.
+    ConstPlane deepColour;
 
     // ---- SSDO only ----
     ConstPlane radiance;            // bounce source, 3 channels (needed for GI)

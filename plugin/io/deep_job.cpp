@@ -151,7 +151,9 @@ FramePasses loadDeepElements(const FrameJob& job, const std::vector<std::string>
         elements = readDeepElements(paths, elementPlan.deep, job.maxPixels, job.settings.threads);
     }
     StageTimer timer{&report.stages, "merge"};
-    DeepMerge m = mergeDeepElements(elements, job.settings.deepLayers, job.perElementAo, job.settings.threads);
+    DeepMerge m =
+        mergeDeepElements(elements, job.settings.deepLayers, job.perElementAo, job.settings.threads, readsDeepColour(job));
+    if (readsDeepColour(job)) noteDeepColour(!m.colour.empty(), report);
     for (DeepElement& e : elements) e.samples = DeepChannels();  // merged: only headers and paths are read on
 
     FramePasses p;
@@ -187,6 +189,7 @@ FramePasses loadDeepElements(const FrameJob& job, const std::vector<std::string>
     requireSameCameras(job, elements, p);
     reportMerge(paths, m, report);
     deep.layers = std::move(m.layers);
+    deep.colour = std::move(m.colour);
     deep.names = elementLayerNames(paths);
     deep.front = std::move(m.elementFront);
     deep.elementLayers = std::move(m.elementLayers);
@@ -196,15 +199,18 @@ FramePasses loadDeepElements(const FrameJob& job, const std::vector<std::string>
 std::vector<NewChannel> elementAoLayers(const FrameJob& job, const OperatorInputs& in, const Settings& settings,
                                         const DeepElementsInput& deep, FrameReport& report) {
     std::vector<NewChannel> layers;
+    Settings aoAlone = settings;  // each element's AO only: the light is the merge's
+    aoAlone.bounce = false;
     for (size_t e = 0; e < deep.front.size(); ++e) {
         OperatorInputs one = in;
         one.depth = deep.front[e].view();
         one.deepLayers = deep.elementLayers[e].view();
+        one.deepColour = ConstPlane{};
         NewChannel c;
         c.name = aoChannelName(job.aoLayer + "." + deep.names[e]);
         {
             StageTimer timer{&report.stages, "compute " + deep.names[e]};
-            c.plane = runOperator(one, settings).ao;
+            c.plane = runOperator(one, aoAlone).ao;
         }
         c.type = job.aoFloat ? Imf::FLOAT : Imf::HALF;
         layers.push_back(std::move(c));

@@ -13,6 +13,7 @@ namespace obscura {
 // What the merge gives a frame job beyond its passes.
 struct DeepElementsInput {
     Image layers;                      // the merge's surfaces: HBAO's deep input
+    Image colour;                      // their colours, for the bounce (readsDeepColour)
     std::vector<std::string> names;    // per element: its AO layer's suffix (elementLayerNames)
     std::vector<Image> front, elementLayers;  // per element, with --per-element-ao
 };

@@ -311,13 +311,25 @@ struct MergeBand {
     MergeCounts counts;
 };
 
-void mergeBand(const std::vector<DeepElement>& elements, int alpha, int maxLayers, DeepMerge& m, MergeBand& band) {
+// The premultiplied RGBA of the pixel's sorted samples (R, G, B at channels rgb, A at alpha, -1: 1).
+void sampleColours(const PixelSamples& px, size_t n, int stride, const int* rgb, int alpha, std::vector<float>& out) {
+    out.resize(4 * n);
+    for (size_t i = 0; i < n; ++i) {
+        const float* v = &px.sorted[i * stride + 2];
+        for (int c = 0; c < 3; ++c) out[4 * i + c] = v[rgb[c]];
+        out[4 * i + 3] = alpha >= 0 ? v[alpha] : 1.0f;
+    }
+}
+
+// `rgb`: the colour channels' indices when the merge's surfaces take colour, else null.
+void mergeBand(const std::vector<DeepElement>& elements, int alpha, const int* rgb, int maxLayers, DeepMerge& m,
+               MergeBand& band) {
     const int C = (int)m.channels.size(), W = m.data.width();
     const size_t rows = (size_t)W * (band.y1 - band.y0);
     band.merged = DeepLayerBuilder(rows, rows * 2);
     band.own.assign(m.elementFront.size(), DeepLayerBuilder(rows, rows * 2));
     PixelSamples px(elements, m.channels, alpha);
-    std::vector<float> scratch, out(C);
+    std::vector<float> scratch, out(C), colours;
     std::vector<DeepSpan> rest;
     for (size_t p = (size_t)W * band.y0; p < (size_t)W * band.y1; ++p) {
         px.gather(p, band.counts);
@@ -326,7 +338,9 @@ void mergeBand(const std::vector<DeepElement>& elements, int alpha, int maxLayer
         flattenSamples(px.sorted.data(), n, 2 + C, alpha, scratch, out.data());
         for (int c = 0; c < C; ++c) m.flat[c].pixels[p] = out[c];
         if (n) m.front.pixels[p] = px.spans[0].front;
-        if (!band.merged.addPixel(px.spans.data(), n, maxLayers)) ++band.counts.truncatedPixels;
+        if (rgb) sampleColours(px, n, 2 + C, rgb, alpha, colours);
+        if (!band.merged.addPixel(px.spans.data(), n, maxLayers, rgb ? colours.data() : nullptr))
+            ++band.counts.truncatedPixels;
         for (size_t e = 0; e < band.own.size(); ++e) {
             const DeepSpan mine = ownSurface(px, (int)e, rest);
             band.own[e].addPixelAfter(mine, rest.data(), rest.size(), maxLayers);
@@ -336,27 +350,36 @@ void mergeBand(const std::vector<DeepElement>& elements, int alpha, int maxLayer
 }
 
 // The bands' surfaces as one plane, as many layers as the deepest pixel of any band needs.
+// With `colour`, their colours (3 channels a layer) instead.
 Image stitchLayers(const std::vector<MergeBand>& bands, const std::function<const DeepLayerBuilder&(const MergeBand&)>& of,
-                   int width, int height, int& layers) {
+                   int width, int height, int& layers, bool colour = false) {
     layers = 1;
     for (const MergeBand& b : bands) layers = std::max(layers, of(b).layers());
-    Image out(width, height, 2 * layers, kInf);
-    for (const MergeBand& b : bands) of(b).writePlanes(out, (size_t)width * b.y0);
+    Image out(width, height, (colour ? 3 : 2) * layers, colour ? 0.0f : kInf);
+    for (const MergeBand& b : bands) {
+        if (colour) of(b).writeColour(out, (size_t)width * b.y0);
+        else of(b).writePlanes(out, (size_t)width * b.y0);
+    }
     return out;
 }
 
 } // namespace
 
-DeepMerge mergeDeepElements(const std::vector<DeepElement>& elements, int maxLayers, bool perElement, int threads) {
+DeepMerge mergeDeepElements(const std::vector<DeepElement>& elements, int maxLayers, bool perElement, int threads,
+                            bool colour) {
     const DeepElement& first = elements.at(0);
     DeepMerge m;
     m.display = first.part.displayWindow;
     m.data = first.part.dataWindow;
     for (const DeepElement& e : elements) requireSameWindows(e, first);
     m.channels = flattenedChannels(elements);
-    int alpha = -1;
-    for (int c = 0; c < (int)m.channels.size(); ++c)
-        if (m.channels[c].name == "A") alpha = c;
+    int alpha = -1, rgb[3] = {-1, -1, -1};
+    for (int c = 0; c < (int)m.channels.size(); ++c) {
+        const std::string& name = m.channels[c].name;
+        if (name == "A") alpha = c;
+        if (name == "R" || name == "G" || name == "B") rgb[name == "R" ? 0 : name == "G" ? 1 : 2] = c;
+    }
+    const bool coloured = colour && rgb[0] >= 0 && rgb[1] >= 0 && rgb[2] >= 0;
     const int W = m.data.width(), H = m.data.height();
     m.flat.assign(m.channels.size(), Image(W, H, 1, 0.0f));
     m.front = Image(W, H, 1, kInf);
@@ -368,14 +391,16 @@ DeepMerge mergeDeepElements(const std::vector<DeepElement>& elements, int maxLay
         bands[i].y0 = (int)((long long)H * i / n);
         bands[i].y1 = (int)((long long)H * (i + 1) / n);
     }
-    runParallel(n, n, [&](int i) { mergeBand(elements, alpha, maxLayers, m, bands[i]); });
+    runParallel(n, n, [&](int i) { mergeBand(elements, alpha, coloured ? rgb : nullptr, maxLayers, m, bands[i]); });
     for (const MergeBand& b : bands) {
         m.samples += b.counts.samples;
         m.droppedSamples += b.counts.droppedSamples;
         m.emptyPixels += b.counts.emptyPixels;
         m.truncatedPixels += b.counts.truncatedPixels;
     }
-    m.layers = stitchLayers(bands, [](const MergeBand& b) -> const DeepLayerBuilder& { return b.merged; }, W, H, m.layerCount);
+    const auto merged = [](const MergeBand& b) -> const DeepLayerBuilder& { return b.merged; };
+    m.layers = stitchLayers(bands, merged, W, H, m.layerCount);
+    if (coloured) m.colour = stitchLayers(bands, merged, W, H, m.layerCount, true);
     for (size_t e = 0; e < m.elementFront.size(); ++e) {
         int layers = 0;
         m.elementLayers.push_back(

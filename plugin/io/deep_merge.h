@@ -34,14 +34,17 @@ struct DeepMerge {
     std::vector<Image> flat;           // one plane per channel over `data`
     Image front;                       // the nearest sample's Z per pixel; +inf where there is none
     Image layers;                      // the merge's surfaces (DeepLayerBuilder::planes)
+    Image colour;                      // with colour, when R, G and B are merged: their colours (colourPlanes)
     int layerCount = 0;
     std::vector<Image> elementFront, elementLayers;  // per element, when asked: its own surface first
     long long samples = 0, droppedSamples = 0, emptyPixels = 0, truncatedPixels = 0;
 };
 
-// Merges the elements' samples, on `threads` threads (0: every core). Throws FileError naming the
-// element whose display or data window is not the first element's.
-DeepMerge mergeDeepElements(const std::vector<DeepElement>& elements, int maxLayers, bool perElement, int threads = 0);
+// Merges the elements' samples, on `threads` threads (0: every core); with `colour`, the merge's
+// surfaces' colours too, each from its own samples (so each element's). Throws FileError naming
+// the element whose display or data window is not the first element's.
+DeepMerge mergeDeepElements(const std::vector<DeepElement>& elements, int maxLayers, bool perElement, int threads = 0,
+                            bool colour = false);
 
 // readDeepElement of each path, `threads` files at a time (0: every core); the first failure in
 // the paths' order is thrown.

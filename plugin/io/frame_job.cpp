@@ -180,6 +180,16 @@ bool readsColour(const FrameJob& job) {
     return methodOutputs(method, "do") || (methodOutputs(method, "gi") && (job.writeIndirect || job.writeRelit));
 }
 
+bool readsDeepColour(const FrameJob& job) {
+    return methodReads(job.settings.method, "deep") && methodOutputs(job.settings.method, "gi") &&
+           (job.writeIndirect || job.writeRelit);
+}
+
+void noteDeepColour(bool coloured, FrameReport& report) {
+    if (coloured) report.plan.push_back("deep colour: each hidden layer radiates its R, G, B");
+    else report.warnings.push_back("the deep input has no R, G, B: its hidden layers send no light");
+}
+
 SsdoReads planSsdoReads(const FrameJob& job, const FramePasses& p) {
     SsdoReads r;
     if (!readsColour(job)) return r;  // AO alone reads no colour pass
@@ -360,14 +370,16 @@ Camera resolveFrameCamera(const FrameJob& job, const FramePasses& p) {
 }
 
 DeepLayers readJobDeepLayers(const FrameJob& job, const FramePasses& p) {
-    return blameInput(job.deepInput,
-                      [&] { return readDeepLayers(job.deepInput, job.settings.deepLayers, p.plan.deep, job.maxPixels); });
+    return blameInput(job.deepInput, [&] {
+        return readDeepLayers(job.deepInput, job.settings.deepLayers, p.plan.deep, job.maxPixels, readsDeepColour(job));
+    });
 }
 
 namespace {
 
-// The deep file's surfaces over the flat passes' data window, or an empty image without one.
-Image readDeepInput(const FrameJob& job, const FramePasses& p, FrameReport& report) {
+// The deep file's surfaces over the flat passes' data window, or an empty image without one; their
+// colours into `colour` when the bounce reads them and the file has some.
+Image readDeepInput(const FrameJob& job, const FramePasses& p, Image& colour, FrameReport& report) {
     if (job.deepInput.empty()) return Image();
     StageTimer timer{&report.stages, "deep"};
     DeepLayers deep = readJobDeepLayers(job, p);
@@ -386,6 +398,8 @@ Image readDeepInput(const FrameJob& job, const FramePasses& p, FrameReport& repo
             report.warnings.push_back(std::to_string(deep.droppedSamples) + " deep samples with NaN, infinite or non-positive Z skipped");
         if (deep.unsortedPixels)
             report.warnings.push_back(std::to_string(deep.unsortedPixels) + " deep pixels with unsorted samples sorted by Z");
+        if (readsDeepColour(job)) noteDeepColour(!deep.colour.empty(), report);
+        if (!deep.colour.empty()) colour = deepPlanesOver(std::move(deep.colour), deep.data, p.data, 0.0f);
         return deepPlanesOver(std::move(deep), p.data);
     });
 }
@@ -448,9 +462,10 @@ void addSsdoInputs(const FrameJob& job, FramePasses& p, Settings& settings, Oper
 }
 
 // What the operator computes from: the passes' planes, the conventions and, as the method asks,
-// the deep layers and SSDO's light (owned by `deep` and `environment`, which outlive the call).
-OperatorInputs operatorInputs(const FrameJob& job, FramePasses& p, Settings& settings, Image& deep, Image& environment,
-                              FrameReport& report) {
+// the deep layers (and their colours) and SSDO's light (owned by `deep`, `deepColour` and
+// `environment`, which outlive the call).
+OperatorInputs operatorInputs(const FrameJob& job, FramePasses& p, Settings& settings, Image& deep, Image& deepColour,
+                              Image& environment, FrameReport& report) {
     OperatorInputs in;
     in.displayWindow = p.display;
     in.dataWindow = p.data;
@@ -460,8 +475,9 @@ OperatorInputs operatorInputs(const FrameJob& job, FramePasses& p, Settings& set
     in.normalSpace = report.normalSpace;
     in.camera = report.camera;
     settings.skyDepth = report.skyDepth;
-    if (deep.empty()) deep = readDeepInput(job, p, report);  // deep elements bring their merge's
+    if (deep.empty()) deep = readDeepInput(job, p, deepColour, report);  // deep elements bring their merge's
     if (!deep.empty() && methodReads(settings.method, "deep")) in.deepLayers = deep.view();
+    if (!deepColour.empty() && readsDeepColour(job)) in.deepColour = deepColour.view();
     if (readsColour(job)) addSsdoInputs(job, p, settings, in, environment, report);
     else report.plan.push_back(settings.method);
     return in;
@@ -484,7 +500,8 @@ ViewResult computeView(const FrameJob& job, FramePasses passes, FrameReport& rep
     resolveConventions(job, p, report);
     Settings settings = job.settings;
     Image deep = merged ? std::move(merged->layers) : Image{}, environment;
-    const OperatorInputs in = operatorInputs(job, p, settings, deep, environment, report);
+    Image deepColour = merged ? std::move(merged->colour) : Image{};
+    const OperatorInputs in = operatorInputs(job, p, settings, deep, deepColour, environment, report);
     {
         StageTimer timer{&report.stages, "compute"};
         r.out = runOperator(in, settings);

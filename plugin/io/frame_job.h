@@ -132,6 +132,10 @@ std::string normalsSourceLine(const FrameJob& job, const LayerPlan& plan);
 void requestBounce(FrameJob& job);
 // Whether the job reads colour passes and writes light: ssdo always, hbao with the bounce.
 bool readsColour(const FrameJob& job);
+// Whether the job's deep layers need their colour: a method that reads them lights with a bounce.
+bool readsDeepColour(const FrameJob& job);
+// The report's line on the deep layers' colour (`coloured`: the deep input has R, G and B).
+void noteDeepColour(bool coloured, FrameReport& report);
 
 // The colour passes an SSDO request reads (R, G, B, in the part that holds each); empty for HBAO.
 struct SsdoReads {

@@ -4,7 +4,10 @@
 //   baselines: each element's deep file with --flat (its flattened image, written once
 //              beforehand), as obscura ran deep input before deep elements;
 //   merged:    the three elements, merged and flattened, with the merge's layers;
-//   merged + per-element AO: the same with --per-element-ao (three more HBAO runs).
+//   merged + per-element AO: the same with --per-element-ao (three more HBAO runs);
+//   merged + bounce: the merge with hbao's light (--bounce-source beauty, the GI layer alone),
+//              every hidden layer radiating its element's colour: its cost against the merge's
+//              AO alone is the last line.
 // Same settings and --deep-layers for all; ratios to the ball's and to the ground's baseline (the
 // ground covers half the frame, the ball a few percent: HBAO's work follows the surface pixels).
 // Not a ctest.
@@ -94,6 +97,11 @@ int main(int argc, char** argv) {
     merged.perElementAo = true;
     merged.output = (dir / "per_element.exr").string();
     cases.push_back({"three merged, --per-element-ao", merged, {}, {}});
+    merged.perElementAo = false;
+    merged.writeIndirect = true;
+    merged.bounceSource = "beauty";
+    merged.output = (dir / "bounce.exr").string();
+    cases.push_back({"three merged, --bounce", merged, {}, {}});
     for (int r = 0; r < runs; ++r)  // interleaved, so drift in the machine's load hits each alike
         for (Case& c : cases) c.wall.push_back(timed(c.job, c.stages));
     std::printf("%dx%d, quality %s, --deep-layers %d, radius 1, falloff none, median of %d runs (end to end)\n", kWidth,
@@ -102,5 +110,9 @@ int main(int argc, char** argv) {
         std::printf("%-34s %7.3f s  x ball %.2f  x ground %.2f  (%s)\n", c.label.c_str(), median(c.wall),
                     median(c.wall) / median(cases[0].wall), median(c.wall) / median(cases[2].wall), stageText(c.stages).c_str());
     }
+    const Case &ao = cases[3], &bounce = cases[5];
+    const auto stage = [](const Case& c, const char* name) { return median(c.stages.at(name)); };
+    std::printf("bounce / AO alone (three merged): end to end %.2f, compute %.2f\n", median(bounce.wall) / median(ao.wall),
+                stage(bounce, "compute") / stage(ao, "compute"));
     return 0;
 }

@@ -12,6 +12,8 @@
 //               each iteration also running the AO alone: "xAo" = its time / AO's, same process;
 //   PRESET/deep:K  the same with deep input of K layers (synthetic: the visible surface as a
 //               slab, then surfaces and slabs behind it), the cost of reading and testing them;
+//   PRESET/deep:4/bounce  the light with those layers, each hidden one coloured, against the
+//               deep AO alone ("xAo", as /bounce's);
 //   METHOD_PRESET  the other AO methods of the method table at their quality levels;
 //   gl-*        every OpenGL device this machine can open, with the upload/compute/readback split.
 //
@@ -218,14 +220,20 @@ void runHbaoBench(benchmark::State& state, const Settings& s, const std::string&
 
 void BM_Hbao(benchmark::State& state, Settings s, std::string caseName) { runHbaoBench(state, s, caseName, 0); }
 
-// --bounce against AO alone at the same settings, alternating in one loop so that both see the
-// same load: "xAo" is the ratio the target (1.5) is about.
-void BM_HbaoBounce(benchmark::State& state, Settings s) {
+// --bounce against AO alone at the same settings (with `deepLayers` synthetic layers each, the
+// hidden ones coloured), alternating in one loop so that both see the same load: "xAo" is the
+// ratio the target (1.5) is about.
+void BM_HbaoBounce(benchmark::State& state, Settings s, int deepLayers) {
     const SceneBuffers& sb = scene();
-    const Image radiance(sb.depth.width, sb.depth.height, 3, 1.0f), albedo(sb.depth.width, sb.depth.height, 3, 0.5f);
-    OperatorInputs in = sb.inputs();
+    const int w = sb.depth.width, h = sb.depth.height;
+    const Image radiance(w, h, 3, 1.0f), albedo(w, h, 3, 0.5f), colour(w, h, 3 * std::max(deepLayers, 1), 0.8f);
+    const Image deep = deepLayers > 0 ? syntheticDeepLayers(deepLayers) : Image();
+    OperatorInputs aoIn = sb.inputs();
+    if (deepLayers > 0) aoIn.deepLayers = deep.view();
+    OperatorInputs in = aoIn;
     in.radiance = radiance.view();
     in.albedo = albedo.view();
+    if (deepLayers > 0) in.deepColour = colour.view();
     Settings ao = s;
     s.bounce = true;
     double giSeconds = 0, aoSeconds = 0;
@@ -235,7 +243,7 @@ void BM_HbaoBounce(benchmark::State& state, Settings s) {
         giSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         benchmark::DoNotOptimize(out.indirect.pixels.data());
         t0 = std::chrono::steady_clock::now();
-        out = runOperator(sb.inputs(), ao);
+        out = runOperator(aoIn, ao);
         aoSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         benchmark::DoNotOptimize(out.ao.pixels.data());
     }
@@ -336,13 +344,14 @@ int main(int argc, char** argv) {
                                                      std::string("preset")));
         };
         registerSplit(name, s);
-        options(benchmark::RegisterBenchmark((name + "/bounce").c_str(), BM_HbaoBounce, s));
+        options(benchmark::RegisterBenchmark((name + "/bounce").c_str(), BM_HbaoBounce, s, 0));
         Settings thin = s;
         thin.thickness = 0.1f;
         options(benchmark::RegisterBenchmark((name + "/thickness:0.1").c_str(), BM_Hbao, thin, std::string("preset")));
         for (int layers : {1, 4})
             options(benchmark::RegisterBenchmark((name + "/deep:" + std::to_string(layers)).c_str(), BM_HbaoDeep, s,
                                                  layers));
+        options(benchmark::RegisterBenchmark((name + "/deep:4/bounce").c_str(), BM_HbaoBounce, s, 4));
         // The same under the flags' own defaults, uniform weighting and linear falloff (runs also
         // weight the falloff).
         Settings paper = settingsFor(Weighting::Uniform, Falloff::Linear, all, "cpu");

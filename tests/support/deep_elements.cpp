@@ -70,16 +70,20 @@ std::vector<DeepSample> deepBall(const double d[3]) {
     return solid(std::pair{(-b - std::sqrt(disc)) / a, (-b + std::sqrt(disc)) / a}, 1, 0, 0);
 }
 
-std::vector<DeepSample> deepTree(const double d[3]) {
-    const double lo[3] = {0.55, -1, -5.4}, hi[3] = {0.95, 1.5, -4.6};
+std::vector<DeepSample> deepBox(const double d[3], const double lo[3], const double hi[3], float r, float g, float b) {
     double t0 = 0, t1 = 1e30;
     for (int i = 0; i < 3; ++i) {
-        double a = lo[i] / d[i], b = hi[i] / d[i];
-        if (a > b) std::swap(a, b);
+        double a = lo[i] / d[i], c = hi[i] / d[i];
+        if (a > c) std::swap(a, c);
         t0 = std::max(t0, a);
-        t1 = std::min(t1, b);
+        t1 = std::min(t1, c);
     }
-    return solid(t0 < t1 ? std::optional{std::pair{t0, t1}} : std::nullopt, 0, 1, 0);
+    return solid(t0 < t1 ? std::optional{std::pair{t0, t1}} : std::nullopt, r, g, b);
+}
+
+std::vector<DeepSample> deepTree(const double d[3]) {
+    const double lo[3] = {0.55, -1, -5.4}, hi[3] = {0.95, 1.5, -4.6};
+    return deepBox(d, lo, hi, 0, 1, 0);
 }
 
 std::vector<bool> deepCoverage(const DeepHit& hit, int width, int height, const std::function<bool(double x)>& side) {

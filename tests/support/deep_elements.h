@@ -26,6 +26,8 @@ void writeDeepElement(const std::string& path, const DeepHit& hit, int width, in
 std::vector<DeepSample> deepGround(const double ray[3]);
 // The ball: radius 0.5 on the ground at (0, -0.5, -5), a red solid (a volume sample).
 std::vector<DeepSample> deepBall(const double ray[3]);
+// An axis-aligned box lo .. hi of colour (r, g, b), a solid (a volume sample).
+std::vector<DeepSample> deepBox(const double ray[3], const double lo[3], const double hi[3], float r, float g, float b);
 // The tree: a green trunk, the box x 0.55..0.95, y -1..1.5, z -5.4..-4.6, 5 cm from the ball.
 std::vector<DeepSample> deepTree(const double ray[3]);
 

@@ -6,6 +6,7 @@
 #include <OpenEXR/ImfMultiPartInputFile.h>
 #include <OpenEXR/ImfTiledInputPart.h>
 
+#include <cmath>
 #include <fstream>
 
 namespace obscura::test {
@@ -21,6 +22,14 @@ void readPart(Imf::MultiPartInputFile& file, int part, const Imf::FrameBuffer& f
     const Imath::Box2i dw = in.header().dataWindow();
     in.setFrameBuffer(fb);
     in.readPixels(dw.min.y, dw.max.y);
+}
+
+double meanOver(const std::vector<float>& v, const std::vector<bool>& on) {
+    double sum = 0;
+    int n = 0;
+    for (size_t i = 0; i < v.size(); ++i)
+        if (on[i]) sum += v[i], ++n;
+    return n ? sum / n : NAN;
 }
 
 std::vector<float> partChannel(const std::string& path, int part, const std::string& name) {

@@ -17,5 +17,7 @@ void readPart(Imf::MultiPartInputFile& file, int part, const Imf::FrameBuffer& f
 // the part's data window (row-major); -1 where the channel is absent.
 std::vector<float> partChannel(const std::string& path, int part, const std::string& name);
 nlohmann::json readJson(const std::filesystem::path& path);
+// The mean of v where `on` (NaN where nowhere).
+double meanOver(const std::vector<float>& v, const std::vector<bool>& on);
 
 } // namespace obscura::test

@@ -244,6 +244,13 @@ double meanEdgeBandError(const SceneBuffers& full, const Image& whole, const Box
     return sum / std::max(n, 1);
 }
 
+double maxAbsDiff(const Image& a, const Image& b) {
+    if (a.pixels.size() != b.pixels.size()) return std::numeric_limits<double>::infinity();
+    double m = 0;
+    for (size_t i = 0; i < a.pixels.size(); ++i) m = std::max(m, (double)std::abs(a.pixels[i] - b.pixels[i]));
+    return m;
+}
+
 Image deepLayersFromDepth(const Image& depth, const std::vector<std::pair<float, float>>& offsets) {
     Image deep(depth.width, depth.height, 2 * (int)offsets.size());
     for (int y = 0; y < depth.height; ++y)

@@ -93,4 +93,7 @@ Settings hbaoSettings(Weighting w, Falloff f, float radius, int dirs = 8, int st
 // at each texel is (z + offsets[k].first, z + offsets[k].second), z that texel's depth.
 Image deepLayersFromDepth(const Image& depth, const std::vector<std::pair<float, float>>& offsets);
 
+// The largest |a - b| over two images of the same size; +inf when their sizes differ.
+double maxAbsDiff(const Image& a, const Image& b);
+
 } // namespace obscura::test
