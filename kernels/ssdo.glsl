@@ -11,7 +11,8 @@
 // to r_max) finds the first surface the direction enters: its outgoing radiance (the bounce
 // source, times its albedo) arrives along it. With cosine-distributed directions the irradiance
 // is pi times the mean radiance arriving, so each direction adds pi/n times its sender's
-// radiance (docs/ssdo.md derives it). Past the buffer's edge the edge texels' surfaces continue.
+// radiance (docs/ssdo.md derives it). Past the buffer's edge the bounce meets the edge texels'
+// surfaces continued; DO sees open sky there.
 // Interleaved sampling: the pixels of an M x M block use disjoint subsets of one
 // rotated direction set, and a geometry-aware blur of size M gathers them back.
 //
@@ -85,9 +86,9 @@ lvec3 continuedSurface(lvec2 displayPos, lint edgeX, lint edgeY, lbool use, OUT(
     lvec3 m = viewNormal(gatherNormal(edgeX, edgeY, met), viewVector(edgeRay));
     lvec3 e = positionOnRay(edgeRay, select(met, edgeDepth, 1.0f));
     lvec3 sampleRay = viewRay(displayPos);
-    lfloat across = dot(m, sampleRay);
     // Beyond 89 degrees from the ray the plane's continuation is ill-conditioned (as discs').
-    met = met && abs(across) > 0.0175f * sqrt(dot(sampleRay, sampleRay));
+    lvec3 along = P.orthographic != 0 ? lvec3(vec3(0.0f, 0.0f, 1.0f)) : sampleRay;
+    met = met && abs(dot(m, along)) > 0.0175f * sqrt(dot(along, along));
     lvec3 q = rayMeetsPlane(sampleRay, m, e);
     met = met && q.z < 0.0f && isSurfaceDepth(-q.z);
     return select(met, q, e);
@@ -98,9 +99,11 @@ lvec3 continuedSurface(lvec2 displayPos, lint edgeX, lint edgeY, lbool use, OUT(
 // is seen, `distance2` its squared distance from the receiver. The tangent-plane condition is
 // geometry, not a bias: nothing below that plane can block a direction of the hemisphere, and
 // without it the pixel grid makes a flat surface shadow itself at grazing sample directions.
-// Past the buffer's edge the edge texel's surface continues (behind the eye nothing is known, and
-// light passes).
-lbool behindSurface(lvec3 point, lvec3 receiver, lvec3 n, lvec2 centre, lbool asking, OUT(lint) texelX, OUT(lint) texelY, OUT(lvec3) surface, OUT(lfloat) distance2) {
+// Past the buffer's edge, where `continuing`, the nearest edge texel's surface continues; elsewhere
+// (and behind the eye) nothing is known, and light passes. DO does not continue: on the report it
+// bought 1% of DO's error for 10-30% of its time (docs/notes/2026-11-28-ssdo-gi-error.md).
+lbool behindSurface(lvec3 point, lvec3 receiver, lvec3 n, lvec2 centre, lbool asking, bool continuing,
+                    OUT(lint) texelX, OUT(lint) texelY, OUT(lvec3) surface, OUT(lfloat) distance2) {
     lbool ok = asking;
     lvec2 displayPos;
     projectToDisplay(point, ok, displayPos);
@@ -119,7 +122,7 @@ lbool behindSurface(lvec3 point, lvec3 receiver, lvec3 n, lvec2 centre, lbool as
     lfloat d = gatherDepth(texelX, texelY, ok) * P.depthScale;
     ok = ok && isSurfaceDepth(d);
     surface = viewPosition(lvec2(cornerX + 0.5f, cornerY + 0.5f), select(ok, d, 1.0f));
-    if (anyLane(past)) {
+    if (continuing && anyLane(past)) {
         texelX = select(past, clamp(texelX, 0, P.width - 1), texelX);
         texelY = select(past, clamp(texelY, 0, P.height - 1), texelY);
         lbool met;
@@ -140,7 +143,7 @@ lbool blockedBySurface(lvec3 point, lvec3 receiver, lvec3 n, lvec2 centre, lbool
     lint ty;
     lvec3 q;
     lfloat distance2;
-    lbool behind = behindSurface(point, receiver, n, centre, asking, tx, ty, q, distance2);
+    lbool behind = behindSurface(point, receiver, n, centre, asking, false, tx, ty, q, distance2);
     return behind && distance2 < P.radius * P.radius;
 }
 
@@ -183,7 +186,7 @@ void findSender(lvec3 receiver, lvec3 n, lvec2 centre, lvec3 dir, lfloat offset,
         lint ty;
         lvec3 q;
         lfloat distance2;
-        lbool behind = behindSurface(point, receiver, n, centre, valid && !found, tx, ty, q, distance2);
+        lbool behind = behindSurface(point, receiver, n, centre, valid && !found, true, tx, ty, q, distance2);
         lbool first = behind && (-point.z) - (-q.z) < SSDO_ENTER_THICKNESS * (t - previous);
         senderX = select(first, tx, senderX);
         senderY = select(first, ty, senderY);
