@@ -22,7 +22,7 @@
 
 // N counts SSDO_STEPS points per direction: SSDO_STEPS - 1 stratified ones give DO its linear
 // falloff (a point at a uniform distance finds a surface at distance t with probability
-// 1 - t / r_max); the bounce's march costs about as much as a fourth with --bounce.
+// 1 - t / r_max). The bounce's march adds SSDO_BOUNCE_POINTS + 1 of its own (not counted in N).
 CONST_GLOBAL int SSDO_STEPS = 4;
 // The bounce's march: this many points, geometric from about a pixel to r_max, then one at r_max.
 // A point entered a surface when it lies behind the surface seen by less than
@@ -160,9 +160,9 @@ lfloat openAlong(lvec3 receiver, lvec3 n, lvec2 centre, lvec3 dir, lfloat offset
 }
 
 // The bounce's march along one direction: the first point that entered a surface since the
-// previous one (it lies behind the surface seen by less than `thickness` times the step) is the
+// previous one (it lies behind the surface seen by less than SSDO_ENTER_THICKNESS steps) is the
 // sender, seen at texel (senderX, senderY), view position `sender`. Points from `nearest` (about
-// a pixel at the receiver) to r_max, geometric, shifted by `offset` in the exponent.
+// a pixel at the receiver) to r_max, geometric, each shifted by `offset` of its interval.
 void findSender(lvec3 receiver, lvec3 n, lvec2 centre, lvec3 dir, lfloat offset, lfloat nearest, lbool valid,
                 lint x, lint y, OUT(lbool) found, OUT(lint) senderX, OUT(lint) senderY, OUT(lvec3) sender) {
     found = valid && !valid;
