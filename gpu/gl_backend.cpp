@@ -343,8 +343,10 @@ void GlBackend::runSsdo(const glsl::KernelParams& p, const SsdoInputs& in, Mutab
     requireEveryBinding("ssdo");
     GlTimings t;
     std::vector<float> packed;
+    // GI's blur is wider, within a share of r_max across the surface (kernel_params.glsl).
+    const int giBlur = p.bounce ? glsl::SSDO_GI_BLUR_SCALE * blur : 0;
     runTiled(
-        p, in.depth, in.normal, blur, 0, t,
+        p, in.depth, in.normal, std::max(blur, giBlur), 0, t,
         [&](const Box2i& buf, const glsl::KernelParams& q) {
             const size_t texels = (size_t)buf.width() * buf.height();
             if (q.bounce) {
@@ -376,8 +378,13 @@ void GlBackend::runSsdo(const glsl::KernelParams& p, const SsdoInputs& in, Mutab
             gl.Uniform1i(gl.GetUniformLocation(program, "hasAlbedo"), in.albedo.valid() ? 1 : 0);
             dispatch("ssdo", q);
             blurBuffer(kDirectional, 3, blur, q);
-            if (q.bounce) blurBuffer(kIndirect, 3, blur, q);
             blurBuffer(kSignalOut, 1, blur, q);
+            if (q.bounce && giBlur > 0) {
+                glsl::KernelParams g = q;
+                g.blurReach = glsl::SSDO_GI_BLUR_REACH * q.radius;
+                uploadBuffer(kParams, GL_UNIFORM_BUFFER, &g, sizeof(g));
+                blurBuffer(kIndirect, 3, giBlur, g);
+            }
         },
         [&](const Box2i& inner, const Box2i& buf) {
             readInner(kDirectional, 3, inner, buf, directional);

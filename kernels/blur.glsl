@@ -40,6 +40,13 @@ lvec4 blurLanes(lint x, lint y, ivec2 axis, int radius) {
     // Capped: at a denormal depth the reciprocal overflows, and inf x 0 (a neighbour at the same
     // depth) would be NaN. The cap leaves every depth above 5e-29 as it was.
     lfloat invTolerance = min(1.0f / (BLUR_DEPTH_TOLERANCE * d0), 1e30f);
+    // A reach in world units (P.blurReach > 0): the spatial weight also falls with a neighbour's
+    // distance across the surface, about i pixel footprints, so a wide blur keeps detail of that size.
+    lfloat footprint2 = lfloat(0.0f);
+    if (P.blurReach > 0.0f) {
+        lfloat footprint = (P.orthographic != 0 ? lfloat(P.invFx) : d0 * P.invFx) / P.blurReach;
+        footprint2 = 0.5f * footprint * footprint;
+    }
     lvec4 sum = centre;
     lfloat weightSum = lfloat(1.0f);
     for (int i = -radius; i <= radius; ++i) {
@@ -54,7 +61,7 @@ lvec4 blurLanes(lint x, lint y, ivec2 axis, int radius) {
         lfloat dz = (d - d0) * invTolerance;
         // exp(-i^2 / 2 sigma^2 - dz^2): the spatial factor is the same for every pixel.
         float spatial = exp(-float(i * i) * invTwoSigma2);
-        lfloat w = spatial * exp(-dz * dz) * blurNormalWeight(dot(blurNormal(tx, ty, use), n0));
+        lfloat w = spatial * exp(-dz * dz - float(i * i) * footprint2) * blurNormalWeight(dot(blurNormal(tx, ty, use), n0));
         w = select(use, w, 0.0f);
         sum += w * gatherSignal(tx, ty, use);
         weightSum += w;

@@ -3,15 +3,16 @@
 // CPU register (cpu/lanes.h). Per-pixel branches are masks; loops are uniform over the lanes.
 //
 // N points are placed in the normal-oriented hemisphere within r_max: N / SSDO_STEPS
-// cosine-distributed directions, each with SSDO_STEPS - 1 points stratified along it and one at
-// r_max. Each point is projected into the depth image: if the surface seen there lies in front
-// of the point (and within r_max of the pixel), the point is blocked. A direction's share of
-// open stratified points weighs the environment's radiance along it (pi/n per direction:
-// irradiance with a linear falloff, as AO's). The first blocked point of a direction says what
-// the direction meets within r_max (the point at r_max finds anything the others missed): the
-// surface there, whose outgoing radiance (the bounce source, times its albedo) arrives along it.
-// With cosine-distributed directions the irradiance is pi times the mean radiance arriving,
-// so each direction adds pi/n times its sender's radiance (docs/ssdo.md derives it).
+// cosine-distributed directions, each with SSDO_STEPS - 1 points stratified along it. Each point
+// is projected into the depth image: if the surface seen there lies in front of the point (and
+// within r_max of the pixel), the point is blocked. A direction's share of open points weighs
+// the environment's radiance along it (pi/n per direction: irradiance with a linear falloff, as
+// AO's). With the bounce, a march of its own along each direction (geometric, from about a pixel
+// to r_max) finds the first surface the direction enters: its outgoing radiance (the bounce
+// source, times its albedo) arrives along it. With cosine-distributed directions the irradiance
+// is pi times the mean radiance arriving, so each direction adds pi/n times its sender's
+// radiance (docs/ssdo.md derives it). Past the buffer's edge the bounce meets the edge texels'
+// surfaces continued; DO sees open sky there.
 // Interleaved sampling: the pixels of an M x M block use disjoint subsets of one
 // rotated direction set, and a geometry-aware blur of size M gathers them back.
 //
@@ -19,10 +20,15 @@
 // lint y, lbool use), and lvec3 gatherNormal, gatherRadiance, gatherAlbedo, and gatherEnv
 // (texel (x, y) of the prefiltered environment level) with the same arguments.
 
-// Points per direction: the stratified ones give DO its linear falloff (a point at a uniform
-// distance finds a surface at distance t with probability 1 - t / r_max); the last, at r_max,
-// finds every surface within r_max for the bounce.
+// N counts SSDO_STEPS points per direction: SSDO_STEPS - 1 stratified ones give DO its linear
+// falloff (a point at a uniform distance finds a surface at distance t with probability
+// 1 - t / r_max). The bounce's march adds SSDO_BOUNCE_POINTS + 1 of its own (not counted in N).
 CONST_GLOBAL int SSDO_STEPS = 4;
+// The bounce's march: this many points, geometric from about a pixel to r_max, then one at r_max.
+// A point entered a surface when it lies behind the surface seen by less than
+// SSDO_ENTER_THICKNESS times its distance from the previous point.
+CONST_GLOBAL int SSDO_BOUNCE_POINTS = 8;
+CONST_GLOBAL float SSDO_ENTER_THICKNESS = 3.0f;
 
 // Radical inverse in base 2 (van der Corput): the second coordinate of a Hammersley set.
 lfloat radicalInverse2(luint i) {
@@ -69,15 +75,35 @@ void projectToDisplay(lvec3 p, INOUT(lbool) visible, OUT(lvec2) displayPos) {
     displayPos = lvec2(P.cx + P.fx * p.x * invDepth, P.cy - P.fy * p.y * invDepth);
 }
 
-// Where `asking`: whether the surface seen where a view-space point projects lies in front
-// of the point, within r_max of the receiver and above the receiver's tangent plane: then
-// the point is blocked, and texel (texelX, texelY) and `surface` say by what. `entered` relaxes
-// "within r_max" for the bounce (below). The
-// tangent-plane condition is geometry, not a bias: nothing below that plane can block a
-// direction of the hemisphere, and without it the pixel grid makes a flat surface shadow
-// itself at grazing sample directions.
-lbool blockedBySurface(lvec3 point, lvec3 receiver, lvec3 n, lvec2 centre, lbool asking, OUT(lint) texelX,
-                       OUT(lint) texelY, OUT(lvec3) surface, OUT(lbool) entered) {
+// Where the ray through display position `displayPos` meets the tangent plane of the buffer texel
+// nearest it: the surface continued past the buffer's edge, as HBAO's tangent border does
+// (hbao_border.glsl). `met` where that texel is a surface and its plane meets the ray in front of
+// the eye at more than a grazing angle.
+lvec3 continuedSurface(lvec2 displayPos, lint edgeX, lint edgeY, lbool use, OUT(lbool) met) {
+    lfloat edgeDepth = gatherDepth(edgeX, edgeY, use) * P.depthScale;
+    met = use && isSurfaceDepth(edgeDepth);
+    lvec3 edgeRay = viewRay(lvec2(lfloat(edgeX + P.originX) + 0.5f, lfloat(edgeY + P.originY) + 0.5f));
+    lvec3 m = viewNormal(gatherNormal(edgeX, edgeY, met), viewVector(edgeRay));
+    lvec3 e = positionOnRay(edgeRay, select(met, edgeDepth, 1.0f));
+    lvec3 sampleRay = viewRay(displayPos);
+    // Beyond 89 degrees from the ray the plane's continuation is ill-conditioned (as discs').
+    lvec3 along = P.orthographic != 0 ? lvec3(vec3(0.0f, 0.0f, 1.0f)) : sampleRay;
+    met = met && abs(dot(m, along)) > 0.0175f * sqrt(dot(along, along));
+    lvec3 q = rayMeetsPlane(sampleRay, m, e);
+    met = met && q.z < 0.0f && isSurfaceDepth(-q.z);
+    return select(met, q, e);
+}
+
+// Where `asking`: whether the surface seen where a view-space point projects lies in front of
+// the point and above the receiver's tangent plane: texel (texelX, texelY) and `surface` say what
+// is seen, `distance2` its squared distance from the receiver. The tangent-plane condition is
+// geometry, not a bias: nothing below that plane can block a direction of the hemisphere, and
+// without it the pixel grid makes a flat surface shadow itself at grazing sample directions.
+// Past the buffer's edge, where `continuing`, the nearest edge texel's surface continues; elsewhere
+// (and behind the eye) nothing is known, and light passes. DO does not continue: on the report it
+// bought 1% of DO's error for 10-30% of its time (docs/notes/2026-11-28-ssdo-gi-error.md).
+lbool behindSurface(lvec3 point, lvec3 receiver, lvec3 n, lvec2 centre, lbool asking, bool continuing,
+                    OUT(lint) texelX, OUT(lint) texelY, OUT(lvec3) surface, OUT(lfloat) distance2) {
     lbool ok = asking;
     lvec2 displayPos;
     projectToDisplay(point, ok, displayPos);
@@ -90,53 +116,83 @@ lbool blockedBySurface(lvec3 point, lvec3 receiver, lvec3 n, lvec2 centre, lbool
     lfloat cornerY = floor(select(ok, displayPos.y, centre.y));
     texelX = lint(cornerX) - P.originX;
     texelY = lint(cornerY) - P.originY;
-    ok = ok && insideBuffer(texelX, texelY); // nothing is known outside the image: light passes
+    lbool inside = insideBuffer(texelX, texelY);
+    lbool past = ok && !inside;
+    ok = ok && inside;
     lfloat d = gatherDepth(texelX, texelY, ok) * P.depthScale;
     ok = ok && isSurfaceDepth(d);
     surface = viewPosition(lvec2(cornerX + 0.5f, cornerY + 0.5f), select(ok, d, 1.0f));
+    if (continuing && anyLane(past)) {
+        texelX = select(past, clamp(texelX, 0, P.width - 1), texelX);
+        texelY = select(past, clamp(texelY, 0, P.height - 1), texelY);
+        lbool met;
+        lvec3 q = continuedSurface(lvec2(cornerX + 0.5f, cornerY + 0.5f), texelX, texelY, past, met);
+        surface = select(met, q, surface);
+        ok = ok || met;
+    }
     lvec3 toSurface = surface - receiver;
-    lfloat distance2 = dot(toSurface, toSurface);
+    distance2 = dot(toSurface, toSurface);
     // 1e-4 of the distance: float noise in a reconstructed plane stays below it.
     lbool above = dot(n, toSurface) > 1e-4f * sqrt(distance2);
-    lbool behind = ok && -surface.z < -point.z && above;
-    // For the bounce's march: the point lies less than one step behind the surface seen, so the
-    // direction entered it since the last point, within r_max, wherever the surface seen is.
-    entered = behind && (-point.z) - (-surface.z) < P.radius * (1.0f / float(SSDO_STEPS - 1));
+    return ok && -surface.z < -point.z && above;
+}
+
+// DO's test: the point lies behind the surface seen, and that surface within r_max of the receiver.
+lbool blockedBySurface(lvec3 point, lvec3 receiver, lvec3 n, lvec2 centre, lbool asking) {
+    lint tx;
+    lint ty;
+    lvec3 q;
+    lfloat distance2;
+    lbool behind = behindSurface(point, receiver, n, centre, asking, false, tx, ty, q, distance2);
     return behind && distance2 < P.radius * P.radius;
 }
 
-// The points along one direction (receiver + dir t, t in (0, r_max]): how many of the stratified
-// ones are open, and the first point that lies inside a surface (`found`): the sender, seen at
-// texel (senderX, senderY), view position `sender`.
-void marchDirection(lvec3 receiver, lvec3 n, lvec2 centre, lvec3 dir, lfloat offset, lbool valid, lint x, lint y,
-                    OUT(lfloat) openPoints, OUT(lbool) found, OUT(lint) senderX, OUT(lint) senderY,
-                    OUT(lvec3) sender) {
-    openPoints = lfloat(0.0f);
-    found = openPoints < 0.0f; // no blocked point yet
-    senderX = x;               // the receiver's own texel until a sender is found
+// The stratified points along one direction (receiver + dir t, t in (0, r_max)): how many are open.
+lfloat openAlong(lvec3 receiver, lvec3 n, lvec2 centre, lvec3 dir, lfloat offset, lbool valid) {
+    lfloat openPoints = lfloat(0.0f);
+    for (int step = 0; step < SSDO_STEPS - 1; ++step) {
+        lfloat along = (float(step) + offset) * (1.0f / float(SSDO_STEPS - 1));
+        lvec3 point = receiver + dir * (P.radius * max(along, 1e-3f));
+        lbool blocked = blockedBySurface(point, receiver, n, centre, valid);
+        openPoints += select(valid && !blocked, lfloat(1.0f), lfloat(0.0f));
+    }
+    return openPoints;
+}
+
+// The bounce's march along one direction: the first point that entered a surface since the
+// previous one (it lies behind the surface seen by less than SSDO_ENTER_THICKNESS steps) is the
+// sender, seen at texel (senderX, senderY), view position `sender`. Points from `nearest` (about
+// a pixel at the receiver) to r_max, geometric, each shifted by `offset` of its interval.
+void findSender(lvec3 receiver, lvec3 n, lvec2 centre, lvec3 dir, lfloat offset, lfloat nearest, lbool valid,
+                lint x, lint y, OUT(lbool) found, OUT(lint) senderX, OUT(lint) senderY, OUT(lvec3) sender) {
+    found = valid && !valid;
+    senderX = x;
     senderY = y;
     sender = receiver;
-    for (int step = 0; step < SSDO_STEPS; ++step) {
-        bool atEnd = step == SSDO_STEPS - 1;
-        if (atEnd && P.bounce == 0) {
+    int points = SSDO_BOUNCE_POINTS;
+    // The ratio of successive points, (r_max / nearest)^(1 / points): three square roots.
+    lfloat ratio = sqrt(sqrt(sqrt(max(P.radius / nearest, 1.0f))));
+    lfloat previous = lfloat(0.0f);
+    lfloat base = nearest;
+    for (int j = 1; j <= points + 1; ++j) {
+        if (!anyLane(valid && !found)) {
             break;
         }
-        lfloat along = atEnd ? lfloat(1.0f) : (float(step) + offset) * (1.0f / float(SSDO_STEPS - 1));
-        lvec3 point = receiver + dir * (P.radius * max(along, 1e-3f));
+        lfloat t = j > points ? lfloat(P.radius) : base * (1.0f + (ratio - 1.0f) * offset);
+        base = base * ratio;
+        t = min(t, P.radius);
+        lvec3 point = receiver + dir * t;
         lint tx;
         lint ty;
         lvec3 q;
-        lbool entered;
-        lbool blocked = blockedBySurface(point, receiver, n, centre, valid, tx, ty, q, entered);
-        if (!atEnd) {
-            openPoints += select(valid && !blocked, lfloat(1.0f), lfloat(0.0f));
-        }
-        lbool meets = blocked || entered;
-        lbool first = meets && !found; // the nearest blocked point: what the direction meets
+        lfloat distance2;
+        lbool behind = behindSurface(point, receiver, n, centre, valid && !found, true, tx, ty, q, distance2);
+        lbool first = behind && (-point.z) - (-q.z) < SSDO_ENTER_THICKNESS * (t - previous);
         senderX = select(first, tx, senderX);
         senderY = select(first, ty, senderY);
         sender = select(first, q, sender);
-        found = found || meets;
+        found = found || first;
+        previous = t;
     }
 }
 
@@ -202,6 +258,8 @@ void ssdoLanes(lint x, lint y, OUT(lvec3) directional, OUT(lvec3) indirect, OUT(
     lfloat cosPixel = cos(pixelAngle);
     lfloat sinPixel = sin(pixelAngle);
 
+    // About a pixel at the receiver, the bounce's nearest point.
+    lfloat nearest = min(1.5f * (P.orthographic != 0 ? P.invFx : -receiver.z * P.invFx), lfloat(P.radius));
     lfloat used = lfloat(0.0f);
     lfloat open = lfloat(0.0f);
     int directions = max(P.ssdoSamples / SSDO_STEPS, stride); // at least one per pixel of the block
@@ -230,12 +288,16 @@ void ssdoLanes(lint x, lint y, OUT(lvec3) directional, OUT(lvec3) indirect, OUT(
         // Points stratified along the direction in (0, r_max]: a golden-ratio offset per direction,
         // decorrelated from it, shifts all of them, so each distance is as likely as any other.
         lfloat offset = fract(lfloat(i) * 0.618033988749895f + distanceJitter);
-        lfloat openPoints;
-        lbool found;
-        lint senderX;
-        lint senderY;
-        lvec3 sender;
-        marchDirection(receiver, n, centre, dir, offset, valid, x, y, openPoints, found, senderX, senderY, sender);
+        lfloat openPoints = openAlong(receiver, n, centre, dir, offset, valid);
+        lbool found = valid && !valid;
+        lint senderX = x;
+        lint senderY = y;
+        lvec3 sender = receiver;
+        if (P.bounce != 0) {
+            // The march's own offset, half a period from the stratified points'.
+            findSender(receiver, n, centre, dir, fract(offset + 0.5f), nearest, valid, x, y, found, senderX, senderY,
+                       sender);
+        }
         lfloat openShare = openPoints * (1.0f / float(SSDO_STEPS - 1));
         open += openShare;
         lbool opening = openPoints > 0.0f;
@@ -263,12 +325,7 @@ void ssdoLanes(lint x, lint y, OUT(lvec3) directional, OUT(lvec3) indirect, OUT(
             continue;
         }
         for (int s = 1; s <= 4; ++s) {
-            lint tx;
-            lint ty;
-            lvec3 q;
-            lbool entered;
-            lit = lit && !blockedBySurface(receiver + lvec3(l * (P.radius * float(s) * 0.25f)), receiver, n, centre, lit,
-                                           tx, ty, q, entered);
+            lit = lit && !blockedBySurface(receiver + lvec3(l * (P.radius * float(s) * 0.25f)), receiver, n, centre, lit);
         }
         directional += select(lit, lvec3(vec3(P.lightIrradiance[k])) * cosL, zero);
     }

@@ -274,11 +274,14 @@ TEST(OfxSsdo, RegionsOfInterestFollowWhatEachOutputReads) {
     EXPECT_TRUE(same(rois["Albedo"], window));  // the receiver's albedo, under the window
     ASSERT_EQ(l.inst->setInt("timesAlbedo", 0), kOfxStatOK);
 
+    // The bounce's blur is SSDO_GI_BLUR_SCALE times the interleave's (kernels/kernel_params.glsl).
+    const int giApron = apron + (glsl::SSDO_GI_BLUR_SCALE - 1) * 2;
+    const OfxRectD grownGi{window.x1 - giApron, window.y1 - giApron, window.x2 + giApron, window.y2 + giApron};
     for (int out : {kOutGi, kOutRelit}) {
         ASSERT_EQ(l.inst->setInt("output", out), kOfxStatOK);
         ASSERT_EQ(l.inst->regionsOfInterest(window, rois), kOfxStatOK);
-        EXPECT_TRUE(same(rois["Depth"], grown)) << out;
-        EXPECT_TRUE(same(rois["Source"], grown)) << out;  // the senders, within the apron
+        EXPECT_TRUE(same(rois["Depth"], grownGi)) << out;
+        EXPECT_TRUE(same(rois["Source"], grownGi)) << out;  // the senders, within the apron
         EXPECT_EQ(empty(rois["Albedo"]), out == kOutGi) << out;
         if (out == kOutRelit) {
             EXPECT_TRUE(same(rois["Albedo"], window));
@@ -289,15 +292,16 @@ TEST(OfxSsdo, RegionsOfInterestFollowWhatEachOutputReads) {
     std::string clip;
     EXPECT_EQ(l.inst->isIdentity({0, 0, kW, kH}, clip), kOfxStatReplyDefault);
     ASSERT_EQ(l.inst->regionsOfInterest(window, rois), kOfxStatOK);
-    EXPECT_TRUE(same(rois["Depth"], grown));
+    EXPECT_TRUE(same(rois["Depth"], grownGi));
 
-    // The interleave sets the blur, hence the apron; an explicit Blur replaces it.
+    // The interleave sets the blur, hence the apron (relit: the bounce's, scaled); an explicit
+    // Blur replaces it.
     ASSERT_EQ(l.inst->setInt("interleave", 4), kOfxStatOK);
     ASSERT_EQ(l.inst->regionsOfInterest(window, rois), kOfxStatOK);
-    EXPECT_EQ(rois["Depth"].x2, window.x2 + 8 + 2 + 4);
+    EXPECT_EQ(rois["Depth"].x2, window.x2 + 8 + 2 + glsl::SSDO_GI_BLUR_SCALE * 4);
     ASSERT_EQ(l.inst->setInt("blur", 1), kOfxStatOK);
     ASSERT_EQ(l.inst->regionsOfInterest(window, rois), kOfxStatOK);
-    EXPECT_EQ(rois["Depth"].x2, window.x2 + 8 + 2 + 1);
+    EXPECT_EQ(rois["Depth"].x2, window.x2 + 8 + 2 + glsl::SSDO_GI_BLUR_SCALE * 1);
 
     // Relit without an Albedo clip is an error the host shows.
     Loaded noAlbedo = instantiate(s, true);

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 using namespace obscura;
@@ -16,30 +17,38 @@ namespace {
 
 constexpr float kRadius = 1.0f;
 
-// cornerScene() with the wall radiating 1 (red only) and the floor 0: the floor's GI is the wall's alone.
+// The wall of cornerScene() (normal -x) radiating 1, red only, and the floor 0.
+Image wallRadiance(const SceneBuffers& sb) {
+    Image radiance(sb.depth.width, sb.depth.height, 3, 0.0f);
+    for (int y = 0; y < sb.depth.height; ++y)
+        for (int x = 0; x < sb.depth.width; ++x)
+            if (*sb.depth.at(x, y) < 1e9f && sb.normal.at(x, y)[0] < -0.5f) radiance.at(x, y)[0] = 1.0f;
+    return radiance;
+}
+
+// SSDO's GI (red) of `sb` lit by `radiance`.
+Image redGi(const SceneBuffers& sb, const Image& radiance, int samples, int interleave) {
+    OperatorInputs in = sb.inputs();
+    in.radiance = radiance.view();
+    Settings s;
+    s.method = "ssdo";
+    s.radius = kRadius;
+    s.ssdoSamples = samples;
+    s.interleave = interleave;
+    s.bounce = true;
+    s.threads = 2;
+    const Image rgb = runOperator(in, s).indirect;
+    Image red(rgb.width, rgb.height, 1);
+    for (size_t i = 0; i < red.pixels.size(); ++i) red.pixels[i] = rgb.pixels[3 * i];
+    return red;
+}
+
+// cornerScene() with the wall lit: the floor's GI is the wall's alone.
 struct LitCorner {
     SceneBuffers sb;
     Image radiance;
-    LitCorner() : sb(renderScene(cornerScene(), cornerCamera(200, 150), 200, 150)), radiance(200, 150, 3, 0.0f) {
-        for (int y = 0; y < 150; ++y)
-            for (int x = 0; x < 200; ++x)
-                if (*sb.depth.at(x, y) < 1e9f && sb.normal.at(x, y)[0] < -0.5f) radiance.at(x, y)[0] = 1.0f;
-    }
-    Image gi(int samples, int interleave) const {
-        OperatorInputs in = sb.inputs();
-        in.radiance = radiance.view();
-        Settings s;
-        s.method = "ssdo";
-        s.radius = kRadius;
-        s.ssdoSamples = samples;
-        s.interleave = interleave;
-        s.bounce = true;
-        s.threads = 2;
-        const Image rgb = runOperator(in, s).indirect;
-        Image red(rgb.width, rgb.height, 1);
-        for (size_t i = 0; i < red.pixels.size(); ++i) red.pixels[i] = rgb.pixels[3 * i];
-        return red;
-    }
+    LitCorner() : sb(renderScene(cornerScene(), cornerCamera(200, 150), 200, 150)), radiance(wallRadiance(sb)) {}
+    Image gi(int samples, int interleave) const { return redGi(sb, radiance, samples, interleave); }
 };
 
 // Irradiance on the floor at distance d from a wall of radiance 1, from the wall within R: the
@@ -84,4 +93,28 @@ TEST(SsdoBounce, MeanIsIndependentOfTheSampleCount) {
             EXPECT_NEAR(means[k] / means[0], 1.0, 0.03) << counts[k] << " vs 64 samples, interleave " << interleave;
         EXPECT_NEAR(means[2] / expected, 1.0, 0.03) << "interleave " << interleave;
     }
+}
+
+// Past the frame's edge the edge texels' surfaces continue (their tangent planes, as HBAO's
+// border): where the frame cuts the lit wall, the floor beside the edge still receives the
+// wall's light that lies off screen. The corner frame cut to an inner window (no overscan) gives,
+// within 8 pixels of the cut, the GI of the whole frame there (the wall is one plane, so its
+// continuation is exact), where stopping at the edge loses what lies past it.
+TEST(SsdoBounce, LitWallContinuesPastTheFrameEdge) {
+    const auto& [full, part, crop] = cornerCrop();
+    const Image whole = redGi(full, wallRadiance(full), 256, 1);
+    const Image cut = redGi(part, wallRadiance(part), 256, 1);
+    double wholeSum = 0, cutSum = 0;
+    int n = 0;
+    for (int y = crop.y0; y < crop.y1; ++y)
+        for (int x = crop.x0; x < crop.x1; ++x) {
+            const int edge = std::min(std::min(x - crop.x0, crop.x1 - 1 - x), std::min(y - crop.y0, crop.y1 - 1 - y));
+            if (edge >= 8 || *full.depth.at(x, y) >= 1e9f || full.normal.at(x, y)[1] < 0.5f) continue; // floor only
+            wholeSum += *whole.at(x, y);
+            cutSum += *cut.at(x - crop.x0, y - crop.y0);
+            ++n;
+        }
+    ASSERT_GT(n, 100);
+    ASSERT_GT(wholeSum / n, 0.05) << "the band receives the wall's light";
+    EXPECT_NEAR(cutSum / wholeSum, 1.0, 0.05) << n << " floor pixels within 8 of the cut";
 }

@@ -58,8 +58,13 @@ public:
         cpu::runSsdo(p, {in.depth, in.normal, in.radiance, in.albedo, in.environment}, directional, indirect, ao,
                      threads_);
         st.timings.push_back({p.bounce ? "ssdo+bounce" : "ssdo", secondsSince(t0)});
-        if (p.bounce) this->blur(p, in.depth, in.normal, {directional, indirect, ao}, blur, st);
-        else this->blur(p, in.depth, in.normal, {directional, ao}, blur, st);
+        this->blur(p, in.depth, in.normal, {directional, ao}, blur, st);
+        if (p.bounce) {
+            // GI's blur: wider, within a share of r_max across the surface (kernel_params.glsl).
+            KernelParams g = p;
+            g.blurReach = glsl::SSDO_GI_BLUR_REACH * p.radius;
+            this->blur(g, in.depth, in.normal, {indirect}, glsl::SSDO_GI_BLUR_SCALE * blur, st);
+        }
     }
 
     void rtao(const KernelParams& p, const Settings& s, ConstPlane depth, ConstPlane normal, MutablePlane ao, int blur,

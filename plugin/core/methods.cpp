@@ -1,6 +1,7 @@
 #include "methods.h"
 
 #include "method_runs.h"
+#include "base/kernel_params.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -95,7 +96,11 @@ std::vector<MethodInfo> makeTable() {
                            "ssdo: interleaved sampling over M x M pixels, then a blur of M (default 2; 1 = off)", 1, 8,
                            &Settings::interleave)},
                  [](const Settings& s) { return std::max(1, s.ssdoSamples / (s.interleave * s.interleave)); },
-                 nullptr, &runSsdoMethod});
+                 // The bounce's blur is wider than DO's (kernel_params.glsl): a tile's apron covers it.
+                 [](const Settings& s) {
+                     return s.bounce ? (glsl::SSDO_GI_BLUR_SCALE - 1) * std::max(resolvedBlur(s), 0) : 0;
+                 },
+                 &runSsdoMethod});
     t.push_back({"ssao", "Crytek's screen-space AO (Mittring 2007): points around the pixel tested against the depth",
                  "kernels/ssao.glsl", true, true, {"depth", "normal"}, {"ao"},
                  {{"low", "8 points", [](Settings& s) { s.ssaoSamples = 8; }},

@@ -53,7 +53,8 @@ float radiusCap(const Params& p, const FrameMap& f) {
 // by the cap: orthographic, that reach is exactly R * pixels-per-unit; in perspective the cap
 // stands for it, which holds wherever r_max projects within the cap (surfaces farther from
 // the eye than about fx r_max / cap + r_max). Its blur gathers the interleaving block (the
-// interleave width, or Blur when set: resolvedBlur), and the bounce reads Source under the same apron.
+// interleave width, or Blur when set: resolvedBlur; the bounce's wider blur is the method's
+// extraApron), and the bounce reads Source under the same apron.
 int apronPixels(const Params& p, const Camera& cam, float cap) {
     const bool ssdo = p.settings.method == "ssdo";
     double reach = cap;
