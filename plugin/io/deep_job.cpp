@@ -12,6 +12,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 
 namespace obscura {
@@ -21,8 +22,11 @@ namespace {
 // The deep part's header as a flat scanline part's, without channels (the writer adds them).
 ExrPart flatPart(const ExrPart& deep) {
     ExrPart part = deep;
-    for (const char* name : {"version", "chunkCount", "name", "tiles", "maxSamplesPerPixel"})
-        if (part.header.find(name) != part.header.end()) part.header.erase(name);
+    part.header = headerWithout(deep.header, [](const char* name) {
+        for (const char* dropped : {"version", "chunkCount", "name", "tiles", "maxSamplesPerPixel"})
+            if (std::strcmp(name, dropped) == 0) return true;
+        return false;
+    });
     part.header.setType(Imf::SCANLINEIMAGE);
     part.header.channels() = Imf::ChannelList();
     part.name.clear();

@@ -176,17 +176,6 @@ std::string compressionName(Imf::Compression c) {
     return c >= 0 && c < Imf::NUM_COMPRESSION_METHODS ? names[c] : "unknown";
 }
 
-// A copy of `h` without the attributes `drop(name)` is true for. Copied one by one rather than
-// erased: OpenEXR 3.1's Header::erase leaks the attribute (fixed upstream in 2023, PR #1520),
-// which stops ASan runs.
-template <class Drop>
-Imf::Header headerWithout(const Imf::Header& h, Drop drop) {
-    Imf::Header out;
-    for (auto it = h.begin(); it != h.end(); ++it)
-        if (!drop(it.name())) out.insert(it.name(), it.attribute());
-    return out;
-}
-
 ExrPixels layersOnlyFile(const ExrInfo& info, int p) {
     if (p < 0 || p >= (int)info.parts.size())
         throw Error("internal: no part " + std::to_string(p) + " in " + quoted(info.path));
