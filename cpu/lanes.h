@@ -372,6 +372,7 @@ struct lvec4 {
     lfloat operator[](int i) const { return i == 0 ? x : i == 1 ? y : i == 2 ? z : w; }
 };
 inline lvec4 operator+(lvec4 a, lvec4 b) { return {a.x + b.x, a.y + b.y, a.z + b.z, a.w + b.w}; }
+inline lvec4 operator-(lvec4 a, lvec4 b) { return {a.x - b.x, a.y - b.y, a.z - b.z, a.w - b.w}; }
 inline lvec4 operator*(lfloat s, lvec4 a) { return {s * a.x, s * a.y, s * a.z, s * a.w}; }
 inline lvec4 operator/(lvec4 a, lfloat s) { return {a.x / s, a.y / s, a.z / s, a.w / s}; }
 inline lvec4& operator+=(lvec4& a, lvec4 b) { return a = a + b; }

@@ -47,7 +47,10 @@ lvec4 blurLanes(lint x, lint y, ivec2 axis, int radius) {
         lfloat footprint = (P.orthographic != 0 ? lfloat(P.invFx) : d0 * P.invFx) / P.blurReach;
         footprint2 = 0.5f * footprint * footprint;
     }
-    lvec4 sum = centre;
+    // The weighted mean as the centre plus its neighbours' weighted departures from it: a region
+    // of one value keeps that value exactly, where a GPU's approximate division (2.5 ulp under
+    // ARB_shader_precision) would turn sum / sum into 1 +- 1 ulp, and a plane's AO would leave [0, 1].
+    lvec4 departure = lvec4(lfloat(0.0f), lfloat(0.0f), lfloat(0.0f), lfloat(0.0f));
     lfloat weightSum = lfloat(1.0f);
     for (int i = -radius; i <= radius; ++i) {
         if (i == 0) {
@@ -63,8 +66,8 @@ lvec4 blurLanes(lint x, lint y, ivec2 axis, int radius) {
         float spatial = exp(-float(i * i) * invTwoSigma2);
         lfloat w = spatial * exp(-dz * dz - float(i * i) * footprint2) * blurNormalWeight(dot(blurNormal(tx, ty, use), n0));
         w = select(use, w, 0.0f);
-        sum += w * gatherSignal(tx, ty, use);
+        departure += w * (gatherSignal(tx, ty, use) - centre);
         weightSum += w;
     }
-    return select(computing, sum / weightSum, centre);
+    return select(computing, centre + departure / weightSum, centre);
 }

@@ -4,6 +4,7 @@
 #include "core/operator.h"
 #include "cpu/discs_cpu.h"
 #include "cpu/lane_cpu.h"
+#include "support/gl_devices.h"
 #include "support/cli_runner.h"
 #include "support/closed_forms.h"
 #include "support/reference_runs.h"
@@ -23,9 +24,7 @@ using glm::dvec3;
 
 namespace {
 
-const char* kDevices[] = {"cpu", "gl-osmesa"};
-
-Settings discsSettings(const char* device, float radius) {
+Settings discsSettings(const std::string& device, float radius) {
     Settings s;
     s.method = "discs";
     s.device = device;
@@ -73,7 +72,7 @@ TEST(Discs, OpenPlaneIsExactlyUnoccluded) {
     cams.push_back(lookAtOrthographic(target + dvec3(4, 5, 3), target, 6.0, W, H));
     for (const Camera& cam : cams) {
         const SceneBuffers sb = renderScene({planeRect(dvec3(0), dvec3(1, 0, 0), dvec3(0, 0, 1), 1e6)}, cam, W, H);
-        for (const char* device : kDevices)
+        for (const std::string& device : {std::string("cpu"), firstGlDevice()})
             for (float R : {0.01f, 0.5f, 100.0f})
                 for (int variant = 0; variant < 7; ++variant) {
                     Settings s = discsSettings(device, R);

@@ -4,6 +4,7 @@
 #include "base/error.h"
 #include "gpu/gl_context.h"
 #include "gpu/gl_program.h"
+#include "support/gl_devices.h"
 
 #include <gtest/gtest.h>
 
@@ -16,7 +17,9 @@ namespace {
 
 // The message building `parts` as kernel `name` fails with ("" if it compiled).
 std::string compileError(const char* name, const std::vector<gpu::ShaderPart>& parts) {
-    auto context = gpu::GlContext::create(gpu::ContextKind::OSMesa);
+    // Each driver words its compiler log its own way (Mesa "0:3(25)", NVIDIA "0(3)").
+    const bool egl = obscura::test::firstGlDevice() == "gl-egl";
+    auto context = gpu::GlContext::create(egl ? gpu::ContextKind::EglDevice : gpu::ContextKind::OSMesa);
     try {
         gpu::buildComputeProgram(context->gl(), name, parts);
     } catch (const Error& e) {

@@ -3,10 +3,13 @@
 // and a property that a numerical weakness would break.
 #include "core/methods.h"
 #include "core/operator.h"
+#include "support/gl_devices.h"
 #include "support/scenes.h"
 
 #include <Imath/half.h>
 #include <gtest/gtest.h>
+
+#include <algorithm>
 
 #include <cmath>
 #include <limits>
@@ -17,7 +20,7 @@ using glm::dvec3;
 
 namespace {
 
-class Stiff : public ::testing::TestWithParam<const char*> {
+class Stiff : public ::testing::TestWithParam<std::string> {
 protected:
     OperatorOutputs run(const SceneBuffers& sb, float radius, Weighting w = Weighting::Cosine,
                         Falloff f = Falloff::None, int dirs = 8, int steps = 8) const {
@@ -205,8 +208,12 @@ TEST_P(Stiff, SkyConventionsAreEquivalent) {
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Devices, Stiff, ::testing::Values("cpu", "gl-osmesa"),
-                         [](const auto& info) { return std::string(info.param) == "cpu" ? "cpu" : "gl_osmesa"; });
+// The CPU and one GL device (gl-osmesa unless OBSCURA_TEST_GL_DEVICES says otherwise).
+INSTANTIATE_TEST_SUITE_P(Devices, Stiff, ::testing::Values(std::string("cpu"), firstGlDevice()), [](const auto& info) {
+    std::string name = info.param;
+    std::replace(name.begin(), name.end(), '-', '_');
+    return name;
+});
 
 // SSAO through the same frames: the hemisphere form keeps planes (endless, grazing) exactly
 // unoccluded; both forms stay in [0, 1] at extreme radii and see the corner.
@@ -250,7 +257,7 @@ TEST_P(Stiff, EveryMethodStaysInRange) {
     SceneBuffers plane = nineDecadePlane(W, H);
     SceneBuffers edge = renderScene(corner(), cornerCamera(W, H), W, H);
     for (const MethodInfo& m : methods()) {
-        if (std::string(GetParam()) != "cpu" && !m.gl) continue;
+        if (GetParam() != "cpu" && !m.gl) continue;
         Settings s;
         s.device = GetParam();
         s.method = m.name;

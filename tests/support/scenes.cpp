@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 namespace obscura::test {
 
@@ -249,6 +250,23 @@ double maxAbsDiff(const Image& a, const Image& b) {
     double m = 0;
     for (size_t i = 0; i < a.pixels.size(); ++i) m = std::max(m, (double)std::abs(a.pixels[i] - b.pixels[i]));
     return m;
+}
+
+std::string diffSummary(const Image& a, const Image& b, double tol) {
+    if (a.pixels.size() != b.pixels.size()) return "sizes differ";
+    size_t over = 0, worst = 0;
+    for (size_t i = 0; i < a.pixels.size(); ++i) {
+        const double d = std::abs((double)a.pixels[i] - b.pixels[i]);
+        over += d > tol;
+        if (d > std::abs((double)a.pixels[worst] - b.pixels[worst])) worst = i;
+    }
+    if (over == 0) return "";
+    const size_t texel = worst / (size_t)a.channels;
+    std::ostringstream out;
+    out << over << " of " << a.pixels.size() << " values over " << tol << "; worst at (" << texel % a.width << ", "
+        << texel / a.width << ") channel " << worst % a.channels << ": " << a.pixels[worst] << " vs "
+        << b.pixels[worst];
+    return out.str();
 }
 
 Image deepLayersFromDepth(const Image& depth, const std::vector<std::pair<float, float>>& offsets) {

@@ -6,6 +6,7 @@
 #include "core/operator.h"
 
 #include <glm/glm.hpp>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -95,5 +96,8 @@ Image deepLayersFromDepth(const Image& depth, const std::vector<std::pair<float,
 
 // The largest |a - b| over two images of the same size; +inf when their sizes differ.
 double maxAbsDiff(const Image& a, const Image& b);
+// Where `a` and `b` differ by more than `tol`: how many values, and the worst texel with both
+// values ("" when none do), for a parity failure's message.
+std::string diffSummary(const Image& a, const Image& b, double tol);
 
 } // namespace obscura::test
