@@ -4,6 +4,7 @@
 #include "base/error.h"
 #include "core/backend.h"
 #include "cpu/discs_cpu.h"
+#include "cpu/parallel.h"
 
 #include <algorithm>
 #include <cmath>
@@ -52,15 +53,20 @@ void runHbaoGi(const MethodRun& r) {
     const int layers = std::max(r.params.deepLayers, 1);
     const int coloured = deep.valid() && in.deepColour.valid() ? std::min(layers, in.deepColour.channels / 3) : 1;
     const int w = in.dataWindow.width(), h = in.dataWindow.height();
+    const Clock::time_point t0 = Clock::now();
     Image source(w, h, layers, 0.0f);
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            float rgb[3];
-            for (int c = 0; c < 3; ++c) rgb[c] = in.radiance.at(x, y)[c] * (albedo ? in.albedo.at(x, y)[c] : 1.0f);
-            float* words = source.at(x, y);
-            words[0] = packSharedExponent(rgb);
-            for (int k = 1; k < coloured; ++k) words[k] = packSharedExponent(in.deepColour.at(x, y) + 3 * k);
-        }
+    // Bands of rows on every thread: one pass over the colour planes, as costly as a copy of them.
+    cpu::parallelForTiles(Box2i{0, 0, w, h}, w, 16, r.threads, [&](const Box2i& band) {
+        for (int y = band.y0; y < band.y1; ++y)
+            for (int x = 0; x < w; ++x) {
+                float rgb[3];
+                for (int c = 0; c < 3; ++c) rgb[c] = in.radiance.at(x, y)[c] * (albedo ? in.albedo.at(x, y)[c] : 1.0f);
+                float* words = source.at(x, y);
+                words[0] = packSharedExponent(rgb);
+                for (int k = 1; k < coloured; ++k) words[k] = packSharedExponent(in.deepColour.at(x, y) + 3 * k);
+            }
+    });
+    r.out.stats.timings.push_back({"gi-source", secondsSince(t0)});
     r.out.indirect = Image(w, h, 3, 0.0f);
     r.backend.hbaoGi(r.params, in.depth, in.normal, deep, std::as_const(source).view(), r.out.ao.view(),
                      r.out.indirect.view(), resolvedBlur(r.settings), r.out.stats);
