@@ -133,11 +133,10 @@ std::string perElementAoProblem(const FrameJob& job, Spelling s) {
     return "";
 }
 
-std::vector<std::string> deepElementsOf(const FrameJob& job) {
+std::vector<std::string> deepElementsOf(const FrameJob& job, const ExrInfo* input) {
     if (!job.deepElements.empty()) return job.deepElements;
     if (!job.deepInput.empty()) return {};
-    const ExrInfo info = readExrInfo(job.input, job.maxPixels, true);
-    return info.parts[0].deep ? std::vector<std::string>{job.input} : std::vector<std::string>{};
+    return input->parts[0].deep ? std::vector<std::string>{job.input} : std::vector<std::string>{};
 }
 
 FramePasses loadDeepElements(const FrameJob& job, const std::vector<std::string>& paths, DeepElementsInput& deep,

@@ -23,8 +23,9 @@ struct DeepElementsInput {
 std::string perElementAoProblem(const FrameJob& job, Spelling spelling);
 
 // The job's deep elements: job.deepElements, else the input alone when its first part is deep
-// and no --flat file is given; empty for a flat input.
-std::vector<std::string> deepElementsOf(const FrameJob& job);
+// and no --flat file is given; empty for a flat input. `input`: the input's headers, read by the
+// caller whenever job.deepElements is empty.
+std::vector<std::string> deepElementsOf(const FrameJob& job, const ExrInfo* input);
 
 // Reads and merges the elements. The passes describe a flat image of one part: the flattened
 // channels and the depth (FramePasses::carried, written before the new layers), the first

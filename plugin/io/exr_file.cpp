@@ -258,9 +258,6 @@ ExrInfo readExrInfo(const std::string& path, long long maxPixels, bool allowDeep
             const Imf::Header& h = file.header(p);
             std::string type = h.hasType() ? h.type() : Imf::SCANLINEIMAGE;
             const bool deep = type == Imf::DEEPSCANLINE || type == Imf::DEEPTILE;
-            if (deep && !allowDeep)
-                throw FileError(path, "holds deep data (part " + std::to_string(p) +
-                            ") where flat passes are read; a deep file is an input of its own (docs/deep.md)");
             // Again here: a header the core API refused was not checked before opening.
             checkWindow(path, "data", h.dataWindow(), maxPixels, 0, -1);
             checkWindow(path, "display", h.displayWindow(), maxPixels, 0, -1);
@@ -281,7 +278,15 @@ ExrInfo readExrInfo(const std::string& path, long long maxPixels, bool allowDeep
     } catch (const std::exception& e) {
         throw FileError(path, "truncated or corrupt: cannot read its header (" + detail(e) + ")");
     }
+    if (!allowDeep) requireFlatParts(info);
     return info;
+}
+
+void requireFlatParts(const ExrInfo& info) {
+    for (size_t p = 0; p < info.parts.size(); ++p)
+        if (info.parts[p].deep)
+            throw FileError(info.path, "holds deep data (part " + std::to_string(p) +
+                                           ") where flat passes are read; a deep file is an input of its own (docs/deep.md)");
 }
 
 std::vector<Image> readExrChannels(const std::string& path, const ExrInfo& info,

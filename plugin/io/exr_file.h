@@ -76,6 +76,8 @@ void checkAttributeSizes(const std::string& path);
 // unreadable header, a data or display window above maxPixels or larger than the file's size
 // can hold.
 ExrInfo readExrInfo(const std::string& path, long long maxPixels = kDefaultMaxPixels, bool allowDeep = false);
+// readExrInfo's deep-data error, for headers read with allowDeep where flat passes are wanted.
+void requireFlatParts(const ExrInfo& info);
 
 struct ChannelRef {
     int part = 0;

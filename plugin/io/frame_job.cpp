@@ -19,6 +19,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 #include <cstdlib>
 #include <sstream>
 #include <utility>
@@ -285,10 +286,12 @@ void requireFullResolution(const FrameJob& job, const FramePasses& p, const std:
     }
 }
 
-FramePasses loadPasses(const FrameJob& job, bool keepAll, std::vector<StageTiming>* stages, bool alwaysReadPosition) {
+FramePasses loadPasses(const FrameJob& job, bool keepAll, std::vector<StageTiming>* stages, bool alwaysReadPosition,
+                       const ExrInfo* headers) {
     StageTimer timer{stages, "read"};
     FramePasses p;
-    p.info = readExrInfo(job.input, job.maxPixels, job.write == WriteMode::Append);  // deep parts: copied
+    p.info = headers ? *headers : readExrInfo(job.input, job.maxPixels, true);
+    if (job.write != WriteMode::Append) requireFlatParts(p.info);  // appending copies deep parts
     const std::vector<std::string> views = viewsToProcess(job, p.info);
     p.fileViews = fileViews(p.info);
     p.view = views.empty() ? "" : views.front();
@@ -358,8 +361,8 @@ FramePasses loadPasses(const FrameJob& job, bool keepAll, std::vector<StageTimin
 } // namespace
 
 FramePasses loadFramePasses(const FrameJob& job, bool keepAll, std::vector<StageTiming>* stages,
-                             bool alwaysReadPosition) {
-    return blameInput(job.input, [&] { return loadPasses(job, keepAll, stages, alwaysReadPosition); });
+                             bool alwaysReadPosition, const ExrInfo* headers) {
+    return blameInput(job.input, [&] { return loadPasses(job, keepAll, stages, alwaysReadPosition, headers); });
 }
 
 Camera resolveFrameCamera(const FrameJob& job, const FramePasses& p) {
@@ -537,13 +540,17 @@ FrameReport runJob(const FrameJob& job) {
     FrameReport report;
     std::vector<ViewResult> results;
     std::vector<NewChannel> elementAo;
-    const std::vector<std::string> elements = deepElementsOf(job);
+    // The input's headers, read once for the frame (each read opens and checks the file).
+    std::optional<ExrInfo> headers;
+    if (job.deepElements.empty()) headers = readExrInfo(job.input, job.maxPixels, true);
+    const std::vector<std::string> elements = deepElementsOf(job, headers ? &*headers : nullptr);
     if (!elements.empty()) {
         DeepElementsInput merged;
         FramePasses p = loadDeepElements(job, elements, merged, report);
         results.push_back(computeView(job, std::move(p), report, &merged, &elementAo));
     } else {
-        report.views = viewsToProcess(job, readExrInfo(job.input, job.maxPixels, job.write == WriteMode::Append));
+        if (job.write != WriteMode::Append) requireFlatParts(*headers);
+        report.views = viewsToProcess(job, *headers);
         // Every view processed runs on its own passes; one camera serves them all unless each
         // view's part carries its own.
         for (size_t v = 0; v < std::max<size_t>(1, report.views.size()); ++v) {
@@ -552,7 +559,7 @@ FrameReport runJob(const FrameJob& job) {
             FrameReport viewReport;
             FrameReport& into = v == 0 ? report : viewReport;
             const bool keepAll = v == 0 && job.write == WriteMode::Copy;
-            results.push_back(computeView(viewJob, loadFramePasses(viewJob, keepAll, &into.stages), into));
+            results.push_back(computeView(viewJob, loadFramePasses(viewJob, keepAll, &into.stages, false, &*headers), into));
             if (v > 0) mergeViewReport(report.views[v], viewReport, report);
         }
     }

@@ -156,9 +156,10 @@ LayerPlan planViewLayers(const FrameJob& job, const ExrInfo& info, const std::st
 
 // Reads headers, plans layers and reads the pixels `job` needs (plus everything raw if keepAll).
 // alwaysReadPosition: read the position pass whenever it covers the depth's pixels, not only
-// when the camera must be fitted from it (Python's read_passes returns it).
+// when the camera must be fitted from it (Python's read_passes returns it). `headers`: the
+// input's, read with deep parts allowed, when the caller has them (else they are read here).
 FramePasses loadFramePasses(const FrameJob& job, bool keepAll, std::vector<StageTiming>* stages = nullptr,
-                            bool alwaysReadPosition = false);
+                            bool alwaysReadPosition = false, const ExrInfo* headers = nullptr);
 // Single-channel planes [first, first + channels) interleaved into one image.
 Image interleavePlanes(const std::vector<Image>& planes, size_t first, int channels);
 // The camera this job would use for these passes.
