@@ -28,6 +28,9 @@ CONST_GLOBAL int SSDO_STEPS = 4;
 // A point entered a surface when it lies behind the surface seen by less than
 // SSDO_ENTER_THICKNESS times its distance from the previous point.
 CONST_GLOBAL int SSDO_BOUNCE_POINTS = 8;
+// A directional light's march: as the bounce's, geometric from about a pixel to r_max, then one
+// at r_max, so that an occluder near the receiver (a contact shadow) is met as surely as a far one.
+CONST_GLOBAL int SSDO_LIGHT_POINTS = 8;
 CONST_GLOBAL float SSDO_ENTER_THICKNESS = 3.0f;
 
 // Radical inverse in base 2 (van der Corput): the second coordinate of a Hammersley set.
@@ -196,6 +199,24 @@ void findSender(lvec3 receiver, lvec3 n, lvec2 centre, lvec3 dir, lfloat offset,
     }
 }
 
+// Whether a surface within r_max blocks direction `l` (unit, view space) where `asking`: points
+// from `nearest` to r_max, geometric, each shifted by `offset` of its interval, then r_max.
+lbool lightBlocked(lvec3 receiver, lvec3 n, lvec2 centre, vec3 l, lfloat offset, lfloat nearest, lbool asking) {
+    lbool blocked = asking && !asking;
+    lfloat ratio = sqrt(sqrt(sqrt(max(P.radius / nearest, 1.0f)))); // (r_max / nearest)^(1/8)
+    lfloat base = nearest;
+    for (int j = 1; j <= SSDO_LIGHT_POINTS + 1; ++j) {
+        lbool open = asking && !blocked;
+        if (!anyLane(open)) {
+            break;
+        }
+        lfloat t = j > SSDO_LIGHT_POINTS ? lfloat(P.radius) : min(base * (1.0f + (ratio - 1.0f) * offset), P.radius);
+        base = base * ratio;
+        blocked = blocked || blockedBySurface(receiver + lvec3(l) * t, receiver, n, centre, open);
+    }
+    return blocked;
+}
+
 // The bounce source's radiance of the sender where `found`, 0 elsewhere.
 lvec3 senderRadiance(lvec3 receiver, lvec3 sender, lbool found, lint senderX, lint senderY) {
     // The sender's outgoing radiance arrives along the direction; a sender that turns its back
@@ -316,7 +337,7 @@ void ssdoLanes(lint x, lint y, OUT(lvec3) directional, OUT(lvec3) indirect, OUT(
     indirect = select(any, indirect * (PI / count), zero);
     ao = select(any, open / count, 1.0f);
 
-    // Directional lights: irradiance n.l, unless a few points towards the light within r_max are blocked.
+    // Directional lights: irradiance n.l, unless a surface within r_max blocks the way (lightBlocked).
     for (int k = 0; k < P.lightCount; ++k) {
         vec3 l = vec3(P.lightDirection[k]);
         lfloat cosL = dot(n, lvec3(l));
@@ -324,9 +345,7 @@ void ssdoLanes(lint x, lint y, OUT(lvec3) directional, OUT(lvec3) indirect, OUT(
         if (!anyLane(lit)) {
             continue;
         }
-        for (int s = 1; s <= 4; ++s) {
-            lit = lit && !blockedBySurface(receiver + lvec3(l * (P.radius * float(s) * 0.25f)), receiver, n, centre, lit);
-        }
+        lit = lit && !lightBlocked(receiver, n, centre, l, distanceJitter, nearest, lit);
         directional += select(lit, lvec3(vec3(P.lightIrradiance[k])) * cosL, zero);
     }
 }

@@ -147,6 +147,36 @@ TEST(Ssdo, DirectionalLightAddsLambertIrradiance) {
     }
 }
 
+// A contact shadow much smaller than r_max: a sun 30 degrees above the horizon, from +x, over a
+// 0.1 block on a floor casts a shadow 0.17 long (x in [-0.223, -0.05], |z| < 0.05). The light's
+// march from about a pixel out finds the block where points a quarter of r_max apart pass over it.
+TEST(Ssdo, DirectionalLightFindsAContactShadowSmallerThanItsRadius) {
+    const int W = 96, H = 72;
+    std::vector<Rect> rects = {planeRect(dvec3(0), dvec3(1, 0, 0), dvec3(0, 0, 1))};
+    addBox(rects, dvec3(-0.05, 0.0, -0.05), dvec3(0.05, 0.1, 0.05));
+    const SceneBuffers sb =
+        renderScene(rects, lookAtPerspective(dvec3(-1.0, 1.0, 0.6), dvec3(-0.1, 0.0, 0.0), 40.0 * M_PI / 180, W, H), W, H);
+    Settings s = ssdoSettings(false);
+    s.interleave = 1;
+    s.blur = 0;
+    s.skyRadiance[0] = s.skyRadiance[1] = s.skyRadiance[2] = 0.0f;
+    const float c = std::cos((float)M_PI / 6), sn = std::sin((float)M_PI / 6);
+    s.lights.push_back({{c, sn, 0.0f}, {2.0f, 2.0f, 2.0f}});
+    const OperatorOutputs out = runOperator(sb.inputs(), s);
+    for (double x : {-0.15, -0.12, -0.09, -0.07})
+        for (double z : {-0.03, 0.0, 0.03}) {
+            int px, py;
+            ASSERT_TRUE(sb.pixelOf(dvec3(x, 0, z), px, py));
+            EXPECT_EQ(out.directional.at(px, py)[0], 0.0f) << "in the shadow at x " << x << ", z " << z;
+        }
+    for (double x : {-0.5, -0.4})
+        for (double z : {-0.03, 0.0, 0.03}) {
+            int px, py;
+            ASSERT_TRUE(sb.pixelOf(dvec3(x, 0, z), px, py));
+            EXPECT_NEAR(out.directional.at(px, py)[0], 2.0f * sn, 1e-4) << "past the shadow at x " << x;
+        }
+}
+
 TEST(Ssdo, BounceWithoutSourceIsAClearError) {
     const SceneBuffers sb = floorScene(true, 16, 12);
     EXPECT_THROW(runOperator(sb.inputs(), ssdoSettings(true)), Error);
