@@ -82,20 +82,10 @@ std::vector<Tile> planTiles(int W, int H, int apron, long long maxTexels, const 
     return tiles;
 }
 
-// The channels of `plane` over `box`, packed as the shader reads them.
-void pack(ConstPlane plane, const Box2i& box, int channels, std::vector<float>& out) {
-    out.resize((size_t)box.width() * box.height() * channels);
-    size_t i = 0;
-    for (int y = box.y0; y < box.y1; ++y)
-        for (int x = box.x0; x < box.x1; ++x) {
-            const float* v = plane.at(x, y);
-            for (int c = 0; c < channels; ++c) out[i++] = v[c];
-        }
-}
-
-// The texels a tile of deep input may hold: its signal-in buffer holds 2K floats a texel.
-long long deepTileTexels(const ContextInfo& ci, const glsl::KernelParams& p) {
-    return ci.maxStorageBlockBytes / (std::max(3, 2 * p.deepLayers) * (long long)sizeof(float));
+// Whether `channels` floats a texel over [x0, x1) of every row are one run of `plane`'s memory.
+bool rowsContiguous(ConstPlane plane, int x0, int x1, int channels) {
+    return plane.xStride == channels && plane.yStride == (std::ptrdiff_t)plane.width * channels && x0 == 0 &&
+           x1 == plane.width;
 }
 
 std::string hex(unsigned v) {
@@ -155,10 +145,11 @@ GlBackend::~GlBackend() {
     }
 }
 
-// Shared by every kernel: tiles, uploads the depth/normal (normal when valid; and whatever `upload` adds),
-// dispatches `run`, then `readback` copies each tile's inner texels out.
-void GlBackend::runTiled(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, int blur, long long maxTexels,
-                         GlTimings& t, const std::function<void(const Box2i& buf, const glsl::KernelParams& q)>& upload,
+// Shared by every kernel: tiles, uploads the depth, normal and deep pairs (the last two when valid) and
+// whatever `upload` adds, dispatches `run`, then `readback` copies each tile's inner texels out.
+void GlBackend::runTiled(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, int blur,
+                         long long maxTexels, GlTimings& t,
+                         const std::function<void(const Box2i& buf, const glsl::KernelParams& q)>& upload,
                          const std::function<void(const glsl::KernelParams& q)>& run,
                          const std::function<void(const Box2i& inner, const Box2i& buf)>& readback) {
     context_->makeCurrent();
@@ -166,8 +157,9 @@ void GlBackend::runTiled(const glsl::KernelParams& p, ConstPlane depth, ConstPla
     const int W = p.width, H = p.height;
     // How far a pixel's result reads: its samples (radius plus snapping), then the blur.
     const int apron = (int)std::ceil(std::min(hbaoReachPixels(p, depth), (float)std::max(W, H))) + 2 + std::max(blur, 0);
-    if (maxTexels <= 0) maxTexels = info().maxStorageBlockBytes / (3 * (long long)sizeof(float));  // 3-float planes
-    std::vector<float> packed;
+    // A tile's largest buffer per texel: a 3-float plane, or deep input's 2 floats a layer.
+    const int widest = std::max(3, deep.valid() ? 2 * p.deepLayers : 0);
+    if (maxTexels <= 0) maxTexels = info().maxStorageBlockBytes / (widest * (long long)sizeof(float));
     for (const Tile& tile : planTiles(W, H, apron, maxTexels, info())) {
         glsl::KernelParams q = p;
         q.width = tile.buf.width();
@@ -176,12 +168,10 @@ void GlBackend::runTiled(const glsl::KernelParams& p, ConstPlane depth, ConstPla
         q.originY = p.originY + tile.buf.y0;
         auto t0 = Clock::now();
         uploadBuffer(kParams, GL_UNIFORM_BUFFER, &q, sizeof(q));
-        pack(depth, tile.buf, 1, packed);
-        uploadBuffer(kDepth, GL_SHADER_STORAGE_BUFFER, packed.data(), packed.size() * sizeof(float));
-        if (normal.valid()) {  // none for the depth's own normals
-            pack(normal, tile.buf, 3, packed);
-            uploadBuffer(kNormal, GL_SHADER_STORAGE_BUFFER, packed.data(), packed.size() * sizeof(float));
-        }
+        uploadPlane(kDepth, depth, tile.buf, 1);
+        if (normal.valid()) uploadPlane(kNormal, normal, tile.buf, 3);  // none for the depth's own normals
+        // HBAO's deep pairs go to the signal-in buffer (HBAO reads no signal).
+        if (deep.valid()) uploadPlane(kSignalIn, deep, tile.buf, 2 * q.deepLayers);
         upload(tile.buf, q);
         t.upload += since(t0);
 
@@ -238,34 +228,57 @@ void GlBackend::blurBuffer(int binding, int channels, int radius, const glsl::Ke
     gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, kSignalOut, buffers_[kSignalOut]);
 }
 
-// Copies `channels` floats per texel of buffer `binding` over `inner` into `out`.
-void GlBackend::readInner(int binding, int channels, const Box2i& inner, const Box2i& buf, MutablePlane out) {
-    const GlApi& gl = context_->gl();
-    std::vector<float> data((size_t)buf.width() * buf.height() * channels);
-    gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, buffers_[binding]);
-    gl.GetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)(data.size() * sizeof(float)), data.data());
-    for (int y = inner.y0; y < inner.y1; ++y)
-        for (int x = inner.x0; x < inner.x1; ++x) {
-            const float* v = &data[((size_t)(y - buf.y0) * buf.width() + (x - buf.x0)) * channels];
-            float* o = out.at(x, y);
-            for (int c = 0; c < channels; ++c) o[c] = v[c];
+// `channels` floats per texel of `plane` over `box`, rows of box.width() texels back to back as the
+// shader reads them, into buffer `binding`. GL copies the data before BufferData returns, so a plane
+// already laid out that way goes straight from its memory; other rows are gathered into packed_.
+void GlBackend::uploadPlane(int binding, ConstPlane plane, const Box2i& box, int channels) {
+    const size_t row = (size_t)box.width() * channels, bytes = row * box.height() * sizeof(float);
+    if (rowsContiguous(plane, box.x0, box.x1, channels)) {
+        uploadBuffer(binding, GL_SHADER_STORAGE_BUFFER, plane.at(0, box.y0), bytes);
+        return;
+    }
+    packed_.resize(row * box.height());
+    float* o = packed_.data();
+    for (int y = box.y0; y < box.y1; ++y, o += row) {
+        if (plane.xStride == channels) {
+            std::copy_n(plane.at(box.x0, y), row, o);
+            continue;
         }
+        for (int x = box.x0; x < box.x1; ++x) std::copy_n(plane.at(x, y), channels, o + (size_t)(x - box.x0) * channels);
+    }
+    uploadBuffer(binding, GL_SHADER_STORAGE_BUFFER, packed_.data(), bytes);
 }
 
-void GlBackend::uploadDeep(ConstPlane deep, const Box2i& buf, const glsl::KernelParams& q, std::vector<float>& packed) {
-    pack(deep, buf, 2 * q.deepLayers, packed);
-    uploadBuffer(kSignalIn, GL_SHADER_STORAGE_BUFFER, packed.data(), packed.size() * sizeof(float));
+// Copies `channels` floats per texel of buffer `binding` (laid out over `buf`) over `inner` into `out`.
+// Only the rows holding `inner` are read; straight into `out` when those rows are one run of both.
+void GlBackend::readInner(int binding, int channels, const Box2i& inner, const Box2i& buf, MutablePlane out) {
+    const GlApi& gl = context_->gl();
+    gl.BindBuffer(GL_SHADER_STORAGE_BUFFER, buffers_[binding]);
+    const size_t row = (size_t)buf.width() * channels, floats = row * inner.height();
+    const auto first = (GLintptr)((size_t)(inner.y0 - buf.y0) * row * sizeof(float));
+    if (inner.x0 == buf.x0 && inner.x1 == buf.x1 && rowsContiguous(out, inner.x0, inner.x1, channels)) {
+        gl.GetBufferSubData(GL_SHADER_STORAGE_BUFFER, first, (GLsizeiptr)(floats * sizeof(float)), out.at(0, inner.y0));
+        return;
+    }
+    readback_.resize(floats);
+    gl.GetBufferSubData(GL_SHADER_STORAGE_BUFFER, first, (GLsizeiptr)(floats * sizeof(float)), readback_.data());
+    const size_t innerRow = (size_t)inner.width() * channels;
+    for (int y = inner.y0; y < inner.y1; ++y) {
+        const float* v = readback_.data() + (size_t)(y - inner.y0) * row + (size_t)(inner.x0 - buf.x0) * channels;
+        if (out.xStride == channels) {
+            std::memcpy(out.at(inner.x0, y), v, innerRow * sizeof(float));
+            continue;
+        }
+        for (int x = inner.x0; x < inner.x1; ++x) std::copy_n(v + (size_t)(x - inner.x0) * channels, channels, out.at(x, y));
+    }
 }
 
 void GlBackend::runAoWith(const char* program, const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal,
                           ConstPlane deep, MutablePlane ao, int blur, GlTimings* timings, long long maxTexels) {
     GlTimings t;
-    std::vector<float> packed;
-    if (deep.valid() && maxTexels <= 0) maxTexels = deepTileTexels(info(), p);
     runTiled(
-        p, depth, normal, blur, maxTexels, t,
-        [&](const Box2i& buf, const glsl::KernelParams& q) {
-            if (deep.valid()) uploadDeep(deep, buf, q, packed);
+        p, depth, normal, deep, blur, maxTexels, t,
+        [&](const Box2i& buf, const glsl::KernelParams&) {
             uploadBuffer(kSignalOut, GL_SHADER_STORAGE_BUFFER, nullptr, (size_t)buf.width() * buf.height() * sizeof(float));
         },
         [&](const glsl::KernelParams& q) {
@@ -281,7 +294,7 @@ void GlBackend::runDepthNormals(const glsl::KernelParams& p, ConstPlane depth, M
     glsl::KernelParams q = p;
     q.maxRadiusPixels = 0.0f;  // a texel reads two neighbours each way: runTiled's least apron, 2
     runTiled(
-        q, depth, ConstPlane{}, 0, 0, t,
+        q, depth, ConstPlane{}, ConstPlane{}, 0, 0, t,
         [&](const Box2i& buf, const glsl::KernelParams&) {
             uploadBuffer(kSignalOut, GL_SHADER_STORAGE_BUFFER, nullptr, (size_t)buf.width() * buf.height() * 3 * sizeof(float));
         },
@@ -307,14 +320,9 @@ void GlBackend::runDiscs(const glsl::KernelParams& p, const float* pyramid, size
     uploadBuffer(kSignalIn, GL_SHADER_STORAGE_BUFFER, pyramid, bytes);
     uploadBuffer(kSignalOut, GL_SHADER_STORAGE_BUFFER, nullptr, (size_t)p.width * p.height * sizeof(float));
     const Box2i frame{0, 0, p.width, p.height};
-    std::vector<float> packed;
     // The receivers' normals always (their hemispheres); the depth for the blur only.
-    pack(normal, frame, 3, packed);
-    uploadBuffer(kNormal, GL_SHADER_STORAGE_BUFFER, packed.data(), packed.size() * sizeof(float));
-    if (blur > 0) {
-        pack(depth, frame, 1, packed);
-        uploadBuffer(kDepth, GL_SHADER_STORAGE_BUFFER, packed.data(), packed.size() * sizeof(float));
-    }
+    uploadPlane(kNormal, normal, frame, 3);
+    if (blur > 0) uploadPlane(kDepth, depth, frame, 1);
     t.upload += since(t0);
     t0 = Clock::now();
     dispatch("discs", p);
@@ -342,31 +350,21 @@ void GlBackend::runSsdo(const glsl::KernelParams& p, const SsdoInputs& in, Mutab
                         MutablePlane ao, int blur, GlTimings* timings) {
     requireEveryBinding("ssdo");
     GlTimings t;
-    std::vector<float> packed;
     // GI's blur is wider, within a share of r_max across the surface (kernel_params.glsl).
     const int giBlur = p.bounce ? glsl::SSDO_GI_BLUR_SCALE * blur : 0;
     runTiled(
-        p, in.depth, in.normal, std::max(blur, giBlur), 0, t,
+        p, in.depth, in.normal, ConstPlane{}, std::max(blur, giBlur), 0, t,
         [&](const Box2i& buf, const glsl::KernelParams& q) {
             const size_t texels = (size_t)buf.width() * buf.height();
-            if (q.bounce) {
-                pack(in.radiance, buf, 3, packed);
-                uploadBuffer(kRadiance, GL_SHADER_STORAGE_BUFFER, packed.data(), packed.size() * sizeof(float));
-            } else {
-                uploadBuffer(kRadiance, GL_SHADER_STORAGE_BUFFER, nullptr, 16);
-            }
-            if (in.albedo.valid()) {
-                pack(in.albedo, buf, 3, packed);
-                uploadBuffer(kAlbedo, GL_SHADER_STORAGE_BUFFER, packed.data(), packed.size() * sizeof(float));
-            } else {
-                uploadBuffer(kAlbedo, GL_SHADER_STORAGE_BUFFER, nullptr, 16);
-            }
-            if (in.environment.valid()) {
-                pack(in.environment, Box2i{0, 0, in.environment.width, in.environment.height}, 3, packed);
-                uploadBuffer(kEnv, GL_SHADER_STORAGE_BUFFER, packed.data(), packed.size() * sizeof(float));
-            } else {
-                uploadBuffer(kEnv, GL_SHADER_STORAGE_BUFFER, nullptr, 16);
-            }
+            // An input left out still gets a (small) buffer: every binding the program declares must hold one.
+            const auto uploadOr16 = [&](int binding, ConstPlane plane, bool use, const Box2i& box) {
+                if (use) uploadPlane(binding, plane, box, 3);
+                else uploadBuffer(binding, GL_SHADER_STORAGE_BUFFER, nullptr, 16);
+            };
+            uploadOr16(kRadiance, in.radiance, q.bounce != 0, buf);
+            uploadOr16(kAlbedo, in.albedo, in.albedo.valid(), buf);
+            uploadOr16(kEnv, in.environment, in.environment.valid(),
+                       Box2i{0, 0, in.environment.width, in.environment.height});
             uploadBuffer(kSignalOut, GL_SHADER_STORAGE_BUFFER, nullptr, texels * sizeof(float));
             uploadBuffer(kDirectional, GL_SHADER_STORAGE_BUFFER, nullptr, texels * 3 * sizeof(float));
             uploadBuffer(kIndirect, GL_SHADER_STORAGE_BUFFER, nullptr, texels * 3 * sizeof(float));
@@ -399,16 +397,12 @@ void GlBackend::runHbaoGi(const glsl::KernelParams& p, ConstPlane depth, ConstPl
                           long long maxTexels) {
     requireEveryBinding("hbao's GI");
     GlTimings t;
-    std::vector<float> packed;
-    // Deep input: its pairs as runAoWith's, and the radiance has a word per layer.
-    if (deep.valid() && maxTexels <= 0) maxTexels = deepTileTexels(info(), p);
     runTiled(
-        p, depth, normal, blur, maxTexels, t,
+        p, depth, normal, deep, blur, maxTexels, t,
         [&](const Box2i& buf, const glsl::KernelParams& q) {
             const size_t texels = (size_t)buf.width() * buf.height();
-            if (deep.valid()) uploadDeep(deep, buf, q, packed);
-            pack(radiance, buf, deep.valid() ? q.deepLayers : 1, packed);
-            uploadBuffer(kRadiance, GL_SHADER_STORAGE_BUFFER, packed.data(), packed.size() * sizeof(float));
+            // With deep input the radiance has a word per layer.
+            uploadPlane(kRadiance, radiance, buf, deep.valid() ? q.deepLayers : 1);
             uploadBuffer(kSignalOut, GL_SHADER_STORAGE_BUFFER, nullptr, texels * sizeof(float));
             uploadBuffer(kIndirect, GL_SHADER_STORAGE_BUFFER, nullptr, texels * 3 * sizeof(float));
         },

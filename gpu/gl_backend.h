@@ -75,13 +75,14 @@ private:
     void requireEveryBinding(const char* what) const;
     void runAoWith(const char* program, const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal,
                    ConstPlane deep, MutablePlane ao, int blur, GlTimings* timings, long long maxTexels);
-    void runTiled(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, int blur, long long maxTexels,
-                  GlTimings& t, const std::function<void(const Box2i& buf, const glsl::KernelParams& q)>& upload,
+    // `deep` (when valid) holds HBAO's deep pairs, which also size the tiles.
+    void runTiled(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, int blur,
+                  long long maxTexels, GlTimings& t, const std::function<void(const Box2i& buf, const glsl::KernelParams& q)>& upload,
                   const std::function<void(const glsl::KernelParams& q)>& run,
                   const std::function<void(const Box2i& inner, const Box2i& buf)>& readback);
     void uploadBuffer(int binding, unsigned target, const void* data, size_t bytes);
-    // HBAO's deep pairs over `buf` into the signal-in buffer (HBAO reads no signal), 2 q.deepLayers floats a texel.
-    void uploadDeep(ConstPlane deep, const Box2i& buf, const glsl::KernelParams& q, std::vector<float>& packed);
+    // `channels` floats a texel of `plane` over `box` into storage buffer `binding`.
+    void uploadPlane(int binding, ConstPlane plane, const Box2i& box, int channels);
     void dispatch(const char* program, const glsl::KernelParams& q);
     unsigned program(const char* name, const glsl::KernelParams& q); // compiled on first use
     void blurBuffer(int binding, int channels, int radius, const glsl::KernelParams& q);
@@ -92,6 +93,9 @@ private:
     std::unique_ptr<GlContext> context_;
     std::map<std::string, unsigned> programs_;  // GL program names, by kernel name and defines
     unsigned buffers_[kBufferCount] = {};
+    // Kept across calls: a frame's inputs and outputs are the same size from one call to the next.
+    std::vector<float> packed_;    // an upload's rows gathered from a plane they are not contiguous in
+    std::vector<float> readback_;  // a readback's rows, when they are not copied straight into the output
 };
 
 // The backend for a GL device name ("gl", "gl-egl", "gl-osmesa", or "gl-egl-hardware": an EGL
