@@ -22,15 +22,14 @@
 
 // N counts SSDO_STEPS points per direction: SSDO_STEPS - 1 stratified ones give DO its linear
 // falloff (a point at a uniform distance finds a surface at distance t with probability
-// 1 - t / r_max). The bounce's march adds SSDO_BOUNCE_POINTS + 1 of its own (not counted in N).
+// 1 - t / r_max). The bounce's march adds SSDO_MARCH_POINTS + 1 of its own (not counted in N).
 CONST_GLOBAL int SSDO_STEPS = 4;
-// The bounce's march: this many points, geometric from about a pixel to r_max, then one at r_max.
-// A point entered a surface when it lies behind the surface seen by less than
-// SSDO_ENTER_THICKNESS times its distance from the previous point.
-CONST_GLOBAL int SSDO_BOUNCE_POINTS = 8;
-// A directional light's march: as the bounce's, geometric from about a pixel to r_max, then one
-// at r_max, so that an occluder near the receiver (a contact shadow) is met as surely as a far one.
-CONST_GLOBAL int SSDO_LIGHT_POINTS = 8;
+// The geometric marches, the bounce's along each direction and a directional light's: this many
+// points from about a pixel to r_max, then one at r_max, so that a surface near the receiver (a
+// contact shadow, a small sender) is met as surely as a far one. 8: marchRatio takes its root by
+// three square roots. A bounce point entered a surface when it lies behind the surface seen by
+// less than SSDO_ENTER_THICKNESS times its distance from the previous point.
+CONST_GLOBAL int SSDO_MARCH_POINTS = 8;
 CONST_GLOBAL float SSDO_ENTER_THICKNESS = 3.0f;
 
 // Radical inverse in base 2 (van der Corput): the second coordinate of a Hammersley set.
@@ -162,28 +161,37 @@ lfloat openAlong(lvec3 receiver, lvec3 n, lvec2 centre, lvec3 dir, lfloat offset
     return openPoints;
 }
 
+// The ratio of a march's successive points, (r_max / nearest)^(1 / SSDO_MARCH_POINTS): one per
+// pixel, shared by its directions and lights.
+lfloat marchRatio(lfloat nearest) {
+    return sqrt(sqrt(sqrt(max(P.radius / nearest, 1.0f))));
+}
+
+// Point j (1 .. SSDO_MARCH_POINTS + 1) of a march: `base` walks nearest, nearest ratio, ...; each
+// point lies `offset` into its interval, the last at r_max.
+lfloat marchPoint(int j, INOUT(lfloat) base, lfloat ratio, lfloat offset) {
+    lfloat t = j > SSDO_MARCH_POINTS ? lfloat(P.radius) : base * (1.0f + (ratio - 1.0f) * offset);
+    base = base * ratio;
+    return min(t, P.radius);
+}
+
 // The bounce's march along one direction: the first point that entered a surface since the
 // previous one (it lies behind the surface seen by less than SSDO_ENTER_THICKNESS steps) is the
 // sender, seen at texel (senderX, senderY), view position `sender`. Points from `nearest` (about
-// a pixel at the receiver) to r_max, geometric, each shifted by `offset` of its interval.
-void findSender(lvec3 receiver, lvec3 n, lvec2 centre, lvec3 dir, lfloat offset, lfloat nearest, lbool valid,
-                lint x, lint y, OUT(lbool) found, OUT(lint) senderX, OUT(lint) senderY, OUT(lvec3) sender) {
+// a pixel at the receiver, successive ones `ratio` apart) to r_max, each shifted by `offset` of its interval.
+void findSender(lvec3 receiver, lvec3 n, lvec2 centre, lvec3 dir, lfloat offset, lfloat nearest, lfloat ratio,
+                lbool valid, lint x, lint y, OUT(lbool) found, OUT(lint) senderX, OUT(lint) senderY, OUT(lvec3) sender) {
     found = valid && !valid;
     senderX = x;
     senderY = y;
     sender = receiver;
-    int points = SSDO_BOUNCE_POINTS;
-    // The ratio of successive points, (r_max / nearest)^(1 / points): three square roots.
-    lfloat ratio = sqrt(sqrt(sqrt(max(P.radius / nearest, 1.0f))));
     lfloat previous = lfloat(0.0f);
     lfloat base = nearest;
-    for (int j = 1; j <= points + 1; ++j) {
+    for (int j = 1; j <= SSDO_MARCH_POINTS + 1; ++j) {
         if (!anyLane(valid && !found)) {
             break;
         }
-        lfloat t = j > points ? lfloat(P.radius) : base * (1.0f + (ratio - 1.0f) * offset);
-        base = base * ratio;
-        t = min(t, P.radius);
+        lfloat t = marchPoint(j, base, ratio, offset);
         lvec3 point = receiver + dir * t;
         lint tx;
         lint ty;
@@ -199,19 +207,18 @@ void findSender(lvec3 receiver, lvec3 n, lvec2 centre, lvec3 dir, lfloat offset,
     }
 }
 
-// Whether a surface within r_max blocks direction `l` (unit, view space) where `asking`: points
-// from `nearest` to r_max, geometric, each shifted by `offset` of its interval, then r_max.
-lbool lightBlocked(lvec3 receiver, lvec3 n, lvec2 centre, vec3 l, lfloat offset, lfloat nearest, lbool asking) {
+// Whether a surface within r_max blocks direction `l` (unit, view space) where `asking`: the
+// march's points from `nearest` to r_max, `ratio` apart, each shifted by `offset` of its interval.
+lbool lightBlocked(lvec3 receiver, lvec3 n, lvec2 centre, vec3 l, lfloat offset, lfloat nearest, lfloat ratio,
+                   lbool asking) {
     lbool blocked = asking && !asking;
-    lfloat ratio = sqrt(sqrt(sqrt(max(P.radius / nearest, 1.0f)))); // (r_max / nearest)^(1/8)
     lfloat base = nearest;
-    for (int j = 1; j <= SSDO_LIGHT_POINTS + 1; ++j) {
+    for (int j = 1; j <= SSDO_MARCH_POINTS + 1; ++j) {
         lbool open = asking && !blocked;
         if (!anyLane(open)) {
             break;
         }
-        lfloat t = j > SSDO_LIGHT_POINTS ? lfloat(P.radius) : min(base * (1.0f + (ratio - 1.0f) * offset), P.radius);
-        base = base * ratio;
+        lfloat t = marchPoint(j, base, ratio, offset);
         blocked = blocked || blockedBySurface(receiver + lvec3(l) * t, receiver, n, centre, open);
     }
     return blocked;
@@ -281,6 +288,7 @@ void ssdoLanes(lint x, lint y, OUT(lvec3) directional, OUT(lvec3) indirect, OUT(
 
     // About a pixel at the receiver, the bounce's nearest point.
     lfloat nearest = min(1.5f * (P.orthographic != 0 ? P.invFx : -receiver.z * P.invFx), lfloat(P.radius));
+    lfloat pointRatio = marchRatio(nearest);
     lfloat used = lfloat(0.0f);
     lfloat open = lfloat(0.0f);
     int directions = max(P.ssdoSamples / SSDO_STEPS, stride); // at least one per pixel of the block
@@ -316,8 +324,8 @@ void ssdoLanes(lint x, lint y, OUT(lvec3) directional, OUT(lvec3) indirect, OUT(
         lvec3 sender = receiver;
         if (P.bounce != 0) {
             // The march's own offset, half a period from the stratified points'.
-            findSender(receiver, n, centre, dir, fract(offset + 0.5f), nearest, valid, x, y, found, senderX, senderY,
-                       sender);
+            findSender(receiver, n, centre, dir, fract(offset + 0.5f), nearest, pointRatio, valid, x, y, found, senderX,
+                       senderY, sender);
         }
         lfloat openShare = openPoints * (1.0f / float(SSDO_STEPS - 1));
         open += openShare;
@@ -345,7 +353,7 @@ void ssdoLanes(lint x, lint y, OUT(lvec3) directional, OUT(lvec3) indirect, OUT(
         if (!anyLane(lit)) {
             continue;
         }
-        lit = lit && !lightBlocked(receiver, n, centre, l, distanceJitter, nearest, lit);
+        lit = lit && !lightBlocked(receiver, n, centre, l, distanceJitter, nearest, pointRatio, lit);
         directional += select(lit, lvec3(vec3(P.lightIrradiance[k])) * cosL, zero);
     }
 }
