@@ -290,8 +290,8 @@ FramePasses loadPasses(const FrameJob& job, bool keepAll, std::vector<StageTimin
                        const ExrInfo* headers) {
     StageTimer timer{stages, "read"};
     FramePasses p;
-    p.info = headers ? *headers : readExrInfo(job.input, job.maxPixels, true);
-    if (job.write != WriteMode::Append) requireFlatParts(p.info);  // appending copies deep parts
+    // Deep parts are refused unless appending, which copies them (the caller's headers are checked).
+    p.info = headers ? *headers : readExrInfo(job.input, job.maxPixels, job.write == WriteMode::Append);
     const std::vector<std::string> views = viewsToProcess(job, p.info);
     p.fileViews = fileViews(p.info);
     p.view = views.empty() ? "" : views.front();

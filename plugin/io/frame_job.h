@@ -157,7 +157,8 @@ LayerPlan planViewLayers(const FrameJob& job, const ExrInfo& info, const std::st
 // Reads headers, plans layers and reads the pixels `job` needs (plus everything raw if keepAll).
 // alwaysReadPosition: read the position pass whenever it covers the depth's pixels, not only
 // when the camera must be fitted from it (Python's read_passes returns it). `headers`: the
-// input's, read with deep parts allowed, when the caller has them (else they are read here).
+// input's, when the caller has read them and refused deep parts as readExrInfo would (else they
+// are read here).
 FramePasses loadFramePasses(const FrameJob& job, bool keepAll, std::vector<StageTiming>* stages = nullptr,
                             bool alwaysReadPosition = false, const ExrInfo* headers = nullptr);
 // Single-channel planes [first, first + channels) interleaved into one image.
