@@ -259,3 +259,28 @@ TEST(HbaoDeepGi, MissingBounceSourceIsOneLine) {
     EXPECT_NE(r.err.find("direct_diffuse"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(out));
 }
+
+// --bounce on deep elements alone (RGBA, no direct-diffuse or albedo pass): one line naming both
+// flags to add, nothing written; the line's own advice then runs.
+TEST(HbaoDeepGi, BounceOnDeepElementsSaysWhatToAdd) {
+    const int W = 32, H = 24;
+    const fs::path dir = testDir("deep_gi");
+    const std::string in = (dir / "rgba_ground.exr").string(), out = (dir / "rgba_out.exr").string();
+    writeDeepElement(in, deepGround, W, H);
+    fs::remove(out);
+    const std::vector<std::string> common = {in, "-o", out, "--fov-deg", "40", "--falloff", "none", "--method", "hbao"};
+    std::vector<std::string> args = common;
+    args.push_back("--bounce");
+    CliResult r = runObscura(args);
+    EXPECT_NE(r.exitCode, 0);
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_NE(r.err.find(in), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--bounce-source beauty"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--out-layer gi=NAME"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out));
+    args = common;
+    args.insert(args.end(), {"--bounce-source", "beauty", "--out-layer", "gi=GI", "--quiet"});
+    r = runObscura(args);
+    EXPECT_EQ(r.exitCode, 0) << outcome(r);
+    EXPECT_TRUE(fs::exists(out));
+}

@@ -200,8 +200,14 @@ SsdoReads planSsdoReads(const FrameJob& job, const FramePasses& p) {
         if (job.bounceSource == "direct-diffuse") {
             r.radiance = roleRgb(p.plan, Role::DirectDiffuse);
             if (r.radiance.empty())
-                throw FileError(job.input, "no direct-diffuse layer for the bounce; use --bounce-source beauty "
-                            "or --layer direct-diffuse=NAME");
+                throw FileError(job.input, p.carried.empty()
+                                               ? "no direct-diffuse layer for the bounce; use --bounce-source beauty "
+                                                 "or --layer direct-diffuse=NAME"
+                                               : std::string("deep elements hold R, G, B and A only: the bounce "
+                                                             "needs --bounce-source beauty") +
+                                                     (job.writeRelit ? ", and GI alone (--out-layer gi=NAME in "
+                                                                       "place of --bounce: relit needs an albedo)"
+                                                                     : ""));
             r.senderAlbedo = true;
         } else if (job.bounceSource == "beauty") {
             r.radiance = roleRgb(p.plan, Role::Beauty);
@@ -213,9 +219,11 @@ SsdoReads planSsdoReads(const FrameJob& job, const FramePasses& p) {
     }
     if ((bounce && r.senderAlbedo) || job.writeRelit || job.timesAlbedo) {
         r.albedo = roleRgb(p.plan, Role::Albedo);
+        // --bounce asks for relit too; GI alone is named in its place (requestBounce).
         if (r.albedo.empty() && (job.writeRelit || job.timesAlbedo))
-            throw FileError(job.input, "no albedo layer (needed for relit or --times-albedo); use --layer albedo=NAME, "
-                                       "or --out-layer gi=NAME for the bounce without relit");
+            throw FileError(job.input, "no albedo layer for the relit image (--bounce) or --times-albedo; use "
+                                       "--layer albedo=NAME, or ask for GI alone with --out-layer gi=NAME in place "
+                                       "of --bounce");
     }
     if (job.relitWithDirect) {
         r.directDiffuse = roleRgb(p.plan, Role::DirectDiffuse);

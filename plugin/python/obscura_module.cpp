@@ -4,7 +4,7 @@
 //
 // The parts, one file each (py_bind.h): py_camera.cpp (obscura.Camera), py_arrays.cpp
 // (compute_ao, compute_gi, compute_ssdo, ao_from_passes), py_files.cpp (read_passes, process, inspect,
-// read_layer), py_tables.cpp (METHODS and the other tables); the keywords they take are
+// read_layer), py_deep.cpp (read_deep), py_tables.cpp (METHODS and the other tables); the keywords they take are
 // converted by py_args.h (one argument), py_settings.h (Settings), py_job.h (FrameJob) and
 // call_args.h (the call as a whole).
 #include "base/error.h"
@@ -27,8 +27,8 @@ The same operator and file pipeline as the ``obscura`` command, for numpy:
 
 - ``compute_ao(depth, normal, camera=..., **settings)`` -> float32 (H, W) AO from arrays
   (viewed in place, never converted: float32, shape (H, W) and (H, W, 3)).
-- ``compute_gi(depth, normal, camera=..., radiance=, albedo=, **settings)`` -> dict of 'gi'
-  (H, W, 3) and 'ao' (H, W): HBAO's one bounce of radiance, from arrays.
+- ``compute_gi(depth, normal, camera=..., radiance=, albedo=, deep=, deep_colour=, **settings)`` -> dict
+  of 'gi' (H, W, 3) and 'ao' (H, W): HBAO's one bounce of radiance, from arrays.
 - ``compute_ssdo(depth, normal, camera=..., radiance=, albedo=, environment=, bounce=, ...)``
   -> dict of 'do' (H, W, 3), 'gi' (H, W, 3) or None, 'ao' (H, W), from arrays.
 - ``read_passes(path)`` -> dict of the depth/normal/position planes, camera and conventions
@@ -36,6 +36,8 @@ The same operator and file pipeline as the ``obscura`` command, for numpy:
 - ``ao_from_passes(passes, **settings)`` -> compute_ao over a read_passes() dict.
 - ``process(path, out, **settings)`` -> the CLI's ``--report`` JSON as a dict; writes OUT.
 - ``inspect(path)`` -> dict, the CLI's ``--inspect --json``; ``read_layer(path, name)`` -> an EXR layer.
+- ``read_deep(path, colour=)`` -> dict of a deep EXR's surfaces ('deep' (H, W, 2L), 'colour'), for
+  compute_ao(deep=) and compute_gi(deep=, deep_colour=).
 - ``Camera.perspective / .orthographic / .from_sidecar``.
 
 Settings are the CLI's flags with underscores: radius, directions, steps, weighting
@@ -91,5 +93,6 @@ PYBIND11_MODULE(_obscura, m) {
     bindCamera(m);
     bindArrays(m);
     bindFiles(m);
+    bindDeep(m);
     bindTables(m);
 }

@@ -63,8 +63,11 @@ depth, normal, camera and the settings: as compute_ao (method='hbao', its defaul
 method whose bounce has no DO; for SSDO's use compute_ssdo(bounce=True)). radiance: float32
 (H, W, 3), the light leaving each pixel's surface (the bounce source), required; albedo: float32
 (H, W, 3), optional, multiplies radiance (give both for the CLI's default bounce source,
-direct-diffuse x albedo). Both viewed in place, in the working colour space. The GIL is released
-while computing.)doc";
+direct-diffuse x albedo). Both viewed in place, in the working colour space. deep: float32
+(H, W, 2K), hbao's hidden surfaces as compute_ao takes them; deep_colour: float32 (H, W, 3K), the
+un-premultiplied RGB each of those surfaces radiates (read_deep(path, colour=True)['colour']; the
+visible surface's, the first, is radiance's); without it the hidden surfaces hide but send
+nothing (docs/deep.md). The GIL is released while computing.)doc";
 
 const char* kAoFromPassesDoc = R"doc(compute_ao over a read_passes() dict, with its camera, conventions (normals, depth_kind,
 sky_depth) and windows: the same AO that process() writes for that file and these settings.
@@ -108,17 +111,27 @@ OperatorInputs viewInputs(const py::object& depthObj, const py::object& normalOb
     return in;
 }
 
-// deep=: hbao's hidden layers (docs/deep.md), (H, W, 2K) float32 (front, back) depth pairs.
-ConstPlane deepArg(const py::object& obj, const OperatorInputs& in) {
-    if (!py::isinstance<py::array>(obj)) throw py::type_error("deep must be a numpy.ndarray of float32, got " + typeName(obj));
+// A per-layer plane, float32 (H, W, perLayer K), over depth's pixels: deep= (perLayer 2, (front, back)
+// depth pairs, docs/deep.md) and deep_colour= (3, RGB); `most` caps K (0: no cap).
+ConstPlane layeredArg(const py::object& obj, const char* what, int perLayer, const char* unit, int most,
+                      const OperatorInputs& in) {
+    const std::string name = what;
+    if (!py::isinstance<py::array>(obj)) throw py::type_error(name + " must be a numpy.ndarray of float32, got " + typeName(obj));
     const py::array a = py::reinterpret_borrow<py::array>(obj);
     const int channels = a.ndim() == 3 ? (int)a.shape(2) : 0;
-    if (channels < 2 || channels % 2 != 0)
-        valueError("deep must have shape (H, W, 2K): K (front, back) depth pairs per pixel, got " +
-                   std::to_string(a.ndim()) + " dimension(s)" + (a.ndim() == 3 ? " of " + std::to_string(channels) + " channels" : ""));
-    const ConstPlane p = planeArg(obj, "deep", channels);
-    if (p.width != in.depth.width || p.height != in.depth.height) valueError("deep must cover the same pixels as depth");
+    const std::string k = std::to_string(perLayer) + "K";
+    if (channels < perLayer || channels % perLayer != 0 || (most > 0 && channels > perLayer * most))
+        valueError(name + " must have shape (H, W, " + k + "): K " + unit + " per pixel" +
+                   (most > 0 ? ", K at most deep's " + std::to_string(most) : std::string()) + ", got " +
+                   std::to_string(a.ndim()) + " dimension(s)" +
+                   (a.ndim() == 3 ? " of " + std::to_string(channels) + " channels" : ""));
+    const ConstPlane p = planeArg(obj, what, channels);
+    if (p.width != in.depth.width || p.height != in.depth.height) valueError(name + " must cover the same pixels as depth");
     return p;
+}
+
+ConstPlane deepArg(const py::object& obj, const OperatorInputs& in) {
+    return layeredArg(obj, "deep", 2, "(front, back) depth pairs", 0, in);
 }
 
 py::array computeAo(const py::object& depthObj, const py::object& normalObj, const ViewArgs& v, const SettingArgs& sa,
@@ -200,8 +213,13 @@ py::dict computeSsdo(const py::object& depthObj, const py::object& normalObj, co
 }
 
 // compute_gi: a method whose bounce has no DO (hbao's horizon light), its GI and AO.
+// compute_gi's deep= and deep_colour=: hbao's hidden layers and the colour each radiates.
+struct DeepArrayArgs {
+    py::object deep, colour;
+};
+
 py::dict computeGi(const py::object& depthObj, const py::object& normalObj, const ViewArgs& v, const SettingArgs& sa,
-                   const py::object& radiance, const py::object& albedo) {
+                   const py::object& radiance, const py::object& albedo, const DeepArrayArgs& deep) {
     Settings settings = settingsFrom(sa);
     if (!methodOutputs(settings.method, "gi") || methodOutputs(settings.method, "do"))
         valueError("compute_gi computes the bounce of a method without DO (method='hbao'); method='" +
@@ -213,6 +231,11 @@ py::dict computeGi(const py::object& depthObj, const py::object& normalObj, cons
     if (!in.radiance.valid())
         valueError("compute_gi needs radiance: the light leaving the bouncing surfaces, float32 (H, W, 3) "
                    "(e.g. the direct-diffuse pass, with albedo=the albedo pass)");
+    if (!deep.deep.is_none()) in.deepLayers = deepArg(deep.deep, in);
+    if (!deep.colour.is_none()) {
+        if (deep.deep.is_none()) valueError("deep_colour needs deep=: the surfaces it colours");
+        in.deepColour = layeredArg(deep.colour, "deep_colour", 3, "RGB colours", in.deepLayers.channels / 2, in);
+    }
     OperatorOutputs out;
     {
         py::gil_scoped_release release;
@@ -271,11 +294,14 @@ void bindComputeAo(py::module_& m) {
 void bindComputeGi(py::module_& m) {
     m.def(
         "compute_gi",
-        [](OBSCURA_ARRAY_PARAMS, py::object radiance, py::object albedo, const py::kwargs& own) {
+        [](OBSCURA_ARRAY_PARAMS, py::object radiance, py::object albedo, py::object deep, py::object deepColour,
+           const py::kwargs& own) {
             checkArrayCall("compute_gi", extra, depth, normal, camera, normals);
-            return computeGi(depth, normal, OBSCURA_ARRAY_VIEW, OBSCURA_ARRAY_SETTINGS, radiance, albedo);
+            return computeGi(depth, normal, OBSCURA_ARRAY_VIEW, OBSCURA_ARRAY_SETTINGS, radiance, albedo,
+                             DeepArrayArgs{deep, deepColour});
         },
-        OBSCURA_ARRAY_ARGS, py::arg("radiance") = py::none(), py::arg("albedo") = py::none(), kComputeGiDoc);
+        OBSCURA_ARRAY_ARGS, py::arg("radiance") = py::none(), py::arg("albedo") = py::none(),
+        py::arg("deep") = py::none(), py::arg("deep_colour") = py::none(), kComputeGiDoc);
 }
 
 void bindComputeSsdo(py::module_& m) {
