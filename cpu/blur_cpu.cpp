@@ -3,23 +3,42 @@
 #include "cpu/isa.h"
 #include "cpu/parallel.h"
 
-#include <vector>
+#include <memory>
 
 namespace obscura::cpu {
 
-void runBlur(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane signal, int radius,
-             int threads) {
+namespace {
+
+// A scratch plane of w x h texels of `like`'s channels, for the pass between the two (left
+// uninitialised: the first pass writes every texel); invalid for invalid.
+MutablePlane scratchLike(const MutablePlane& like, int w, int h, std::unique_ptr<float[]>& storage) {
+    if (!like.valid()) return MutablePlane{};
+    const int n = like.channels;
+    storage.reset(new float[(size_t)w * h * n]);
+    return MutablePlane{storage.get(), w, h, n, n, (std::ptrdiff_t)w * n};
+}
+
+} // namespace
+
+void runBlur(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane first,
+             MutablePlane second, int radius, int threads) {
     if (radius <= 0) return;
-    const int n = signal.channels;
-    std::vector<float> scratch((size_t)p.width * p.height * n);
-    MutablePlane tmp{scratch.data(), p.width, p.height, n, n, (std::ptrdiff_t)p.width * n};
-    const auto tileFn = cpuKernelsFor({depth, normal, ConstPlane(signal), ConstPlane(tmp)}).blurTile;
-    auto pass = [&](ConstPlane src, MutablePlane dst, glm::ivec2 axis) {
+    std::unique_ptr<float[]> scratch1, scratch2;
+    const BlurTarget signal{first, second}, tmp{scratchLike(first, p.width, p.height, scratch1),
+                                                   scratchLike(second, p.width, p.height, scratch2)};
+    const auto tileFn = cpuKernelsFor({depth, normal, ConstPlane(first), ConstPlane(tmp.first)}).blurTile;
+    auto pass = [&](const BlurTarget& src, const BlurTarget& dst, glm::ivec2 axis) {
+        const BlurSource from{ConstPlane(src.first), src.second.valid() ? ConstPlane(src.second) : ConstPlane{}};
         parallelForTiles(Box2i{0, 0, p.width, p.height}, kLaneTileWidth, kLaneTileHeight, threads,
-                         [&](const Box2i& tile) { tileFn(p, depth, normal, src, dst, axis, radius, tile); });
+                         [&](const Box2i& tile) { tileFn(p, depth, normal, from, dst, axis, radius, tile); });
     };
     pass(signal, tmp, glm::ivec2(1, 0));
     pass(tmp, signal, glm::ivec2(0, 1));
+}
+
+void runBlur(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane signal, int radius,
+             int threads) {
+    runBlur(p, depth, normal, signal, MutablePlane{}, radius, threads);
 }
 
 } // namespace obscura::cpu

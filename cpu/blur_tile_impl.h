@@ -7,15 +7,19 @@ namespace {
 
 struct BlurCpuKernel {
     KernelParams P;
-    LanePlane depth, normal, signal;
-    int channels = 1;
+    LanePlane depth, normal, signal, second;
+    int channels = 1, secondChannels = 0; // the signal's channels, then the second plane's after them
 
     lfloat gatherDepth(lint x, lint y, lbool use) const { return depth.gather1(x, y, use); }
     lvec3 gatherNormal(lint x, lint y, lbool use) const { return normal.gather3(x, y, use); }
+    lfloat gatherChannel(lint x, lint y, lbool use, int c) const {
+        if (c < channels) return signal.gather1(x, y, use, c);
+        if (c < channels + secondChannels) return second.gather1(x, y, use, c - channels);
+        return lfloat(0.0f);
+    }
     lvec4 gatherSignal(lint x, lint y, lbool use) const {
-        const lfloat none = lfloat(0.0f);
-        return lvec4(signal.gather1(x, y, use), channels > 1 ? signal.gather1(x, y, use, 1) : none,
-                     channels > 2 ? signal.gather1(x, y, use, 2) : none, channels > 3 ? signal.gather1(x, y, use, 3) : none);
+        return lvec4(gatherChannel(x, y, use, 0), gatherChannel(x, y, use, 1), gatherChannel(x, y, use, 2),
+                     gatherChannel(x, y, use, 3));
     }
 
 #include "kernels/common.glsl"
@@ -28,23 +32,30 @@ struct BlurCpuKernel {
 namespace obscura::cpu::OBSCURA_ISA {
 namespace {
 
-void blurTile(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane src, MutablePlane dst,
-              glm::ivec2 axis, int radius, const Box2i& tile) {
+void blurTile(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, const BlurSource& src,
+              const BlurTarget& dst, glm::ivec2 axis, int radius, const Box2i& tile) {
     glsl::BlurCpuKernel k;
     k.P = p;
     // The lanes are a row of pixels, and each neighbour a row too.
     k.depth = glsl::LanePlane(depth, true);
     k.normal = glsl::LanePlane(normal, true);
-    k.signal = glsl::LanePlane(src, true);
-    k.channels = src.channels;
+    k.signal = glsl::LanePlane(src.first, true);
+    k.channels = src.first.channels;
+    if (src.second.valid()) {
+        k.second = glsl::LanePlane(src.second, true);
+        k.secondChannels = src.second.channels;
+    }
     const auto lane = glsl::laneIndex();
     for (int y = tile.y0; y < tile.y1; ++y)
         for (int x = tile.x0; x < tile.x1; x += OBSCURA_LANES) {
             const glsl::lvec4 v = k.blurLanes(lane + x, y, axis, radius);
             const int count = tile.x1 - x < OBSCURA_LANES ? tile.x1 - x : OBSCURA_LANES;
             for (int i = 0; i < count; ++i) {
-                float* o = dst.at(x + i, y);
-                for (int c = 0; c < dst.channels; ++c) o[c] = glsl::laneValue(v[c], i);
+                float* o = dst.first.at(x + i, y);
+                for (int c = 0; c < dst.first.channels; ++c) o[c] = glsl::laneValue(v[c], i);
+                if (!dst.second.valid()) continue;
+                o = dst.second.at(x + i, y);
+                for (int c = 0; c < dst.second.channels; ++c) o[c] = glsl::laneValue(v[k.channels + c], i);
             }
         }
 }

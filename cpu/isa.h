@@ -17,6 +17,14 @@ namespace obscura::cpu {
 
 struct SsdoPlanes;
 
+// The blur's signal: one plane, or two blurred with one set of weights (AO beside GI).
+struct BlurSource {
+    ConstPlane first, second;
+};
+struct BlurTarget {
+    MutablePlane first, second;
+};
+
 // Entry points each ISA provides; each runs its kernel over every texel of `tile`.
 struct IsaKernels {
     // HBAO; `edges` holds the buffer's edge texels (cpu/lane_cpu.h, hbaoEdgeTexels) where
@@ -27,9 +35,10 @@ struct IsaKernels {
                      const Box2i& tile);
     void (*ssdoTile)(const glsl::KernelParams& p, const SsdoPlanes& in, MutablePlane directional,
                      MutablePlane indirect, MutablePlane ao, const Box2i& tile);
-    // One pass of the blur along `axis`, from `src` to `dst` (same channel count).
-    void (*blurTile)(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane src,
-                     MutablePlane dst, glm::ivec2 axis, int radius, const Box2i& tile);
+    // One pass of the blur along `axis`, from `src` to `dst` (same channel counts): the second
+    // plane of each (invalid: none) is blurred with the first's weights, their channels 4 at most.
+    void (*blurTile)(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, const BlurSource& src,
+                     const BlurTarget& dst, glm::ivec2 axis, int radius, const Box2i& tile);
     // Disc AO (kernels/discs.glsl): level 0 of the pyramid (kDiscChannels planes p.discStride
     // apart, p.width texels per row) over `tile`, returning the largest reach on the screen of its surface
     // texels (discReachPixels); and the traversal of a whole pyramid for the receivers in `tile`

@@ -17,15 +17,15 @@
 // integrand is F, the occlusion from the tangent up to an angle (hbao_slice.glsl, which also
 // gives the cosine-weighted form).
 
+#ifndef HBAO_GI
+#define HBAO_GI 0
+#endif
 #include "hbao_slice.glsl"   // the receiver, a slice's axes, F, the march
 #include "hbao_horizon.glsl" // HBAO_HORIZON: the highest sample
 #include "hbao_bitmask.glsl" // HBAO_FIXED_THICKNESS: each sample's interval, sectors above the horizon
 #include "hbao_runs.glsl"    // HBAO_RUNS: a run of samples per occluder (HBAO_MEASURED_THICKNESS)
 #include "hbao_deep.glsl"    // HBAO_DEEP: the renderer's layers, each texel's footprint
 #include "hbao_border.glsl"  // past the buffer's edge: the continued surface
-#ifndef HBAO_GI
-#define HBAO_GI 0
-#endif
 #include "hbao_gi.glsl"      // HBAO_GI: each newly covered angle's bounce light
 
 // The slice's integral of F: at the horizon, plus the sectors set above it (none without a
@@ -96,7 +96,13 @@ lfloat hbaoLanes(lint x, lint y) {
             //    attenuated rise), sets its interval from its front to T behind it (the bitmask
             //    paper), first joins its occluder's run, or adds every layer the renderer saw.
             if (HBAO_RUNS != 0) {
+                if (HBAO_GI != 0) {
+                    lightEndingRun(smp, r, slice, run, o, lit); // before the run's close raises the horizon
+                }
                 takeSampleInRuns(smp, r, slice, run, o);
+                if (HBAO_GI != 0) {
+                    lightRisingSample(smp, run);
+                }
             } else if (HBAO_MODEL == HBAO_DEEP) {
                 takeSampleDeep(smp, r, slice, previous, o);
             } else if (HBAO_MODEL == HBAO_FIXED_THICKNESS) {
@@ -106,18 +112,27 @@ lfloat hbaoLanes(lint x, lint y) {
             }
             if (HBAO_GI != 0 && HBAO_MODEL == HBAO_DEEP) {
                 takeSampleDeepGi(smp, r, slice, lit);
-            } else if (HBAO_GI != 0) {
+            } else if (HBAO_GI != 0 && HBAO_RUNS == 0) {
                 takeSampleGi(smp, r, slice, lit);
             }
         }
         if (HBAO_RUNS != 0) {
+            if (HBAO_GI != 0) {
+                lightUnfinishedRun(run, slice, o, lit);
+            }
             closeUnfinishedRun(run, slice, o);
         }
         // 5. Where the march left the buffer: the surface continued past its edge.
         lbool left = r.computing && march.stepsInside < float(P.steps);
         if (P.hbaoBorder != HBAO_BORDER_OPEN && !march.interior && anyLane(left)) {
+            lfloat before = lfloat(0.0f); // HBAO_GI with HBAO_RUNS: what the AO covered before it
+            if (HBAO_GI != 0 && HBAO_RUNS != 0) {
+                before = occludedCosine(o, slice.np);
+            }
             takeBorder(r, slice, march, left, o);
-            if (HBAO_GI != 0) {
+            if (HBAO_GI != 0 && HBAO_RUNS != 0) {
+                lightBorderAsOccluded(r, slice, march, left, before, o, lit);
+            } else if (HBAO_GI != 0) {
                 takeBorderGi(r, slice, march, left, lit);
             }
         }

@@ -85,24 +85,23 @@ lfloat coveredBetween(luint sectors, lfloat lowF, lfloat highF, IN(ProjectedNorm
     return between;
 }
 
-// Covers, in lanes `counts`, the angles from the back (backA, backB) up to the front (a, b) with
-// radiance read at display corner `corner`, layer `layer` (0: the visible surface; HBAO_DEEP's
-// hidden ones after it): the measure not covered before, times the radiance.
+// Covers, in lanes `counts`, the angles from the back (backA, backB) up to the front (a, b), and
+// returns the measure not covered before (in lanes `gains`).
 // An interval that reaches down to the horizon's (always without a thickness) may raise it, less
 // what sectors already covered there; one apart from it sets sectors not set before.
-void coverGi(lfloat a, lfloat b, lfloat backA, lfloat backB, lbool counts, lvec2 corner, int layer,
-             IN(ProjectedNormal) np, INOUT(HbaoGi) g) {
+lfloat newlyCovered(lfloat a, lfloat b, lfloat backA, lfloat backB, lbool counts, IN(ProjectedNormal) np,
+                    INOUT(HbaoGi) g, OUT(lbool) gains) {
     lbool joins = counts;
     if (HBAO_MODEL != HBAO_HORIZON) {
         joins = joins && joinsHorizon(backA, backB, g.horizonA, g.horizonB);
     }
     lbool raises = joins && aboveHorizon(a, b, g.horizonA, g.horizonB);
     lbool apart = counts && !joins;
-    lbool gains = raises || apart;
-    if (!anyLane(gains)) {
-        return;
-    }
+    gains = raises || apart;
     lfloat gained = lfloat(0.0f);
+    if (!anyLane(gains)) {
+        return gained;
+    }
     if (anyLane(raises)) {
         lfloat invLen = inversesqrt(max(a * a + b * b, 1e-30f));
         lfloat f = max(cosineF(a * invLen, b * invLen, np), g.horizonF);
@@ -123,7 +122,18 @@ void coverGi(lfloat a, lfloat b, lfloat backA, lfloat backB, lbool counts, lvec2
         gained = select(apart, share, gained);
         g.sectors = g.sectors | interval;
     }
-    g.irradiance += sharedExponentRgb(gatherRadianceBitsAtDisplay(corner, layer, gains)) * gained;
+    return gained;
+}
+
+// newlyCovered's measure lit by the radiance read at display corner `corner`, layer `layer` (0:
+// the visible surface; HBAO_DEEP's hidden ones after it).
+void coverGi(lfloat a, lfloat b, lfloat backA, lfloat backB, lbool counts, lvec2 corner, int layer,
+             IN(ProjectedNormal) np, INOUT(HbaoGi) g) {
+    lbool gains;
+    lfloat gained = newlyCovered(a, b, backA, backB, counts, np, g, gains);
+    if (anyLane(gains)) {
+        g.irradiance += sharedExponentRgb(gatherRadianceBitsAtDisplay(corner, layer, gains)) * gained;
+    }
 }
 
 // The measured thickness of a sample, from the width of its run so far (hbao_runs.glsl's runs:
@@ -154,6 +164,79 @@ void takeSampleGi(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, INOU
     }
     if (anyLane(smp.counts)) {
         coverGi(smp.a, smp.b, backA, backB, smp.counts, smp.corner, 0, sl.np, g);
+    }
+}
+
+// HBAO_RUNS's light (the default, measured thickness): the AO applies a run when it ends, as one
+// interval from its lowest back to its top, and so does the light, before the AO's close moves
+// the horizon. The run's newly covered measure takes the mean radiance of the samples that raised
+// its top, each weighted by its rise: the light keeps F at the horizon, its sum and the run's
+// radiance beside the AO's state (the horizon and sectors are the AO's), and computes F once a
+// closing run, not once a sample.
+void litHorizonIsOccluded(IN(HbaoOccluded) o, INOUT(HbaoGi) g) {
+    g.horizonA = o.horizonA;
+    g.horizonB = o.horizonB;
+    g.sectors = o.sectors;
+}
+
+void lightRun(lbool ends, lfloat t, IN(OccluderRun) run, IN(ProjectedNormal) np, IN(HbaoOccluded) o,
+              INOUT(HbaoGi) g) {
+    litHorizonIsOccluded(o, g);
+    lfloat backA;
+    lfloat backB;
+    runBack(run, t, np, backA, backB);
+    lbool gains;
+    lfloat gained = newlyCovered(run.topA, run.topB, backA, backB, ends, np, g, gains);
+    g.irradiance += run.light * (gained / max(run.lightWeight, 1e-30f));
+}
+
+// A sample that raised its run's top: its radiance, weighted by the rise, joins the run's.
+void lightRisingSample(IN(HbaoSample) smp, INOUT(OccluderRun) run) {
+    lbool rising = run.lightRise > 0.0f;
+    if (anyLane(rising)) {
+        run.light += sharedExponentRgb(gatherRadianceBitsAtDisplay(smp.corner, 0, rising)) * run.lightRise;
+        run.lightWeight += run.lightRise;
+    }
+}
+
+void lightEndingRun(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, IN(OccluderRun) run,
+                    IN(HbaoOccluded) o, INOUT(HbaoGi) g) {
+    if (!anyLane(run.going)) {
+        return;
+    }
+    lfloat t;
+    lbool matters = endingRun(smp, r, sl, run, continuesRun(smp, sl, run), t);
+    if (anyLane(matters)) {
+        lightRun(matters, t, run, sl.np, o, g);
+    }
+}
+
+void lightUnfinishedRun(IN(OccluderRun) run, IN(HbaoSlice) sl, IN(HbaoOccluded) o, INOUT(HbaoGi) g) {
+    lbool unclosed = run.going && run.raised;
+    if (anyLane(unclosed)) {
+        lightRun(unclosed, lfloat(P.thickness), run, sl.np, o, g);
+    }
+}
+
+// The cosine-weighted measure a slice's AO state covers: F_cos at its horizon and the sectors set
+// above it (what the AO's integral is with cosine weighting).
+lfloat occludedCosine(IN(HbaoOccluded) o, IN(ProjectedNormal) np) {
+    lfloat invLen = inversesqrt(max(o.horizonA * o.horizonA + o.horizonB * o.horizonB, 1e-30f));
+    lfloat f = cosineF(o.horizonA * invLen, o.horizonB * invLen, np);
+    return f + coveredBetween(o.sectors, f, lfloat(3.0e38f), np);
+}
+
+// HBAO_RUNS's light past the buffer's edge: what the AO's continued surface newly covered (its
+// measure `before` it was taken), radiating the edge texel's light, so the light follows the
+// border's runs exactly as inside the buffer.
+void lightBorderAsOccluded(IN(HbaoReceiver) r, IN(HbaoSlice) sl, IN(HbaoMarch) m, lbool left, lfloat before,
+                           IN(HbaoOccluded) o, INOUT(HbaoGi) g) {
+    lfloat gained = max(occludedCosine(o, sl.np) - before, 0.0f);
+    lbool gains = left && gained > 0.0f;
+    if (anyLane(gains)) {
+        BorderChord c = borderChord(r, m, left);
+        luint bits = gatherRadianceBitsAtDisplay(nearestBufferCorner(c.exitCorner), 0, gains);
+        g.irradiance += sharedExponentRgb(bits) * select(gains, gained, lfloat(0.0f));
     }
 }
 

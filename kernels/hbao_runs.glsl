@@ -18,6 +18,9 @@ struct OccluderRun {
     lfloat topF;               // linear falloff: F at its top
     lfloat rise;               // linear falloff: sum of W(r) times each sample's rise of F above
                                // the horizon and the run's earlier samples
+    lvec3 light;               // HBAO_GI: its rising samples' radiance, each weighted by its rise
+    lfloat lightWeight;        // ... the sum of those rises (pseudo-angles above the top before it)
+    lfloat lightRise;          // ... the weight of this step's sample (0: it did not raise the top)
 };
 
 OccluderRun noRun() {
@@ -26,6 +29,8 @@ OccluderRun noRun() {
     run.topA = lfloat(1.0f); // (1, 0): the tangent
     run.topB = run.topF = run.rise = lfloat(0.0f);
     run.raised = run.going = lfloat(0.0f) > 0.0f; // false in every lane
+    run.light = lvec3(lfloat(0.0f), lfloat(0.0f), lfloat(0.0f));
+    run.lightWeight = run.lightRise = lfloat(0.0f);
     return run;
 }
 
@@ -43,6 +48,19 @@ lfloat runThickness(IN(OccluderRun) run, lfloat invNLen, lfloat foot) {
     return t;
 }
 
+// A run's lowest back: the lower of its ends' backs (its first and last samples pushed t along -V).
+void runBack(IN(OccluderRun) run, lfloat t, IN(ProjectedNormal) np, OUT(lfloat) backA, OUT(lfloat) backB) {
+    lfloat firstBackA = run.firstA + t * np.nE;
+    lfloat firstBackB = run.firstB - t * np.nV;
+    lfloat lastBackA = run.lastA + t * np.nE;
+    lfloat lastBackB = run.lastB - t * np.nV;
+    // Both lie on the E side (a push along -V keeps the E coordinate): their angles compare by
+    // the sign of a cross product.
+    lbool firstLower = firstBackA * lastBackB - firstBackB * lastBackA > 0.0f;
+    backA = select(firstLower, firstBackA, lastBackA);
+    backB = select(firstLower, firstBackB, lastBackB);
+}
+
 // Applies the runs ending in lanes `ends`, each with its thickness t. The lower of its ends'
 // backs (its first and last samples pushed t along -V) stands for the lowest back. When that is
 // not above the horizon the run's interval joins the horizon's, which rises to the run's top;
@@ -56,15 +74,9 @@ lfloat runThickness(IN(OccluderRun) run, lfloat invNLen, lfloat foot) {
 // come as copies, so the march's own stay in registers (by reference they went to the stack:
 // bench_hbao 2% slower with AVX-512).
 void closeRuns(lbool ends, lfloat t, OccluderRun run, ProjectedNormal np, INOUT(HbaoOccluded) o) {
-    lfloat firstBackA = run.firstA + t * np.nE;
-    lfloat firstBackB = run.firstB - t * np.nV;
-    lfloat lastBackA = run.lastA + t * np.nE;
-    lfloat lastBackB = run.lastB - t * np.nV;
-    // Both lie on the E side (a push along -V keeps the E coordinate): their angles compare by
-    // the sign of a cross product.
-    lbool firstLower = firstBackA * lastBackB - firstBackB * lastBackA > 0.0f;
-    lfloat backA = select(firstLower, firstBackA, lastBackA);
-    lfloat backB = select(firstLower, firstBackB, lastBackB);
+    lfloat backA;
+    lfloat backB;
+    runBack(run, t, np, backA, backB);
     lbool joins = joinsHorizon(backA, backB, o.horizonA, o.horizonB);
     lbool higher = raiseHorizon(ends && joins, run.topA, run.topB, o.horizonA, o.horizonB);
     lfloat runRange = max(run.topF - o.horizonF, 1e-30f);
@@ -110,20 +122,48 @@ void weighSampleInRun(IN(HbaoSample) smp, lbool inside, IN(HbaoReceiver) r, IN(H
 
 // A sample where some lane's run goes on or starts: it continues the run, or ends it (which then
 // closes) and starts the next, or lies in none.
-void followRun(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, INOUT(OccluderRun) run,
-               INOUT(HbaoOccluded) o) {
+// HBAO_GI: the weight of a sample's radiance in its run's light, the share of F_cos its rise over
+// the run's top (topA, topB) covers: dF_cos / dtheta = |n_p| sin(theta) sin(theta + B) (cosineF in
+// hbao_gi.glsl), theta its angle above the tangent, dtheta the pseudo-angle's rise times
+// (|cos| + sin)^2. Never 0, so a run that rose has a weight.
+lfloat riseWeight(IN(HbaoSample) smp, lfloat topA, lfloat topB, IN(ProjectedNormal) np) {
+    lfloat invLen = inversesqrt(max(smp.a * smp.a + smp.b * smp.b, 1e-30f));
+    lfloat c = smp.a * invLen;
+    lfloat s = smp.b * invLen;
+    lfloat dTheta = (sectorPseudoAngle(smp.a, smp.b) - sectorPseudoAngle(topA, topB)) * (abs(c) + s) * (abs(c) + s);
+    return max(dTheta * s * max(s * np.cosB + c * np.sinB, 0.0f), 1e-7f);
+}
+
+// Whether sample `smp` continues the run going on (lanes where it does not and a run went on end it).
+lbool continuesRun(IN(HbaoSample) smp, IN(HbaoSlice) sl, IN(OccluderRun) run) {
     lfloat toEye = (smp.b - run.lastB) * sl.np.nV - (smp.a - run.lastA) * sl.np.nE;
-    lbool continues = run.going && smp.above && abs(toEye) <= sl.runJump;
-    lbool ends = run.going && !continues;
-    // A run whose top is not above the horizon adds nothing (its sectors would lie under the
-    // horizon, its rises are none): most runs end so, and skip the close. The top starts at the
-    // horizon, which only a close raises while the run goes on, so the test is a flag set as the
-    // top rises, not a cross product a step.
-    lbool matters = ends && run.raised;
+    return run.going && smp.above && abs(toEye) <= sl.runJump;
+}
+
+// The run ending at sample `smp`: the lanes where it adds (`matters`; a run whose top is not
+// above the horizon adds nothing: its sectors would lie under the horizon, its rises are none,
+// and most runs end so) and its thickness there.
+lbool endingRun(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, IN(OccluderRun) run,
+                lbool continues, OUT(lfloat) t) {
+    // The top starts at the horizon, which only a close raises while the run goes on, so the
+    // test is a flag set as the top rises, not a cross product a step.
+    lbool matters = run.going && !continues && run.raised;
+    t = lfloat(P.thickness);
     if (anyLane(matters)) {
         // A run ending past the edge (its end not seen) may be any depth.
         lbool leftBuffer = !insideBuffer(smp.corner - vec2(bufferOrigin()), 0.0f);
-        lfloat t = select(leftBuffer, lfloat(P.thickness), runThickness(run, sl.np.invNLen, r.footprint));
+        t = select(leftBuffer, t, runThickness(run, sl.np.invNLen, r.footprint));
+    }
+    return matters;
+}
+
+void followRun(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, INOUT(OccluderRun) run,
+               INOUT(HbaoOccluded) o) {
+    lbool continues = continuesRun(smp, sl, run);
+    lbool ends = run.going && !continues;
+    lfloat t;
+    lbool matters = endingRun(smp, r, sl, run, continues, t);
+    if (anyLane(matters)) {
         closeRuns(matters, t, run, sl.np, o);
     }
     // A sample that does not continue a run starts one, or lies in none: either way the run's
@@ -138,8 +178,20 @@ void followRun(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, INOUT(O
     run.firstB = select(continues, run.firstB, smp.b);
     lbool inside = smp.counts && smp.above; // can occlude
     lbool higher = inside && run.topA * smp.b - run.topB * smp.a > 0.0f;
+    lfloat topA = run.topA;
+    lfloat topB = run.topB;
     run.topA = select(higher, smp.a, run.topA);
     run.topB = select(higher, smp.b, run.topB);
+    if (HBAO_GI != 0) {
+        // The light's weights: how far each sample raised the top (a new run's top is the horizon).
+        lvec3 none = lvec3(lfloat(0.0f), lfloat(0.0f), lfloat(0.0f));
+        run.light = select(continues, run.light, none);
+        run.lightWeight = select(continues, run.lightWeight, lfloat(0.0f));
+        run.lightRise = lfloat(0.0f);
+        if (anyLane(higher)) {
+            run.lightRise = select(higher, riseWeight(smp, topA, topB, sl.np), lfloat(0.0f));
+        }
+    }
     run.raised = (continues && run.raised) || higher;
     if (P.linearFalloff != 0) {
         weighSampleInRun(smp, inside, r, sl, run, o);
@@ -155,6 +207,7 @@ void takeSampleInRuns(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, 
     if (!anyLane(smp.above || run.going)) {
         // No run goes on and none starts (a receiver on open ground): only the linear falloff's
         // on-tangent samples need this step.
+        run.lightRise = lfloat(0.0f);
         if (P.linearFalloff != 0) {
             lfloat f;
             lfloat weight;

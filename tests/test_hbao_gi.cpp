@@ -40,6 +40,14 @@ Image channel(const Image& rgb, int c) {
 // what cosine-weighted binary AO leaves out (c = d / R; 2 L (pi/4) = pi L / 2 when R -> inf).
 double cornerIrradiance(double L, double c) { return M_PI * L * (1.0 - cornerAo(Weighting::Cosine, Falloff::None, c)); }
 
+// The largest |E - pi L (1 - AO)| over the pixels: 0 where the light's coverage is the cosine AO's.
+double mostFromOccluded(const OperatorOutputs& out, float L) {
+    double most = 0;
+    for (size_t i = 0; i < out.ao.pixels.size(); ++i)
+        most = std::max(most, std::abs(out.indirect.pixels[3 * i] - M_PI * L * (1.0 - out.ao.pixels[i])));
+    return most;
+}
+
 } // namespace
 
 // An open plane has nothing above its tangent: no indirect light at any pixel, at any tilt,
@@ -78,15 +86,11 @@ TEST(HbaoGi, RightAngleWallMatchesClosedForm) {
             const OperatorOutputs cosine = runGi(sb, radiance, giSettings(R, T, Weighting::Cosine));
             const OperatorOutputs uniform = runGi(sb, radiance, giSettings(R, T, Weighting::Uniform));
             EXPECT_EQ(cosine.indirect.pixels, uniform.indirect.pixels) << "R " << R << " T " << T;
-            if (T == kThicknessInfinite) {
-                // Without a thickness the light covers what the cosine AO occludes, angle for angle:
-                // under a uniform source E = pi L (1 - AO) at every pixel, the border's continued
-                // wall included.
-                double most = 0;
-                for (size_t i = 0; i < cosine.ao.pixels.size(); ++i)
-                    most = std::max(most, std::abs(cosine.indirect.pixels[3 * i] - M_PI * L * (1.0 - cosine.ao.pixels[i])));
-                EXPECT_LE(most, 1e-4 * M_PI * L) << "R " << R;
-            }
+            // Without a thickness, and with the measured one (the light applies each occluder's
+            // run when the AO does), the light covers what the cosine AO occludes, angle for angle:
+            // under a uniform source E = pi L (1 - AO) at every pixel, the border's continued wall
+            // included.
+            EXPECT_LE(mostFromOccluded(cosine, L), 1e-4 * M_PI * L) << "R " << R << " T " << T;
             const Image red = channel(cosine.indirect, 0);
             for (double d : {0.05, 0.2, 0.4, 0.7}) {
                 const double expected = cornerIrradiance(L, d / R);
@@ -95,6 +99,23 @@ TEST(HbaoGi, RightAngleWallMatchesClosedForm) {
                     << "d " << d << " R " << R << " T " << T;
             }
         }
+}
+
+// With the measured thickness the light takes each occluder's run as the AO does, as one interval
+// when it ends: spheres, boxes and their shadows under a uniform source give E = pi L (1 - AO) at
+// every pixel, whatever the runs' radiance weights.
+TEST(HbaoGi, MeasuredThicknessLightCoversWhatTheAoOccludes) {
+    const int W = 160, H = 120;
+    SceneBuffers sb = renderScene(studioScene(), studioCamera(W, H), W, H);
+    const float L = 1.5f;
+    const Image radiance = uniformRadiance(sb, L);
+    for (float R : {0.3f, 0.8f, 3.0f}) {
+        const OperatorOutputs out = runGi(sb, radiance, giSettings(R, kThicknessAuto, Weighting::Cosine, 8, 8));
+        double lit = 0;
+        for (size_t i = 0; i < out.ao.pixels.size(); ++i) lit += out.indirect.pixels[3 * i];
+        EXPECT_GT(lit, 0.002 * M_PI * L * out.ao.pixels.size()) << "R " << R; // occluders in reach
+        EXPECT_LE(mostFromOccluded(out, L), 1e-4 * M_PI * L) << "R " << R;
+    }
 }
 
 // Furnace: a receiver at the bottom centre of a square well whose walls all radiate L receives

@@ -41,7 +41,11 @@ public:
         const auto t0 = Clock::now();
         cpu::runHbaoGi(p, depth, normal, deep, radiance, ao, gi, threads_);
         st.timings.push_back({"hbao+gi", secondsSince(t0)});
-        this->blur(p, depth, normal, {ao, gi}, blur, st);
+        if (blur > 0) { // AO and GI share the blur's weights: one pass over the geometry for both
+            const auto t1 = Clock::now();
+            cpu::runBlur(p, depth, normal, gi, ao, blur, threads_);
+            st.timings.push_back({"blur", secondsSince(t1)});
+        }
     }
 
     void discs(const KernelParams& p, const cpu::DiscPyramid& pyramid, ConstPlane depth, ConstPlane normal,

@@ -21,17 +21,27 @@ namespace {
 float packSharedExponent(const float rgb[3]) {
     float c[3];
     for (int i = 0; i < 3; ++i) c[i] = std::isfinite(rgb[i]) ? std::clamp(rgb[i], 0.0f, 65408.0f) : 0.0f;
-    int exponent = 0; // most = f 2^exponent, f in [0.5, 1): floor(log2(most)) = exponent - 1
-    std::frexp(std::max(std::max(c[0], c[1]), c[2]), &exponent);
-    std::uint32_t e = (std::uint32_t)std::clamp(exponent + 15, 0, 31), m[3];
-    for (int pass = 0; pass < 2; ++pass) { // a maximum that rounds up to 512 takes the next exponent
-        const std::uint32_t inverseBits = (151u - e) << 23; // 2^(24 - e), exact
+    // frexp's exponent of the largest (most = f 2^exponent, f in [0.5, 1)) from its bits: a normal
+    // float's biased exponent less 126; 0 and denormals (below 2^-126) give e = 0 as frexp's
+    // clamped exponent does, 0 alone taking frexp's 0 (e = 15), so the words are frexp's.
+    const float most = std::max(std::max(c[0], c[1]), c[2]);
+    std::uint32_t mostBits;
+    std::memcpy(&mostBits, &most, sizeof mostBits);
+    const int biased = (int)(mostBits >> 23);
+    const int exponent = most == 0.0f ? 0 : biased == 0 ? -126 : biased - 126;
+    std::uint32_t e = (std::uint32_t)std::clamp(exponent + 15, 0, 31);
+    // A largest that rounds up to 512 takes the next exponent (rounding is monotone: it is the
+    // largest mantissa).
+    auto inverseOf = [](std::uint32_t exp) { // 2^(24 - exp), exact
+        const std::uint32_t inverseBits = (151u - exp) << 23;
         float inverse;
         std::memcpy(&inverse, &inverseBits, sizeof inverse);
-        for (int i = 0; i < 3; ++i) m[i] = (std::uint32_t)(c[i] * inverse + 0.5f);
-        if (std::max(std::max(m[0], m[1]), m[2]) < 512u || e == 31u) break;
-        ++e;
-    }
+        return inverse;
+    };
+    if ((std::uint32_t)(most * inverseOf(e) + 0.5f) >= 512u && e < 31u) ++e;
+    const float inverse = inverseOf(e);
+    std::uint32_t m[3];
+    for (int i = 0; i < 3; ++i) m[i] = (std::uint32_t)(c[i] * inverse + 0.5f);
     std::uint32_t bits = e << 27;
     for (int i = 0; i < 3; ++i) bits |= std::min(m[i], 511u) << (9 * i);
     float word;
@@ -57,14 +67,20 @@ void runHbaoGi(const MethodRun& r) {
     Image source(w, h, layers, 0.0f);
     // Bands of rows on every thread: one pass over the colour planes, as costly as a copy of them.
     cpu::parallelForTiles(Box2i{0, 0, w, h}, w, 16, r.threads, [&](const Box2i& band) {
-        for (int y = band.y0; y < band.y1; ++y)
-            for (int x = 0; x < w; ++x) {
-                float rgb[3];
-                for (int c = 0; c < 3; ++c) rgb[c] = in.radiance.at(x, y)[c] * (albedo ? in.albedo.at(x, y)[c] : 1.0f);
-                float* words = source.at(x, y);
+        for (int y = band.y0; y < band.y1; ++y) {
+            const float* radiance = in.radiance.at(0, y);
+            const float* sender = albedo ? in.albedo.at(0, y) : nullptr;
+            float* words = source.at(0, y);
+            for (int x = 0; x < w; ++x, radiance += in.radiance.xStride, words += layers) {
+                float rgb[3] = {radiance[0], radiance[1], radiance[2]};
+                if (sender) {
+                    for (int c = 0; c < 3; ++c) rgb[c] *= sender[c];
+                    sender += in.albedo.xStride;
+                }
                 words[0] = packSharedExponent(rgb);
                 for (int k = 1; k < coloured; ++k) words[k] = packSharedExponent(in.deepColour.at(x, y) + 3 * k);
             }
+        }
     });
     r.out.stats.timings.push_back({"gi-source", secondsSince(t0)});
     r.out.indirect = Image(w, h, 3, 0.0f);
