@@ -7,6 +7,7 @@
 #include "support/cli_runner.h"
 #include "support/closed_forms.h"
 #include "support/exr_fixtures.h"
+#include "support/read_back.h"
 #include "support/reference_runs.h"
 #include "support/roof_scene.h"
 #include "support/scenes.h"
@@ -333,6 +334,46 @@ TEST(DeepCli, PolesWithDeepInputBeatTheDepthPass) {
     const CliResult inspect = runProgram(OBSCURA_CLI_PATH, {deep, "--flat", ref, "--inspect"});
     EXPECT_EQ(inspect.exitCode, 0) << inspect.err;
     EXPECT_NE(inspect.out.find("deep:    " + deep + " (Z, ZBack): 4 layer(s)"), std::string::npos) << inspect.out;
+}
+
+// reference_render --deep colours each span with what its entered surface radiates: the first
+// span's colour, read back as the CLI's deep reader reads it, is the flat render's DiffDir x
+// DiffCol at that pixel (same hit, same sky rays); the hidden surfaces are lit too.
+TEST(DeepCli, ReferenceDeepColourIsTheFlatDirectDiffuse) {
+    const fs::path dir = testDir("deep-colour");
+    const std::string ref = (dir / "studio.exr").string(), deep = (dir / "studio_deep.exr").string();
+    const int w = 64, h = 48;
+    const CliResult r = renderReferenceScene("studio", ref, w, h, {"--ao-rays", "1", "--gi-rays", "16", "--deep", deep});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const DeepLayers layers = readDeepLayers(deep, 4, {}, kDefaultMaxPixels, true);
+    ASSERT_EQ(layers.colour.channels, 3 * layers.layers);
+    const std::vector<float> depth = partChannel(ref, 0, "ViewLayer.Depth.Z");
+    std::vector<float> direct[3], albedo[3];
+    for (int c = 0; c < 3; ++c) {
+        const std::string name(1, "RGB"[c]);
+        direct[c] = partChannel(ref, 0, "ViewLayer.DiffDir." + name);
+        albedo[c] = partChannel(ref, 0, "ViewLayer.DiffCol." + name);
+    }
+    int surfaces = 0, litHidden = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const size_t i = size_t(y) * w + x;
+            const float* rgb = layers.colour.at(x, y);
+            if (depth[i] >= 1e9f) {
+                EXPECT_EQ(layers.planes.at(x, y)[0], kInf) << x << "," << y;
+                continue;
+            }
+            ++surfaces;
+            EXPECT_EQ(layers.planes.at(x, y)[0], depth[i]) << x << "," << y;
+            for (int c = 0; c < 3; ++c) {
+                const float sent = direct[c][i] * albedo[c][i];
+                EXPECT_NEAR(rgb[c], sent, 1e-6f * std::max(1.0f, sent)) << x << "," << y << " " << c;
+            }
+            for (int k = 1; k < layers.layers; ++k)
+                if (layers.planes.at(x, y)[2 * k] < kInf && rgb[3 * k] + rgb[3 * k + 1] + rgb[3 * k + 2] > 0) ++litHidden;
+        }
+    EXPECT_GT(surfaces, w * h / 2);
+    EXPECT_GT(litHidden, 100);  // the floor behind the objects, under the sun
 }
 
 // A deep input the CLI cannot use fails the frame with one line naming it, exit 1 and no

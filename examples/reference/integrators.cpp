@@ -124,6 +124,26 @@ void Integrator::diffuseLight(const glm::dvec3& origin, const glm::dvec3& n, uin
     }
 }
 
+uint32_t Integrator::pixelSeed(int x, int y) const {
+    return hashCombine(hashCombine(settings_.seed, uint32_t(x)), uint32_t(y));
+}
+
+// The sky half of diffuseLight's rays alone (same samples, same sum and order), so the result is
+// shade's DiffDir to the bit where the hits agree.
+glm::vec3 Integrator::directDiffuse(const glm::dvec3& p, const glm::dvec3& n, double eps, uint32_t seed) const {
+    glm::vec3 direct = lights(p, n, eps);
+    const int count = settings_.giRays;
+    if (count <= 0) return direct;
+    const glm::dvec3 origin = p + eps * n;
+    const SobolSet samples(hashCombine(seed, kBounceSet));
+    glm::dvec3 skySum(0.0);
+    for (int i = 0; i < count; ++i) {
+        const glm::dvec3 dir = toWorld(cosineHemisphere(samples(uint32_t(i))), n);
+        if (!tracer_.intersect(origin, dir, 0, kInfinity).found) skySum += glm::dvec3(scene_.lighting.sky(dir));
+    }
+    return direct + glm::vec3(skySum / double(count));
+}
+
 PixelResult Integrator::shade(int x, int y) const {
     PixelResult out;
     const glm::dvec3 ray = camera_.ray(x + 0.5, y + 0.5);  // planar depth 1
@@ -139,10 +159,10 @@ PixelResult Integrator::shade(int x, int y) const {
     out.albedo = h.albedo;
     const double eps = offsetEpsilon(out.position, h.t * glm::length(ray));
     const glm::dvec3 origin = out.position + eps * out.normal;
-    const uint32_t pixelSeed = hashCombine(hashCombine(settings_.seed, uint32_t(x)), uint32_t(y));
+    const uint32_t seed = pixelSeed(x, y);
     out.direct = lights(out.position, out.normal, eps);
-    diffuseLight(origin, out.normal, pixelSeed, out);
-    ambientOcclusion(origin, out.normal, pixelSeed, out);
+    diffuseLight(origin, out.normal, seed, out);
+    ambientOcclusion(origin, out.normal, seed, out);
     out.beauty = out.albedo * (out.direct + out.indirect);
     return out;
 }

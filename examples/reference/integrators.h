@@ -52,6 +52,13 @@ public:
     Integrator(const Scene& scene, const Tracer& tracer, const PinholeCamera& camera, const RenderSettings& settings)
         : scene_(scene), tracer_(tracer), camera_(camera), settings_(settings) {}
     PixelResult shade(int x, int y) const;
+    // The seed of display pixel (x, y)'s sample sets.
+    uint32_t pixelSeed(int x, int y) const;
+    // DiffDir at a surface point p (normal n facing the viewer, eps its ray offset): the lights with
+    // their shadow rays plus the sky through giRays cosine rays of `seed`'s bounce set. At a pixel's
+    // primary hit with pixelSeed(x, y) this is the flat DiffDir (what shade computes, here without the
+    // bounce); x albedo it is what the surface radiates as Reference.GI's sender.
+    glm::vec3 directDiffuse(const glm::dvec3& p, const glm::dvec3& n, double eps, uint32_t seed) const;
 
 private:
     // Sun and point lights at p (DiffDir units), with shadow rays.

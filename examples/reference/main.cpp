@@ -42,7 +42,8 @@ int usage(FILE* to) {
                  "  --env-rotate DEG   rotation of the environment about up, as obscura --env-rotate (0)\n"
                  "  --do-sun           Reference.DO also holds the sun, as obscura --light (blocked within the radius)\n"
                  "  --deep FILE.exr    also write every surface along each primary ray as a deep EXR\n"
-                 "                     (one sample per solid: Z where the ray enters, ZBack where it leaves)\n"
+                 "                     (one sample per solid: Z where the ray enters, ZBack where it leaves,\n"
+                 "                     R, G, B what the entered surface radiates: DiffDir x DiffCol there)\n"
                  "  --check            compare with closed forms (corner crease; open ground plane); exit 1 on failure\n"
                  "  --quiet            print nothing but errors\n");
     return to == stderr ? 2 : 0;
@@ -159,7 +160,7 @@ int main(int argc, char** argv) {
         const Frame frame = render(integrator, settings);
         const Convergence convergence = summarise(frame);
         writeReference(outPath, frame, camera, {scene.name, settings, convergence});
-        if (!deepPath.empty()) writeDeep(deepPath, traceDeep(tracer, camera, settings.threads));
+        if (!deepPath.empty()) writeDeep(deepPath, traceDeep(tracer, camera, settings.threads, &integrator));
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         if (!quiet) {
             std::printf("reference_render: scene %s, %dx%d, AO radius %g -> %s\n", scene.name.c_str(), settings.width,

@@ -155,6 +155,29 @@ void traceCurves(const SceneRig& rig, const ReferenceSettings& rs,
     }
 }
 
+// The deep reference's layers over the frame's data window, and for a bounce variant (hbao+deep+bounce)
+// their colours: each hidden surface's DiffDir x DiffCol, from the coloured deep render.
+struct DeepInput {
+    obscura::Image layers, colour;
+};
+
+DeepInput loadDeepInput(const SceneRig& rig, const ReferenceSettings& rs, const ReportOptions& o, const LoadedFrame& used,
+                        const char* tag) {
+    const bool coloured = anyMethod(o.methods, [](const std::string& m) { return usesDeep(m) && hasBounce(m); });
+    if (coloured && o.overscan > 0)
+        throw obscura::Error("hbao+deep+bounce does not take --overscan (its light reads the frame's own passes)");
+    const std::string path = ensureDeepReference(rig, rs, o.cacheDir, coloured);
+    obscura::DeepLayers deep = obscura::readDeepLayers(path, obscura::Settings().deepLayers, {},
+                                                       obscura::kDefaultMaxPixels, coloured);
+    progress("%s deep reference: %d layers%s, %lld empty pixels -> %s\n", tag, deep.layers,
+             deep.colour.empty() ? "" : " with colour", deep.emptyPixels, path.c_str());
+    if (coloured && deep.colour.empty()) throw obscura::Error("'" + path + "' has no R, G, B: delete it to render it again");
+    DeepInput out;
+    if (coloured) out.colour = obscura::deepPlanesOver(std::move(deep.colour), deep.data, used.passes.data, 0.0f);
+    out.layers = obscura::deepPlanesOver(std::move(deep), used.passes.data);
+    return out;
+}
+
 // DO and GI rows of an obscura run (the AO row is already in).
 void addLitRows(const TimedOperator& t, const ResultRow& aoRow, const LitReferences& lit, const LoadedFrame& f,
                 SceneRows& out) {
@@ -231,17 +254,9 @@ int main(int argc, char** argv) {
             const LoadedFrame& used = o.overscan > 0 ? overscanFrame : frame;
             const obscura::OperatorInputs in = operatorInputs(used, false, o.depthNormals);
             // hbao+deep: the same inputs plus the deep reference's layers, read as the CLI's --flat reads them.
-            const bool anyDeep = anyMethod(o.methods, usesDeep);
-            obscura::Image deepPlanes;
-            if (anyDeep) {
-                const std::string deepPath = ensureDeepReference(rig, rs, o.cacheDir);
-                obscura::DeepLayers deep = obscura::readDeepLayers(deepPath, obscura::Settings().deepLayers);
-                progress("%s deep reference: %d layers, %lld empty pixels -> %s\n", tag, deep.layers, deep.emptyPixels,
-                         deepPath.c_str());
-                deepPlanes = obscura::deepPlanesOver(std::move(deep), used.passes.data);
-            }
+            const DeepInput deep = anyMethod(o.methods, usesDeep) ? loadDeepInput(rig, rs, o, used, tag) : DeepInput();
             obscura::OperatorInputs deepIn = in;
-            if (anyDeep) deepIn.deepLayers = deepPlanes.view();
+            if (!deep.layers.empty()) deepIn.deepLayers = deep.layers.view();
             obscura::Image sheetAo;
             const obscura::Image* sheetTruth = &truth;
             std::string sheetLabel;
@@ -263,6 +278,10 @@ int main(int argc, char** argv) {
                         if (lights) {
                             applySceneLights(rig.scene, s);
                             if (!ssdo) runIn = operatorInputs(ssdoFrame, true, o.depthNormals);  // + the bounce source
+                            if (usesDeep(method)) {  // hbao+deep+bounce: the layers, and the hidden ones' light
+                                runIn.deepLayers = deep.layers.view();
+                                if (!deep.colour.empty()) runIn.deepColour = deep.colour.view();
+                            }
                             runIn.environment = &sky;
                         }
                         TimedOperator t = timeOperator(runIn, s, rs.runs, rs.runBudgetSeconds);
@@ -284,7 +303,7 @@ int main(int argc, char** argv) {
                             r.samples = obscura::findMethod(s.method)->samplesPerPixel(s);  // points or rays
                             r.blur = s.blur;
                         }
-                        if (o.overscan > 0 && !ssdo) {
+                        if (o.overscan > 0 && !ssdo && !lights) {  // the lit runs read the frame's own passes
                             t.ao = displayWindowOf(t.ao, o.overscan, rs.width, rs.height);
                             r.overscan = o.overscan;
                         }

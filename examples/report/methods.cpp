@@ -14,7 +14,8 @@ const std::vector<std::string>& registeredMethods() {
             if (obscura::methodOutputs(m.name, "do")) continue;  // SSDO's variants below
             v.push_back(m.name);
             if (std::string(m.name) == "hbao")
-                v.insert(v.end(), {"hbao+horizon", "hbao+open", "hbao+clamp", "hbao+deep", "hbao+bounce"});
+                v.insert(v.end(), {"hbao+horizon", "hbao+open", "hbao+clamp", "hbao+deep", "hbao+bounce",
+                                        "hbao+deep+bounce"});
             if (std::string(m.name) == "rtao") v.insert(v.end(), {"rtao+sheet", "rtao+thick"});
             // Disc AO with one of its corrections switched (docs/discs.md).
             if (std::string(m.name) == "discs") v.insert(v.end(), {"discs+vis", "discs-blend", "discs-nopoly", "discs-sum"});
@@ -58,7 +59,7 @@ bool hasDirectional(const std::string& method) { return obscura::methodOutputs(o
 
 bool isLit(const std::string& method) { return hasBounce(method) || hasDirectional(method); }
 
-bool usesDeep(const std::string& method) { return method == "hbao+deep"; }
+bool usesDeep(const std::string& method) { return method == "hbao+deep" || method == "hbao+deep+bounce"; }
 
 bool anyMethod(const std::vector<std::string>& methods, bool (*test)(const std::string&)) {
     return std::any_of(methods.begin(), methods.end(), test);

@@ -12,6 +12,9 @@ namespace report {
 // its name, so a new method joins every table, chart and contact sheet on registration; plus
 //   "hbao+horizon" hbao with an infinite thickness and open sky past the edge (before --thickness and --border)
 //   "hbao+open", "hbao+clamp"  hbao with --border open / clamp (the default is tangent)
+//   "hbao+deep"    hbao with the scene's deep render as --flat input
+//   "hbao+bounce", "hbao+deep+bounce"  hbao --bounce (senders DiffDir x DiffCol), flat or with the deep
+//                  render, whose hidden layers radiate their deep colour
 //   "rtao+sheet"   rtao without extrusion (--thickness 0)
 //   "rtao+thick"   rtao with every surface extruded by R / 5 (--thickness)
 //   "ssdo"         SSDO: DO + AO, no bounce; interleave 2 with its automatic 2 px blur
@@ -47,7 +50,8 @@ bool hasBounce(const std::string& method);
 bool hasDirectional(const std::string& method);
 // hasBounce or hasDirectional: the method runs under the scene's lights (sky map, sun, DiffDir x DiffCol).
 bool isLit(const std::string& method);
-// hbao+deep: hbao with the scene's deep reference as extra layers (docs/deep.md).
+// hbao+deep, hbao+deep+bounce: hbao with the scene's deep reference as extra layers (docs/deep.md);
+// the bounce variant also reads the layers' colours (the hidden surfaces' light).
 bool usesDeep(const std::string& method);
 // True when `test` holds for one of `methods` (e.g. anyMethod(o.methods, isSsdoMethod)).
 bool anyMethod(const std::vector<std::string>& methods, bool (*test)(const std::string&));

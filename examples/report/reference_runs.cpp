@@ -65,6 +65,22 @@ std::string cachePath(const SceneRig& rig, const ReferenceSettings& s, const std
         .string();
 }
 
+// The settings of a cached reference render with these rays and overscan (seed 1; lit when it bounces).
+reference::RenderSettings cachedRenderSettings(const SceneRig& rig, const ReferenceSettings& s, int aoRays, int giRays,
+                                               int overscan) {
+    reference::RenderSettings rs;
+    rs.width = s.width;
+    rs.height = s.height;
+    rs.radius = rig.scene.defaultRadius * s.radiusScale;
+    rs.aoRays = aoRays;
+    rs.giRays = giRays;
+    rs.seed = kConvergedSeed;
+    rs.threads = s.threads;
+    rs.overscan = overscan;
+    if (giRays > 0) addSceneLights(rig, rs);
+    return rs;
+}
+
 // A reference render (passes, AO layers, camera sidecar) with these rays and overscan, from
 // the cache when it holds both files, rendered and cached otherwise.
 ConvergedReference ensureRender(const SceneRig& rig, const ReferenceSettings& s, const std::string& cacheDir,
@@ -76,16 +92,7 @@ ConvergedReference ensureRender(const SceneRig& rig, const ReferenceSettings& s,
         out.cached = true;
         return out;
     }
-    reference::RenderSettings rs;
-    rs.width = s.width;
-    rs.height = s.height;
-    rs.radius = rig.scene.defaultRadius * s.radiusScale;
-    rs.aoRays = aoRays;
-    rs.giRays = giRays;
-    rs.seed = kConvergedSeed;
-    rs.threads = s.threads;
-    rs.overscan = overscan;
-    if (giRays > 0) addSceneLights(rig, rs);
+    const reference::RenderSettings rs = cachedRenderSettings(rig, s, aoRays, giRays, overscan);
     const Clock::time_point t0 = Clock::now();
     const reference::Integrator integrator(rig.scene, *rig.tracer, rig.camera, rs);
     const reference::Frame frame = reference::render(integrator, rs);
@@ -102,9 +109,20 @@ ConvergedReference ensureConvergedReference(const SceneRig& rig, const Reference
                         s.convergedRays, s.giRays, 0);
 }
 
-std::string ensureDeepReference(const SceneRig& rig, const ReferenceSettings& s, const std::string& cacheDir) {
-    const std::string path = cachePath(rig, s, cacheDir, "deep");
-    if (!std::filesystem::exists(path)) reference::writeDeep(path, reference::traceDeep(*rig.tracer, rig.camera, s.threads));
+std::string ensureDeepReference(const SceneRig& rig, const ReferenceSettings& s, const std::string& cacheDir,
+                                bool coloured) {
+    // The coloured file's name carries its GI rays: a cache written before deep colour existed
+    // ("_deep") is never taken for one.
+    const std::string path = cachePath(rig, s, cacheDir, coloured ? "deep_gi" + std::to_string(s.giRays) : "deep");
+    if (std::filesystem::exists(path)) return path;
+    if (!coloured) {
+        reference::writeDeep(path, reference::traceDeep(*rig.tracer, rig.camera, s.threads));
+        return path;
+    }
+    // The converged render's settings and seed: the first span's colour is its DiffDir x DiffCol.
+    const reference::RenderSettings rs = cachedRenderSettings(rig, s, s.convergedRays, s.giRays, 0);
+    const reference::Integrator integrator(rig.scene, *rig.tracer, rig.camera, rs);
+    reference::writeDeep(path, reference::traceDeep(*rig.tracer, rig.camera, s.threads, &integrator));
     return path;
 }
 

@@ -56,6 +56,8 @@ void usage(FILE* to) {
     std::fprintf(to, "methods registered: %s\n"
                      "  (hbao+horizon: --thickness inf --border open; hbao+open, hbao+clamp: --border open, clamp;\n"
                      "   hbao+deep: hbao with the scene's deep render (every solid along each ray, cached) as --flat;\n"
+                     "   hbao+bounce: hbao --bounce (GI rows, senders DiffDir x DiffCol); hbao+deep+bounce: both, each\n"
+                     "   hidden layer radiating its deep colour (DiffDir x DiffCol of its surface, cached apart);\n"
                      "   rtao+sheet: rtao --thickness 0; rtao+thick: --thickness R/5; discs+vis: --disc-passes 2;\n"
                      "   discs-blend: --disc-blend-levels; discs-nopoly: --disc-no-polygon; discs-sum: --disc-sum;\n"
                      "   a device a method does not run on, as rtao on GL, is skipped)\n", all.c_str());

@@ -99,6 +99,10 @@ TEST(ReportSmoke, QuickRunWritesTableSheetAndChart) {
     EXPECT_EQ(perMethod["ssdo+bounce/ao"], 1);
     EXPECT_EQ(perMethod["ssdo+bounce/gi"], 1);
     EXPECT_EQ(perMethod["ssdo+bounce/gi_unlimited"], 1);
+    EXPECT_EQ(perMethod["hbao+bounce/gi"], 1);
+    EXPECT_EQ(perMethod["hbao+deep+bounce/ao"], 1);  // the deep render's layers, coloured, and the bounce
+    EXPECT_EQ(perMethod["hbao+deep+bounce/gi"], 1);
+    EXPECT_EQ(perMethod["hbao+deep+bounce/gi_unlimited"], 1);
     EXPECT_EQ(perMethod["ssdo/do"], 1);
     EXPECT_EQ(perMethod["ssdo+bounce/do"], 1);
     EXPECT_EQ(perMethod["raytrace/ao"], 4);  // 1 and 4 rays, against cosine_none and cosine_linear
