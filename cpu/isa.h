@@ -57,6 +57,9 @@ struct IsaKernels {
     // with HBAO_DEEP, else invalid.
     void (*hbaoGiTile)(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep,
                        ConstPlane radiance, ConstPlane edges, MutablePlane ao, MutablePlane gi, const Box2i& tile);
+    // HBAO's bounce source (kernels/shared_exponent.glsl): channel `channel` of `words` over
+    // `tile`, the packed word of `rgb`'s colour, times `albedo`'s where it is valid.
+    void (*packSourceTile)(ConstPlane rgb, ConstPlane albedo, MutablePlane words, int channel, const Box2i& tile);
 };
 
 #define OBSCURA_DECLARE_ISA(isa) \

@@ -5,6 +5,7 @@
 #include "cpu/blur_tile_impl.h"
 #include "cpu/depth_normal_tile_impl.h"
 #include "cpu/discs_tile_impl.h"
+#include "cpu/pack_tile_impl.h"
 #include "cpu/ssdo_tile_impl.h"
 
 namespace obscura::cpu::OBSCURA_ISA {
@@ -18,5 +19,5 @@ void hbaoGiTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, Cons
                 ConstPlane edges, MutablePlane ao, MutablePlane gi, const Box2i& tile);
 
 const IsaKernels kernels{&hbaoTile,      &ssaoTile,  &ssdoTile,        &blurTile,     &discsBaseTile,
-                         &discsTile,     &depthNormalTile, &hbaoDeepTile, &hbaoGiTile};
+                         &discsTile,     &depthNormalTile, &hbaoDeepTile, &hbaoGiTile,  &packSourceTile};
 } // namespace obscura::cpu::OBSCURA_ISA

@@ -82,6 +82,7 @@ struct lint {
     lint(int s) : v(s - vint{}) {}
     // Truncation towards zero, as GLSL's int(float).
     explicit lint(lfloat f) : v(__builtin_convertvector(f.v, vint)) {}
+    explicit lint(luint u);
     int operator[](int i) const { return v[i]; }
 };
 
@@ -93,6 +94,7 @@ struct luint {
     explicit luint(lint i) : v((vuint)i.v) {}
 };
 
+inline lint::lint(luint u) : v((vint)u.v) {} // the bits, as GLSL's int(uint)
 inline lfloat::lfloat(lint i) : v(__builtin_convertvector(i.v, vfloat)) {}
 inline lfloat::lfloat(luint u) : v(__builtin_convertvector(u.v, vfloat)) {}
 

@@ -15,16 +15,7 @@
 // stays thin, and along a wall the later samples, deeper, cover what the first ones left. Past the buffer's edge the border policy's continued surface radiates its edge
 // texel's light; sky samples send nothing.
 
-// The bounce source as the backends hand it over: one 32-bit word per texel, RGB with a shared
-// exponent (9 bits each, 5 of exponent; core/method_runs.cpp packs it), so a sample reads one word
-// as it reads one depth, not three floats (their gathers were most of the light's cost).
-lvec3 sharedExponentRgb(luint bits) {
-    lfloat scale = uintBitsToFloat(((bits >> 27u) + luint(103u)) << 23u); // 2^(e - 15 - 9)
-    lfloat r = lfloat(bits & luint(511u));
-    lfloat g = lfloat((bits >> 9u) & luint(511u));
-    lfloat b = lfloat((bits >> 18u) & luint(511u));
-    return lvec3(r * scale, g * scale, b * scale);
-}
+#include "shared_exponent.glsl" // the bounce source's texel word
 
 // Irradiance of the receiver's lanes, written by hbaoLanes when HBAO_GI is 1 (a global: GLSL's
 // per-invocation variable, a member of the CPU's kernel object).

@@ -4,6 +4,7 @@
 #include "base/error.h"
 #include "core/backend.h"
 #include "cpu/discs_cpu.h"
+#include "cpu/isa.h"
 #include "cpu/parallel.h"
 
 #include <algorithm>
@@ -15,40 +16,6 @@
 namespace obscura {
 
 namespace {
-// RGB in one 32-bit word with a shared exponent, the form kernels/hbao_gi.glsl reads (as GL's
-// RGB9_E5 texture format): 9-bit mantissas m and a 5-bit exponent e, channel = m 2^(e - 24).
-// Channels are clamped to [0, 65408]; non-finite ones (a renderer's bad pixel) send no light.
-float packSharedExponent(const float rgb[3]) {
-    float c[3];
-    for (int i = 0; i < 3; ++i) c[i] = std::isfinite(rgb[i]) ? std::clamp(rgb[i], 0.0f, 65408.0f) : 0.0f;
-    // frexp's exponent of the largest (most = f 2^exponent, f in [0.5, 1)) from its bits: a normal
-    // float's biased exponent less 126; 0 and denormals (below 2^-126) give e = 0 as frexp's
-    // clamped exponent does, 0 alone taking frexp's 0 (e = 15), so the words are frexp's.
-    const float most = std::max(std::max(c[0], c[1]), c[2]);
-    std::uint32_t mostBits;
-    std::memcpy(&mostBits, &most, sizeof mostBits);
-    const int biased = (int)(mostBits >> 23);
-    const int exponent = most == 0.0f ? 0 : biased == 0 ? -126 : biased - 126;
-    std::uint32_t e = (std::uint32_t)std::clamp(exponent + 15, 0, 31);
-    // A largest that rounds up to 512 takes the next exponent (rounding is monotone: it is the
-    // largest mantissa).
-    auto inverseOf = [](std::uint32_t exp) { // 2^(24 - exp), exact
-        const std::uint32_t inverseBits = (151u - exp) << 23;
-        float inverse;
-        std::memcpy(&inverse, &inverseBits, sizeof inverse);
-        return inverse;
-    };
-    if ((std::uint32_t)(most * inverseOf(e) + 0.5f) >= 512u && e < 31u) ++e;
-    const float inverse = inverseOf(e);
-    std::uint32_t m[3];
-    for (int i = 0; i < 3; ++i) m[i] = (std::uint32_t)(c[i] * inverse + 0.5f);
-    std::uint32_t bits = e << 27;
-    for (int i = 0; i < 3; ++i) bits |= std::min(m[i], 511u) << (9 * i);
-    float word;
-    std::memcpy(&word, &bits, sizeof word);
-    return word;
-}
-
 // HBAO with --bounce: the indirect light from the same march (kernels/hbao_gi.glsl), from the
 // bounce source times the albedo where one is given (SSDO's senders), packed once here. With deep
 // layers, a word per texel and layer: the visible layer's bounce source, then each hidden layer's
@@ -66,20 +33,13 @@ void runHbaoGi(const MethodRun& r) {
     const Clock::time_point t0 = Clock::now();
     Image source(w, h, layers, 0.0f);
     // Bands of rows on every thread: one pass over the colour planes, as costly as a copy of them.
+    const auto pack = cpu::cpuKernelsFor({in.radiance, in.albedo, in.deepColour}).packSourceTile;
+    const MutablePlane words = source.view();
     cpu::parallelForTiles(Box2i{0, 0, w, h}, w, 16, r.threads, [&](const Box2i& band) {
-        for (int y = band.y0; y < band.y1; ++y) {
-            const float* radiance = in.radiance.at(0, y);
-            const float* sender = albedo ? in.albedo.at(0, y) : nullptr;
-            float* words = source.at(0, y);
-            for (int x = 0; x < w; ++x, radiance += in.radiance.xStride, words += layers) {
-                float rgb[3] = {radiance[0], radiance[1], radiance[2]};
-                if (sender) {
-                    for (int c = 0; c < 3; ++c) rgb[c] *= sender[c];
-                    sender += in.albedo.xStride;
-                }
-                words[0] = packSharedExponent(rgb);
-                for (int k = 1; k < coloured; ++k) words[k] = packSharedExponent(in.deepColour.at(x, y) + 3 * k);
-            }
+        pack(in.radiance, albedo ? in.albedo : ConstPlane{}, words, 0, band);
+        for (int k = 1; k < coloured; ++k) {
+            const ConstPlane layer{in.deepColour.data + 3 * k, w, h, 3, in.deepColour.xStride, in.deepColour.yStride};
+            pack(layer, ConstPlane{}, words, k, band);
         }
     });
     r.out.stats.timings.push_back({"gi-source", secondsSince(t0)});
