@@ -32,6 +32,19 @@ struct BlurCpuKernel {
 namespace obscura::cpu::OBSCURA_ISA {
 namespace {
 
+// Channels first.. of v into `plane`'s row y from x: whole rows of 1 or 3 channels as vectors.
+void store(const MutablePlane& plane, int x, int y, int count, const glsl::lvec4& v, int first) {
+    float* o = plane.at(x, y);
+    if (plane.channels == 1) {
+        glsl::storeRow(o, plane.xStride, count, v[first]);
+    } else if (plane.channels == 3) {
+        glsl::storeRow(o, plane.xStride, count, v[first], v[first + 1], v[first + 2]);
+    } else {
+        for (int i = 0; i < count; ++i)
+            for (int c = 0; c < plane.channels; ++c) o[i * plane.xStride + c] = glsl::laneValue(v[first + c], i);
+    }
+}
+
 void blurTile(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, const BlurSource& src,
               const BlurTarget& dst, glm::ivec2 axis, int radius, const Box2i& tile) {
     glsl::BlurCpuKernel k;
@@ -50,13 +63,8 @@ void blurTile(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, 
         for (int x = tile.x0; x < tile.x1; x += OBSCURA_LANES) {
             const glsl::lvec4 v = k.blurLanes(lane + x, y, axis, radius);
             const int count = tile.x1 - x < OBSCURA_LANES ? tile.x1 - x : OBSCURA_LANES;
-            for (int i = 0; i < count; ++i) {
-                float* o = dst.first.at(x + i, y);
-                for (int c = 0; c < dst.first.channels; ++c) o[c] = glsl::laneValue(v[c], i);
-                if (!dst.second.valid()) continue;
-                o = dst.second.at(x + i, y);
-                for (int c = 0; c < dst.second.channels; ++c) o[c] = glsl::laneValue(v[k.channels + c], i);
-            }
+            store(dst.first, x, y, count, v, 0);
+            if (dst.second.valid()) store(dst.second, x, y, count, v, k.channels);
         }
 }
 

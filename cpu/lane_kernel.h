@@ -49,7 +49,45 @@ inline lfloat deinterleave3(const float* p, int c) {
     const __m512 t = _mm512_permutex2var_ps(a0, (__m512i)first, a1);
     return (vfloat)_mm512_permutex2var_ps(t, (__m512i)second, a2);
 }
+// The inverse: 16 texels of 3 floats to p from their channels, two permutes and a store each.
+inline void interleave3(float* p, lfloat r, lfloat g, lfloat b) {
+    for (int k = 0; k < 3; ++k) {
+        vint first, second;
+        for (int j = 0; j < 16; ++j) {
+            const int e = 16 * k + j, texel = e / 3, c = e % 3; // element e of the 48
+            first[j] = c == 0 ? texel : c == 1 ? 16 + texel : 0;
+            second[j] = c == 2 ? 16 + texel : j;
+        }
+        const __m512 t = _mm512_permutex2var_ps((__m512)r.v, (__m512i)first, (__m512)g.v);
+        _mm512_storeu_ps(p + 16 * k, _mm512_permutex2var_ps(t, (__m512i)second, (__m512)b.v));
+    }
+}
 #endif
+
+// A row of `count` lanes to dst, xStride floats apart: one vector store where the row is whole
+// and contiguous, else lane by lane. One channel, and three (RGB).
+inline void storeRow(float* dst, std::ptrdiff_t xStride, int count, lfloat v) {
+#if OBSCURA_LANES == 16
+    if (count == 16 && xStride == 1) {
+        _mm512_storeu_ps(dst, (__m512)v.v);
+        return;
+    }
+#endif
+    for (int i = 0; i < count; ++i) dst[i * xStride] = laneValue(v, i);
+}
+inline void storeRow(float* dst, std::ptrdiff_t xStride, int count, lfloat r, lfloat g, lfloat b) {
+#if OBSCURA_LANES == 16
+    if (count == 16 && xStride == 3) {
+        interleave3(dst, r, g, b);
+        return;
+    }
+#endif
+    for (int i = 0; i < count; ++i) {
+        dst[i * xStride] = laneValue(r, i);
+        dst[i * xStride + 1] = laneValue(g, i);
+        dst[i * xStride + 2] = laneValue(b, i);
+    }
+}
 
 // The 4 floats at base + index per lane (a 16-byte record; index a multiple of 4) where `use`, 0
 // elsewhere. AVX-512 reads each lane's record with one 16-byte load and transposes the sixteen

@@ -161,14 +161,10 @@ void runTile(const KernelParams& p, const TilePlanes& t, const Box2i& tile) {
             // Lanes past the tile compute a neighbour (or, past the buffer, nothing) and are not stored.
             const auto v = E == Entry::Hbao ? k.hbaoLanes(lane + x, y) : k.ssaoLanes(lane + x, y);
             const int count = tile.x1 - x < kLanesHere ? tile.x1 - x : kLanesHere;
-            for (int i = 0; i < count; ++i) *t.ao.at(x + i, y) = laneOf(v, i);
+            glsl::storeRow(t.ao.at(x, y), t.ao.xStride, count, v);
             if constexpr (Params::hbaoGi != 0)
-                for (int i = 0; i < count; ++i) {
-                    float* g = t.gi.at(x + i, y);
-                    g[0] = laneOf(k.hbaoIrradiance.x, i);
-                    g[1] = laneOf(k.hbaoIrradiance.y, i);
-                    g[2] = laneOf(k.hbaoIrradiance.z, i);
-                }
+                glsl::storeRow(t.gi.at(x, y), t.gi.xStride, count, k.hbaoIrradiance.x, k.hbaoIrradiance.y,
+                               k.hbaoIrradiance.z);
         }
 }
 

@@ -125,10 +125,7 @@ lfloat hbaoLanes(lint x, lint y) {
         // 5. Where the march left the buffer: the surface continued past its edge.
         lbool left = r.computing && march.stepsInside < float(P.steps);
         if (P.hbaoBorder != HBAO_BORDER_OPEN && !march.interior && anyLane(left)) {
-            lfloat before = lfloat(0.0f); // HBAO_GI with HBAO_RUNS: what the AO covered before it
-            if (HBAO_GI != 0 && HBAO_RUNS != 0) {
-                before = occludedCosine(o, slice.np);
-            }
+            HbaoOccluded before = o; // HBAO_GI with HBAO_RUNS: the AO's state before the border
             takeBorder(r, slice, march, left, o);
             if (HBAO_GI != 0 && HBAO_RUNS != 0) {
                 lightBorderAsOccluded(r, slice, march, left, before, o, lit);

@@ -192,7 +192,7 @@ void lightRisingSample(IN(HbaoSample) smp, INOUT(OccluderRun) run) {
 
 void lightEndingRun(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, IN(OccluderRun) run,
                     IN(HbaoOccluded) o, INOUT(HbaoGi) g) {
-    if (!anyLane(run.going)) {
+    if (!anyLane(run.going && run.raised)) { // only a run that rose adds when it ends
         return;
     }
     lfloat t;
@@ -217,18 +217,22 @@ lfloat occludedCosine(IN(HbaoOccluded) o, IN(ProjectedNormal) np) {
     return f + coveredBetween(o.sectors, f, lfloat(3.0e38f), np);
 }
 
-// HBAO_RUNS's light past the buffer's edge: what the AO's continued surface newly covered (its
-// measure `before` it was taken), radiating the edge texel's light, so the light follows the
-// border's runs exactly as inside the buffer.
-void lightBorderAsOccluded(IN(HbaoReceiver) r, IN(HbaoSlice) sl, IN(HbaoMarch) m, lbool left, lfloat before,
+// HBAO_RUNS's light past the buffer's edge: what the AO's continued surface newly covered (`was`:
+// the AO's state before it), radiating the edge texel's light, so the light follows the border's
+// runs exactly as inside the buffer. The light's F at the horizon is the AO's horizon's.
+void lightBorderAsOccluded(IN(HbaoReceiver) r, IN(HbaoSlice) sl, IN(HbaoMarch) m, lbool left, IN(HbaoOccluded) was,
                            IN(HbaoOccluded) o, INOUT(HbaoGi) g) {
-    lfloat gained = max(occludedCosine(o, sl.np) - before, 0.0f);
-    lbool gains = left && gained > 0.0f;
-    if (anyLane(gains)) {
-        BorderChord c = borderChord(r, m, left);
-        luint bits = gatherRadianceBitsAtDisplay(nearestBufferCorner(c.exitCorner), 0, gains);
-        g.irradiance += sharedExponentRgb(bits) * select(gains, gained, lfloat(0.0f));
+    lbool raised = aboveHorizon(o.horizonA, o.horizonB, was.horizonA, was.horizonB);
+    lbool setMore = lfloat(o.sectors ^ was.sectors) > 0.0f;
+    lbool gains = left && (raised || setMore);
+    if (!anyLane(gains)) {
+        return;
     }
+    lfloat before = g.horizonF + coveredBetween(was.sectors, g.horizonF, lfloat(3.0e38f), sl.np);
+    lfloat gained = select(gains, max(occludedCosine(o, sl.np) - before, 0.0f), lfloat(0.0f));
+    BorderChord c = borderChord(r, m, left);
+    luint bits = gatherRadianceBitsAtDisplay(nearestBufferCorner(c.exitCorner), 0, gains);
+    g.irradiance += sharedExponentRgb(bits) * gained;
 }
 
 // HBAO_DEEP's light: each layer of the sample's texel covers the interval its AO occupies
