@@ -244,43 +244,53 @@ TEST(HbaoDeepGi, MergedElementsLightWithTheHiddenWallsColour) {
     EXPECT_LT(blue, 0.01 * red) << "the board is out of reach";
 }
 
+namespace {
+
+// A deep ground element alone (R, G, B, A, Z: no flat passes) as `name`.exr, and the command
+// line that lights it with hbao into `name`_out.exr, which does not exist yet.
+struct GroundElement {
+    std::string in, out;
+    std::vector<std::string> args;
+    explicit GroundElement(const std::string& name) {
+        const fs::path dir = testDir("deep_gi");
+        in = (dir / (name + ".exr")).string();
+        out = (dir / (name + "_out.exr")).string();
+        writeDeepElement(in, deepGround, 32, 24);
+        fs::remove(out);
+        args = {in, "-o", out, "--fov-deg", "40", "--falloff", "none", "--method", "hbao"};
+    }
+    // The command with `more` flags: a refusal in one line naming the input, nothing written.
+    CliResult refused(const std::vector<std::string>& more) const {
+        std::vector<std::string> all = args;
+        all.insert(all.end(), more.begin(), more.end());
+        const CliResult r = runObscura(all);
+        EXPECT_NE(r.exitCode, 0);
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+        EXPECT_NE(r.err.find(in), std::string::npos) << r.err;
+        EXPECT_FALSE(fs::exists(out));
+        return r;
+    }
+};
+
+} // namespace
+
 // A --bounce-source pass the flat passes lack is one line naming the file, and nothing is written.
 TEST(HbaoDeepGi, MissingBounceSourceIsOneLine) {
-    const int W = 32, H = 24;
-    const fs::path dir = testDir("deep_gi");
-    const std::string in = (dir / "bad_ground.exr").string(), out = (dir / "bad_out.exr").string();
-    writeDeepElement(in, deepGround, W, H);
-    fs::remove(out);
-    const CliResult r = runObscura({in, "-o", out, "--fov-deg", "40", "--falloff", "none", "--method", "hbao",
-                                    "--bounce-source", "direct_diffuse", "--out-layer", "gi=GI"});
-    EXPECT_NE(r.exitCode, 0);
-    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-    EXPECT_NE(r.err.find(in), std::string::npos) << r.err;
+    const GroundElement ground("bad_ground");
+    const CliResult r = ground.refused({"--bounce-source", "direct_diffuse", "--out-layer", "gi=GI"});
     EXPECT_NE(r.err.find("direct_diffuse"), std::string::npos) << r.err;
-    EXPECT_FALSE(fs::exists(out));
 }
 
 // --bounce on deep elements alone (RGBA, no direct-diffuse or albedo pass): one line naming both
 // flags to add, nothing written; the line's own advice then runs.
 TEST(HbaoDeepGi, BounceOnDeepElementsSaysWhatToAdd) {
-    const int W = 32, H = 24;
-    const fs::path dir = testDir("deep_gi");
-    const std::string in = (dir / "rgba_ground.exr").string(), out = (dir / "rgba_out.exr").string();
-    writeDeepElement(in, deepGround, W, H);
-    fs::remove(out);
-    const std::vector<std::string> common = {in, "-o", out, "--fov-deg", "40", "--falloff", "none", "--method", "hbao"};
-    std::vector<std::string> args = common;
-    args.push_back("--bounce");
-    CliResult r = runObscura(args);
-    EXPECT_NE(r.exitCode, 0);
-    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-    EXPECT_NE(r.err.find(in), std::string::npos) << r.err;
+    const GroundElement ground("rgba_ground");
+    const CliResult r = ground.refused({"--bounce"});
     EXPECT_NE(r.err.find("--bounce-source beauty"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("--out-layer gi=NAME"), std::string::npos) << r.err;
-    EXPECT_FALSE(fs::exists(out));
-    args = common;
-    args.insert(args.end(), {"--bounce-source", "beauty", "--out-layer", "gi=GI", "--quiet"});
-    r = runObscura(args);
-    EXPECT_EQ(r.exitCode, 0) << outcome(r);
-    EXPECT_TRUE(fs::exists(out));
+    std::vector<std::string> advised = ground.args;
+    advised.insert(advised.end(), {"--bounce-source", "beauty", "--out-layer", "gi=GI", "--quiet"});
+    const CliResult ok = runObscura(advised);
+    EXPECT_EQ(ok.exitCode, 0) << outcome(ok);
+    EXPECT_TRUE(fs::exists(ground.out));
 }

@@ -98,6 +98,28 @@ def write_exr(path, depth, normal, sidecar=False):
         }))
 
 
+def write_deep_samples(path, width, height, samples_of):
+    """A deep EXR of R, G, B, A, Z, ZBack, written with OpenImageIO's Python bindings:
+    samples_of(pixel) gives that pixel's samples, each those six values, nearest first."""
+    import OpenImageIO as oiio
+    spec = oiio.ImageSpec(width, height, 6, oiio.FLOAT)
+    spec.channelnames = ("R", "G", "B", "A", "Z", "ZBack")
+    spec.deep = True
+    dd = oiio.DeepData()
+    dd.init(spec)
+    samples = [samples_of(p) for p in range(width * height)]
+    for p, s in enumerate(samples):
+        dd.set_samples(p, len(s))
+    for p, s in enumerate(samples):
+        for i, values in enumerate(s):
+            for c, v in enumerate(values):
+                dd.set_deep_value(p, c, i, float(v))
+    out = oiio.ImageOutput.create(str(path))
+    assert out.open(str(path), spec), oiio.geterror()
+    assert out.write_deep_image(dd), out.geterror()
+    out.close()
+
+
 def read_channel(path, name):
     """One channel of an EXR as float32 (H, W), read with OpenImageIO (independent of obscura)."""
     import OpenImageIO as oiio

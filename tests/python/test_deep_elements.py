@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import obscura
-from conftest import read_channel, run_cli
+from conftest import read_channel, run_cli, write_deep_samples
 
 WIDTH, HEIGHT, FOV = 64, 40, 40.0
 
@@ -17,22 +17,8 @@ def rays():
 
 def write_deep(path, front, back, rgb):
     """A deep EXR of one sample per pixel where front is finite: R, G, B, A = 1, Z, ZBack."""
-    import OpenImageIO as oiio
-    spec = oiio.ImageSpec(WIDTH, HEIGHT, 6, oiio.FLOAT)
-    spec.channelnames = ("R", "G", "B", "A", "Z", "ZBack")
-    spec.deep = True
-    dd = oiio.DeepData()
-    dd.init(spec)
-    hit = np.isfinite(front).ravel()
-    for p in range(WIDTH * HEIGHT):
-        dd.set_samples(p, int(hit[p]))
-    for p in np.flatnonzero(hit):
-        for c, v in enumerate((*rgb, 1.0, front.flat[p], back.flat[p])):
-            dd.set_deep_value(int(p), c, 0, float(v))
-    out = oiio.ImageOutput.create(str(path))
-    assert out.open(str(path), spec), oiio.geterror()
-    assert out.write_deep_image(dd), out.geterror()
-    out.close()
+    write_deep_samples(path, WIDTH, HEIGHT, lambda p: [(*rgb, 1.0, front.flat[p], back.flat[p])]
+                       if np.isfinite(front.flat[p]) else [])
 
 
 @pytest.fixture

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import obscura
-from conftest import FOV_DEG, pose_matrix, read_channel, run_cli, synthetic_scene
+from conftest import FOV_DEG, pose_matrix, read_channel, run_cli, synthetic_scene, write_deep_samples
 
 HIDDEN_RED = (1.0, 0.0, 0.0)
 
@@ -30,26 +30,15 @@ def write_flat(path, depth, normal, rgb):
 def write_deep(path, depth, rgb):
     """Each surface pixel: its visible surface (a point, the beauty's colour) and, 0.3 behind it, a
     red solid 0.5 deep; sky pixels hold no sample."""
-    import OpenImageIO as oiio
     h, w = depth.shape
-    spec = oiio.ImageSpec(w, h, 6, oiio.FLOAT)
-    spec.channelnames = ("R", "G", "B", "A", "Z", "ZBack")
-    spec.deep = True
-    dd = oiio.DeepData()
-    dd.init(spec)
-    surface = (np.isfinite(depth) & (depth < 1e9)).ravel()
-    for p in range(w * h):
-        dd.set_samples(p, 2 * int(surface[p]))
-    for p in np.flatnonzero(surface):
+    colours = rgb.reshape(-1, 3)
+
+    def samples(p):
         z = float(depth.flat[p])
-        samples = ((*rgb.reshape(-1, 3)[p], 1.0, z, z), (*HIDDEN_RED, 1.0, z + 0.3, z + 0.8))
-        for s, values in enumerate(samples):
-            for c, v in enumerate(values):
-                dd.set_deep_value(int(p), c, s, float(v))
-    out = oiio.ImageOutput.create(str(path))
-    assert out.open(str(path), spec), oiio.geterror()
-    assert out.write_deep_image(dd), out.geterror()
-    out.close()
+        if not (np.isfinite(z) and z < 1e9):
+            return []
+        return [(*colours[p], 1.0, z, z), (*HIDDEN_RED, 1.0, z + 0.3, z + 0.8)]
+    write_deep_samples(path, w, h, samples)
 
 
 @pytest.fixture
