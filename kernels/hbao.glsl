@@ -113,7 +113,7 @@ lfloat hbaoLanes(lint x, lint y) {
             if (HBAO_GI != 0 && HBAO_MODEL == HBAO_DEEP) {
                 takeSampleDeepGi(smp, r, slice, lit);
             } else if (HBAO_GI != 0 && HBAO_RUNS == 0) {
-                takeSampleGi(smp, r, slice, lit);
+                takeSampleGi(smp, slice, lit);
             }
         }
         if (HBAO_RUNS != 0) {

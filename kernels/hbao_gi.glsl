@@ -10,10 +10,10 @@
 // What a sample covers follows the plan's model: the horizon's interval reaches down to the
 // tangent (exact F, no sectors); a thickness sets the interval from the sample's front to T
 // behind it, sectors above the horizon when apart from it (hbao_bitmask.glsl's 32 sectors, each
-// weighed exactly). The measured thickness (hbao_runs.glsl) needs a run's whole width, known when
-// it ends; the light cannot wait for it, so each sample takes the width of its run so far: a pole
-// stays thin, and along a wall the later samples, deeper, cover what the first ones left. Past the buffer's edge the border policy's continued surface radiates its edge
-// texel's light; sky samples send nothing.
+// weighed exactly). Where the AO applies samples per occluder run (HBAO_RUNS: the measured
+// thickness), the light does too, when the run ends, with the radiance of the samples that raised
+// it. Past the buffer's edge the border policy's continued surface radiates its edge texel's
+// light; sky samples send nothing.
 
 #include "shared_exponent.glsl" // the bounce source's texel word
 
@@ -35,9 +35,6 @@ struct HbaoGi {
     lfloat horizonF;           // cosineF at the horizon
     luint sectors;             // covered sectors above the horizon (thickness models)
     lvec3 irradiance;          // the slice's sum of L dF_cos
-    lfloat firstA, firstB;     // HBAO_MEASURED_THICKNESS: the first sample of the run going on
-    lfloat lastA, lastB;       // ... and the last one
-    lbool going;               // ... the last sample was in a run (above the tangent)
 };
 
 HbaoGi nothingLit() {
@@ -47,11 +44,6 @@ HbaoGi nothingLit() {
     g.horizonF = lfloat(0.0f);
     g.sectors = luint(0u);
     g.irradiance = lvec3(lfloat(0.0f), lfloat(0.0f), lfloat(0.0f));
-    g.firstA = lfloat(0.0f);
-    g.firstB = lfloat(0.0f);
-    g.lastA = lfloat(0.0f);
-    g.lastB = lfloat(0.0f);
-    g.going = lfloat(0.0f) > 0.0f; // false in every lane
     return g;
 }
 
@@ -127,34 +119,11 @@ void coverGi(lfloat a, lfloat b, lfloat backA, lfloat backB, lbool counts, lvec2
     }
 }
 
-// The measured thickness of a sample, from the width of its run so far (hbao_runs.glsl's runs:
-// samples above the tangent whose depth along V changes by at most P.runJump), at most T.
-lfloat runSoFarThickness(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, INOUT(HbaoGi) g) {
-    lfloat toEye = (smp.b - g.lastB) * sl.np.nV - (smp.a - g.lastA) * sl.np.nE;
-    lbool continues = g.going && smp.above && abs(toEye) <= sl.runJump;
-    g.firstA = select(continues, g.firstA, smp.a);
-    g.firstB = select(continues, g.firstB, smp.b);
-    g.lastA = smp.a;
-    g.lastB = smp.b;
-    g.going = smp.above;
-    lfloat dA = smp.a - g.firstA;
-    lfloat dB = smp.b - g.firstB;
-    lfloat width = sqrt(dA * dA + dB * dB) * sl.np.invNLen + r.footprint;
-    return min(P.runDepthPerWidth * width, lfloat(P.thickness));
-}
-
-// A sample's light: its interval, from its front to its thickness behind it (pushed along -V, as
-// the AO's; the horizon's: down to the tangent).
-void takeSampleGi(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, INOUT(HbaoGi) g) {
-    lfloat backA = smp.a + sl.backShiftA;
-    lfloat backB = smp.b + sl.backShiftB;
-    if (HBAO_MODEL == HBAO_MEASURED_THICKNESS) {
-        lfloat t = runSoFarThickness(smp, r, sl, g);
-        backA = smp.a + t * sl.np.nE;
-        backB = smp.b - t * sl.np.nV;
-    }
+// A sample's light without runs: its interval, from its front to the fixed thickness behind it
+// (pushed along -V, as the AO's; the horizon's: down to the tangent).
+void takeSampleGi(IN(HbaoSample) smp, IN(HbaoSlice) sl, INOUT(HbaoGi) g) {
     if (anyLane(smp.counts)) {
-        coverGi(smp.a, smp.b, backA, backB, smp.counts, smp.corner, 0, sl.np, g);
+        coverGi(smp.a, smp.b, smp.a + sl.backShiftA, smp.b + sl.backShiftB, smp.counts, smp.corner, 0, sl.np, g);
     }
 }
 
