@@ -130,15 +130,16 @@ void takeSampleGi(IN(HbaoSample) smp, IN(HbaoSlice) sl, INOUT(HbaoGi) g) {
 // HBAO_RUNS's light (the default, measured thickness): the AO applies a run when it ends, as one
 // interval from its lowest back to its top, and so does the light, before the AO's close moves
 // the horizon. The run's newly covered measure takes the mean radiance of the samples that raised
-// its top, each weighted by its rise: the light keeps F at the horizon, its sum and the run's
-// radiance beside the AO's state (the horizon and sectors are the AO's), and computes F once a
-// closing run, not once a sample.
+// its top, each weighted by its share of F_cos (riseWeight): the light keeps F at the horizon, its
+// sum and the run's radiance beside the AO's state (the horizon and sectors are the AO's), and
+// computes F once a closing run, not once a sample.
 void litHorizonIsOccluded(IN(HbaoOccluded) o, INOUT(HbaoGi) g) {
     g.horizonA = o.horizonA;
     g.horizonB = o.horizonB;
     g.sectors = o.sectors;
 }
 
+// The light of the runs ending in lanes `ends`, each with its thickness t.
 void lightRun(lbool ends, lfloat t, IN(OccluderRun) run, IN(ProjectedNormal) np, IN(HbaoOccluded) o,
               INOUT(HbaoGi) g) {
     litHorizonIsOccluded(o, g);
@@ -150,7 +151,7 @@ void lightRun(lbool ends, lfloat t, IN(OccluderRun) run, IN(ProjectedNormal) np,
     g.irradiance += run.light * (gained / max(run.lightWeight, 1e-30f));
 }
 
-// A sample that raised its run's top: its radiance, weighted by the rise, joins the run's.
+// A sample that raised its run's top: its radiance, times its weight, joins the run's.
 void lightRisingSample(IN(HbaoSample) smp, INOUT(OccluderRun) run) {
     lbool rising = run.lightRise > 0.0f;
     if (anyLane(rising)) {
@@ -159,6 +160,7 @@ void lightRisingSample(IN(HbaoSample) smp, INOUT(OccluderRun) run) {
     }
 }
 
+// Before the AO's step (takeSampleInRuns) closes the run that sample `smp` ends: its light.
 void lightEndingRun(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, IN(OccluderRun) run,
                     IN(HbaoOccluded) o, INOUT(HbaoGi) g) {
     if (!anyLane(run.going && run.raised)) { // only a run that rose adds when it ends
@@ -171,6 +173,7 @@ void lightEndingRun(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, IN
     }
 }
 
+// After the march: the light of a run still going (closeUnfinishedRun's, P.thickness deep).
 void lightUnfinishedRun(IN(OccluderRun) run, IN(HbaoSlice) sl, IN(HbaoOccluded) o, INOUT(HbaoGi) g) {
     lbool unclosed = run.going && run.raised;
     if (anyLane(unclosed)) {

@@ -18,8 +18,8 @@ struct OccluderRun {
     lfloat topF;               // linear falloff: F at its top
     lfloat rise;               // linear falloff: sum of W(r) times each sample's rise of F above
                                // the horizon and the run's earlier samples
-    lvec3 light;               // HBAO_GI: its rising samples' radiance, each weighted by its rise
-    lfloat lightWeight;        // ... the sum of those rises (pseudo-angles above the top before it)
+    lvec3 light;               // HBAO_GI: its rising samples' radiance, each times its weight (riseWeight)
+    lfloat lightWeight;        // ... the sum of those weights
     lfloat lightRise;          // ... the weight of this step's sample (0: it did not raise the top)
 };
 
@@ -120,8 +120,6 @@ void weighSampleInRun(IN(HbaoSample) smp, lbool inside, IN(HbaoReceiver) r, IN(H
     raiseLinearHorizon(select(onTangent, f, lfloat(0.0f)), weight, o);
 }
 
-// A sample where some lane's run goes on or starts: it continues the run, or ends it (which then
-// closes) and starts the next, or lies in none.
 // HBAO_GI: the weight of a sample's radiance in its run's light, the share of F_cos its rise over
 // the run's top (topA, topB) covers: dF_cos / dtheta = |n_p| sin(theta) sin(theta + B) (cosineF in
 // hbao_gi.glsl), theta its angle above the tangent, dtheta the pseudo-angle's rise times
@@ -157,6 +155,8 @@ lbool endingRun(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, IN(Occ
     return matters;
 }
 
+// A sample where some lane's run goes on or starts: it continues the run, or ends it (which then
+// closes) and starts the next, or lies in none.
 void followRun(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, INOUT(OccluderRun) run,
                INOUT(HbaoOccluded) o) {
     lbool continues = continuesRun(smp, sl, run);
@@ -183,7 +183,7 @@ void followRun(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, INOUT(O
     run.topA = select(higher, smp.a, run.topA);
     run.topB = select(higher, smp.b, run.topB);
     if (HBAO_GI != 0) {
-        // The light's weights: how far each sample raised the top (a new run's top is the horizon).
+        // The light's weights: the share of F_cos each sample's rise covers (a new run's top is the horizon).
         lvec3 none = lvec3(lfloat(0.0f), lfloat(0.0f), lfloat(0.0f));
         run.light = select(continues, run.light, none);
         run.lightWeight = select(continues, run.lightWeight, lfloat(0.0f));

@@ -12,7 +12,8 @@ namespace obscura::python {
 
 namespace {
 
-const char* kReadDeepDoc = R"doc(A deep EXR's surfaces as arrays, as the CLI reads a deep file (docs/deep.md), as a dict:
+const char* kReadDeepDoc = R"doc(A deep EXR's surfaces as arrays, read as the CLI reads a deep file
+(docs/deep.md), as a dict:
 
 'deep' float32 (H, W, 2L): per pixel up to L = deep_layers surfaces along its ray as (front,
 back) depths, nearest first (front inf past the pixel's last; back == front where no span is
