@@ -28,7 +28,7 @@ void runBlur(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, M
                                                    scratchLike(second, p.width, p.height, scratch2)};
     const auto tileFn = cpuKernelsFor({depth, normal, ConstPlane(first), ConstPlane(tmp.first)}).blurTile;
     auto pass = [&](const BlurTarget& src, const BlurTarget& dst, glm::ivec2 axis) {
-        const BlurSource from{ConstPlane(src.first), src.second.valid() ? ConstPlane(src.second) : ConstPlane{}};
+        const BlurSource from{ConstPlane(src.first), ConstPlane(src.second)};
         parallelForTiles(Box2i{0, 0, p.width, p.height}, kLaneTileWidth, kLaneTileHeight, threads,
                          [&](const Box2i& tile) { tileFn(p, depth, normal, from, dst, axis, radius, tile); });
     };

@@ -334,7 +334,6 @@ inline lvec2 operator-(lvec2 a, const glm::vec2& b) { return {a.x - b.x, a.y - b
 inline lvec2 operator*(lvec2 a, lfloat s) { return {a.x * s, a.y * s}; }
 inline lvec2 floor(lvec2 a) { return {floor(a.x), floor(a.y)}; }
 inline lfloat dot(lvec2 a, lvec2 b) { return a.x * b.x + a.y * b.y; }
-inline lvec2 select(lbool c, lvec2 a, lvec2 b) { return {select(c, a.x, b.x), select(c, a.y, b.y)}; }
 
 struct lvec3 {
     lfloat x, y, z;

@@ -23,7 +23,6 @@ inline vec4 select(bool c, vec4 a, vec4 b) { return c ? a : b; }
 inline float uniformValue(float x) { return x; }
 // Added for HBAO's visibility bitmask.
 inline uint select(bool c, uint a, uint b) { return c ? a : b; }
-inline vec2 select(bool c, vec2 a, vec2 b) { return c ? a : b; }
 inline uint lanesOr(uint a) { return a; }
 
 } // namespace obscura::glsl

@@ -28,7 +28,7 @@ void packSourceTile(ConstPlane rgb, ConstPlane albedo, MutablePlane words, int c
             if (times) c = c * sender.gather3(xs, glsl::lint(y), use);
             const glsl::lfloat packed = glsl::uintBitsToFloat(k.packSharedExponent(c)); // the word's bits
             const int count = tile.x1 - x < OBSCURA_LANES ? tile.x1 - x : OBSCURA_LANES;
-            for (int i = 0; i < count; ++i) words.at(x + i, y)[channel] = glsl::laneValue(packed, i);
+            glsl::storeRow(words.at(x, y) + channel, words.xStride, count, packed);
         }
 }
 

@@ -25,5 +25,3 @@ float uniformValue(float x) { return x; } // a value equal in every lane, as a u
 // Added for HBAO's visibility bitmask.
 uint select(bool c, uint a, uint b) { return c ? a : b; }
 uint lanesOr(uint a) { return a; } // the bits set in any lane: a pixel's own
-// Added for HBAO's light per occluder run.
-vec2 select(bool c, vec2 a, vec2 b) { return c ? a : b; }

@@ -41,11 +41,7 @@ public:
         const auto t0 = Clock::now();
         cpu::runHbaoGi(p, depth, normal, deep, radiance, ao, gi, threads_);
         st.timings.push_back({"hbao+gi", secondsSince(t0)});
-        if (blur > 0) { // AO and GI share the blur's weights: one pass over the geometry for both
-            const auto t1 = Clock::now();
-            cpu::runBlur(p, depth, normal, gi, ao, blur, threads_);
-            st.timings.push_back({"blur", secondsSince(t1)});
-        }
+        this->blur(p, depth, normal, {gi, ao}, blur, st);
     }
 
     void discs(const KernelParams& p, const cpu::DiscPyramid& pyramid, ConstPlane depth, ConstPlane normal,
@@ -82,12 +78,18 @@ public:
     }
 
 private:
-    // The geometry-aware blur of each plane in turn, timed as one stage.
+    // The geometry-aware blur of the planes, timed as one stage. Two planes in a row whose channels
+    // fit the blur's four (GI or DO beside AO) share its weights: one pass over the geometry for both.
     void blur(const KernelParams& p, ConstPlane depth, ConstPlane normal, std::initializer_list<MutablePlane> planes,
               int radius, OperatorStats& st) const {
         if (radius <= 0) return;
         const auto t0 = Clock::now();
-        for (const MutablePlane& plane : planes) cpu::runBlur(p, depth, normal, plane, radius, threads_);
+        for (auto plane = planes.begin(); plane != planes.end(); ++plane) {
+            const auto next = plane + 1;
+            const bool pair = next != planes.end() && plane->channels + next->channels <= 4;
+            cpu::runBlur(p, depth, normal, *plane, pair ? *next : MutablePlane{}, radius, threads_);
+            if (pair) ++plane;
+        }
         st.timings.push_back({"blur", secondsSince(t0)});
     }
 

@@ -8,9 +8,6 @@
 #include "cpu/parallel.h"
 
 #include <algorithm>
-#include <cmath>
-#include <cstdint>
-#include <cstring>
 #include <utility>
 
 namespace obscura {

@@ -212,12 +212,12 @@ py::dict computeSsdo(const py::object& depthObj, const py::object& normalObj, co
     return d;
 }
 
-// compute_gi: a method whose bounce has no DO (hbao's horizon light), its GI and AO.
 // compute_gi's deep= and deep_colour=: hbao's hidden layers and the colour each radiates.
 struct DeepArrayArgs {
     py::object deep, colour;
 };
 
+// compute_gi: a method whose bounce has no DO (hbao's horizon light), its GI and AO.
 py::dict computeGi(const py::object& depthObj, const py::object& normalObj, const ViewArgs& v, const SettingArgs& sa,
                    const py::object& radiance, const py::object& albedo, const DeepArrayArgs& deep) {
     Settings settings = settingsFrom(sa);
