@@ -53,13 +53,16 @@ struct IsaKernels {
     void (*hbaoDeepTile)(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep,
                          ConstPlane edges, MutablePlane ao, const Box2i& tile);
     // HBAO with its indirect light (kernels/hbao_gi.glsl): `radiance` the bounce source (one
-    // packed RGB word per texel and layer), `gi` the irradiance (3 channels); `deep` as hbaoDeepTile's
-    // with HBAO_DEEP, else invalid.
+    // packed RGB word per texel and layer), `facing` the visible surface's normal (one packed word
+    // per texel), `gi` the irradiance (3 channels); `deep` as hbaoDeepTile's with HBAO_DEEP, else invalid.
     void (*hbaoGiTile)(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep,
-                       ConstPlane radiance, ConstPlane edges, MutablePlane ao, MutablePlane gi, const Box2i& tile);
+                       ConstPlane radiance, ConstPlane facing, ConstPlane edges, MutablePlane ao, MutablePlane gi,
+                       const Box2i& tile);
     // HBAO's bounce source (kernels/shared_exponent.glsl): channel `channel` of `words` over
-    // `tile`, the packed word of `rgb`'s colour, times `albedo`'s where it is valid.
-    void (*packSourceTile)(ConstPlane rgb, ConstPlane albedo, MutablePlane words, int channel, const Box2i& tile);
+    // `tile`, the packed word of `rgb`'s colour, times `albedo`'s where it is valid; where `normal`
+    // is valid, `facing` its word in view space, facing the eye (p's camera; kernels/normal_word.glsl).
+    void (*packSourceTile)(ConstPlane rgb, ConstPlane albedo, ConstPlane normal, const glsl::KernelParams& p,
+                           MutablePlane words, int channel, MutablePlane facing, const Box2i& tile);
 };
 
 #define OBSCURA_DECLARE_ISA(isa) \

@@ -16,7 +16,7 @@ void ssaoTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, Mutabl
 void hbaoDeepTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, ConstPlane edges,
                   MutablePlane ao, const Box2i& tile);
 void hbaoGiTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, ConstPlane radiance,
-                ConstPlane edges, MutablePlane ao, MutablePlane gi, const Box2i& tile);
+                ConstPlane facing, ConstPlane edges, MutablePlane ao, MutablePlane gi, const Box2i& tile);
 
 const IsaKernels kernels{&hbaoTile,      &ssaoTile,  &ssdoTile,        &blurTile,     &discsBaseTile,
                          &discsTile,     &depthNormalTile, &hbaoDeepTile, &hbaoGiTile,  &packSourceTile};

@@ -59,11 +59,11 @@ void runHbaoDeep(const KernelParams& p, ConstPlane depth, ConstPlane normal, Con
 }
 
 void runHbaoGi(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, ConstPlane radiance,
-               MutablePlane ao, MutablePlane gi, int threads, const std::string& isa) {
-    const IsaKernels& k = kernelsFor(isa, {depth, normal, deep, radiance});
+               ConstPlane facing, MutablePlane ao, MutablePlane gi, int threads, const std::string& isa) {
+    const IsaKernels& k = kernelsFor(isa, {depth, normal, deep, radiance, facing});
     const Image edges = p.hbaoBorder != 0 ? hbaoEdgeTexels(depth, normal) : Image();
     parallelForTiles(Box2i{0, 0, p.width, p.height}, kLaneTileWidth, kLaneTileHeight, threads, [&](const Box2i& tile) {
-        k.hbaoGiTile(p, depth, normal, deep, radiance, edges.view(), ao, gi, tile);
+        k.hbaoGiTile(p, depth, normal, deep, radiance, facing, edges.view(), ao, gi, tile);
     });
 }
 

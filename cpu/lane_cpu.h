@@ -47,8 +47,9 @@ void runHbaoDeep(const KernelParams& p, ConstPlane depth, ConstPlane normal, Con
 // buffer (albedo applied, one packed RGB word per texel: kernels/hbao_gi.glsl), `gi` the irradiance
 // (3 channels). With deep input (`deep` valid, p.hbaoModel HBAO_DEEP) `radiance` holds
 // p.deepLayers words per texel: the visible layer's source, then each hidden layer's colour.
+// `facing` holds the visible surface's normal, one packed word per texel (kernels/normal_word.glsl).
 void runHbaoGi(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, ConstPlane radiance,
-               MutablePlane ao, MutablePlane gi, int threads, const std::string& isa = "");
+               ConstPlane facing, MutablePlane ao, MutablePlane gi, int threads, const std::string& isa = "");
 
 inline void runHbao(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, int threads,
                     const std::string& isa = "") {

@@ -87,6 +87,13 @@ struct LaneCpuKernel {
         const lint i = (lint(corner.y) - P.originY) * radianceYStride + (lint(corner.x) - P.originX) * radianceXStride;
         return floatBitsToUint(gather(radianceData + layer, i, use));
     }
+    // ... and the visible surface's normal (one packed word per texel, kernels/normal_word.glsl).
+    const float* facingData = nullptr;
+    int facingXStride = 0, facingYStride = 0;
+    luint gatherNormalWordAtDisplay(lvec2 corner, lbool use) const {
+        const lint i = (lint(corner.y) - P.originY) * facingYStride + (lint(corner.x) - P.originX) * facingXStride;
+        return floatBitsToUint(gather(facingData, i, use));
+    }
     lfloat gatherEdgeDepth(lvec2 edgeCorner, lbool use) const { return gather(edgeData, edgeRecord(edgeCorner), use); }
     lvec4 gatherEdgeTexel(lvec2 edgeCorner, lbool use) const { return gatherRecord4(edgeData, edgeRecord(edgeCorner), use); }
 
@@ -115,7 +122,7 @@ enum class Entry { Hbao, Ssao };
 
 // The planes a tile reads and writes; those a kernel does not use are invalid.
 struct TilePlanes {
-    ConstPlane depth, normal, deep, edges, radiance;
+    ConstPlane depth, normal, deep, edges, radiance, facing;
     MutablePlane ao, gi;
 };
 
@@ -141,6 +148,9 @@ void runTile(const KernelParams& p, const TilePlanes& t, const Box2i& tile) {
     k.radianceData = t.radiance.data;
     k.radianceXStride = (int)t.radiance.xStride;
     k.radianceYStride = (int)t.radiance.yStride;
+    k.facingData = t.facing.data;
+    k.facingXStride = (int)t.facing.xStride;
+    k.facingYStride = (int)t.facing.yStride;
     const ConstPlane& depth = t.depth;
     k.depthData = depth.data;
     k.depthXStride = (int)depth.xStride;
@@ -218,24 +228,24 @@ void runHbaoGiPlan(const KernelParams& p, const TilePlanes& t, const Box2i& tile
 void hbaoTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane edges, MutablePlane ao,
               const Box2i& tile) {
     if (p.hbaoModel == glsl::HBAO_DEEP) std::abort(); // deep layers come through hbaoDeepTile
-    runHbaoPlan(p, TilePlanes{depth, normal, {}, edges, {}, ao, {}}, tile);
+    runHbaoPlan(p, TilePlanes{depth, normal, {}, edges, {}, {}, ao, {}}, tile);
 }
 
 void hbaoDeepTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, ConstPlane edges,
                   MutablePlane ao, const Box2i& tile) {
-    runHbaoPlan(p, TilePlanes{depth, normal, deep, edges, {}, ao, {}}, tile);
+    runHbaoPlan(p, TilePlanes{depth, normal, deep, edges, {}, {}, ao, {}}, tile);
 }
 
 void hbaoGiTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, ConstPlane radiance,
-                ConstPlane edges, MutablePlane ao, MutablePlane gi, const Box2i& tile) {
-    runHbaoGiPlan(p, TilePlanes{depth, normal, deep, edges, radiance, ao, gi}, tile);
+                ConstPlane facing, ConstPlane edges, MutablePlane ao, MutablePlane gi, const Box2i& tile) {
+    runHbaoGiPlan(p, TilePlanes{depth, normal, deep, edges, radiance, facing, ao, gi}, tile);
 }
 
 void ssaoTile(const KernelParams& p, ConstPlane depth, ConstPlane normal, MutablePlane ao, const Box2i& tile) {
     // SSAO reads the weighting and the falloff, no HBAO switch (HBAO's horizon instantiations serve).
     constexpr Entry S = Entry::Ssao;
     constexpr int H = glsl::HBAO_HORIZON;
-    const TilePlanes t{depth, normal, {}, {}, {}, ao, {}};
+    const TilePlanes t{depth, normal, {}, {}, {}, {}, ao, {}};
     if (p.cosineWeighting != 0) {
         if (p.linearFalloff != 0) runTileFor<S, 1, 1, H, 0, 0>(p, t, tile);
         else runTileFor<S, 1, 0, H, 0, 0>(p, t, tile);

@@ -1,12 +1,17 @@
 // Body of packSourceTile for one instruction set (see cpu/lane_kernel.h, cpu/isa_kernels.cpp):
-// kernels/shared_exponent.glsl's packing of the bounce source, a row of OBSCURA_LANES texels at a time.
+// kernels/shared_exponent.glsl's packing of the bounce source, and kernels/normal_word.glsl's of
+// its surface's normal (in view space, facing the eye) in a plane of its own, a row of
+// OBSCURA_LANES texels at a time.
 #include "cpu/lane_kernel.h"
 
 namespace obscura::glsl {
 namespace {
 
 struct PackCpuKernel {
+    KernelParams P;
 #include "kernels/shared_exponent.glsl"
+#include "kernels/view_ray.glsl"
+#include "kernels/normal_word.glsl"
 };
 
 } // namespace
@@ -15,9 +20,11 @@ struct PackCpuKernel {
 namespace obscura::cpu::OBSCURA_ISA {
 namespace {
 
-void packSourceTile(ConstPlane rgb, ConstPlane albedo, MutablePlane words, int channel, const Box2i& tile) {
+void packSourceTile(ConstPlane rgb, ConstPlane albedo, ConstPlane normal, const KernelParams& p, MutablePlane words,
+                    int channel, MutablePlane facing, const Box2i& tile) {
     glsl::PackCpuKernel k;
-    const glsl::LanePlane colour(rgb, true), sender(albedo, true);
+    k.P = p;
+    const glsl::LanePlane colour(rgb, true), sender(albedo, true), normals(normal, true);
     const bool times = albedo.valid();
     const auto lane = glsl::laneIndex();
     for (int y = tile.y0; y < tile.y1; ++y)
@@ -29,6 +36,11 @@ void packSourceTile(ConstPlane rgb, ConstPlane albedo, MutablePlane words, int c
             const glsl::lfloat packed = glsl::uintBitsToFloat(k.packSharedExponent(c)); // the word's bits
             const int count = tile.x1 - x < OBSCURA_LANES ? tile.x1 - x : OBSCURA_LANES;
             glsl::storeRow(words.at(x, y) + channel, words.xStride, count, packed);
+            if (!normal.valid()) continue;
+            const glsl::lvec3 n = glm::mat3(p.normalToView) * normals.gather3(xs, glsl::lint(y), use);
+            const glsl::lvec2 centre(glsl::lfloat(xs) + float(p.originX) + 0.5f, float(y + p.originY) + 0.5f);
+            const glsl::luint word = k.packNormalWord(n, k.viewVector(k.viewRay(centre)));
+            glsl::storeRow(facing.at(x, y), facing.xStride, count, glsl::uintBitsToFloat(word));
         }
 }
 

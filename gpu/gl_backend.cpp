@@ -100,10 +100,10 @@ GLuint compileKernel(const GlApi& gl, const GlKernel& k, const std::string& defi
         {"glsl_prelude.glsl", kernelText("glsl_prelude.glsl")},
         {"kernel_params.glsl", kernelText("kernel_params.glsl")},
         {"gl_kernels.cpp (bindings)", kGlBindings},
-        {"common.glsl", kernelText("common.glsl")},
-        // In every program: disc AO's elements use the depth normals too.
-        {"depth_normal.glsl", kernelText("depth_normal.glsl")},
     };
+    appendKernelParts("common.glsl", parts);
+    // In every program: disc AO's elements use the depth normals too.
+    parts.push_back({"depth_normal.glsl", kernelText("depth_normal.glsl")});
     if (!defines.empty()) parts.push_back({std::string(k.name) + " (defines)", defines});
     if (std::strcmp(k.file, "depth_normal.glsl") != 0) appendKernelParts(k.file, parts);
     parts.push_back({"gl_kernels.cpp (main)", k.main});
@@ -393,16 +393,18 @@ void GlBackend::runSsdo(const glsl::KernelParams& p, const SsdoInputs& in, Mutab
 }
 
 void GlBackend::runHbaoGi(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep,
-                          ConstPlane radiance, MutablePlane ao, MutablePlane gi, int blur, GlTimings* timings,
-                          long long maxTexels) {
+                          ConstPlane radiance, ConstPlane facing, MutablePlane ao, MutablePlane gi, int blur,
+                          GlTimings* timings, long long maxTexels) {
     requireEveryBinding("hbao's GI");
     GlTimings t;
     runTiled(
         p, depth, normal, deep, blur, maxTexels, t,
         [&](const Box2i& buf, const glsl::KernelParams& q) {
             const size_t texels = (size_t)buf.width() * buf.height();
-            // With deep input the radiance has a word per layer.
+            // With deep input the radiance has a word per layer. The normals' words come through
+            // the albedo binding, which the light does not read (the source has the albedo applied).
             uploadPlane(kRadiance, radiance, buf, deep.valid() ? q.deepLayers : 1);
+            uploadPlane(kAlbedo, facing, buf, 1);
             uploadBuffer(kSignalOut, GL_SHADER_STORAGE_BUFFER, nullptr, texels * sizeof(float));
             uploadBuffer(kIndirect, GL_SHADER_STORAGE_BUFFER, nullptr, texels * 3 * sizeof(float));
         },

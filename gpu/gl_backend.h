@@ -51,8 +51,10 @@ public:
     // HBAO with its indirect light (kernels/hbao_gi.glsl): AO and the irradiance `gi` (RGB) from
     // `radiance`, the bounce source (albedo applied, one packed RGB word per texel), then `blur` passes on each.
     // With deep input (`deep` valid, as runHbaoDeep's), `radiance` holds p.deepLayers words per texel.
+    // `facing`: the visible surface's normal, one packed word per texel.
     void runHbaoGi(const glsl::KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, ConstPlane radiance,
-                   MutablePlane ao, MutablePlane gi, int blur, GlTimings* timings = nullptr, long long maxTexels = 0);
+                   ConstPlane facing, MutablePlane ao, MutablePlane gi, int blur, GlTimings* timings = nullptr,
+                   long long maxTexels = 0);
 
     // View-space unit normals from the depth alone (kernels/depth_normal.glsl), 3 channels.
     void runDepthNormals(const glsl::KernelParams& p, ConstPlane depth, MutablePlane normal, GlTimings* timings = nullptr);

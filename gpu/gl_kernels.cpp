@@ -66,10 +66,15 @@ vec4 gatherEdgeTexel(vec2 edgeCorner, bool use) {
 }
 vec3 gatherRadiance(int x, int y, bool use) { return use ? loadRadiance(ivec2(x, y)) : vec3(0.0f); }
 // HBAO's indirect light: packed words in the radiance binding (kernels/hbao_gi.glsl), one per texel
-// and layer (P.deepLayers of them with deep input, else one).
+// and layer (P.deepLayers of them with deep input, else one); the visible surface's normal's word
+// in the albedo binding (which the light does not read: its source has the albedo applied).
 uint gatherRadianceBitsAtDisplay(vec2 corner, int layer, bool use) {
     int i = texelIndex(ivec2(int(corner.x) - P.originX, int(corner.y) - P.originY));
     return use ? floatBitsToUint(radianceData[i * max(P.deepLayers, 1) + layer]) : 0u;
+}
+uint gatherNormalWordAtDisplay(vec2 corner, bool use) {
+    int i = texelIndex(ivec2(int(corner.x) - P.originX, int(corner.y) - P.originY));
+    return use ? floatBitsToUint(albedoData[i]) : 0u;
 }
 vec3 gatherAlbedo(int x, int y, bool use) { return use ? loadAlbedo(ivec2(x, y)) : vec3(1.0f); }
 vec3 gatherEnv(int x, int y, bool use) { return use ? loadEnv(ivec2(x, y)) : vec3(0.0f); }

@@ -65,11 +65,7 @@ lfloat surfaceDepth(lint x, lint y, OUT(lbool) surface) {
     return select(surface, depth, 1.0f);
 }
 
-// Direction through a display position, scaled so z = -1 (perspective); for an
-// orthographic camera, the position on the image plane with z = 0.
-lvec3 viewRay(lvec2 displayPos) {
-    return lvec3((displayPos.x - P.cx) * P.invFx, (P.cy - displayPos.y) * P.invFy, P.orthographic != 0 ? 0.0f : -1.0f);
-}
+#include "view_ray.glsl"
 
 // View-space position (OpenGL camera: looking down -Z) of a point on `ray` at a given depth.
 lvec3 positionOnRay(lvec3 ray, lfloat depth) {
@@ -146,15 +142,6 @@ lvec3 planeStep(lvec3 ray, lfloat depth, lvec3 m, lvec2 delta, lfloat maxLength)
     lfloat len2 = dot(away, away);
     lfloat inv = inversesqrt(max(len2, 1e-36f));
     return away * min(scale, maxLength * inv);
-}
-
-// Unit vector towards the eye. Taken from the pixel's ray, not its position, so
-// it stays exact at any depth (tiny depths would underflow a normalisation).
-lvec3 viewVector(lvec3 ray) {
-    if (P.orthographic != 0) {
-        return lvec3(0.0f, 0.0f, 1.0f);
-    }
-    return normalize(-ray);
 }
 
 // Image-plane direction (display pixels, y down) in which a point on `ray` moves

@@ -96,10 +96,11 @@ lfloat hbaoLanes(lint x, lint y) {
             //    attenuated rise), sets its interval from its front to T behind it (the bitmask
             //    paper), first joins its occluder's run, or adds every layer the renderer saw.
             if (HBAO_RUNS != 0) {
+                RunStep st = runStepAt(smp, r, slice, run);
                 if (HBAO_GI != 0) {
-                    lightEndingRun(smp, r, slice, run, o, lit); // before the run's close raises the horizon
+                    lightEndingRun(st, slice, run, o, lit); // before the run's close raises the horizon
                 }
-                takeSampleInRuns(smp, r, slice, run, o);
+                takeSampleInRuns(smp, r, slice, st, run, o);
                 if (HBAO_GI != 0) {
                     lightRisingSample(smp, run);
                 }

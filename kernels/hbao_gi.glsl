@@ -12,10 +12,13 @@
 // behind it, sectors above the horizon when apart from it (hbao_bitmask.glsl's 32 sectors, each
 // weighed exactly). Where the AO applies samples per occluder run (HBAO_RUNS: the measured
 // thickness), the light does too, when the run ends, with the radiance of the samples that raised
-// it. Past the buffer's edge the border policy's continued surface radiates its edge texel's
-// light; sky samples send nothing.
+// it, if the receiver sees the face of the first (its normal, packed beside the radiance, points
+// back at the receiver): a face turned away stands for one the buffer does not hold. Past the
+// buffer's edge the border policy's continued surface radiates its edge texel's light; sky
+// samples send nothing.
 
-#include "shared_exponent.glsl" // the bounce source's texel word
+#include "shared_exponent.glsl" // the bounce source's texel word (gatherRadianceBitsAtDisplay)
+#include "normal_word.glsl"     // ... and its surface's normal's (gatherNormalWordAtDisplay)
 
 // Irradiance of the receiver's lanes, written by hbaoLanes when HBAO_GI is 1 (a global: GLSL's
 // per-invocation variable, a member of the CPU's kernel object).
@@ -119,6 +122,17 @@ void coverGi(lfloat a, lfloat b, lfloat backA, lfloat backB, lbool counts, lvec2
     }
 }
 
+// Whether the receiver sees the face the buffer holds at sample `smp`: that face's normal, turned
+// towards the eye, points back along X. A sample on an occluder's far side (a pole's front, seen
+// from the ground behind the pole) stands in for a face the receiver sees and the buffer does not
+// hold, so its light is unknown: it sends none (screen space may miss light, never add it).
+lbool facesReceiver(luint normalBits, IN(HbaoSample) smp, lbool use) {
+    // The word's normal faces the eye. Within about 3 degrees of edge-on counts as facing (|n| >=
+    // 511 in the word): a receiver at a crease sits on both faces, up to its pixel's rounding.
+    lfloat away = dot(normalFromWord(normalBits), smp.X);
+    return use && (away < 0.0f || away * away < 680.0f * smp.r2);
+}
+
 // A sample's light without runs: its interval, from its front to the fixed thickness behind it
 // (pushed along -V, as the AO's; the horizon's: down to the tangent).
 void takeSampleGi(IN(HbaoSample) smp, IN(HbaoSlice) sl, INOUT(HbaoGi) g) {
@@ -130,9 +144,10 @@ void takeSampleGi(IN(HbaoSample) smp, IN(HbaoSlice) sl, INOUT(HbaoGi) g) {
 // HBAO_RUNS's light (the default, measured thickness): the AO applies a run when it ends, as one
 // interval from its lowest back to its top, and so does the light, before the AO's close moves
 // the horizon. The run's newly covered measure takes the mean radiance of the samples that raised
-// its top, each weighted by its share of F_cos (riseWeight): the light keeps F at the horizon, its
-// sum and the run's radiance beside the AO's state (the horizon and sectors are the AO's), and
-// computes F once a closing run, not once a sample.
+// its top, each weighted by its share of F_cos (riseWeight), where the receiver sees the face of
+// the run's first rising sample (the nearest face it meets along the slice); else the run sends
+// nothing. The light keeps F at the horizon, its sum and the run's radiance beside the AO's state
+// (the horizon and sectors are the AO's), and computes F once a closing run, not once a sample.
 void litHorizonIsOccluded(IN(HbaoOccluded) o, INOUT(HbaoGi) g) {
     g.horizonA = o.horizonA;
     g.horizonB = o.horizonB;
@@ -148,28 +163,31 @@ void lightRun(lbool ends, lfloat t, IN(OccluderRun) run, IN(ProjectedNormal) np,
     runBack(run, t, np, backA, backB);
     lbool gains;
     lfloat gained = newlyCovered(run.topA, run.topB, backA, backB, ends, np, g, gains);
-    g.irradiance += run.light * (gained / max(run.lightWeight, 1e-30f));
+    lvec3 none = lvec3(lfloat(0.0f), lfloat(0.0f), lfloat(0.0f));
+    g.irradiance += select(run.lightFaces, run.light * (gained / max(run.lightWeight, 1e-30f)), none);
 }
 
-// A sample that raised its run's top: its radiance, times its weight, joins the run's.
+// A sample that raised its run's top: its radiance, times its weight, joins the run's. The run's
+// first such sample decides whether the run sends: it is the face the receiver meets first. (A
+// test at every rising sample, which let a step's tread, sampled past the nose it stands for,
+// leave its share to the riser, cost a gather a step for 1% of the error: the horizon-GI note.)
 void lightRisingSample(IN(HbaoSample) smp, INOUT(OccluderRun) run) {
     lbool rising = run.lightRise > 0.0f;
     if (anyLane(rising)) {
+        lbool first = rising && run.lightWeight <= 0.0f;
+        if (anyLane(first)) {
+            lbool faces = facesReceiver(gatherNormalWordAtDisplay(smp.corner, first), smp, first);
+            run.lightFaces = (first && faces) || (!first && run.lightFaces);
+        }
         run.light += sharedExponentRgb(gatherRadianceBitsAtDisplay(smp.corner, 0, rising)) * run.lightRise;
         run.lightWeight += run.lightRise;
     }
 }
 
-// Before the AO's step (takeSampleInRuns) closes the run that sample `smp` ends: its light.
-void lightEndingRun(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, IN(OccluderRun) run,
-                    IN(HbaoOccluded) o, INOUT(HbaoGi) g) {
-    if (!anyLane(run.going && run.raised)) { // only a run that rose adds when it ends
-        return;
-    }
-    lfloat t;
-    lbool matters = endingRun(smp, r, sl, run, continuesRun(smp, sl, run), t);
-    if (anyLane(matters)) {
-        lightRun(matters, t, run, sl.np, o, g);
+// Before the AO's step (takeSampleInRuns) closes the run that step `st` ends: its light.
+void lightEndingRun(IN(RunStep) st, IN(HbaoSlice) sl, IN(OccluderRun) run, IN(HbaoOccluded) o, INOUT(HbaoGi) g) {
+    if (anyLane(st.matters)) {
+        lightRun(st.matters, st.t, run, sl.np, o, g);
     }
 }
 

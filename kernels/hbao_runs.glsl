@@ -21,6 +21,7 @@ struct OccluderRun {
     lvec3 light;               // HBAO_GI: its rising samples' radiance, each times its weight (riseWeight)
     lfloat lightWeight;        // ... the sum of those weights
     lfloat lightRise;          // ... the weight of this step's sample (0: it did not raise the top)
+    lbool lightFaces;          // ... the receiver sees the face of its first rising sample (it sends)
 };
 
 OccluderRun noRun() {
@@ -31,6 +32,7 @@ OccluderRun noRun() {
     run.raised = run.going = lfloat(0.0f) > 0.0f; // false in every lane
     run.light = lvec3(lfloat(0.0f), lfloat(0.0f), lfloat(0.0f));
     run.lightWeight = run.lightRise = lfloat(0.0f);
+    run.lightFaces = run.raised;
     return run;
 }
 
@@ -155,16 +157,35 @@ lbool endingRun(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, IN(Occ
     return matters;
 }
 
+// What sample `smp` does to the run going on, found once a step for the AO's close and the
+// light's (hbao_gi.glsl), which acts before it: whether it continues the run, and where it ends
+// one that adds (`matters`), that run's thickness t.
+struct RunStep {
+    lbool continues;
+    lbool matters;
+    lfloat t;
+};
+
+RunStep runStepAt(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, IN(OccluderRun) run) {
+    RunStep st;
+    st.continues = lfloat(0.0f) > 0.0f; // false in every lane
+    st.matters = st.continues;
+    st.t = lfloat(P.thickness);
+    if (anyLane(smp.above || run.going)) {
+        st.continues = continuesRun(smp, sl, run);
+        st.matters = endingRun(smp, r, sl, run, st.continues, st.t);
+    }
+    return st;
+}
+
 // A sample where some lane's run goes on or starts: it continues the run, or ends it (which then
 // closes) and starts the next, or lies in none.
-void followRun(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, INOUT(OccluderRun) run,
+void followRun(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, IN(RunStep) st, INOUT(OccluderRun) run,
                INOUT(HbaoOccluded) o) {
-    lbool continues = continuesRun(smp, sl, run);
+    lbool continues = st.continues;
     lbool ends = run.going && !continues;
-    lfloat t;
-    lbool matters = endingRun(smp, r, sl, run, continues, t);
-    if (anyLane(matters)) {
-        closeRuns(matters, t, run, sl.np, o);
+    if (anyLane(st.matters)) {
+        closeRuns(st.matters, st.t, run, sl.np, o);
     }
     // A sample that does not continue a run starts one, or lies in none: either way the run's
     // state restarts from it (outside a run the top stays at the horizon).
@@ -201,9 +222,9 @@ void followRun(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, INOUT(O
     run.going = smp.above;
 }
 
-// HBAO_RUNS's step.
-void takeSampleInRuns(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, INOUT(OccluderRun) run,
-                      INOUT(HbaoOccluded) o) {
+// HBAO_RUNS's step, `st` its runStepAt.
+void takeSampleInRuns(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, IN(RunStep) st,
+                      INOUT(OccluderRun) run, INOUT(HbaoOccluded) o) {
     if (!anyLane(smp.above || run.going)) {
         // No run goes on and none starts (a receiver on open ground): only the linear falloff's
         // on-tangent samples need this step.
@@ -216,7 +237,7 @@ void takeSampleInRuns(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, 
             raiseLinearHorizon(f, weight, o);
         }
     } else {
-        followRun(smp, r, sl, run, o);
+        followRun(smp, r, sl, st, run, o);
     }
 }
 

@@ -103,7 +103,8 @@ TEST(GlStridedViews, HbaoAnyLayoutGivesThePackedResult) {
     }
 }
 
-// Deep input and HBAO's GI: strided deep pairs, radiance words and outputs give the packed result.
+// Deep input and HBAO's GI: strided deep pairs, radiance and normal words and outputs give the
+// packed result.
 TEST(GlStridedViews, DeepGiAnyLayoutGivesThePackedResult) {
     const SceneBuffers scene = studio();
     const Image deep = deepLayersFromDepth(scene.depth, {{0.0f, 0.0f}, {0.05f, 0.3f}, {0.5f, 0.5f}});
@@ -119,15 +120,23 @@ TEST(GlStridedViews, DeepGiAnyLayoutGivesThePackedResult) {
         const uint32_t m = 64u * (uint32_t)(i % 3 + 1), bits = 16u << 27 | m | m << 9 | m << 18;
         std::memcpy(&words.pixels[i], &bits, sizeof bits);
     }
+    Image facing(W, H, 1);  // the normals' words: any bits, read alike whatever the layout
+    for (size_t i = 0; i < facing.pixels.size(); ++i) {
+        const uint32_t bits = (uint32_t)(i * 2654435761u) & 0x3fffffffu;
+        std::memcpy(&facing.pixels[i], &bits, sizeof bits);
+    }
     for (const std::string& device : glDevicesUnderTest()) {
         gpu::GlBackend& gl = gpu::glBackendFor(device);
         for (long long maxTexels : {0LL, kManyTiles}) {
             Image ao(W, H, 1), gi(W, H, 3);
-            gl.runHbaoGi(p, in.depth, in.normal, in.deepLayers, words.view(), ao.view(), gi.view(), 1, nullptr, maxTexels);
+            gl.runHbaoGi(p, in.depth, in.normal, in.deepLayers, words.view(), facing.view(), ao.view(), gi.view(), 1,
+                         nullptr, maxTexels);
             for (const Layout& l : kLayouts) {
                 const Strided sDeep(deep, 6 + l.xExtra, l.rowPad, kNaN), sWords(words, 3 + l.xExtra, l.rowPad, kNaN);
+                const Strided sFacing(facing, 1 + l.xExtra, l.rowPad, kNaN);
                 Strided sAo(W, H, 1, 1 + l.xExtra, l.rowPad), sGi(W, H, 3, 3 + l.xExtra, l.rowPad);
-                gl.runHbaoGi(p, in.depth, in.normal, sDeep.view, sWords.view, sAo.view, sGi.view, 1, nullptr, maxTexels);
+                gl.runHbaoGi(p, in.depth, in.normal, sDeep.view, sWords.view, sFacing.view, sAo.view, sGi.view, 1, nullptr,
+                             maxTexels);
                 EXPECT_TRUE(sameBits(ao, sAo.packed())) << device << " " << maxTexels << " extra " << l.xExtra;
                 EXPECT_TRUE(sameBits(gi, sGi.packed())) << device << " " << maxTexels << " extra " << l.xExtra;
                 EXPECT_EQ(sAo.sparesWritten() + sGi.sparesWritten(), 0) << device;

@@ -135,7 +135,8 @@ TEST(HbaoDeepGi, OpenGlMatchesCpu) {
 }
 
 // Several GL tiles, each with its apron, read the layers and each layer's radiance word at the
-// right offsets: the backends called directly, on words of grey 0.25, 0.5 and 0.75 for layers 0..2.
+// right offsets: the backends called directly, on words of grey 0.25, 0.5 and 0.75 for layers 0..2
+// (and no normals' words: the light per sample does not read them).
 TEST(HbaoDeepGi, GlTilesReadEachLayersWord) {
     const int W = 160, H = 120;
     const SceneBuffers sb = renderScene(studioScene(), studioCamera(W, H), W, H);
@@ -144,16 +145,17 @@ TEST(HbaoDeepGi, GlTilesReadEachLayersWord) {
     in.deepLayers = deep.view();
     const KernelParams p = makeKernelParams(in, deepGiSettings(1.0f, 0.5f, 8, 8));
     ASSERT_EQ(p.deepLayers, 3);
-    Image words(W, H, 3);
+    Image words(W, H, 3), facing(W, H, 1, 0.0f);
     for (size_t i = 0; i < words.pixels.size(); ++i) {
         const uint32_t m = 64u * (uint32_t)(i % 3 + 1), bits = 16u << 27 | m | m << 9 | m << 18;  // m 2^(16 - 24)
         std::memcpy(&words.pixels[i], &bits, sizeof bits);
     }
     Image ao(W, H, 1), gi(W, H, 3, 0.0f), glAo(W, H, 1), glGi(W, H, 3, 0.0f);
-    cpu::runHbaoGi(p, in.depth, in.normal, in.deepLayers, words.view(), ao.view(), gi.view(), 0);
+    cpu::runHbaoGi(p, in.depth, in.normal, in.deepLayers, words.view(), facing.view(), ao.view(), gi.view(), 0);
     gpu::GlTimings t;
     gpu::glBackendFor(firstGlDevice())
-        .runHbaoGi(p, in.depth, in.normal, in.deepLayers, words.view(), glAo.view(), glGi.view(), 0, &t, 110 * 110);
+        .runHbaoGi(p, in.depth, in.normal, in.deepLayers, words.view(), facing.view(), glAo.view(), glGi.view(), 0, &t,
+                   110 * 110);
     EXPECT_GT(t.tiles, 1);
     double most = 0;
     for (float v : gi.pixels) most = std::max(most, (double)v);

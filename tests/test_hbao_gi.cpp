@@ -43,8 +43,10 @@ double cornerIrradiance(double L, double c) { return M_PI * L * (1.0 - cornerAo(
 // The largest |E - pi L (1 - AO)| over the pixels: 0 where the light's coverage is the cosine AO's.
 double mostFromOccluded(const OperatorOutputs& out, float L) {
     double most = 0;
-    for (size_t i = 0; i < out.ao.pixels.size(); ++i)
-        most = std::max(most, std::abs(out.indirect.pixels[3 * i] - M_PI * L * (1.0 - out.ao.pixels[i])));
+    for (size_t i = 0; i < out.ao.pixels.size(); ++i) {
+        double d = std::abs(out.indirect.pixels[3 * i] - M_PI * L * (1.0 - out.ao.pixels[i]));
+        most = std::max(most, d);
+    }
     return most;
 }
 
@@ -102,19 +104,58 @@ TEST(HbaoGi, RightAngleWallMatchesClosedForm) {
 }
 
 // With the measured thickness the light takes each occluder's run as the AO does, as one interval
-// when it ends: spheres, boxes and their shadows under a uniform source give E = pi L (1 - AO) at
-// every pixel, whatever the runs' radiance weights.
-TEST(HbaoGi, MeasuredThicknessLightCoversWhatTheAoOccludes) {
+// when it ends, lit by the faces the receiver sees: spheres, boxes and their shadows under a
+// uniform source never receive more than E = pi L (1 - AO), at any pixel, whatever the runs'
+// radiance weights, and most of it where occluders are in reach.
+TEST(HbaoGi, MeasuredThicknessLightNeverExceedsWhatTheAoOccludes) {
     const int W = 160, H = 120;
     SceneBuffers sb = renderScene(studioScene(), studioCamera(W, H), W, H);
     const float L = 1.5f;
     const Image radiance = uniformRadiance(sb, L);
     for (float R : {0.3f, 0.8f, 3.0f}) {
         const OperatorOutputs out = runGi(sb, radiance, giSettings(R, kThicknessAuto, Weighting::Cosine, 8, 8));
-        double lit = 0;
-        for (size_t i = 0; i < out.ao.pixels.size(); ++i) lit += out.indirect.pixels[3 * i];
-        EXPECT_GT(lit, 0.002 * M_PI * L * out.ao.pixels.size()) << "R " << R; // occluders in reach
-        EXPECT_LE(mostFromOccluded(out, L), 1e-4 * M_PI * L) << "R " << R;
+        double lit = 0, occluded = 0, most = 0;
+        for (size_t i = 0; i < out.ao.pixels.size(); ++i) {
+            const double fromOccluded = M_PI * L * (1.0 - out.ao.pixels[i]);
+            lit += out.indirect.pixels[3 * i];
+            occluded += fromOccluded;
+            most = std::max(most, out.indirect.pixels[3 * i] - fromOccluded);
+        }
+        EXPECT_LE(most, 1e-4 * M_PI * L) << "R " << R;
+        // The faces the camera sees face most receivers too (a box's far side is a small share).
+        EXPECT_GT(lit, 0.7 * occluded) << "R " << R;
+    }
+}
+
+// A wall-like box on a floor, the camera in front of it and above, the light per occluder run
+// (the measured thickness): the floor in front sees the box's front face, which the buffer holds,
+// and receives pi L (1 - AO) under a uniform source; the floor behind sees only the box's back,
+// which the buffer does not hold (its front and top face away from it), so it receives nothing,
+// though the box occludes it.
+TEST(HbaoGi, FloorBehindABoxSeesNoneOfTheFacesTheBufferHolds) {
+    const int W = 200, H = 160;
+    std::vector<Rect> rects = {Rect{dvec3(-8, 0, -8), dvec3(16, 0, 0), dvec3(0, 0, 16)}};
+    addBox(rects, dvec3(-3.0, 0.0, -0.5), dvec3(3.0, 2.0, 0.5));
+    const Camera cam = lookAtPerspective(dvec3(0.0, 8.0, 4.0), dvec3(0.0, 0.0, -1.5), 60.0 * M_PI / 180, W, H);
+    SceneBuffers sb = renderScene(rects, cam, W, H);
+    const float L = 1.0f;
+    const Image radiance = uniformRadiance(sb, L);
+    const OperatorOutputs out = runGi(sb, radiance, giSettings(3.0f, kThicknessAuto));
+    for (double x : {-0.6, 0.0, 0.6}) {
+        int px, py;
+        // Behind: visible from 1.5 behind the box's back face (the box hides what is nearer).
+        for (double z : {-2.2, -2.4, -2.6}) {
+            ASSERT_TRUE(sb.pixelOf(dvec3(x, 0, z), px, py));
+            EXPECT_LT(out.ao.at(px, py)[0], 0.95f) << "x " << x << " z " << z;
+            EXPECT_LE(out.indirect.at(px, py)[1], 1e-3 * M_PI * L) << "x " << x << " z " << z;
+        }
+        // In front: exactly what the AO occludes, lit.
+        for (double z : {0.7, 1.0, 1.5}) {
+            ASSERT_TRUE(sb.pixelOf(dvec3(x, 0, z), px, py));
+            const double fromOccluded = M_PI * L * (1.0 - out.ao.at(px, py)[0]);
+            EXPECT_GT(fromOccluded, 0.05 * M_PI * L) << "x " << x << " z " << z;
+            EXPECT_NEAR(out.indirect.at(px, py)[1], fromOccluded, 1e-4 * M_PI * L) << "x " << x << " z " << z;
+        }
     }
 }
 

@@ -38,9 +38,10 @@ public:
                     MutablePlane ao, int blur, OperatorStats& st) const = 0;
     // HBAO with its indirect light: AO into `ao` and the irradiance from `radiance` (the bounce
     // source, albedo applied, one packed word per texel: core/method_runs.cpp) into `gi`, then the
-    // blur of both. With deep layers (`deep` valid), one word per texel and layer.
+    // blur of both. With deep layers (`deep` valid), one word per texel and layer. `facing`: the
+    // visible surface's normal, one packed word per texel.
     virtual void hbaoGi(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, ConstPlane radiance,
-                        MutablePlane ao, MutablePlane gi, int blur, OperatorStats& st) const = 0;
+                        ConstPlane facing, MutablePlane ao, MutablePlane gi, int blur, OperatorStats& st) const = 0;
     // One traversal of the disc pyramid (built on the CPU; both devices read it), then the blur.
     virtual void discs(const KernelParams& p, const cpu::DiscPyramid& pyramid, ConstPlane depth, ConstPlane normal,
                        MutablePlane ao, int blur, OperatorStats& st) const = 0;

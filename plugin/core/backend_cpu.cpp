@@ -37,9 +37,9 @@ public:
     }
 
     void hbaoGi(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, ConstPlane radiance,
-                MutablePlane ao, MutablePlane gi, int blur, OperatorStats& st) const override {
+                ConstPlane facing, MutablePlane ao, MutablePlane gi, int blur, OperatorStats& st) const override {
         const auto t0 = Clock::now();
-        cpu::runHbaoGi(p, depth, normal, deep, radiance, ao, gi, threads_);
+        cpu::runHbaoGi(p, depth, normal, deep, radiance, facing, ao, gi, threads_);
         st.timings.push_back({"hbao+gi", secondsSince(t0)});
         this->blur(p, depth, normal, {gi, ao}, blur, st);
     }

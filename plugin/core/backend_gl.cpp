@@ -38,9 +38,9 @@ public:
     }
 
     void hbaoGi(const KernelParams& p, ConstPlane depth, ConstPlane normal, ConstPlane deep, ConstPlane radiance,
-                MutablePlane ao, MutablePlane gi, int blur, OperatorStats& st) const override {
+                ConstPlane facing, MutablePlane ao, MutablePlane gi, int blur, OperatorStats& st) const override {
         gpu::GlTimings t;
-        gl_.runHbaoGi(p, depth, normal, deep, radiance, ao, gi, blur, &t);
+        gl_.runHbaoGi(p, depth, normal, deep, radiance, facing, ao, gi, blur, &t);
         record(st, t);
     }
 
