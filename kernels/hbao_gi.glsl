@@ -126,11 +126,11 @@ void coverGi(lfloat a, lfloat b, lfloat backA, lfloat backB, lbool counts, lvec2
 // towards the eye, points back along X. A sample on an occluder's far side (a pole's front, seen
 // from the ground behind the pole) stands in for a face the receiver sees and the buffer does not
 // hold, so its light is unknown: it sends none (screen space may miss light, never add it).
-lbool facesReceiver(luint normalBits, IN(HbaoSample) smp, lbool use) {
+lbool facesReceiver(luint normalBits, lvec3 X, lbool use) {
     // The word's normal faces the eye. Within about 3 degrees of edge-on counts as facing (|n| >=
     // 511 in the word): a receiver at a crease sits on both faces, up to its pixel's rounding.
-    lfloat away = dot(normalFromWord(normalBits), smp.X);
-    return use && (away < 0.0f || away * away < 680.0f * smp.r2);
+    lfloat away = dot(normalFromWord(normalBits), X);
+    return use && (away < 0.0f || away * away < 680.0f * dot(X, X));
 }
 
 // A sample's light without runs: its interval, from its front to the fixed thickness behind it
@@ -154,7 +154,8 @@ void litHorizonIsOccluded(IN(HbaoOccluded) o, INOUT(HbaoGi) g) {
     g.sectors = o.sectors;
 }
 
-// The light of the runs ending in lanes `ends`, each with its thickness t.
+// The light of the runs ending in lanes `ends`, each with its thickness t, where the receiver sees
+// the face of the run's first rising sample (its normal read here, once a run).
 void lightRun(lbool ends, lfloat t, IN(OccluderRun) run, IN(ProjectedNormal) np, IN(HbaoOccluded) o,
               INOUT(HbaoGi) g) {
     litHorizonIsOccluded(o, g);
@@ -163,22 +164,23 @@ void lightRun(lbool ends, lfloat t, IN(OccluderRun) run, IN(ProjectedNormal) np,
     runBack(run, t, np, backA, backB);
     lbool gains;
     lfloat gained = newlyCovered(run.topA, run.topB, backA, backB, ends, np, g, gains);
+    lbool sends = facesReceiver(gatherNormalWordAtDisplay(run.lightCorner, ends), run.lightX, ends);
     lvec3 none = lvec3(lfloat(0.0f), lfloat(0.0f), lfloat(0.0f));
-    g.irradiance += select(run.lightFaces, run.light * (gained / max(run.lightWeight, 1e-30f)), none);
+    g.irradiance += select(sends, run.light * (gained / max(run.lightWeight, 1e-30f)), none);
 }
 
 // A sample that raised its run's top: its radiance, times its weight, joins the run's. The run's
-// first such sample decides whether the run sends: it is the face the receiver meets first. (A
-// test at every rising sample, which let a step's tread, sampled past the nose it stands for,
-// leave its share to the riser, cost a gather a step for 1% of the error: the horizon-GI note.)
+// first such sample, the face the receiver meets first, is kept to decide when the run ends
+// whether it sends. (A test at every rising sample, which let a step's tread, sampled past the
+// nose it stands for, leave its share to the riser, cost a gather a step for 1% of the error:
+// docs/notes/2026-11-28-horizon-gi-faces.md.)
 void lightRisingSample(IN(HbaoSample) smp, INOUT(OccluderRun) run) {
     lbool rising = run.lightRise > 0.0f;
     if (anyLane(rising)) {
         lbool first = rising && run.lightWeight <= 0.0f;
-        if (anyLane(first)) {
-            lbool faces = facesReceiver(gatherNormalWordAtDisplay(smp.corner, first), smp, first);
-            run.lightFaces = (first && faces) || (!first && run.lightFaces);
-        }
+        run.lightCorner = lvec2(select(first, smp.corner.x, run.lightCorner.x),
+                                select(first, smp.corner.y, run.lightCorner.y));
+        run.lightX = select(first, smp.X, run.lightX);
         run.light += sharedExponentRgb(gatherRadianceBitsAtDisplay(smp.corner, 0, rising)) * run.lightRise;
         run.lightWeight += run.lightRise;
     }

@@ -21,7 +21,8 @@ struct OccluderRun {
     lvec3 light;               // HBAO_GI: its rising samples' radiance, each times its weight (riseWeight)
     lfloat lightWeight;        // ... the sum of those weights
     lfloat lightRise;          // ... the weight of this step's sample (0: it did not raise the top)
-    lbool lightFaces;          // ... the receiver sees the face of its first rising sample (it sends)
+    lvec2 lightCorner;         // ... its first rising sample's texel (the run sends if the receiver sees its face)
+    lvec3 lightX;              // ... and that sample's offset from the receiver
 };
 
 OccluderRun noRun() {
@@ -32,7 +33,8 @@ OccluderRun noRun() {
     run.raised = run.going = lfloat(0.0f) > 0.0f; // false in every lane
     run.light = lvec3(lfloat(0.0f), lfloat(0.0f), lfloat(0.0f));
     run.lightWeight = run.lightRise = lfloat(0.0f);
-    run.lightFaces = run.raised;
+    run.lightCorner = lvec2(lfloat(0.0f), lfloat(0.0f));
+    run.lightX = lvec3(lfloat(0.0f), lfloat(0.0f), lfloat(0.0f));
     return run;
 }
 
