@@ -38,8 +38,8 @@ void FreeBuffer::operator()(float* p) const {
 
 BigFloats allocateBigFloats(std::size_t count) {
     const std::size_t bytes = count * sizeof(float);
-    // Smaller ones too take a whole huge page and are kept: at 320 x 240, fresh pages from malloc
-    // came and went with the allocator's trimming, and cost HBAO's light as much as its packing.
+    // Small ones too take whole huge pages and are kept: malloc's pages come and go with its
+    // trimming, and at 320 x 240 fresh ones cost HBAO's light as much as its packing.
     if (bytes == 0) {
         float* p = static_cast<float*>(std::malloc(1));
         if (!p) throw std::bad_alloc();

@@ -12,7 +12,7 @@
 namespace obscura::cpu {
 
 struct FreeBuffer {
-    std::size_t bytes = 0;  // 0: a small malloc'ed buffer, freed at once
+    std::size_t bytes = 0;  // 0: the empty request's malloc'ed byte, freed at once
     void operator()(float* p) const;
 };
 using BigFloats = std::unique_ptr<float[], FreeBuffer>;

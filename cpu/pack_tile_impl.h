@@ -24,8 +24,8 @@ void packSourceTile(ConstPlane rgb, ConstPlane albedo, ConstPlane normal, const 
                     int channel, MutablePlane facing, const Box2i& tile) {
     glsl::PackCpuKernel k;
     k.P = p;
-    const glsl::LanePlane colour(rgb, true), sender(albedo, true), normals(normal, true);
-    const bool times = albedo.valid();
+    const glsl::LanePlane colour(rgb, true), sender(albedo, true), facingNormal(normal, true);
+    const bool times = albedo.valid(), normals = normal.valid();
     const auto lane = glsl::laneIndex();
     for (int y = tile.y0; y < tile.y1; ++y)
         for (int x = tile.x0; x < tile.x1; x += OBSCURA_LANES) {
@@ -36,8 +36,8 @@ void packSourceTile(ConstPlane rgb, ConstPlane albedo, ConstPlane normal, const 
             const glsl::lfloat packed = glsl::uintBitsToFloat(k.packSharedExponent(c)); // the word's bits
             const int count = tile.x1 - x < OBSCURA_LANES ? tile.x1 - x : OBSCURA_LANES;
             glsl::storeRow(words.at(x, y) + channel, words.xStride, count, packed);
-            if (!normal.valid()) continue;
-            const glsl::lvec3 n = glm::mat3(p.normalToView) * normals.gather3(xs, glsl::lint(y), use);
+            if (!normals) continue;
+            const glsl::lvec3 n = glm::mat3(p.normalToView) * facingNormal.gather3(xs, glsl::lint(y), use);
             const glsl::lvec2 centre(glsl::lfloat(xs) + float(p.originX) + 0.5f, float(y + p.originY) + 0.5f);
             const glsl::luint word = k.packNormalWord(n, k.viewVector(k.viewRay(centre)));
             glsl::storeRow(facing.at(x, y), facing.xStride, count, glsl::uintBitsToFloat(word));

@@ -249,6 +249,11 @@ void GlBackend::uploadPlane(int binding, ConstPlane plane, const Box2i& box, int
     uploadBuffer(binding, GL_SHADER_STORAGE_BUFFER, packed_.data(), bytes);
 }
 
+void GlBackend::uploadPlaneOrStub(int binding, ConstPlane plane, bool use, const Box2i& box, int channels) {
+    if (use) uploadPlane(binding, plane, box, channels);
+    else uploadBuffer(binding, GL_SHADER_STORAGE_BUFFER, nullptr, 16);
+}
+
 // Copies `channels` floats per texel of buffer `binding` (laid out over `buf`) over `inner` into `out`.
 // Only the rows holding `inner` are read; straight into `out` when those rows are one run of both.
 void GlBackend::readInner(int binding, int channels, const Box2i& inner, const Box2i& buf, MutablePlane out) {
@@ -357,14 +362,10 @@ void GlBackend::runSsdo(const glsl::KernelParams& p, const SsdoInputs& in, Mutab
         [&](const Box2i& buf, const glsl::KernelParams& q) {
             const size_t texels = (size_t)buf.width() * buf.height();
             // An input left out still gets a (small) buffer: every binding the program declares must hold one.
-            const auto uploadOr16 = [&](int binding, ConstPlane plane, bool use, const Box2i& box) {
-                if (use) uploadPlane(binding, plane, box, 3);
-                else uploadBuffer(binding, GL_SHADER_STORAGE_BUFFER, nullptr, 16);
-            };
-            uploadOr16(kRadiance, in.radiance, q.bounce != 0, buf);
-            uploadOr16(kAlbedo, in.albedo, in.albedo.valid(), buf);
-            uploadOr16(kEnv, in.environment, in.environment.valid(),
-                       Box2i{0, 0, in.environment.width, in.environment.height});
+            uploadPlaneOrStub(kRadiance, in.radiance, q.bounce != 0, buf, 3);
+            uploadPlaneOrStub(kAlbedo, in.albedo, in.albedo.valid(), buf, 3);
+            uploadPlaneOrStub(kEnv, in.environment, in.environment.valid(),
+                              Box2i{0, 0, in.environment.width, in.environment.height}, 3);
             uploadBuffer(kSignalOut, GL_SHADER_STORAGE_BUFFER, nullptr, texels * sizeof(float));
             uploadBuffer(kDirectional, GL_SHADER_STORAGE_BUFFER, nullptr, texels * 3 * sizeof(float));
             uploadBuffer(kIndirect, GL_SHADER_STORAGE_BUFFER, nullptr, texels * 3 * sizeof(float));
@@ -401,10 +402,11 @@ void GlBackend::runHbaoGi(const glsl::KernelParams& p, ConstPlane depth, ConstPl
         p, depth, normal, deep, blur, maxTexels, t,
         [&](const Box2i& buf, const glsl::KernelParams& q) {
             const size_t texels = (size_t)buf.width() * buf.height();
-            // With deep input the radiance has a word per layer. The normals' words come through
-            // the albedo binding, which the light does not read (the source has the albedo applied).
+            // With deep input the radiance has a word per layer. The normals' words (the light per
+            // run reads them) come through the albedo binding, which the light does not otherwise
+            // read (the source has the albedo applied).
             uploadPlane(kRadiance, radiance, buf, deep.valid() ? q.deepLayers : 1);
-            uploadPlane(kAlbedo, facing, buf, 1);
+            uploadPlaneOrStub(kAlbedo, facing, facing.valid(), buf, 1);
             uploadBuffer(kSignalOut, GL_SHADER_STORAGE_BUFFER, nullptr, texels * sizeof(float));
             uploadBuffer(kIndirect, GL_SHADER_STORAGE_BUFFER, nullptr, texels * 3 * sizeof(float));
         },

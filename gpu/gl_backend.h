@@ -85,6 +85,9 @@ private:
     void uploadBuffer(int binding, unsigned target, const void* data, size_t bytes);
     // `channels` floats a texel of `plane` over `box` into storage buffer `binding`.
     void uploadPlane(int binding, ConstPlane plane, const Box2i& box, int channels);
+    // ... or, where `plane` is not used, a 16-byte stand-in, as every binding a program declares
+    // must hold a buffer.
+    void uploadPlaneOrStub(int binding, ConstPlane plane, bool use, const Box2i& box, int channels);
     void dispatch(const char* program, const glsl::KernelParams& q);
     unsigned program(const char* name, const glsl::KernelParams& q); // compiled on first use
     void blurBuffer(int binding, int channels, int radius, const glsl::KernelParams& q);

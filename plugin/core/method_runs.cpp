@@ -17,8 +17,9 @@ namespace {
 // HBAO with --bounce: the indirect light from the same march (kernels/hbao_gi.glsl), from the
 // bounce source times the albedo where one is given (SSDO's senders), packed once here. With deep
 // layers, a word per texel and layer: the visible layer's bounce source, then each hidden layer's
-// colour from the deep file (black where it has none). Beside it, the visible surface's normal,
-// a word per texel, for the light to tell the faces a receiver sees.
+// colour from the deep file (black where it has none). Beside it, where the light follows the
+// AO's occluder runs (the only light that reads it), the visible surface's normal, a word per
+// texel, for the light to tell the faces a receiver sees.
 void runHbaoGi(const MethodRun& r) {
     const OperatorInputs& in = r.in;
     if (!in.radiance.valid()) throw Error("the bounce (GI) needs a radiance source: a direct-diffuse or beauty pass");
@@ -33,15 +34,17 @@ void runHbaoGi(const MethodRun& r) {
     // Scratch kept for the next frame (cpu/big_buffer.h): fresh pages cost as much as the packing.
     // The packing writes every word but those of hidden layers without colour.
     const size_t texels = (size_t)w * h;
-    const cpu::BigFloats scratch = cpu::allocateBigFloats(texels * (layers + 1));
+    const bool faces = r.params.hbaoRuns != 0;
+    const cpu::BigFloats scratch = cpu::allocateBigFloats(texels * (layers + (faces ? 1 : 0)));
     if (coloured < layers) std::fill(scratch.get(), scratch.get() + texels * layers, 0.0f);
     const MutablePlane words{scratch.get(), w, h, layers, layers, (std::ptrdiff_t)w * layers};
-    const MutablePlane facing{scratch.get() + texels * layers, w, h, 1, 1, w};
+    const MutablePlane facing = faces ? MutablePlane{scratch.get() + texels * layers, w, h, 1, 1, w} : MutablePlane{};
     // Bands of rows on every thread: one pass over the colour and normal planes, as costly as a
     // copy of them.
     const auto pack = cpu::cpuKernelsFor({in.radiance, in.albedo, in.deepColour, in.normal}).packSourceTile;
     cpu::parallelForTiles(Box2i{0, 0, w, h}, w, 16, r.threads, [&](const Box2i& band) {
-        pack(in.radiance, albedo ? in.albedo : ConstPlane{}, in.normal, r.params, words, 0, facing, band);
+        pack(in.radiance, albedo ? in.albedo : ConstPlane{}, faces ? in.normal : ConstPlane{}, r.params, words, 0, facing,
+             band);
         for (int k = 1; k < coloured; ++k) {
             const ConstPlane layer{in.deepColour.data + 3 * k, w, h, 3, in.deepColour.xStride, in.deepColour.yStride};
             pack(layer, ConstPlane{}, ConstPlane{}, r.params, words, k, MutablePlane{}, band);
