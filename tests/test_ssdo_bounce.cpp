@@ -9,6 +9,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
+#include <vector>
 
 using namespace obscura;
 using namespace obscura::test;
@@ -117,4 +119,26 @@ TEST(SsdoBounce, LitWallContinuesPastTheFrameEdge) {
     ASSERT_GT(n, 100);
     ASSERT_GT(wholeSum / n, 0.05) << "the band receives the wall's light";
     EXPECT_NEAR(cutSum / wholeSum, 1.0, 0.05) << n << " floor pixels within 8 of the cut";
+}
+
+// Reports key the operator's timings by stage name (the report's medians, the farm's timelines):
+// DO's blur and GI's wider one are two stages, each named once, and they and the kernel are timed.
+TEST(SsdoBounce, EachStageIsTimedUnderItsOwnName) {
+    const LitCorner c;
+    OperatorInputs in = c.sb.inputs();
+    in.radiance = c.radiance.view();
+    Settings s;
+    s.method = "ssdo";
+    s.radius = kRadius;
+    s.bounce = true;
+    const OperatorStats st = runOperator(in, s).stats;
+    std::vector<std::string> names;
+    for (const StageTiming& t : st.timings) {
+        EXPECT_GE(t.seconds, 0.0) << t.name;
+        names.push_back(t.name);
+    }
+    for (const char* stage : {"ssdo+bounce", "blur", "blur-gi"})
+        EXPECT_EQ(std::count(names.begin(), names.end(), stage), 1) << stage;
+    std::sort(names.begin(), names.end());
+    EXPECT_EQ(std::adjacent_find(names.begin(), names.end()), names.end()) << "a stage named twice";
 }

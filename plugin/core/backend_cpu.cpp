@@ -63,7 +63,7 @@ public:
             // GI's blur: wider, within a share of r_max across the surface (kernel_params.glsl).
             KernelParams g = p;
             g.blurReach = glsl::SSDO_GI_BLUR_REACH * p.radius;
-            this->blur(g, in.depth, in.normal, {indirect}, glsl::SSDO_GI_BLUR_SCALE * blur, st);
+            this->blur(g, in.depth, in.normal, {indirect}, glsl::SSDO_GI_BLUR_SCALE * blur, st, "blur-gi");
         }
     }
 
@@ -78,10 +78,11 @@ public:
     }
 
 private:
-    // The geometry-aware blur of the planes, timed as one stage. Two planes in a row whose channels
-    // fit the blur's four (GI or DO beside AO) share its weights: one pass over the geometry for both.
+    // The geometry-aware blur of the planes, timed as one stage (`stage`: a name no other stage of
+    // the run has, as reports key the timings by name). Two planes in a row whose channels fit the
+    // blur's four (GI or DO beside AO) share its weights: one pass over the geometry for both.
     void blur(const KernelParams& p, ConstPlane depth, ConstPlane normal, std::initializer_list<MutablePlane> planes,
-              int radius, OperatorStats& st) const {
+              int radius, OperatorStats& st, const char* stage = "blur") const {
         if (radius <= 0) return;
         const auto t0 = Clock::now();
         for (auto plane = planes.begin(); plane != planes.end(); ++plane) {
@@ -90,7 +91,7 @@ private:
             cpu::runBlur(p, depth, normal, *plane, pair ? *next : MutablePlane{}, radius, threads_);
             if (pair) ++plane;
         }
-        st.timings.push_back({"blur", secondsSince(t0)});
+        st.timings.push_back({stage, secondsSince(t0)});
     }
 
     int threads_;
