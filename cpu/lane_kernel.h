@@ -7,8 +7,6 @@
 #include "cpu/isa.h"
 #include "base/kernel_params.h"
 
-#include <cstdlib>
-
 #if OBSCURA_LANES == 1
 #include "cpu/lanes_scalar.h"
 #else
@@ -146,33 +144,6 @@ struct LanePlane {
             return lvec3(deinterleave3(data + i[0], 0), deinterleave3(data + i[0], 1), deinterleave3(data + i[0], 2));
 #endif
         return lvec3(gather(data, i, use), gather(data + 1, i, use), gather(data + 2, i, use));
-    }
-};
-
-// A plane read at texels named by their corner in display coordinates (whole numbers), as
-// HBAO's march names its samples. Where every offset is below 2^24 it is exact in float
-// arithmetic, and the buffer's origin is folded into the base pointer: one multiply-add and
-// one conversion per read, in place of two conversions, two subtractions and two multiplies.
-struct DisplayTexels {
-    const float* data = nullptr;            // the buffer's texel (0, 0)
-    const float* atDisplayOrigin = nullptr; // data less the offset of display pixel (0, 0), when exact
-    int xStride = 0, yStride = 0, originX = 0, originY = 0;
-    bool exactInFloat = false;
-    DisplayTexels() = default;
-    DisplayTexels(const ConstPlane& plane, const KernelParams& p)
-        : data(plane.data), xStride((int)plane.xStride), yStride((int)plane.yStride), originX(p.originX),
-          originY(p.originY) {
-        // Display coordinates of the buffer's texels reach |origin| + size.
-        const long long reachX = std::llabs(p.originX) + p.width, reachY = std::llabs(p.originY) + p.height;
-        exactInFloat = reachY * std::llabs(plane.yStride) + reachX * std::llabs(plane.xStride) < (1ll << 24);
-        // Only formed (and only dereferenced at in-buffer texels) when the offsets fit.
-        atDisplayOrigin = exactInFloat ? data - (originY * plane.yStride + originX * plane.xStride) : data;
-    }
-    // Element c of the texel at display corner `corner`; masked-off lanes read nothing and get 0.
-    lfloat gather(lvec2 corner, int c, lbool use) const {
-        if (exactInFloat)
-            return glsl::gather(atDisplayOrigin + c, lint(corner.y * float(yStride) + corner.x * float(xStride)), use);
-        return glsl::gather(data + c, (lint(corner.y) - originY) * yStride + (lint(corner.x) - originX) * xStride, use);
     }
 };
 

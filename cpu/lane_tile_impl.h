@@ -11,6 +11,8 @@
 
 #include "cpu/lane_kernel.h"
 
+#include <cstdlib>
+
 namespace obscura::glsl {
 namespace {
 
@@ -39,13 +41,21 @@ struct LaneCpuKernel {
     const float* depthData;
     const float* normalData;
     int depthXStride, depthYStride, normalXStride, normalYStride;
-    DisplayTexels depthAt; // the depth read at display corners (the march's samples)
+    const float* depthAtDisplayOrigin; // depthData - the offset of display pixel (0, 0)
+    bool displayOffsetsExactInFloat;
 
     // Masked-off lanes read nothing and get 0: not a surface.
     lfloat gatherDepth(lint x, lint y, lbool use) const {
         return gather(depthData, y * depthYStride + x * depthXStride, use);
     }
-    lfloat gatherDepthAtDisplay(lvec2 corner, lbool use) const { return depthAt.gather(corner, 0, use); }
+    // At the texel whose corner, in display coordinates, is `corner` (whole numbers). Where
+    // every offset is below 2^24 it is exact in float arithmetic, and the buffer origin is
+    // folded into the base pointer: one multiply-add and one conversion per sample.
+    lfloat gatherDepthAtDisplay(lvec2 corner, lbool use) const {
+        if (displayOffsetsExactInFloat)
+            return gather(depthAtDisplayOrigin, lint(corner.y * float(depthYStride) + corner.x * float(depthXStride)), use);
+        return gatherDepth(lint(corner.x) - P.originX, lint(corner.y) - P.originY, use);
+    }
     // Deep input (kernels/hbao.glsl): channel c of the (front, back) layer pairs at a display corner.
     const float* deepData = nullptr;
     int deepXStride = 0, deepYStride = 0;
@@ -71,13 +81,19 @@ struct LaneCpuKernel {
     }
     // HBAO's indirect light: the bounce source (one packed word per texel and layer, kernels/hbao_gi.glsl)
     // at a display corner; 0 (black) where not used.
-    DisplayTexels radianceAt;
+    const float* radianceData = nullptr;
+    int radianceXStride = 0, radianceYStride = 0;
     luint gatherRadianceBitsAtDisplay(lvec2 corner, int layer, lbool use) const {
-        return floatBitsToUint(radianceAt.gather(corner, layer, use));
+        const lint i = (lint(corner.y) - P.originY) * radianceYStride + (lint(corner.x) - P.originX) * radianceXStride;
+        return floatBitsToUint(gather(radianceData + layer, i, use));
     }
     // ... and the visible surface's normal (one packed word per texel, kernels/normal_word.glsl).
-    DisplayTexels facingAt;
-    luint gatherNormalWordAtDisplay(lvec2 corner, lbool use) const { return floatBitsToUint(facingAt.gather(corner, 0, use)); }
+    const float* facingData = nullptr;
+    int facingXStride = 0, facingYStride = 0;
+    luint gatherNormalWordAtDisplay(lvec2 corner, lbool use) const {
+        const lint i = (lint(corner.y) - P.originY) * facingYStride + (lint(corner.x) - P.originX) * facingXStride;
+        return floatBitsToUint(gather(facingData, i, use));
+    }
     lfloat gatherEdgeDepth(lvec2 edgeCorner, lbool use) const { return gather(edgeData, edgeRecord(edgeCorner), use); }
     lvec4 gatherEdgeTexel(lvec2 edgeCorner, lbool use) const { return gatherRecord4(edgeData, edgeRecord(edgeCorner), use); }
 
@@ -129,13 +145,23 @@ void runTile(const KernelParams& p, const TilePlanes& t, const Box2i& tile) {
     k.deepData = t.deep.data;
     k.deepXStride = (int)t.deep.xStride;
     k.deepYStride = (int)t.deep.yStride;
-    k.radianceAt = glsl::DisplayTexels(t.radiance, p);
-    k.facingAt = glsl::DisplayTexels(t.facing, p);
+    k.radianceData = t.radiance.data;
+    k.radianceXStride = (int)t.radiance.xStride;
+    k.radianceYStride = (int)t.radiance.yStride;
+    k.facingData = t.facing.data;
+    k.facingXStride = (int)t.facing.xStride;
+    k.facingYStride = (int)t.facing.yStride;
     const ConstPlane& depth = t.depth;
     k.depthData = depth.data;
     k.depthXStride = (int)depth.xStride;
     k.depthYStride = (int)depth.yStride;
-    k.depthAt = glsl::DisplayTexels(depth, p);
+    // Display coordinates of the depth texels reach |origin| + size; the offsets stay below 2^24.
+    const long long reachX = std::llabs(p.originX) + p.width;
+    const long long reachY = std::llabs(p.originY) + p.height;
+    k.displayOffsetsExactInFloat = reachY * std::llabs(depth.yStride) + reachX * std::llabs(depth.xStride) < (1ll << 24);
+    // Only formed (and only dereferenced at in-buffer texels) when the offsets fit.
+    k.depthAtDisplayOrigin =
+        k.displayOffsetsExactInFloat ? depth.data - (p.originY * depth.yStride + p.originX * depth.xStride) : depth.data;
     k.normalData = t.normal.data;
     k.normalXStride = (int)t.normal.xStride;
     k.normalYStride = (int)t.normal.yStride;
