@@ -380,7 +380,7 @@ void GlBackend::runSsdo(const glsl::KernelParams& p, const SsdoInputs& in, Mutab
             blurBuffer(kSignalOut, 1, blur, q);
             if (q.bounce && giBlur > 0) {
                 glsl::KernelParams g = q;
-                g.blurReach = glsl::SSDO_GI_BLUR_REACH * q.radius;
+                g.blurReach = glsl::BLUR_REACH * q.radius;
                 uploadBuffer(kParams, GL_UNIFORM_BUFFER, &g, sizeof(g));
                 blurBuffer(kIndirect, 3, giBlur, g);
             }

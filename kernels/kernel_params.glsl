@@ -45,7 +45,7 @@ struct KernelParams {
     int hbaoModel;               // hbao: HBAO_HORIZON, ... below (core/hbao_plan.h, HbaoModel)
 
     float envIntensity;          // multiplies the environment (map or sky)
-    float blurReach;             // blur: world-units reach of its spatial weight (0: pixels alone); SSDO's GI
+    float blurReach;             // blur: world-units reach of its spatial weight (0: pixels alone); BLUR_REACH below
     float runDepthPerWidth;      // hbao, HBAO_MEASURED_THICKNESS: a run's thickness per unit of its width
     float runJump;               // hbao, runs and deep footprints: the largest depth change (world units) within one occluder
 
@@ -77,10 +77,13 @@ CONST_GLOBAL int HBAO_HORIZON = 0;
 CONST_GLOBAL int HBAO_FIXED_THICKNESS = 1;
 CONST_GLOBAL int HBAO_MEASURED_THICKNESS = 2;
 CONST_GLOBAL int HBAO_DEEP = 3;
-// SSDO's GI is blurred SSDO_GI_BLUR_SCALE times as wide as DO and AO, its weights also falling
-// within SSDO_GI_BLUR_REACH r_max across the surface (KernelParams::blurReach; docs/ssdo.md).
+// A blur's weights also fall within BLUR_REACH r_max across the surface (KernelParams::blurReach),
+// so that where R spans a few pixels (distant geometry) a blur of a few pixels does not average
+// over most of R: HBAO's AO and GI (docs/hbao.md), SSDO's GI (docs/ssdo.md). SSDO's AO and DO
+// keep pixels alone: their blur gathers the interleaved subsets back, whatever the distance.
+CONST_GLOBAL float BLUR_REACH = 0.25f;
+// SSDO's GI is blurred SSDO_GI_BLUR_SCALE times as wide as its DO and AO.
 CONST_GLOBAL int SSDO_GI_BLUR_SCALE = 3;
-CONST_GLOBAL float SSDO_GI_BLUR_REACH = 0.25f;
 
 // KernelParams::hbaoBorder: past the buffer's edge open sky, the edge texel's depth, or its
 // tangent plane continued (core/hbao_plan.h, HbaoBorder).

@@ -62,7 +62,7 @@ public:
         if (p.bounce) {
             // GI's blur: wider, within a share of r_max across the surface (kernel_params.glsl).
             KernelParams g = p;
-            g.blurReach = glsl::SSDO_GI_BLUR_REACH * p.radius;
+            g.blurReach = glsl::BLUR_REACH * p.radius;
             this->blur(g, in.depth, in.normal, {indirect}, glsl::SSDO_GI_BLUR_SCALE * blur, st, "blur-gi");
         }
     }
