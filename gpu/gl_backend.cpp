@@ -378,12 +378,7 @@ void GlBackend::runSsdo(const glsl::KernelParams& p, const SsdoInputs& in, Mutab
             dispatch("ssdo", q);
             blurBuffer(kDirectional, 3, blur, q);
             blurBuffer(kSignalOut, 1, blur, q);
-            if (q.bounce && giBlur > 0) {
-                glsl::KernelParams g = q;
-                g.blurReach = glsl::BLUR_REACH * q.radius;
-                uploadBuffer(kParams, GL_UNIFORM_BUFFER, &g, sizeof(g));
-                blurBuffer(kIndirect, 3, giBlur, g);
-            }
+            if (q.bounce) blurBuffer(kIndirect, 3, giBlur, q);
         },
         [&](const Box2i& inner, const Box2i& buf) {
             readInner(kDirectional, 3, inner, buf, directional);

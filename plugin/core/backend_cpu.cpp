@@ -59,12 +59,8 @@ public:
                      threads_);
         st.timings.push_back({p.bounce ? "ssdo+bounce" : "ssdo", secondsSince(t0)});
         this->blur(p, in.depth, in.normal, {directional, ao}, blur, st);
-        if (p.bounce) {
-            // GI's blur: wider, within a share of r_max across the surface (kernel_params.glsl).
-            KernelParams g = p;
-            g.blurReach = glsl::BLUR_REACH * p.radius;
-            this->blur(g, in.depth, in.normal, {indirect}, glsl::SSDO_GI_BLUR_SCALE * blur, st, "blur-gi");
-        }
+        // GI's blur: wider (kernel_params.glsl).
+        if (p.bounce) this->blur(p, in.depth, in.normal, {indirect}, glsl::SSDO_GI_BLUR_SCALE * blur, st, "blur-gi");
     }
 
     void rtao(const KernelParams& p, const Settings& s, ConstPlane depth, ConstPlane normal, MutablePlane ao, int blur,
