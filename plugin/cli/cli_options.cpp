@@ -182,7 +182,7 @@ std::vector<Flag> makeFlags() {
                  throw UsageError("--quality expects low, medium, high or ultra, got '" + v + "'");
          }},
         {"--blur", "N", "geometry-aware blur radius in pixels, 0 = off (default 1, the medium preset's; ssdo: 0 and the "
-                       "default are the interleave width)",
+                       "default are the interleave width); hbao's and ssdo's also within R/4 across the surface",
          [](Options& o, const std::string& v) { o.job.settings.blur = (int)toSetting("--blur", v); }},
         {"--fov-deg", "F", "perspective camera, horizontal field of view of the display window",
          [](Options& o, const std::string& v) { o.job.camera.fovDeg = toSetting("--fov-deg", v); }},
