@@ -79,8 +79,9 @@ CONST_GLOBAL int HBAO_MEASURED_THICKNESS = 2;
 CONST_GLOBAL int HBAO_DEEP = 3;
 // A blur's weights also fall within BLUR_REACH r_max across the surface (KernelParams::blurReach),
 // so that where R spans a few pixels (distant geometry) a blur of a few pixels does not average
-// over most of R: HBAO's and SSDO's outputs (docs/hbao.md, docs/ssdo.md). SSAO's, discs' and
-// rtao's blur keeps pixels alone: their noise is what it removes (docs/notes/2026-11-29-blur-reach.md).
+// over most of R: the methods whose table entry says so (MethodInfo::blurWithinReach: HBAO,
+// SSDO). SSAO's, discs' and rtao's blur keeps pixels alone: their noise is what it removes
+// (docs/notes/2026-11-29-blur-reach.md).
 CONST_GLOBAL float BLUR_REACH = 0.25f;
 // SSDO's GI is blurred SSDO_GI_BLUR_SCALE times as wide as its DO and AO.
 CONST_GLOBAL int SSDO_GI_BLUR_SCALE = 3;

@@ -14,15 +14,6 @@
 namespace obscura {
 
 namespace {
-// The blur of HBAO's and SSDO's outputs keeps detail of BLUR_REACH r_max across the surface: where
-// R spans a few pixels, a blur of two averages over half of R (the report's city: HBAO's AO
-// 1.1 dB at low). SSAO's, discs' and rtao's blur keeps pixels alone (their noise is what it removes).
-KernelParams withBlurReach(const KernelParams& given) {
-    KernelParams p = given;
-    p.blurReach = glsl::BLUR_REACH * p.radius;
-    return p;
-}
-
 // HBAO with --bounce: the indirect light from the same march (kernels/hbao_gi.glsl), from the
 // bounce source times the albedo where one is given (SSDO's senders), packed once here. With deep
 // layers, a word per texel and layer: the visible layer's bounce source, then each hidden layer's
@@ -66,9 +57,7 @@ void runHbaoGi(const MethodRun& r) {
 }
 } // namespace
 
-void runHbaoMethod(const MethodRun& given) {
-    const KernelParams p = withBlurReach(given.params);
-    const MethodRun r{given.in, given.settings, p, given.backend, given.threads, given.out};
+void runHbaoMethod(const MethodRun& r) {
     if (r.settings.bounce) return runHbaoGi(r);
     const ConstPlane deep = r.params.deepLayers > 0 ? r.in.deepLayers : ConstPlane{};
     r.backend.ao(AoKernel::Hbao, r.params, r.in.depth, r.in.normal, deep, r.out.ao.view(), resolvedBlur(r.settings),
@@ -111,7 +100,7 @@ void runDiscsMethod(const MethodRun& r) {
 void runSsdoMethod(const MethodRun& r) {
     const OperatorInputs& in = r.in;
     const Settings& s = r.settings;
-    KernelParams p = withBlurReach(r.params);
+    KernelParams p = r.params;
     OperatorOutputs& out = r.out;
     if (s.bounce && !in.radiance.valid())
         throw Error("the bounce (GI) needs a radiance source: a direct-diffuse or beauty pass");

@@ -61,6 +61,10 @@ struct MethodInfo {
     int (*extraApron)(const Settings&);
     // Fills `out` (out.ao is preallocated to 1); throws obscura::Error.
     void (*run)(const MethodRun&);
+    // Its blur's weights also fall within BLUR_REACH R across the surface (kernels/kernel_params.glsl):
+    // where R spans a few pixels, a blur of pixels alone averages over most of R. Off where the
+    // blur's work is the method's noise (docs/notes/2026-11-29-blur-reach.md).
+    bool blurWithinReach = false;
 };
 
 const std::vector<MethodInfo>& methods();

@@ -124,6 +124,8 @@ KernelParams makeKernelParams(const OperatorInputs& in, const Settings& s) {
     p.invFx = (float)(1.0 / cam.fx);
     p.invFy = (float)(1.0 / cam.fy);
     p.radius = s.radius;
+    const MethodInfo* method = findMethod(s.method);
+    p.blurReach = method && method->blurWithinReach ? glsl::BLUR_REACH * s.radius : 0.0f;
     p.skyDepth = s.skyDepth;
     // Bounds the sample loop: beyond the buffer's extent samples leave the buffer anyway.
     // A host rendering tiles pins it (settings.maxRadiusPixels), so tiles agree with the whole frame.
