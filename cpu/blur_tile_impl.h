@@ -18,6 +18,10 @@ struct BlurCpuKernel {
         return lfloat(0.0f);
     }
     lvec4 gatherSignal(lint x, lint y, lbool use) const {
+        if (channels == 3) { // GI or DO (AO beside it): one read of the three channels' row
+            const lvec3 rgb = signal.gather3(x, y, use);
+            return lvec4(rgb.x, rgb.y, rgb.z, gatherChannel(x, y, use, 3));
+        }
         return lvec4(gatherChannel(x, y, use, 0), gatherChannel(x, y, use, 1), gatherChannel(x, y, use, 2),
                      gatherChannel(x, y, use, 3));
     }
