@@ -23,6 +23,12 @@ void releaseKept() {
     keptBytes = 0;
 }
 
+// The kept buffer goes when the library does: a host that unloads the OpenFX plugin between
+// renders (LeakSanitizer found it: 2 MiB each time) and gets no frame from it afterwards.
+struct ReleaseAtUnload {
+    ~ReleaseAtUnload() { releaseKept(); }
+} releaseAtUnload;
+
 } // namespace
 
 void FreeBuffer::operator()(float* p) const {

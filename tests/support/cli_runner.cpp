@@ -25,9 +25,23 @@ struct Pipe {
     ~Pipe() { close(0), close(1); }
 };
 
+// This process's environment with `extra`'s "NAME=value" entries replacing or adding to it.
+std::vector<std::string> childEnvironment(const std::vector<std::string>& extra) {
+    std::vector<std::string> env;
+    for (char** e = environ; *e; ++e) {
+        const std::string entry = *e, name = entry.substr(0, entry.find('=') + 1);
+        bool replaced = false;
+        for (const std::string& x : extra) replaced = replaced || x.compare(0, name.size(), name) == 0;
+        if (!replaced) env.push_back(entry);
+    }
+    env.insert(env.end(), extra.begin(), extra.end());
+    return env;
+}
+
 } // namespace
 
-CliResult runProgram(const std::string& program, const std::vector<std::string>& args) {
+CliResult runProgram(const std::string& program, const std::vector<std::string>& args,
+                     const std::vector<std::string>& env) {
     CliResult r;
     Pipe out, err;
     if (!out.open() || !err.open()) {
@@ -41,6 +55,10 @@ CliResult runProgram(const std::string& program, const std::vector<std::string>&
     std::vector<char*> argv;
     for (std::string& s : storage) argv.push_back(s.data());
     argv.push_back(nullptr);
+    std::vector<std::string> envStorage = childEnvironment(env);
+    std::vector<char*> envp;
+    for (std::string& s : envStorage) envp.push_back(s.data());
+    envp.push_back(nullptr);
 
     posix_spawn_file_actions_t actions;
     posix_spawn_file_actions_init(&actions);
@@ -48,7 +66,7 @@ CliResult runProgram(const std::string& program, const std::vector<std::string>&
     posix_spawn_file_actions_adddup2(&actions, out.fd[1], 1);
     posix_spawn_file_actions_adddup2(&actions, err.fd[1], 2);
     pid_t pid = -1;
-    const int rc = ::posix_spawn(&pid, program.c_str(), &actions, nullptr, argv.data(), environ);
+    const int rc = ::posix_spawn(&pid, program.c_str(), &actions, nullptr, argv.data(), envp.data());
     posix_spawn_file_actions_destroy(&actions);
     out.close(1);
     err.close(1);

@@ -10,8 +10,10 @@ struct CliResult {
     std::string out, err;   // everything written to stdout / stderr
 };
 
-// argv[0] is `program`; `args` follow verbatim (no shell, no splitting, no globbing).
-CliResult runProgram(const std::string& program, const std::vector<std::string>& args);
+// argv[0] is `program`; `args` follow verbatim (no shell, no splitting, no globbing). The child
+// gets this process's environment with `env`'s "NAME=value" entries set on top.
+CliResult runProgram(const std::string& program, const std::vector<std::string>& args,
+                     const std::vector<std::string>& env = {});
 
 #ifdef OBSCURA_CLI_PATH
 // The built obscura command (each test executable is given its path) with `args`.

@@ -144,6 +144,20 @@ inline Scene makeScene(const Config& c, int w = kW, int h = kH) {
     return s;
 }
 
+// The interpreter's environment for the Python module: its directory, and in a sanitizer build the
+// runtime preloaded as python.* tests have it (OBSCURA_PYTHON_PRELOAD: "NAME=value" entries
+// separated by '|', empty otherwise): an instrumented module cannot load into a plain interpreter.
+inline std::vector<std::string> pythonChildEnvironment() {
+    std::vector<std::string> env{std::string("PYTHONPATH=") + OBSCURA_PYTHON_MODULE_DIR};
+    const std::string preload = OBSCURA_PYTHON_PRELOAD;
+    for (size_t start = 0; start < preload.size();) {
+        const size_t end = std::min(preload.find('|', start), preload.size());
+        env.push_back(preload.substr(start, end - start));
+        start = end + 1;
+    }
+    return env;
+}
+
 // The CLI's AO (or `channels`, interleaved) over the data window, y down (EXR rows), from
 // --out-type float; `extra` flags follow the scene's. viaPython: the same command line through
 // the Python module's process() (tests/support/cli_as_python.py).
@@ -197,11 +211,12 @@ inline std::vector<float> runCli(const Config& c, const Scene& s, const std::fil
         args.insert(args.end(), {"--fov-deg", num(s.fovDeg)});
     }
     args.insert(args.end(), extra.begin(), extra.end());
+    std::vector<std::string> env;
     if (viaPython) {
-        ::setenv("PYTHONPATH", OBSCURA_PYTHON_MODULE_DIR, 1);
         args.insert(args.begin(), std::string(OBSCURA_SOURCE_DIR) + "/tests/support/cli_as_python.py");
+        env = pythonChildEnvironment();
     }
-    const test::CliResult r = test::runProgram(viaPython ? OBSCURA_PYTHON : OBSCURA_CLI_PATH, args);
+    const test::CliResult r = test::runProgram(viaPython ? OBSCURA_PYTHON : OBSCURA_CLI_PATH, args, env);
     EXPECT_EQ(r.exitCode, 0) << r.err;
     if (r.exitCode != 0) return {};
 
