@@ -2,8 +2,9 @@
 // 2 MiB boundaries and offered to the kernel as transparent huge pages, so touching them the
 // first time costs one page fault per 2 MiB instead of one per 4 KiB. The last one freed is
 // kept for the next frame of the process (a farm task's chunk of frames, a Dask worker, a
-// host's renders) until the library is unloaded: fresh pages come zeroed by the kernel, which cost a disc frame at 1080p a
-// tenth of its time or more (on a virtual machine, the host backs them on first touch too).
+// host's renders) until the library is unloaded: fresh pages come zeroed by the kernel, which
+// cost a disc frame at 1080p a tenth of its time or more (on a virtual machine, the host backs
+// them on first touch too).
 #pragma once
 #include <cstddef>
 #include <cstdlib>

@@ -44,6 +44,13 @@ struct LaneCpuKernel {
     const float* depthAtDisplayOrigin; // depthData - the offset of display pixel (0, 0)
     bool displayOffsetsExactInFloat;
 
+    // The index in a plane of these strides of the buffer texel whose display corner is `corner`:
+    // HBAO's reads at display corners (the depth where the float shortcut below does not hold, the
+    // deep layers, the bounce source's and the normals' words).
+    lint bufferTexelIndex(lvec2 corner, int xStride, int yStride) const {
+        return (lint(corner.y) - P.originY) * yStride + (lint(corner.x) - P.originX) * xStride;
+    }
+
     // Masked-off lanes read nothing and get 0: not a surface.
     lfloat gatherDepth(lint x, lint y, lbool use) const {
         return gather(depthData, y * depthYStride + x * depthXStride, use);
@@ -54,14 +61,13 @@ struct LaneCpuKernel {
     lfloat gatherDepthAtDisplay(lvec2 corner, lbool use) const {
         if (displayOffsetsExactInFloat)
             return gather(depthAtDisplayOrigin, lint(corner.y * float(depthYStride) + corner.x * float(depthXStride)), use);
-        return gatherDepth(lint(corner.x) - P.originX, lint(corner.y) - P.originY, use);
+        return gather(depthData, bufferTexelIndex(corner, depthXStride, depthYStride), use);
     }
     // Deep input (kernels/hbao.glsl): channel c of the (front, back) layer pairs at a display corner.
     const float* deepData = nullptr;
     int deepXStride = 0, deepYStride = 0;
     lfloat gatherDeepAtDisplay(lvec2 corner, int c, lbool use) const {
-        return gather(deepData + c, (lint(corner.y) - P.originY) * deepYStride + (lint(corner.x) - P.originX) * deepXStride,
-                      use);
+        return gather(deepData + c, bufferTexelIndex(corner, deepXStride, deepYStride), use);
     }
     lvec3 gatherNormal(lint x, lint y, lbool use) const {
         const lint i = y * normalYStride + x * normalXStride;
@@ -84,15 +90,13 @@ struct LaneCpuKernel {
     const float* radianceData = nullptr;
     int radianceXStride = 0, radianceYStride = 0;
     luint gatherRadianceBitsAtDisplay(lvec2 corner, int layer, lbool use) const {
-        const lint i = (lint(corner.y) - P.originY) * radianceYStride + (lint(corner.x) - P.originX) * radianceXStride;
-        return floatBitsToUint(gather(radianceData + layer, i, use));
+        return floatBitsToUint(gather(radianceData + layer, bufferTexelIndex(corner, radianceXStride, radianceYStride), use));
     }
     // ... and the visible surface's normal (one packed word per texel, kernels/normal_word.glsl).
     const float* facingData = nullptr;
     int facingXStride = 0, facingYStride = 0;
     luint gatherNormalWordAtDisplay(lvec2 corner, lbool use) const {
-        const lint i = (lint(corner.y) - P.originY) * facingYStride + (lint(corner.x) - P.originX) * facingXStride;
-        return floatBitsToUint(gather(facingData, i, use));
+        return floatBitsToUint(gather(facingData, bufferTexelIndex(corner, facingXStride, facingYStride), use));
     }
     lfloat gatherEdgeDepth(lvec2 edgeCorner, lbool use) const { return gather(edgeData, edgeRecord(edgeCorner), use); }
     lvec4 gatherEdgeTexel(lvec2 edgeCorner, lbool use) const { return gatherRecord4(edgeData, edgeRecord(edgeCorner), use); }

@@ -54,14 +54,18 @@ vec3 loadEnv(ivec2 t) {
 }
 // The lane kernels' loads (kernels/*.glsl): one pixel per thread, 0 where not used (albedo 1).
 float gatherDepth(int x, int y, bool use) { return use ? depthData[texelIndex(ivec2(x, y))] : 0.0f; }
+// The buffer texel whose display corner is `corner` (HBAO's reads at display corners).
+ivec2 bufferTexel(vec2 corner) { return ivec2(int(corner.x) - P.originX, int(corner.y) - P.originY); }
 float gatherDepthAtDisplay(vec2 corner, bool use) {
-    return gatherDepth(int(corner.x) - P.originX, int(corner.y) - P.originY, use);
+    ivec2 t = bufferTexel(corner);
+    return gatherDepth(t.x, t.y, use);
 }
 vec3 gatherNormal(int x, int y, bool use) { return use ? loadNormal(ivec2(x, y)) : vec3(0.0f); }
 // HBAO's edge texels (the CPU tables them once per frame; here they are texels like any other).
 float gatherEdgeDepth(vec2 edgeCorner, bool use) { return gatherDepthAtDisplay(edgeCorner, use); }
 vec4 gatherEdgeTexel(vec2 edgeCorner, bool use) {
-    vec3 normal = gatherNormal(int(edgeCorner.x) - P.originX, int(edgeCorner.y) - P.originY, use);
+    ivec2 t = bufferTexel(edgeCorner);
+    vec3 normal = gatherNormal(t.x, t.y, use);
     return vec4(gatherEdgeDepth(edgeCorner, use), normal);
 }
 vec3 gatherRadiance(int x, int y, bool use) { return use ? loadRadiance(ivec2(x, y)) : vec3(0.0f); }
@@ -69,11 +73,11 @@ vec3 gatherRadiance(int x, int y, bool use) { return use ? loadRadiance(ivec2(x,
 // and layer (P.deepLayers of them with deep input, else one); the visible surface's normal's word
 // in the albedo binding (which the light does not read: its source has the albedo applied).
 uint gatherRadianceBitsAtDisplay(vec2 corner, int layer, bool use) {
-    int i = texelIndex(ivec2(int(corner.x) - P.originX, int(corner.y) - P.originY));
+    int i = texelIndex(bufferTexel(corner));
     return use ? floatBitsToUint(radianceData[i * max(P.deepLayers, 1) + layer]) : 0u;
 }
 uint gatherNormalWordAtDisplay(vec2 corner, bool use) {
-    int i = texelIndex(ivec2(int(corner.x) - P.originX, int(corner.y) - P.originY));
+    int i = texelIndex(bufferTexel(corner));
     return use ? floatBitsToUint(albedoData[i]) : 0u;
 }
 vec3 gatherAlbedo(int x, int y, bool use) { return use ? loadAlbedo(ivec2(x, y)) : vec3(1.0f); }
@@ -81,7 +85,7 @@ vec3 gatherEnv(int x, int y, bool use) { return use ? loadEnv(ivec2(x, y)) : vec
 vec4 gatherSignal(int x, int y, bool use) { return use ? loadSignal(ivec2(x, y)) : vec4(0.0f); }
 // HBAO's deep layers (P.deepLayers (front, back) pairs per texel) come through the signal-in binding.
 float gatherDeepAtDisplay(vec2 corner, int c, bool use) {
-    int i = texelIndex(ivec2(int(corner.x) - P.originX, int(corner.y) - P.originY));
+    int i = texelIndex(bufferTexel(corner));
     return use ? signalIn[i * 2 * P.deepLayers + c] : 0.0f;
 }
 // Disc AO reads the host's pyramid (a plane per channel, P.discStride apart, cpu/discs_cpu.h)
