@@ -75,7 +75,7 @@ lfloat hbaoLanes(lint x, lint y) {
         HbaoOccluded o = nothingOccluded();
         OccluderRun run = noRun();                         // HBAO_RUNS only
         FootprintPrevious previous = receiverFootprint(r); // HBAO_DEEP only
-        HbaoGi lit = nothingLit();                          // HBAO_GI only
+        HbaoGi lit = nothingLit(irradiance);                // HBAO_GI only
         // 3. The horizon h(phi): N_s steps along the slice's image line, from one pixel out to R,
         //    jittered per pixel and snapped to texel centres (the paper's ray marching).
         HbaoMarch march = startMarch(r, slice);
@@ -137,7 +137,7 @@ lfloat hbaoLanes(lint x, lint y) {
         // 6. The slice's integral (Eq. 3's integrand): F at the horizon, and the sectors above it.
         occlusion += sliceIntegral(slice, o);
         if (HBAO_GI != 0) {
-            irradiance += lit.irradiance;
+            irradiance = lit.irradiance;
         }
     }
     // 7. AO = 1 - the sum normalised. Uniform: (1/2pi) * (2pi/N_d) * sum. Cosine: (1/pi) *

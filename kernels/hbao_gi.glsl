@@ -37,16 +37,18 @@ struct HbaoGi {
     lfloat horizonA, horizonB; // the horizon's direction in the slice's axes; (1, 0): the tangent
     lfloat horizonF;           // cosineF at the horizon
     luint sectors;             // covered sectors above the horizon (thickness models)
-    lvec3 irradiance;          // the slice's sum of L dF_cos
+    lvec3 irradiance;          // the sum of L dF_cos over this slice and the ones before
 };
 
-HbaoGi nothingLit() {
+// A slice's light before its march; the sum goes on from the slices before (one sum, not one per
+// slice beside the pixel's, keeps three fewer registers live through the march).
+HbaoGi nothingLit(lvec3 irradianceBefore) {
     HbaoGi g;
     g.horizonA = lfloat(1.0f);
     g.horizonB = lfloat(0.0f);
     g.horizonF = lfloat(0.0f);
     g.sectors = luint(0u);
-    g.irradiance = lvec3(lfloat(0.0f), lfloat(0.0f), lfloat(0.0f));
+    g.irradiance = irradianceBefore;
     return g;
 }
 
