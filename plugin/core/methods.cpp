@@ -86,7 +86,8 @@ std::vector<MethodInfo> makeTable() {
                   intParam("steps", "--steps", "hbao: samples per direction (default 8)", 1, 256, &Settings::steps),
                   thicknessParam(), borderParam(),
                   deepLayersParam()},
-                 [](const Settings& s) { return s.directions * s.steps; }, nullptr, &runHbaoMethod, true});
+                 [](const Settings& s) { return s.directions * s.steps; }, nullptr, &runHbaoMethod,
+                 /*blurWithinReach=*/true});
     t.push_back({"ssdo", "directional occlusion and one bounce (Ritschel et al. 2009): DO, AO and, with --bounce, GI",
                  "kernels/ssdo.glsl", true, true, {"depth", "normal", "beauty|direct-diffuse", "albedo"},
                  {"ao", "do", "gi", "relit"}, {},
@@ -100,7 +101,7 @@ std::vector<MethodInfo> makeTable() {
                  [](const Settings& s) {
                      return s.bounce ? (glsl::SSDO_GI_BLUR_SCALE - 1) * std::max(resolvedBlur(s), 0) : 0;
                  },
-                 &runSsdoMethod, true});
+                 &runSsdoMethod, /*blurWithinReach=*/true});
     t.push_back({"ssao", "Crytek's screen-space AO (Mittring 2007): points around the pixel tested against the depth",
                  "kernels/ssao.glsl", true, true, {"depth", "normal"}, {"ao"},
                  {{"low", "8 points", [](Settings& s) { s.ssaoSamples = 8; }},
