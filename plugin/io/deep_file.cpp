@@ -2,7 +2,7 @@
 
 #include "base/error.h"
 
-#include "io/oiio_module.h"
+#include "io/deep_samples.h"
 
 #include <algorithm>
 #include <cmath>
@@ -17,13 +17,7 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 
 } // namespace
 
-bool isDeepFile(const std::string& path) {
-    int width = 0, height = 0, channels = 0;
-    bool deep = false;
-    const std::string failed = oiioModule().probe(path, width, height, channels, deep);
-    if (!failed.empty()) throw FileError(path, failed);
-    return deep;
-}
+bool isDeepFile(const std::string& path) { return readExrInfo(path, kDefaultMaxPixels, true).parts.at(0).deep; }
 
 namespace {
 
@@ -36,17 +30,13 @@ struct DeepRead : DeepWindows {
 DeepRead readSamples(const std::string& path, const DeepChannelNames& names, bool colour) {
     DeepRead out;
     if (!colour) {
-        DeepSamples dd;
-        const std::string failed = oiioModule().readDeep(path, names.z, names.zBack, dd);
-        if (!failed.empty()) throw FileError(path, failed);
+        DeepSamples dd = readDeepDepthSamples(path, names.z, names.zBack);
         static_cast<DeepWindows&>(out) = dd;
         out.z = std::move(dd.z);
         out.zBack = std::move(dd.zBack);
         return out;
     }
-    DeepChannels dc;
-    const std::string failed = oiioModule().readDeepChannels(path, dc);
-    if (!failed.empty()) throw FileError(path, failed);
+    const DeepChannels dc = readDeepChannelSamples(path);
     static_cast<DeepWindows&>(out) = dc;
     const auto index = [&](const std::string& name) {
         const auto it = std::find(dc.names.begin(), dc.names.end(), name);

@@ -1,6 +1,6 @@
 // Deep EXR input (docs/deep.md): the surfaces along each pixel's ray, as the (front, back)
 // depth planes the operator's HBAO reads (OperatorInputs::deepLayers). Scanline and tiled
-// deep files, through OpenImageIO's deep API.
+// deep files, through OpenEXR's deep API (io/deep_samples.h).
 #pragma once
 #include "base/image.h"
 #include "io/exr_file.h"
@@ -62,7 +62,7 @@ struct DeepLayers {
     long long truncatedPixels = 0; // more surfaces than the maximum: the farthest dropped
 };
 
-// True when `path` is an image whose first subimage is deep (throws FileError when unreadable).
+// True when `path` is an OpenEXR file whose first part is deep (throws FileError when unreadable).
 bool isDeepFile(const std::string& path);
 
 // Reads up to maxLayers distinct surfaces per pixel: samples sorted by Z, overlapping or

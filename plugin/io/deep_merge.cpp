@@ -184,8 +184,7 @@ DeepElement readDeepElement(const std::string& path, const DeepChannelNames& nam
     if (!info.parts[0].deep) throw FileError(path, "is not a deep image; several inputs are merged as deep elements");
     e.part = std::move(info.parts[0]);
     e.part.channels = headerChannels(e.part.header);
-    const std::string failed = oiioModule().readDeepChannels(path, e.samples);
-    if (!failed.empty()) throw FileError(path, failed);
+    e.samples = readDeepChannelSamples(path);
     const std::vector<std::string>& n = e.samples.names;
     auto index = [&](const std::string& name) {
         const auto it = std::find(n.begin(), n.end(), name);

@@ -7,7 +7,7 @@
 #include "io/deep_file.h"
 #include "io/exr_file.h"
 #include "io/layers.h"
-#include "io/oiio_module.h"
+#include "io/deep_samples.h"
 
 #include <string>
 #include <vector>

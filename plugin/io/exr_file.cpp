@@ -36,10 +36,6 @@ namespace {
 
 std::atomic<bool> g_threadsSet{false};
 
-void ensureThreads() {
-    if (!g_threadsSet.load()) setExrThreads(0);
-}
-
 // OpenEXR messages can span lines; users get one.
 std::string oneLine(std::string s) {
     for (char& c : s)
@@ -48,13 +44,20 @@ std::string oneLine(std::string s) {
     return s;
 }
 
-// OpenEXR's detail minus its leading 'Error ... file "path".' sentence: we name the file already.
-std::string detail(const std::exception& e) {
+} // namespace
+
+void ensureExrThreads() {
+    if (!g_threadsSet.load()) setExrThreads(0);
+}
+
+std::string exrErrorDetail(const std::exception& e) {
     std::string s = oneLine(e.what());
     size_t q = s.find(" file \""), end = q == std::string::npos ? q : s.find("\". ", q);
     if (end != std::string::npos && end + 3 < s.size()) s = s.substr(end + 3);
     return s;
 }
+
+namespace {
 
 std::string quoted(const std::string& p) { return "'" + p + "'"; }
 
@@ -123,7 +126,9 @@ Image toFloatPlane(const ExrPart& part, const ExrChannel& ch, const char* raw, I
     return img;
 }
 
-void checkMagic(const std::string& path) {
+} // namespace
+
+void checkExrMagic(const std::string& path) {
     std::ifstream f(path, std::ios::binary);
     if (!f) {
         int err = errno;
@@ -137,8 +142,6 @@ void checkMagic(const std::string& path) {
     if (f.gcount() != 4 || magic != 20000630u)
         throw FileError(path, "not an OpenEXR file");
 }
-
-} // namespace
 
 int sampleCount(int lo, int hiExclusive, int sampling) {
     // Samples sit at coordinates divisible by `sampling` (EXR's rule).
@@ -244,10 +247,10 @@ void setExrThreads(int n) {
 }
 
 ExrInfo readExrInfo(const std::string& path, long long maxPixels, bool allowDeep) {
-    checkMagic(path);
+    checkExrMagic(path);
     checkAttributeSizes(path);
     checkWindowsBeforeOpening(path, maxPixels);
-    ensureThreads();
+    ensureExrThreads();
     ExrInfo info;
     info.path = path;
     try {
@@ -276,7 +279,7 @@ ExrInfo readExrInfo(const std::string& path, long long maxPixels, bool allowDeep
     } catch (const Error&) {
         throw;
     } catch (const std::exception& e) {
-        throw FileError(path, "truncated or corrupt: cannot read its header (" + detail(e) + ")");
+        throw FileError(path, "truncated or corrupt: cannot read its header (" + exrErrorDetail(e) + ")");
     }
     if (!allowDeep) requireFlatParts(info);
     return info;
@@ -304,7 +307,7 @@ std::vector<Image> readExrChannels(const std::string& path, const ExrInfo& info,
         wantedIdx.push_back(c);
     }
     if (keepAll && !out) throw Error("internal: readExrChannels keepAll needs an output");
-    ensureThreads();
+    ensureExrThreads();
 
     // Raw buffers: every channel when keeping all; else float buffers for wanted ones only.
     std::vector<std::vector<std::vector<char>>> raw(nParts);
@@ -345,7 +348,7 @@ std::vector<Image> readExrChannels(const std::string& path, const ExrInfo& info,
     } catch (const Error&) {
         throw;
     } catch (const std::exception& e) {
-        throw FileError(path, "truncated or corrupt: " + detail(e));
+        throw FileError(path, "truncated or corrupt: " + exrErrorDetail(e));
     }
 
     std::vector<Image> result;
@@ -510,7 +513,7 @@ void writeFileAtomically(const std::string& outPath, const std::string& inputPat
     if (!fs::is_directory(dir))
         throw FileError(outPath, "cannot write: directory '" + dir.string() + "' does not exist");
 
-    ensureThreads();
+    ensureExrThreads();
     const std::string tmp = outPath + ".tmp-" + std::to_string((long)::getpid());
     try {
         write(tmp);  // the file is closed when this returns
@@ -519,7 +522,7 @@ void writeFileAtomically(const std::string& outPath, const std::string& inputPat
         throw;
     } catch (const std::exception& e) {
         std::remove(tmp.c_str());
-        throw FileError(outPath, "cannot write: " + detail(e));
+        throw FileError(outPath, "cannot write: " + exrErrorDetail(e));
     }
     if (std::rename(tmp.c_str(), outPath.c_str()) != 0) {
         int err = errno;

@@ -8,6 +8,7 @@
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfPixelType.h>
 
+#include <exception>
 #include <functional>
 #include <map>
 #include <string>
@@ -66,6 +67,8 @@ void checkWindow(const std::string& path, const char* which, const Imath::Box2i&
 // its reader reports it.
 void checkWindowsBeforeOpening(const std::string& path, long long maxPixels);
 
+// FileError when `path` cannot be opened, is a directory or lacks OpenEXR's magic number.
+void checkExrMagic(const std::string& path);
 // Every attribute's size against the file's: OpenEXR's C++ API allocates and fills what a size
 // field claims (a 2 GB string attribute takes it half a minute) before it finds the file short.
 // Only the sizes are checked; anything else malformed is left to the libraries to report.
@@ -174,5 +177,10 @@ int addLayersPart(ExrPixels& file, const ExrInfo& info, int from, const std::str
 // tiled, single and multipart); n <= 0 means all cores. Used lazily with all cores if never
 // called.
 void setExrThreads(int n);
+// setExrThreads(0) unless a host has set the count: called before a file is opened.
+void ensureExrThreads();
+// An OpenEXR exception's message on one line, less its leading sentence naming the file (the
+// caller's FileError names it).
+std::string exrErrorDetail(const std::exception& e);
 
 } // namespace obscura

@@ -4,11 +4,7 @@
 
 #include "base/error.h"
 
-#include <OpenImageIO/deepdata.h>
 #include <OpenImageIO/imageio.h>
-
-#include <algorithm>
-#include <cstring>
 
 namespace obscura {
 
@@ -27,17 +23,6 @@ __attribute__((visibility("default"))) ColourMetadata colourMetadata(const OIIO:
 namespace {
 
 std::string oiioError(const std::string& message) { return firstLineOf(message, "unknown OpenImageIO error"); }
-
-std::string probe(const std::string& path, int& width, int& height, int& channels, bool& deep) {
-    auto in = OIIO::ImageInput::open(path);
-    if (!in) return oiioError(OIIO::geterror());
-    const OIIO::ImageSpec& spec = in->spec();
-    width = spec.width;
-    height = spec.height;
-    channels = spec.nchannels;
-    deep = spec.deep;
-    return {};
-}
 
 std::string readRgb(const std::string& path, const std::function<void(int, int, int)>& accept, Image& rgb,
                     ColourMetadata& meta) {
@@ -64,85 +49,7 @@ std::string writePng(const std::string& path, int width, int height, int channel
     return ok ? std::string() : oiioError(out->geterror());
 }
 
-// Channels [chBegin, chEnd) of a deep image into dd, and its windows and counts into `out`;
-// returns the total of samples, or -1 (the error in *error) when it cannot be read.
-long long readNativeDeep(OIIO::ImageInput& in, int chBegin, int chEnd, OIIO::DeepData& dd, DeepWindows& out,
-                         std::string* error) {
-    const OIIO::ImageSpec spec = in.spec();
-    const bool read = spec.tile_width > 0
-                          ? in.read_native_deep_tiles(0, 0, spec.x, spec.x + spec.width, spec.y, spec.y + spec.height,
-                                                      spec.z, spec.z + spec.depth, chBegin, chEnd, dd)
-                          : in.read_native_deep_scanlines(0, 0, spec.y, spec.y + spec.height, spec.z, chBegin, chEnd, dd);
-    if (!read) {
-        *error = oiioError(in.geterror());
-        return -1;
-    }
-    out.fullWidth = spec.full_width;
-    out.fullHeight = spec.full_height;
-    out.x = spec.x - spec.full_x;
-    out.y = spec.y - spec.full_y;
-    out.width = spec.width;
-    out.height = spec.height;
-    const OIIO::cspan<unsigned int> counts = dd.all_samples();
-    out.counts.assign(counts.begin(), counts.end());
-    long long total = 0;
-    for (unsigned int n : counts) total += n;
-    return total;
-}
-
-std::string readDeep(const std::string& path, const std::string& z, const std::string& zBack, DeepSamples& out) {
-    auto in = OIIO::ImageInput::open(path);
-    if (!in) return oiioError(OIIO::geterror());
-    const OIIO::ImageSpec& spec = in->spec();
-    if (!spec.deep) return "not a deep image (a flat file gives the passes with --flat)";
-    const int zc = spec.channelindex(z), zBackC = spec.channelindex(zBack);
-    if (zc < 0) return "deep image without a " + z + " channel";
-    // Only the channels from Z to ZBack (adjacent in OpenEXR's sorted list), not colour or ids.
-    const int chBegin = zBackC >= 0 ? std::min(zc, zBackC) : zc, chEnd = std::max(zc, zBackC) + 1;
-    OIIO::DeepData dd;
-    std::string error;
-    const long long total = readNativeDeep(*in, chBegin, chEnd, dd, out, &error);
-    if (total < 0) return error;
-    out.hasZBack = zBackC >= 0;
-    out.z.reserve(total);
-    if (out.hasZBack) out.zBack.reserve(total);
-    for (int64_t p = 0, pixels = (int64_t)out.width * out.height; p < pixels; ++p)
-        for (int s = 0; s < dd.samples(p); ++s) {
-            out.z.push_back(dd.deep_value(p, zc - chBegin, s));
-            if (out.hasZBack) out.zBack.push_back(dd.deep_value(p, zBackC - chBegin, s));
-        }
-    return {};
-}
-
-std::string readDeepChannels(const std::string& path, DeepChannels& out) {
-    auto in = OIIO::ImageInput::open(path);
-    if (!in) return oiioError(OIIO::geterror());
-    const OIIO::ImageSpec& spec = in->spec();
-    if (!spec.deep) return "not a deep image";
-    const int nc = spec.nchannels;
-    OIIO::DeepData dd;
-    std::string error;
-    const long long total = readNativeDeep(*in, 0, nc, dd, out, &error);
-    if (total < 0) return error;
-    out.names.assign(spec.channelnames.begin(), spec.channelnames.end());
-    out.values.resize((size_t)total * nc);
-    float* v = out.values.data();
-    bool allFloat = true;  // then each pixel's samples are nc floats each, one after another
-    for (int c = 0; c < nc; ++c) allFloat = allFloat && dd.channeltype(c) == OIIO::TypeDesc::FLOAT;
-    for (int64_t p = 0, pixels = (int64_t)out.width * out.height; p < pixels; ++p) {
-        const int n = dd.samples(p);
-        if (allFloat && n > 0) {
-            std::memcpy(v, dd.data_ptr(p, 0, 0), sizeof(float) * nc * n);
-            v += (size_t)nc * n;
-            continue;
-        }
-        for (int s = 0; s < n; ++s)
-            for (int c = 0; c < nc; ++c) *v++ = dd.deep_value(p, c, s);
-    }
-    return {};
-}
-
-const OiioModule kModule{kOiioModuleAbi, &probe, &readRgb, &writePng, &readDeep, &readDeepChannels};
+const OiioModule kModule{kOiioModuleAbi, &readRgb, &writePng};
 
 } // namespace
 } // namespace obscura
