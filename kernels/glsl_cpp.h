@@ -21,3 +21,6 @@ using uint = std::uint32_t;
 #define OUT(T) T&
 #define INOUT(T) T&
 #define CONST_GLOBAL static constexpr
+// A function a lane group seldom calls, kept out of the loop that calls it: inlined, its
+// registers would crowd the loop's for every sample.
+#define OUT_OF_LINE __attribute__((noinline))

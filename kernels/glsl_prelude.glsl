@@ -3,6 +3,7 @@
 #define OUT(T) out T
 #define INOUT(T) inout T
 #define CONST_GLOBAL const
+#define OUT_OF_LINE
 
 // Lane types (cpu/lanes.h): per-pixel values. A GPU thread is one pixel, so each is its
 // scalar type here; the CPU build makes them registers of several pixels.

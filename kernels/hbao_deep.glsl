@@ -120,25 +120,48 @@ void occupyFootprintSegment(lvec3 P0, lvec3 P1, lbool halves, lvec3 X, IN(HbaoSl
 // plane (a silhouette's tangent plane runs along the eye's ray and would stand for a wall there),
 // is cut at the run jump (P.runJump), and the whole is clipped to the ball of radius R. It adds
 // the angles between its ends (none below the tangent); the sample's own interval is set apart.
-void occupyFootprint(IN(HbaoSample) smp, lvec3 sampleRay, lvec3 m, lbool use, INOUT(FootprintPrevious) previous,
-                     IN(HbaoSlice) sl, float radius2, INOUT(HbaoOccluded) o) {
-    FootprintPrevious before = previous;
-    previous.X = smp.X;
-    previous.m = m;
-    previous.w = smp.w;
-    previous.surface = use;
+//
+// The steps it may take from the sample on its plane: its two half pixels along the slice (up to
+// the run jump), and back across the gap to the previous sample, as far as that can still reach
+// the ball of radius R. The cuts of occupyFootprint only shorten them.
+struct FootprintSteps {
+    lvec2 across; // one pixel along the slice, in pixels
+    lvec3 half0, half1, gap;
+};
+
+FootprintSteps footprintSteps(IN(HbaoSample) smp, lvec3 sampleRay, lvec3 m, IN(FootprintPrevious) before, IN(HbaoSlice) sl) {
     // From the pixel's centre to its border along dir: in pixels, and in viewOffset's image units.
     lfloat toEdge = 0.5f / max(max(abs(sl.dir.x), abs(sl.dir.y)), 1e-6f);
     lvec2 delta = lvec2(sl.dir.x * (toEdge * P.invFx), sl.dir.y * (toEdge * -P.invFy));
-    lvec2 across = sl.dir * (2.0f * toEdge);
+    FootprintSteps f;
+    f.across = sl.dir * (2.0f * toEdge);
+    f.half0 = planeStep(sampleRay, smp.depth, m, delta * -1.0f, lfloat(P.runJump));
+    f.half1 = planeStep(sampleRay, smp.depth, m, delta, lfloat(P.runJump));
+    f.gap = planeStep(sampleRay, smp.depth, m, before.w - smp.w, sqrt(dot(smp.X, smp.X)) + P.radius);
+    return f;
+}
+
+// Whether the footprint may occupy anything: its ends lie on the segments from the sample to the
+// ends of its steps, and a point's height b = sl.n . P is linear along each. Where no step's end
+// rises above the tangent's rounding band (occupyFootprintSegment's: b within 10^-2 |X|), nothing
+// can count. A plane's samples seen from that plane (most of a floor or a wall) stop here, before
+// the neighbours are read.
+lbool footprintMayRise(IN(HbaoSample) smp, IN(FootprintSteps) f, IN(HbaoSlice) sl) {
+    lfloat b = dot(sl.n, smp.X);
+    lfloat rise = max(max(b, b + dot(sl.n, f.gap)), max(b + dot(sl.n, f.half0), b + dot(sl.n, f.half1)));
+    return rise > 0.0f && rise * rise > 0.98e-4f * dot(smp.X, smp.X);
+}
+
+OUT_OF_LINE void occupyFootprint(IN(HbaoSample) smp, lvec3 sampleRay, lvec3 m, lbool use, IN(FootprintPrevious) before,
+                     IN(FootprintSteps) f, IN(HbaoSlice) sl, float radius2, INOUT(HbaoOccluded) o) {
     lbool behindSurface;
     lvec3 behindNormal;
     lvec3 behindD;
-    neighbourTexel(smp.corner, across * -1.0f, sampleRay, smp.depth, use, behindSurface, behindNormal, behindD);
+    neighbourTexel(smp.corner, f.across * -1.0f, sampleRay, smp.depth, use, behindSurface, behindNormal, behindD);
     lbool aheadSurface;
     lvec3 aheadNormal;
     lvec3 aheadD;
-    neighbourTexel(smp.corner, across, sampleRay, smp.depth, use, aheadSurface, aheadNormal, aheadD);
+    neighbourTexel(smp.corner, f.across, sampleRay, smp.depth, use, aheadSurface, aheadNormal, aheadD);
     // The half towards -dir needs the plane to go on at +dir, and the other way round.
     lbool back = use && continuesPlane(aheadSurface, aheadNormal, m);
     lbool ahead = use && continuesPlane(behindSurface, behindNormal, m);
@@ -146,12 +169,9 @@ void occupyFootprint(IN(HbaoSample) smp, lvec3 sampleRay, lvec3 m, lbool use, IN
         return;
     }
     // A neighbour on this plane cuts nothing (its crossing would be rounding over rounding).
-    lvec3 step0 = cutAtNeighbour(planeStep(sampleRay, smp.depth, m, delta * -1.0f, lfloat(P.runJump)),
-                                 behindSurface && !ahead, behindNormal, behindD);
-    // Back across the gap to the previous sample, cut where the plane meets that sample's plane.
-    // As far as it can still reach the ball of radius R around the receiver.
-    lvec3 gap = planeStep(sampleRay, smp.depth, m, before.w - smp.w, sqrt(dot(smp.X, smp.X)) + P.radius);
-    lfloat across0 = dot(before.m, gap);
+    lvec3 step0 = cutAtNeighbour(f.half0, behindSurface && !ahead, behindNormal, behindD);
+    // The gap is cut where the plane meets the previous sample's plane.
+    lfloat across0 = dot(before.m, f.gap);
     lfloat cut = dot(before.m, before.X - smp.X) / select(abs(across0) > 1e-30f, across0, lfloat(1e-30f));
     // On one plane with the previous sample (parallel, and its point within 3.6 degrees of this
     // plane as seen from the sample) the cut is rounding over rounding: the whole gap is that
@@ -164,10 +184,9 @@ void occupyFootprint(IN(HbaoSample) smp, lvec3 sampleRay, lvec3 m, lbool use, IN
     lbool crosses = before.surface && !samePlane && cut >= 0.0f && cut <= 1.0f;
     lbool gapPlane = crosses || samePlane;
     // The pixel's own half is the least it reaches (so a crease next to the sample changes nothing abruptly).
-    lvec3 toPrevious = gap * select(crosses, cut, lfloat(1.0f));
+    lvec3 toPrevious = f.gap * select(crosses, cut, lfloat(1.0f));
     step0 = select(gapPlane && dot(toPrevious, toPrevious) > dot(step0, step0), toPrevious, step0);
-    lvec3 step1 = cutAtNeighbour(planeStep(sampleRay, smp.depth, m, delta, lfloat(P.runJump)), aheadSurface && !back,
-                                 aheadNormal, aheadD);
+    lvec3 step1 = cutAtNeighbour(f.half1, aheadSurface && !back, aheadNormal, aheadD);
     lvec3 X0 = smp.X + step0 * select(back, lfloat(1.0f), lfloat(0.0f));
     lvec3 X1 = smp.X + step1 * select(ahead, lfloat(1.0f), lfloat(0.0f));
     lvec3 P0;
@@ -175,6 +194,23 @@ void occupyFootprint(IN(HbaoSample) smp, lvec3 sampleRay, lvec3 m, lbool use, IN
     lbool meets;
     clipToBall(X0, X1, radius2, P0, P1, meets);
     occupyFootprintSegment(P0, P1, (back || ahead) && meets, smp.X, sl, o);
+}
+
+// The texel's footprint after the sample's own interval; `previous` becomes this sample.
+void takeFootprint(IN(HbaoSample) smp, lvec3 sampleRay, IN(HbaoSlice) sl, float radius2, INOUT(FootprintPrevious) previous,
+                   INOUT(HbaoOccluded) o) {
+    vec2 origin = vec2(bufferOrigin());
+    lvec3 m = viewNormal(gatherNormal(lint(smp.corner.x - origin.x), lint(smp.corner.y - origin.y), smp.surface),
+                         viewVector(sampleRay));
+    FootprintPrevious before = previous;
+    previous.X = smp.X;
+    previous.m = m;
+    previous.w = smp.w;
+    previous.surface = smp.surface;
+    FootprintSteps f = footprintSteps(smp, sampleRay, m, before, sl);
+    if (anyLane(smp.surface && footprintMayRise(smp, f, sl))) {
+        occupyFootprint(smp, sampleRay, m, smp.surface, before, f, sl, radius2, o);
+    }
 }
 
 // Hidden layer k (>= 1) at a sample texel: a surface on that texel's ray behind the visible one.
@@ -209,13 +245,9 @@ DeepInterval visibleLayerInterval(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(Hba
 // continued surface's samples, hbao_border.glsl).
 void takeSampleDeep(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, INOUT(FootprintPrevious) previous,
                     INOUT(HbaoOccluded) o) {
-    vec2 origin = vec2(bufferOrigin());
     DeepInterval visible = visibleLayerInterval(smp, r, sl);
     occupyInterval(visible.a, visible.b, visible.backA, visible.backB, visible.counts, o);
-    lvec3 sampleRay = lvec3(r.ray.x + smp.w.x, r.ray.y + smp.w.y, r.ray.z);
-    lvec3 m = viewNormal(gatherNormal(lint(smp.corner.x - origin.x), lint(smp.corner.y - origin.y), smp.surface),
-                         viewVector(sampleRay));
-    occupyFootprint(smp, sampleRay, m, smp.surface, previous, sl, r.radius2, o);
+    takeFootprint(smp, lvec3(r.ray.x + smp.w.x, r.ray.y + smp.w.y, r.ray.z), sl, r.radius2, previous, o);
     for (int k = 1; k < P.deepLayers; ++k) {
         DeepInterval hidden = hiddenLayerInterval(k, smp, r, sl);
         if (anyLane(hidden.counts)) {
