@@ -214,13 +214,14 @@ void takeFootprint(IN(HbaoSample) smp, lvec3 sampleRay, IN(HbaoSlice) sl, float 
 }
 
 // Hidden layer k (>= 1) at a sample texel: a surface on that texel's ray behind the visible one.
-// Its back is read only where some lane has the layer.
-DeepInterval hiddenLayerInterval(int k, IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl) {
+// Its back is read only where some lane has the layer (`any`).
+DeepInterval hiddenLayerInterval(int k, IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, OUT(bool) any) {
     lfloat front = gatherDeepAtDisplay(smp.corner, 2 * k, smp.sampled) * P.depthScale;
     DeepInterval i;
     i.a = i.b = i.backA = i.backB = lfloat(0.0f);
     i.counts = smp.sampled && isSurfaceDepth(front);
-    if (anyLane(i.counts)) {
+    any = anyLane(i.counts);
+    if (any) {
         lfloat back = gatherDeepAtDisplay(smp.corner, 2 * k + 1, i.counts) * P.depthScale;
         lbool span = i.counts && back > front && isSurfaceDepth(back);
         front = select(i.counts, front, r.depth);
@@ -248,8 +249,9 @@ void takeSampleDeep(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, IN
     DeepInterval visible = visibleLayerInterval(smp, r, sl);
     occupyInterval(visible.a, visible.b, visible.backA, visible.backB, visible.counts, o);
     takeFootprint(smp, lvec3(r.ray.x + smp.w.x, r.ray.y + smp.w.y, r.ray.z), sl, r.radius2, previous, o);
-    for (int k = 1; k < P.deepLayers; ++k) {
-        DeepInterval hidden = hiddenLayerInterval(k, smp, r, sl);
+    bool any = true; // some lane has layer k: layers come nearest first, so none has the next without it
+    for (int k = 1; k < P.deepLayers && any; ++k) {
+        DeepInterval hidden = hiddenLayerInterval(k, smp, r, sl, any);
         if (anyLane(hidden.counts)) {
             occupyInterval(hidden.a, hidden.b, hidden.backA, hidden.backB, hidden.counts, o);
         }

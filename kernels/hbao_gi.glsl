@@ -239,8 +239,9 @@ void takeSampleDeepGi(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, 
     if (anyLane(visible.counts)) {
         coverGi(visible.a, visible.b, visible.backA, visible.backB, visible.counts, smp.corner, 0, sl.np, g);
     }
-    for (int k = 1; k < P.deepLayers; ++k) {
-        DeepInterval hidden = hiddenLayerInterval(k, smp, r, sl);
+    bool any = true; // as takeSampleDeep
+    for (int k = 1; k < P.deepLayers && any; ++k) {
+        DeepInterval hidden = hiddenLayerInterval(k, smp, r, sl, any);
         if (anyLane(hidden.counts)) {
             coverGi(hidden.a, hidden.b, hidden.backA, hidden.backB, hidden.counts, smp.corner, k, sl.np, g);
         }
