@@ -27,6 +27,7 @@
 #include "hbao_deep.glsl"    // HBAO_DEEP: the renderer's layers, each texel's footprint
 #include "hbao_border.glsl"  // past the buffer's edge: the continued surface
 #include "hbao_gi.glsl"      // HBAO_GI: each newly covered angle's bounce light
+#include "hbao_deep_step.glsl" // HBAO_DEEP's step: each layer for the AO and the light
 
 // The slice's integral of F: at the horizon, plus the sectors set above it (none without a
 // thickness); linear falloff has summed its weighted rises as it marched.
@@ -105,15 +106,13 @@ lfloat hbaoLanes(lint x, lint y) {
                     lightRisingSample(smp, run);
                 }
             } else if (HBAO_MODEL == HBAO_DEEP) {
-                takeSampleDeep(smp, r, slice, previous, o);
+                takeSampleDeep(smp, r, slice, previous, o, lit); // with HBAO_GI, its light too
             } else if (HBAO_MODEL == HBAO_FIXED_THICKNESS) {
                 takeSampleFixed(smp, slice, o);
             } else {
                 takeSampleHorizon(smp, r, slice, o);
             }
-            if (HBAO_GI != 0 && HBAO_MODEL == HBAO_DEEP) {
-                takeSampleDeepGi(smp, r, slice, lit);
-            } else if (HBAO_GI != 0 && HBAO_RUNS == 0) {
+            if (HBAO_GI != 0 && HBAO_RUNS == 0 && HBAO_MODEL != HBAO_DEEP) {
                 takeSampleGi(smp, slice, lit);
             }
         }

@@ -240,20 +240,3 @@ DeepInterval visibleLayerInterval(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(Hba
     lvec3 backX = viewOffset(r.ray, r.depth, smp.w, select(span, back, smp.depth));
     return spanInterval(smp.X, backX, span, smp.surface, sl, r.radius2);
 }
-
-// HBAO_DEEP's step: the visible layer's span where the renderer saw the ray leave its solid, the
-// texel's footprint on its tangent plane, then every hidden layer (inside the buffer: past it, the
-// continued surface's samples, hbao_border.glsl).
-void takeSampleDeep(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, INOUT(FootprintPrevious) previous,
-                    INOUT(HbaoOccluded) o) {
-    DeepInterval visible = visibleLayerInterval(smp, r, sl);
-    occupyInterval(visible.a, visible.b, visible.backA, visible.backB, visible.counts, o);
-    takeFootprint(smp, lvec3(r.ray.x + smp.w.x, r.ray.y + smp.w.y, r.ray.z), sl, r.radius2, previous, o);
-    bool any = true; // some lane has layer k: layers come nearest first, so none has the next without it
-    for (int k = 1; k < P.deepLayers && any; ++k) {
-        DeepInterval hidden = hiddenLayerInterval(k, smp, r, sl, any);
-        if (anyLane(hidden.counts)) {
-            occupyInterval(hidden.a, hidden.b, hidden.backA, hidden.backB, hidden.counts, o);
-        }
-    }
-}

@@ -229,25 +229,6 @@ void lightBorderAsOccluded(IN(HbaoReceiver) r, IN(HbaoSlice) sl, IN(HbaoMarch) m
     g.irradiance += sharedExponentRgb(bits) * gained;
 }
 
-// HBAO_DEEP's light: each layer of the sample's texel covers the interval its AO occupies
-// (hbao_deep.glsl), the visible one with the bounce source, each hidden one with the colour the
-// deep file holds for it (black without one). The texel's footprint is left to the AO: it refines
-// where a grazing plane hides, and the light takes the texel's point as flat input does, so a deep
-// file of one surface per pixel gives the flat input's light.
-void takeSampleDeepGi(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, INOUT(HbaoGi) g) {
-    DeepInterval visible = visibleLayerInterval(smp, r, sl);
-    if (anyLane(visible.counts)) {
-        coverGi(visible.a, visible.b, visible.backA, visible.backB, visible.counts, smp.corner, 0, sl.np, g);
-    }
-    bool any = true; // as takeSampleDeep
-    for (int k = 1; k < P.deepLayers && any; ++k) {
-        DeepInterval hidden = hiddenLayerInterval(k, smp, r, sl, any);
-        if (anyLane(hidden.counts)) {
-            coverGi(hidden.a, hidden.b, hidden.backA, hidden.backB, hidden.counts, smp.corner, k, sl.np, g);
-        }
-    }
-}
-
 // Where a chord's end counts: within the ball, above the tangent by more than rounding, on the E
 // side (as hbao_border.glsl's takeContinued).
 lbool chordEndCounts(lvec3 X, lfloat a, lfloat b, lbool use, IN(HbaoSlice) sl) {

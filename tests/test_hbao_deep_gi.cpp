@@ -1,4 +1,4 @@
-// HBAO's indirect light with deep input (docs/deep.md, kernels/hbao_gi.glsl's takeSampleDeepGi):
+// HBAO's indirect light with deep input (docs/deep.md, kernels/hbao_deep_step.glsl):
 // a hidden lit solid lights the floor beside it as the corner's closed form says, deep input of
 // one surface per pixel gives the flat input's light, OpenGL gives the CPU's, and the colours
 // come out of deep files (read with --flat, and merged from elements rendered apart).
