@@ -214,14 +214,14 @@ void takeFootprint(IN(HbaoSample) smp, lvec3 sampleRay, IN(HbaoSlice) sl, float 
 }
 
 // Hidden layer k (>= 1) at a sample texel: a surface on that texel's ray behind the visible one.
-// Its back is read only where some lane has the layer (`any`).
-DeepInterval hiddenLayerInterval(int k, IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, OUT(bool) any) {
+// Its back is read only where some lane has the layer (`more`).
+DeepInterval hiddenLayerInterval(int k, IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, OUT(bool) more) {
     lfloat front = gatherDeepAtDisplay(smp.corner, 2 * k, smp.sampled) * P.depthScale;
     DeepInterval i;
     i.a = i.b = i.backA = i.backB = lfloat(0.0f);
     i.counts = smp.sampled && isSurfaceDepth(front);
-    any = anyLane(i.counts);
-    if (any) {
+    more = anyLane(i.counts);
+    if (more) {
         lfloat back = gatherDeepAtDisplay(smp.corner, 2 * k + 1, i.counts) * P.depthScale;
         lbool span = i.counts && back > front && isSurfaceDepth(back);
         front = select(i.counts, front, r.depth);

@@ -16,9 +16,9 @@ void takeSampleDeep(IN(HbaoSample) smp, IN(HbaoReceiver) r, IN(HbaoSlice) sl, IN
         coverGi(visible.a, visible.b, visible.backA, visible.backB, visible.counts, smp.corner, 0, sl.np, g);
     }
     takeFootprint(smp, lvec3(r.ray.x + smp.w.x, r.ray.y + smp.w.y, r.ray.z), sl, r.radius2, previous, o);
-    bool any = true; // some lane has layer k: layers come nearest first, so none has the next without it
-    for (int k = 1; k < P.deepLayers && any; ++k) {
-        DeepInterval hidden = hiddenLayerInterval(k, smp, r, sl, any);
+    bool more = true; // some lane has layer k: layers come nearest first, so none has the next without it
+    for (int k = 1; k < P.deepLayers && more; ++k) {
+        DeepInterval hidden = hiddenLayerInterval(k, smp, r, sl, more);
         if (anyLane(hidden.counts)) {
             occupyInterval(hidden.a, hidden.b, hidden.backA, hidden.backB, hidden.counts, o);
             if (HBAO_GI != 0) {
