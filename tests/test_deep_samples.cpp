@@ -1,5 +1,5 @@
 // The deep sample reader (io/deep_samples.h) against files another library wrote: OpenImageIO's
-// deep writer, scanline and tiled, half and float channels, a data window cropped inside the
+// deep writer, scanline and tiled, half, float and uint channels, a data window cropped inside the
 // display window and taller than one band of rows; and a file whose sample counts claim more
 // than it holds, refused before anything is allocated.
 #include "base/error.h"
@@ -7,6 +7,9 @@
 #include "support/exr_fixtures.h"
 #include "support/scratch.h"
 
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfMultiPartInputFile.h>
 #include <OpenImageIO/deepdata.h>
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
@@ -27,16 +30,22 @@ namespace fs = std::filesystem;
 namespace {
 
 // The written file: 24 x 150 pixels at (3, 5) inside a 40 x 160 display window; pixel p holds
-// (x + y) % 4 samples (display coordinates); channel c of sample s a value exact in half.
+// (x + y) % 4 samples (display coordinates); channel c of sample s a value exact in half, and an
+// object id as uint (as renderers write ids), too large for half.
 constexpr int kX = 3, kY = 5, kW = 24, kH = 150;
-const std::vector<std::string> kNames = {"A", "B", "G", "R", "Z", "ZBack"};  // sorted, as OpenEXR lists them
+const std::vector<std::string> kNames = {"A", "B", "G", "R", "Z", "ZBack", "id"};  // sorted, as OpenEXR lists them
+constexpr int kId = 6;
 
 int countAt(int x, int y) { return (x + y) % 4; }
-float valueAt(int x, int y, int s, int c) { return (float)((x * 7 + y * 3 + s * 11 + c * 5) % 64) * 0.25f; }
+float valueAt(int x, int y, int s, int c) {
+    return c == kId ? (float)(100000 + (x * 7 + y * 3 + s * 11) % 1000) : (float)((x * 7 + y * 3 + s * 11 + c * 5) % 64) * 0.25f;
+}
 
 void writeDeep(const std::string& path, bool tiled, bool half, const std::string& compression) {
     OIIO::ImageSpec spec(kW, kH, (int)kNames.size(), half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
     spec.channelnames = kNames;
+    spec.channelformats.assign(kNames.size(), half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
+    spec.channelformats[kId] = OIIO::TypeDesc::UINT;
     spec.x = kX;
     spec.y = kY;
     spec.full_x = spec.full_y = 0;
@@ -52,8 +61,13 @@ void writeDeep(const std::string& path, bool tiled, bool half, const std::string
     for (int y = 0; y < kH; ++y)
         for (int x = 0; x < kW; ++x)
             for (int s = 0; s < countAt(x + kX, y + kY); ++s)
-                for (int c = 0; c < (int)kNames.size(); ++c)
-                    dd.set_deep_value((int64_t)y * kW + x, c, s, valueAt(x + kX, y + kY, s, c));
+                for (int c = 0; c < (int)kNames.size(); ++c) {
+                    const float v = valueAt(x + kX, y + kY, s, c);
+                    if (c == kId)
+                        dd.set_deep_value((int64_t)y * kW + x, c, s, (uint32_t)v);
+                    else
+                        dd.set_deep_value((int64_t)y * kW + x, c, s, v);
+                }
     auto out = OIIO::ImageOutput::create(path);
     ASSERT_TRUE(out && out->open(path, spec)) << OIIO::geterror();
     ASSERT_TRUE(out->write_deep_image(dd)) << out->geterror();
@@ -82,6 +96,10 @@ TEST(DeepSamples, EveryLayoutReadsAsWritten) {
                 SCOPED_TRACE(std::string(tiled ? "tiled " : "scanline ") + (half ? "half " : "float ") + compression);
                 const std::string path = (dir / "deep.exr").string();
                 writeDeep(path, tiled, half, compression);
+                const Imf::MultiPartInputFile file(path.c_str());
+                const Imf::ChannelList& written = file.header(0).channels();
+                ASSERT_EQ(written.findChannel("id")->type, Imf::UINT);
+                ASSERT_EQ(written.findChannel("Z")->type, half ? Imf::HALF : Imf::FLOAT);
                 const DeepChannels all = readDeepChannelSamples(path);
                 ASSERT_EQ(all.names, kNames);
                 expectWindows(all);
