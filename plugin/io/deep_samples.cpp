@@ -19,8 +19,8 @@ namespace obscura {
 
 namespace {
 
-// Deflate (ZIP, ZIPS) expands its input at most 1032-fold, OpenEXR's RLE 64-fold: a file whose
-// sample counts add up to more bytes than that claims samples it cannot hold.
+// A deflate stream (ZIP, ZIPS) inflates to at most 1032 times its size, OpenEXR's RLE to about
+// 64 times: a file whose sample counts add up to more bytes than that claims samples it cannot hold.
 constexpr double kMaxExpansion = 1100.0;
 
 // Rows of a scanline part decoded per call: the pointer tables stay small at any width.
