@@ -144,16 +144,18 @@ FootprintSteps footprintSteps(IN(HbaoSample) smp, lvec3 sampleRay, lvec3 m, IN(F
 // Whether the footprint may occupy anything: its ends lie on the segments from the sample to the
 // ends of its steps, and a point's height b = sl.n . P is linear along each. Where no step's end
 // rises above the tangent's rounding band (occupyFootprintSegment's: b within 10^-2 |X|), nothing
-// can count. A plane's samples seen from that plane (most of a floor or a wall) stop here, before
-// the neighbours are read.
+// can count (0.98e-4 = 0.99^2 10^-4: a margin for the sums' rounding). A plane's samples seen
+// from that plane (most of a floor or a wall) stop here, before the neighbours are read.
 lbool footprintMayRise(IN(HbaoSample) smp, IN(FootprintSteps) f, IN(HbaoSlice) sl) {
     lfloat b = dot(sl.n, smp.X);
     lfloat rise = max(max(b, b + dot(sl.n, f.gap)), max(b + dot(sl.n, f.half0), b + dot(sl.n, f.half1)));
     return rise > 0.0f && rise * rise > 0.98e-4f * dot(smp.X, smp.X);
 }
 
+// The footprint of a sample some lane of which footprintMayRise let through: the neighbours'
+// cuts, then the segment occupied.
 OUT_OF_LINE void occupyFootprint(IN(HbaoSample) smp, lvec3 sampleRay, lvec3 m, lbool use, IN(FootprintPrevious) before,
-                     IN(FootprintSteps) f, IN(HbaoSlice) sl, float radius2, INOUT(HbaoOccluded) o) {
+                                 IN(FootprintSteps) f, IN(HbaoSlice) sl, float radius2, INOUT(HbaoOccluded) o) {
     lbool behindSurface;
     lvec3 behindNormal;
     lvec3 behindD;
