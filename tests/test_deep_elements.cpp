@@ -12,6 +12,7 @@
 #include <OpenImageIO/deepdata.h>
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <array>
@@ -189,6 +190,34 @@ TEST(DeepElements, PerElementAoCoversEachElementsOwnSurface) {
     for (size_t i = 0; i < ground.size(); ++i) ASSERT_TRUE(std::isfinite(ground[i]) && ground[i] >= 0 && ground[i] <= 1);
     const nlohmann::json report = readJson(dir / "comp.json");
     EXPECT_EQ(report["deep"]["elements"].size(), 3u) << report.dump();
+}
+
+// --inspect on deep elements with no flat file describes them as a run merges them, and its
+// command (with the lens and --falloff none it adds, each noted) runs.
+TEST(DeepElements, InspectDescribesTheMergeAndItsCommandRuns) {
+    const fs::path dir = testDir("deep_elements");
+    const auto [b, t, g] = writeScene(dir);
+    const CliResult one = runObscura({b, "--inspect"});
+    ASSERT_EQ(one.exitCode, 0) << outcome(one);
+    EXPECT_NE(one.out.find("deep:    1 element, no flat file: 1 layer(s)"), std::string::npos) << one.out;
+    EXPECT_NE(one.out.find("depth: Z"), std::string::npos) << one.out;
+    EXPECT_EQ(one.out.find("problem:"), std::string::npos) << one.out;
+    const CliResult three = runObscura({b, t, g, "--inspect", "--json"});
+    ASSERT_EQ(three.exitCode, 0) << outcome(three);
+    const nlohmann::json j = nlohmann::json::parse(three.out);
+    EXPECT_EQ(j["deep_elements"]["files"], (std::vector<std::string>{b, t, g}));
+    EXPECT_EQ(j["deep_elements"]["layers"], 2) << "the ground behind the ball and the tree";
+    ASSERT_TRUE(j["command_args"].is_array()) << j["command_problem"];
+    std::vector<std::string> args = j["command_args"];
+    EXPECT_NE(std::find(args.begin(), args.end(), "--falloff"), args.end()) << j["command"];
+    EXPECT_EQ(j["command_notes"].size(), 2u) << j["command_notes"];
+    const std::string out = (dir / "suggested.exr").string();
+    const auto o = std::find(args.begin(), args.end(), "-o");
+    ASSERT_NE(o, args.end());
+    *(o + 1) = out;
+    const CliResult run = runObscura(std::vector<std::string>(args.begin() + 1, args.end()));
+    ASSERT_EQ(run.exitCode, 0) << outcome(run);
+    for (float v : partChannel(out, 0, "obscura.AO.Y")) ASSERT_TRUE(std::isfinite(v) && v >= 0.0f && v <= 1.0f);
 }
 
 TEST(DeepElements, BadInputsAreOneLineAndWriteNothing) {

@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 
 namespace obscura {
 
@@ -137,6 +138,14 @@ std::vector<std::string> deepElementsOf(const FrameJob& job, const ExrInfo* inpu
     if (!job.deepElements.empty()) return job.deepElements;
     if (!job.deepInput.empty()) return {};
     return input->parts[0].deep ? std::vector<std::string>{job.input} : std::vector<std::string>{};
+}
+
+FramePasses loadPassesForInspection(const FrameJob& job, DeepElementsInput& deep, FrameReport& report) {
+    std::optional<ExrInfo> headers;
+    if (job.deepElements.empty()) headers = readExrInfo(job.input, job.maxPixels, true);
+    const std::vector<std::string> elements = deepElementsOf(job, headers ? &*headers : nullptr);
+    if (!elements.empty()) return loadDeepElements(job, elements, deep, report);
+    return loadFramePasses(job, false);
 }
 
 FramePasses loadDeepElements(const FrameJob& job, const std::vector<std::string>& paths, DeepElementsInput& deep,

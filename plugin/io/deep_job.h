@@ -34,6 +34,11 @@ std::vector<std::string> deepElementsOf(const FrameJob& job, const ExrInfo* inpu
 FramePasses loadDeepElements(const FrameJob& job, const std::vector<std::string>& paths, DeepElementsInput& deep,
                              FrameReport& report);
 
+// The passes a run of `job` computes on, without writing or keeping raw channels: for deep
+// elements (deepElementsOf) their merge, whose layers and counts go to `deep` and `report`; else
+// the flat input's, as loadFramePasses reads them. What --inspect describes.
+FramePasses loadPassesForInspection(const FrameJob& job, DeepElementsInput& deep, FrameReport& report);
+
 // --per-element-ao: the AO of each element's visible surface, with every element as occluders,
 // named <ao layer>.<element name> (e.g. obscura.AO.balls.Y).
 std::vector<NewChannel> elementAoLayers(const FrameJob& job, const OperatorInputs& in, const Settings& settings,

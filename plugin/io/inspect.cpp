@@ -2,6 +2,7 @@
 
 #include "base/error.h"
 #include "core/operator.h"
+#include "io/deep_job.h"
 #include "io/views.h"
 
 #include <cmath>
@@ -71,6 +72,17 @@ json deepJson(const FrameJob& job, const FramePasses& p) {
             {"unsorted_pixels", d.unsortedPixels}};
 }
 
+// Deep elements with no flat file: what their merge gave the passes.
+json deepElementsJson(const FrameJob& job, const std::vector<std::string>& elements, const FrameReport& merge) {
+    return {{"files", elements},
+            {"layers", merge.deepLayers},
+            {"max_layers", job.settings.deepLayers},
+            {"empty_pixels", merge.deepEmptyPixels},
+            {"dropped_samples", merge.deepDroppedSamples},
+            {"truncated_pixels", merge.deepTruncatedPixels},
+            {"passes", "the merge's: colour flattened front to back, depth of the nearest surface, normals from that depth"}};
+}
+
 // The keys of --report's camera, plus the field of view (or width) and the pose, row-major.
 json cameraJson(const Camera& c, int displayWidth) {
     const bool perspective = c.projection == Projection::Perspective;
@@ -131,6 +143,13 @@ void writeDeep(std::ostream& os, const json& d) {
        << d["z_back"].get<std::string>() << "): " << d["layers"] << " layer(s) of at most " << d["max_layers"] << ", "
        << d["samples"] << " samples, " << d["empty_pixels"] << " empty pixels, " << d["dropped_samples"]
        << " dropped samples, " << d["unsorted_pixels"] << " unsorted pixels\n";
+}
+
+void writeDeepElements(std::ostream& os, const json& d) {
+    const size_t n = d["files"].size();
+    os << "deep:    " << n << (n == 1 ? " element, no flat file: " : " elements merged, no flat file: ")
+       << d["layers"] << " layer(s) of at most " << d["max_layers"] << ", " << d["empty_pixels"] << " empty pixels, "
+       << d["dropped_samples"] << " dropped samples\n         passes: " << d["passes"].get<std::string>() << "\n";
 }
 
 void writeCamera(std::ostream& os, const json& j) {
@@ -204,10 +223,13 @@ json fillsJson(const FrameJob& job, const LayerPlan& plan) {
 json inspectFrameJson(const FrameJob& job) {
     // Only a file that cannot be read at all is an error; everything after is reported.
     const ExrInfo info = readExrInfo(job.input, job.maxPixels, true);
+    const std::vector<std::string> elements = deepElementsOf(job, &info);
     std::vector<std::string> problems;
     std::optional<FramePasses> p;
+    DeepElementsInput merged;
+    FrameReport merge;
     try {
-        p = loadFramePasses(job, false);
+        p = loadPassesForInspection(job, merged, merge);
     } catch (const Error& e) {
         // Pixels that cannot be decoded make the file unreadable; anything else is reported.
         if (std::string(e.what()).find("': truncated or corrupt: ") != std::string::npos) throw;
@@ -216,7 +238,7 @@ json inspectFrameJson(const FrameJob& job) {
     json j = {{"file", job.input}, {"multipart", info.multipart}, {"parts", info.parts.size()}};
     j["display_window"] = boxJson(p ? p->display : info.parts[0].displayWindow);
     j["data_window"] = boxJson(p ? p->data : info.parts[0].dataWindow);
-    j["layers"] = layersJson(info);
+    j["layers"] = layersJson(p && !elements.empty() ? p->info : info);  // a deep part lists no layers: the merge's
     addViews(j, job, info, p ? &*p : nullptr);
     const LayerPlan plan = p ? p->plan : planOrNothing(job, info, j["view"].is_null() ? "" : j["view"].get<std::string>());
     j["preset"] = plan.preset;
@@ -225,6 +247,7 @@ json inspectFrameJson(const FrameJob& job) {
     j["conventions"] = p ? conventionsJson(job, *p) : json(nullptr);
     j["depth_statistics"] = p ? depthStatisticsJson(p->depthStats) : json(nullptr);
     j["deep"] = job.deepInput.empty() || !p ? json(nullptr) : deepJson(job, *p);
+    j["deep_elements"] = elements.empty() || !p ? json(nullptr) : deepElementsJson(job, elements, merge);
     j["camera"] = nullptr;
     j["camera_error"] = nullptr;
     if (p) {
@@ -275,6 +298,7 @@ std::string inspectText(const json& j) {
         os << conv["normals_source"].get<std::string>() << "\n";
     }
     if (!j["deep"].is_null()) writeDeep(os, j["deep"]);
+    if (!j["deep_elements"].is_null()) writeDeepElements(os, j["deep_elements"]);
     writeCamera(os, j);
     os << "write:   " << j["write"].get<std::string>() << "\n";
     if (j["device"].is_null()) os << "device:  unavailable (" << j["device_error"].get<std::string>() << ")\n";

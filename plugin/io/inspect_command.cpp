@@ -2,6 +2,8 @@
 #include "io/inspect.h"
 
 #include "base/error.h"
+#include "core/methods.h"
+#include "io/deep_job.h"
 #include "io/views.h"
 
 #include <cctype>
@@ -35,10 +37,13 @@ std::string defaultOutput(const std::string& input) {
 std::vector<std::string> argsFor(const FrameJob& job) {
     std::vector<std::string> a = {"obscura"};
     if (!job.deepInput.empty()) a.insert(a.end(), {job.deepInput, "--flat", job.input});
+    else if (!job.deepElements.empty()) a.insert(a.end(), job.deepElements.begin(), job.deepElements.end());
     else a.push_back(job.input);
     a.insert(a.end(), {"-o", job.output});
     if (job.settings.method != Settings{}.method) a.insert(a.end(), {"--method", job.settings.method});
     if (job.write != WriteMode::Copy) a.insert(a.end(), {"--write", toString(job.write)});
+    if (job.settings.falloff != Settings{}.falloff) a.insert(a.end(), {"--falloff", toString(job.settings.falloff)});
+    if (job.perElementAo) a.push_back("--per-element-ao");
     if (job.preset != "auto") a.insert(a.end(), {"--preset", job.preset});
     for (const auto& [role, name] : job.layerOverrides) a.insert(a.end(), {"--layer", std::string(roleName(role)) + "=" + name});
     if (job.depthEncoding) a.insert(a.end(), {"--depth", toString(*job.depthEncoding)});
@@ -99,7 +104,15 @@ std::string depthCandidate(const FrameJob& job) {
 
 // Makes `run` one that runs: the camera and normals it needs added, each addition noted.
 void completeRun(FrameJob& run, std::vector<std::string>& notes) {
-    const FramePasses p = loadFramePasses(run, false);
+    DeepElementsInput merged;
+    FrameReport merge;
+    const FramePasses p = loadPassesForInspection(run, merged, merge);
+    const bool deep = !run.deepInput.empty() || merged.layers.channels > 0;
+    if (deep && run.settings.falloff == Falloff::Linear && methodReads(run.settings.method, "deep")) {
+        run.settings.falloff = Falloff::None;
+        notes.push_back("falloff: linear falloff ignores the deep layers; the command adds --falloff none so that "
+                        "the hidden surfaces occlude (docs/deep.md)");
+    }
     const Camera camera = cameraForRun(run, p, notes);
     const NormalSpace space = p.normalsFromDepth ? NormalSpace::Depth : run.normalSpace.value_or(p.plan.normalSpace);
     long long bad = 0;
