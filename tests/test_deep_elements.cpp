@@ -202,6 +202,7 @@ TEST(DeepElements, InspectDescribesTheMergeAndItsCommandRuns) {
     EXPECT_NE(one.out.find("deep:    1 element, no flat file: 1 layer(s)"), std::string::npos) << one.out;
     EXPECT_NE(one.out.find("depth: Z"), std::string::npos) << one.out;
     EXPECT_EQ(one.out.find("problem:"), std::string::npos) << one.out;
+    EXPECT_NE(one.out.find("write:   copy: the flattened image plus the new layers"), std::string::npos) << one.out;
     const CliResult three = runObscura({b, t, g, "--inspect", "--json"});
     ASSERT_EQ(three.exitCode, 0) << outcome(three);
     const nlohmann::json j = nlohmann::json::parse(three.out);
