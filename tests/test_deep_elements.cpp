@@ -221,6 +221,22 @@ TEST(DeepElements, InspectDescribesTheMergeAndItsCommandRuns) {
     for (float v : partChannel(out, 0, "obscura.AO.Y")) ASSERT_TRUE(std::isfinite(v) && v >= 0.0f && v <= 1.0f);
 }
 
+// Linear falloff (the default) keeps the horizon alone and so ignores the merge's layers: said
+// in a warning, which --falloff none does not get.
+TEST(DeepElements, LinearFalloffIsWarnedToIgnoreTheLayers) {
+    const fs::path dir = testDir("deep_elements");
+    const auto [b, t, g] = writeScene(dir);
+    for (const bool linear : {true, false}) {
+        const std::string out = (dir / (linear ? "linear.exr" : "none.exr")).string();
+        std::vector<std::string> args = {b, t, g, "-o", out, "--fov-deg", "40"};
+        if (!linear) args.insert(args.end(), {"--falloff", "none"});
+        const CliResult r = runObscura(args);
+        ASSERT_EQ(r.exitCode, 0) << outcome(r);
+        EXPECT_EQ(r.err.find("warning: linear falloff (the default) ignores the deep layers") != std::string::npos, linear)
+            << r.err;
+    }
+}
+
 TEST(DeepElements, BadInputsAreOneLineAndWriteNothing) {
     const fs::path dir = testDir("deep_elements");
     const auto [b, t, g] = writeScene(dir);

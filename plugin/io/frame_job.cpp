@@ -488,6 +488,9 @@ OperatorInputs operatorInputs(const FrameJob& job, FramePasses& p, Settings& set
     settings.skyDepth = report.skyDepth;
     if (deep.empty()) deep = readDeepInput(job, p, deepColour, report);  // deep elements bring their merge's
     if (!deep.empty() && methodReads(settings.method, "deep")) in.deepLayers = deep.view();
+    if (in.deepLayers.valid() && settings.falloff == Falloff::Linear)
+        report.warnings.push_back("linear falloff (the default) ignores the deep layers: only the visible surface "
+                                  "occludes; give --falloff none for the hidden surfaces to occlude (docs/deep.md)");
     if (!deepColour.empty() && readsDeepColour(job)) in.deepColour = deepColour.view();
     if (readsColour(job)) addSsdoInputs(job, p, settings, in, environment, report);
     else report.plan.push_back(settings.method);
