@@ -154,8 +154,9 @@ lbool footprintMayRise(IN(HbaoSample) smp, IN(FootprintSteps) f, IN(HbaoSlice) s
 
 // The footprint of a sample some lane of which footprintMayRise let through: the neighbours'
 // cuts, then the segment occupied.
-OUT_OF_LINE void occupyFootprint(IN(HbaoSample) smp, lvec3 sampleRay, lvec3 m, lbool use, IN(FootprintPrevious) before,
+OUT_OF_LINE void occupyFootprint(IN(HbaoSample) smp, lvec3 sampleRay, lvec3 m, IN(FootprintPrevious) before,
                                  IN(FootprintSteps) f, IN(HbaoSlice) sl, float radius2, INOUT(HbaoOccluded) o) {
+    lbool use = smp.surface;
     lbool behindSurface;
     lvec3 behindNormal;
     lvec3 behindD;
@@ -211,7 +212,7 @@ void takeFootprint(IN(HbaoSample) smp, lvec3 sampleRay, IN(HbaoSlice) sl, float 
     previous.surface = smp.surface;
     FootprintSteps f = footprintSteps(smp, sampleRay, m, before, sl);
     if (anyLane(smp.surface && footprintMayRise(smp, f, sl))) {
-        occupyFootprint(smp, sampleRay, m, smp.surface, before, f, sl, radius2, o);
+        occupyFootprint(smp, sampleRay, m, before, f, sl, radius2, o);
     }
 }
 
