@@ -188,7 +188,9 @@ std::string frameReportJson(const FrameJob& job, const FrameReport& report);
 // A failed frame's report instead: the frame, its files and the one-line error.
 std::string frameFailureJson(const FrameJob& job, int frame, const std::string& error);
 // How `job` writes its output for this input: the mode, and the codec of the new layers.
-std::string describeWrite(const FrameJob& job, const ExrInfo& info, int part);
+// `flattened`: the input is deep elements, whose flattened image (FramePasses::carried) a copy
+// writes in place of the input's channels.
+std::string describeWrite(const FrameJob& job, const ExrInfo& info, int part, bool flattened = false);
 // "<layer>.Y", or the name itself when it already ends in a single-letter channel.
 std::string aoChannelName(const std::string& layer);
 

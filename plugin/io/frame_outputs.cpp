@@ -129,7 +129,7 @@ std::string viewPartNames(const FrameJob& job, const ExrInfo& info) {
 
 } // namespace
 
-std::string describeWrite(const FrameJob& job, const ExrInfo& info, int part) {
+std::string describeWrite(const FrameJob& job, const ExrInfo& info, int part, bool flattened) {
     const Imf::Compression in = info.parts.at(part).header.compression();
     const Imf::Compression out = losslessFor(in);
     std::string codec = compressionName(out);
@@ -140,8 +140,9 @@ std::string describeWrite(const FrameJob& job, const ExrInfo& info, int part) {
     if (job.write == WriteMode::New) return "new: only the new layers" + (own.empty() ? "" : ", in " + ownPart) + ", " + codec;
     if (job.write == WriteMode::Append)
         return "append: the input's parts copied as compressed chunks, the new layers in " + ownPart + ", " + codec;
-    if (out != in) return "copy: the input plus the new layers in " + ownPart + ", " + codec;
-    return "copy: the input plus the new layers" + std::string(own.empty() ? "" : ", each view's in its part") + ", " + codec;
+    const std::string copied = flattened ? "copy: the flattened image plus the new layers" : "copy: the input plus the new layers";
+    if (out != in) return copied + " in " + ownPart + ", " + codec;
+    return copied + std::string(own.empty() ? "" : ", each view's in its part") + ", " + codec;
 }
 
 // --preview: the display window's part of the frame (overscan is not part of it) of the AO, or
@@ -180,7 +181,7 @@ void writeFrameOutputs(const FrameJob& job, std::vector<ViewResult>& views, Fram
     fresh.info.path = first.info.path;
     ExrPixels& target = copy ? views.front().passes.raw : fresh;
     std::map<std::string, int> ownParts;
-    report.writeDescription = describeWrite(job, first.info, first.part);
+    report.writeDescription = describeWrite(job, first.info, first.part, !first.carried.empty());
     // AO is data (raw); DO, GI and relit are written in the file's colour space where obscura
     // knows its primaries, so the chromaticities every part shares (an appended part's
     // included) describe them.

@@ -259,10 +259,7 @@ json inspectFrameJson(const FrameJob& job) {
     } else {
         j["camera_error"] = "not resolved: the passes could not be read";
     }
-    j["write"] = describeWrite(job, info, p ? p->part : 0);
-    const std::string copyInput = "copy: the input plus";
-    if (!elements.empty() && j["write"].get<std::string>().rfind(copyInput, 0) == 0)  // deep: no flat input to copy
-        j["write"] = "copy: the flattened image plus" + j["write"].get<std::string>().substr(copyInput.size());
+    j["write"] = describeWrite(job, info, p ? p->part : 0, p && !p->carried.empty());
     j["problems"] = problems;
     const SuggestedCommand command = suggestCommand(job);
     j["command"] = command.args.empty() ? json(nullptr) : json(commandLine(command.args));
