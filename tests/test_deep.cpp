@@ -377,8 +377,11 @@ TEST(DeepCli, ReferenceDeepColourIsTheFlatDirectDiffuse) {
 }
 
 // A deep input the CLI cannot use fails the frame with one line naming it, exit 1 and no
-// output: a truncated deep file, a flat file given as the deep input, a deep file whose
-// display window is not the flat passes'. The same flat passes with a good deep file run.
+// output: a truncated deep file (falloff none, which reads its samples), a flat file given as
+// the deep input, a deep file whose display window is not the flat passes' (with either
+// falloff: linear falloff reads only the header, and checks it). The same flat passes with a
+// good deep file run. With linear falloff the deep file changes nothing and is not read: the AO
+// is that of the flat passes alone, bit for bit, and the report says so.
 TEST(DeepCli, BadDeepInputIsOneLineAndNoOutput) {
     const fs::path dir = testDir("deep-bad");
     const std::string flat = (dir / "flat.exr").string(), good = (dir / "good.exr").string();
@@ -395,13 +398,29 @@ TEST(DeepCli, BadDeepInputIsOneLineAndNoOutput) {
     const std::vector<Samples> pixels(16, Samples{{2, 3}, {5, 5}});
     writeDeepFile(good, pixels, false);
     const std::string out = (dir / "out.exr").string();
-    auto run = [&](const std::string& deep) {
-        return runProgram(OBSCURA_CLI_PATH, {deep, "--flat", flat, "-o", out, "--fov-deg", "50", "--normals", "camera", "--quiet"});
+    auto run = [&](const std::string& deep, const char* falloff = "none", std::vector<std::string> more = {"--quiet"}) {
+        std::vector<std::string> args = {deep, "--flat", flat, "-o", out, "--fov-deg", "50", "--normals", "camera",
+                                         "--falloff", falloff};
+        args.insert(args.end(), more.begin(), more.end());
+        return runProgram(OBSCURA_CLI_PATH, args);
     };
     const CliResult ok = run(good);
     ASSERT_EQ(ok.exitCode, 0) << ok.err;
     ASSERT_TRUE(fs::exists(out));
     fs::remove(out);
+    {
+        const std::string report = (dir / "linear.json").string(), alone = (dir / "alone.exr").string();
+        const CliResult linear = run(good, "linear", {"--report", report});
+        ASSERT_EQ(linear.exitCode, 0) << linear.err;
+        EXPECT_NE(linear.err.find("linear falloff (the default) ignores the deep layers"), std::string::npos) << linear.err;
+        const nlohmann::json j = readJson(report);
+        EXPECT_EQ(j["deep"]["layers"].get<int>(), 0) << j.dump();
+        EXPECT_NE(j["plan"].dump().find("deep: " + good + " not read"), std::string::npos) << j.dump();
+        const CliResult flatOnly = runProgram(OBSCURA_CLI_PATH, {flat, "-o", alone, "--fov-deg", "50", "--normals", "camera", "--quiet"});
+        ASSERT_EQ(flatOnly.exitCode, 0) << flatOnly.err;
+        EXPECT_EQ(partChannel(out, 0, "obscura.AO.Y"), partChannel(alone, 0, "obscura.AO.Y"));
+        fs::remove(out);
+    }
 
     const std::string truncated = (dir / "truncated.exr").string(), narrow = (dir / "narrow.exr").string();
     fixtures::truncatedCopy(good, truncated, fixtures::fileSize(good) - 16);
@@ -411,13 +430,15 @@ TEST(DeepCli, BadDeepInputIsOneLineAndNoOutput) {
         {flat, "not a deep image"},
         {narrow, "its display window (8x1) is not the flat passes' (16x1)"},
     };
-    for (const auto& [deep, expected] : cases) {
-        const CliResult r = run(deep);
-        std::printf("%s", r.err.c_str());
-        EXPECT_EQ(r.exitCode, 1) << deep;
-        EXPECT_EQ(r.err.rfind("obscura: ", 0), 0u) << r.err;
-        EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
-        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-        EXPECT_FALSE(fs::exists(out)) << deep;
-    }
+    for (const auto& [deep, expected] : cases)
+        for (const char* falloff : {"none", "linear"}) {
+            if (deep == truncated && std::string(falloff) == "linear") continue;  // its header is whole
+            const CliResult r = run(deep, falloff);
+            std::printf("%s", r.err.c_str());
+            EXPECT_EQ(r.exitCode, 1) << deep << " " << falloff;
+            EXPECT_EQ(r.err.rfind("obscura: ", 0), 0u) << r.err;
+            EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
+            EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+            EXPECT_FALSE(fs::exists(out)) << deep << " " << falloff;
+        }
 }

@@ -222,18 +222,23 @@ TEST(DeepElements, InspectDescribesTheMergeAndItsCommandRuns) {
 }
 
 // Linear falloff (the default) keeps the horizon alone and so ignores the merge's layers: said
-// in a warning, which --falloff none does not get.
+// in a warning, which --falloff none does not get, and the merge builds none.
 TEST(DeepElements, LinearFalloffIsWarnedToIgnoreTheLayers) {
     const fs::path dir = testDir("deep_elements");
     const auto [b, t, g] = writeScene(dir);
     for (const bool linear : {true, false}) {
         const std::string out = (dir / (linear ? "linear.exr" : "none.exr")).string();
-        std::vector<std::string> args = {b, t, g, "-o", out, "--fov-deg", "40"};
+        const fs::path report = dir / (linear ? "linear.json" : "none.json");
+        std::vector<std::string> args = {b, t, g, "-o", out, "--fov-deg", "40", "--report", report.string()};
         if (!linear) args.insert(args.end(), {"--falloff", "none"});
         const CliResult r = runObscura(args);
         ASSERT_EQ(r.exitCode, 0) << outcome(r);
         EXPECT_EQ(r.err.find("warning: linear falloff (the default) ignores the deep layers") != std::string::npos, linear)
             << r.err;
+        // With linear falloff the merge flattens and builds no layers.
+        const nlohmann::json j = readJson(report);
+        EXPECT_EQ(j["deep"]["elements"].size(), 3u) << j.dump();
+        EXPECT_EQ(j["deep"]["layers"].get<int>() == 0, linear) << j.dump();
     }
 }
 

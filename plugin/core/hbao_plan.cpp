@@ -1,6 +1,7 @@
 #include "core/hbao_plan.h"
 
 #include "base/kernel_params.h"
+#include "core/methods.h"
 
 #include <algorithm>
 #include <cmath>
@@ -47,6 +48,8 @@ HbaoPlan planHbao(const Settings& s, int deepInputLayers) {
     if (plan.runs || plan.model == HbaoModel::Deep) plan.runJump = kRunJumpPerRadius * s.radius;
     return plan;
 }
+
+bool readsDeepLayers(const Settings& s) { return methodReads(s.method, "deep") && s.falloff != Falloff::Linear; }
 
 void fillHbaoParams(const HbaoPlan& plan, glsl::KernelParams& p) {
     p.hbaoModel = (int)plan.model;

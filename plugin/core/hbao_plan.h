@@ -46,6 +46,10 @@ struct HbaoPlan {
 // input. Deep input is read with falloff none only (linear falloff keeps the flat model).
 HbaoPlan planHbao(const Settings& s, int deepInputLayers);
 
+// Whether a run with `s` uses deep layers: a method that reads them (the method table) with
+// falloff none. Otherwise deep input is flattened or ignored, and its layers are not worth reading.
+bool readsDeepLayers(const Settings& s);
+
 // The plan's fields of the kernels' parameter block (hbaoModel, hbaoRuns, hbaoBorder, thickness,
 // runDepthPerWidth, runJump, deepLayers).
 void fillHbaoParams(const HbaoPlan& plan, glsl::KernelParams& p);

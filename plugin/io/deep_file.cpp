@@ -63,6 +63,20 @@ void compositeUnder(float* acc, const float* under) {
 
 } // namespace
 
+namespace {
+void setWindows(const DeepWindows& w, DeepLayers& out) {
+    out.display = Box2i{0, 0, w.fullWidth, w.fullHeight};
+    out.data = Box2i{w.x, w.y, w.x + w.width, w.y + w.height};
+}
+} // namespace
+
+DeepLayers readDeepLayerWindows(const std::string& path, const DeepChannelNames& names, long long maxPixels) {
+    checkWindowsBeforeOpening(path, maxPixels);
+    DeepLayers out;
+    setWindows(readDeepWindows(path, names.z), out);
+    return out;
+}
+
 DeepLayers readDeepLayers(const std::string& path, int maxLayers, const DeepChannelNames& names, long long maxPixels,
                           bool colour) {
     checkWindowsBeforeOpening(path, maxPixels);
@@ -70,8 +84,7 @@ DeepLayers readDeepLayers(const std::string& path, int maxLayers, const DeepChan
     const bool rgba = !dd.rgba.empty();
 
     DeepLayers out;
-    out.display = Box2i{0, 0, dd.fullWidth, dd.fullHeight};
-    out.data = Box2i{dd.x, dd.y, dd.x + dd.width, dd.y + dd.height};
+    setWindows(dd, out);
     const size_t pixels = (size_t)dd.width * dd.height;
     DeepLayerBuilder builder(pixels, std::min(dd.z.size(), (size_t)maxLayers * pixels));
     std::vector<DeepSpan> samples;

@@ -73,6 +73,10 @@ bool isDeepFile(const std::string& path);
 DeepLayers readDeepLayers(const std::string& path, int maxLayers, const DeepChannelNames& names = {},
                           long long maxPixels = kDefaultMaxPixels, bool colour = false);
 
+// The file checked as readDeepLayers checks it, without reading a sample: its windows, no layers.
+DeepLayers readDeepLayerWindows(const std::string& path, const DeepChannelNames& names = {},
+                                long long maxPixels = kDefaultMaxPixels);
+
 // Planes over the deep file's data window `from` over another (the flat passes'): pixels outside
 // the deep file's get `fill` (+inf: no surface).
 Image deepPlanesOver(Image&& planes, const Box2i& from, const Box2i& data, float fill);

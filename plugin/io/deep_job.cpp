@@ -1,6 +1,7 @@
 #include "io/deep_job.h"
 
 #include "base/error.h"
+#include "core/hbao_plan.h"
 #include "core/methods.h"
 #include "io/deep_merge.h"
 #include "io/stage_timer.h"
@@ -110,12 +111,14 @@ void refuseWhatDeepElementsCannotDo(const FrameJob& job) {
 
 // The report's lines and counts for the merge.
 void reportMerge(const std::vector<std::string>& paths, const DeepMerge& m, FrameReport& report) {
+    report.deepElements = (int)paths.size();
     report.deepLayers = m.layerCount;
     report.deepEmptyPixels = m.emptyPixels;
     report.deepDroppedSamples = m.droppedSamples;
     report.deepTruncatedPixels = m.truncatedPixels;
     report.plan.push_back("deep elements: " + std::to_string(paths.size()) + " merged (" + std::to_string(m.samples) +
-                          " samples), flattened front to back; " + std::to_string(m.layerCount) + " layer(s)");
+                          " samples), flattened front to back; " +
+                          (m.layerCount ? std::to_string(m.layerCount) + " layer(s)" : "no layers (falloff none uses them)"));
     if (m.droppedSamples)
         report.warnings.push_back(std::to_string(m.droppedSamples) +
                                   " deep samples with NaN, infinite or non-positive Z skipped");
@@ -144,12 +147,12 @@ FramePasses loadPassesForInspection(const FrameJob& job, DeepElementsInput& deep
     std::optional<ExrInfo> headers;
     if (job.deepElements.empty()) headers = readExrInfo(job.input, job.maxPixels, true);
     const std::vector<std::string> elements = deepElementsOf(job, headers ? &*headers : nullptr);
-    if (!elements.empty()) return loadDeepElements(job, elements, deep, report);
+    if (!elements.empty()) return loadDeepElements(job, elements, deep, report, true);
     return loadFramePasses(job, false);
 }
 
 FramePasses loadDeepElements(const FrameJob& job, const std::vector<std::string>& paths, DeepElementsInput& deep,
-                             FrameReport& report) {
+                             FrameReport& report, bool allLayers) {
     refuseWhatDeepElementsCannotDo(job);
     std::vector<DeepElement> elements;
     LayerPlan elementPlan;
@@ -163,8 +166,9 @@ FramePasses loadDeepElements(const FrameJob& job, const std::vector<std::string>
         elements = readDeepElements(paths, elementPlan.deep, job.maxPixels, job.settings.threads);
     }
     StageTimer timer{&report.stages, "merge"};
-    DeepMerge m =
-        mergeDeepElements(elements, job.settings.deepLayers, job.perElementAo, job.settings.threads, readsDeepColour(job));
+    const int layers = allLayers || readsDeepLayers(job.settings) ? job.settings.deepLayers : 0;
+    if (layers == 0) warnIfDeepLayersIgnored(job, report);
+    DeepMerge m = mergeDeepElements(elements, layers, job.perElementAo, job.settings.threads, readsDeepColour(job));
     if (readsDeepColour(job)) noteDeepColour(!m.colour.empty(), report);
     for (DeepElement& e : elements) e.samples = DeepChannels();  // merged: only headers and paths are read on
 

@@ -30,9 +30,10 @@ std::vector<std::string> deepElementsOf(const FrameJob& job, const ExrInfo* inpu
 // Reads and merges the elements. The passes describe a flat image of one part: the flattened
 // channels and the depth (FramePasses::carried, written before the new layers), the first
 // element's attributes (camera, colour). Errors name the file: windows or cameras that differ
-// from the first element's, a file with no Z.
+// from the first element's, a file with no Z. The merge's surfaces (HBAO's deep layers) are built
+// when the job reads them (readsDeepLayers), or always with `allLayers` (--inspect describes them).
 FramePasses loadDeepElements(const FrameJob& job, const std::vector<std::string>& paths, DeepElementsInput& deep,
-                             FrameReport& report);
+                             FrameReport& report, bool allLayers = false);
 
 // The passes a run of `job` computes on, without writing or keeping raw channels: for deep
 // elements (deepElementsOf) their merge, whose layers and counts go to `deep` and `report`; else

@@ -324,7 +324,7 @@ void sampleColours(const PixelSamples& px, size_t n, int stride, const int* rgb,
 void mergeBand(const std::vector<DeepElement>& elements, int alpha, const int* rgb, int maxLayers, DeepMerge& m,
                MergeBand& band) {
     const int C = (int)m.channels.size(), W = m.data.width();
-    const size_t rows = (size_t)W * (band.y1 - band.y0);
+    const size_t rows = maxLayers > 0 ? (size_t)W * (band.y1 - band.y0) : 0;
     band.merged = DeepLayerBuilder(rows, rows * 2);
     band.own.assign(m.elementFront.size(), DeepLayerBuilder(rows, rows * 2));
     PixelSamples px(elements, m.channels, alpha);
@@ -337,6 +337,7 @@ void mergeBand(const std::vector<DeepElement>& elements, int alpha, const int* r
         flattenSamples(px.sorted.data(), n, 2 + C, alpha, scratch, out.data());
         for (int c = 0; c < C; ++c) m.flat[c].pixels[p] = out[c];
         if (n) m.front.pixels[p] = px.spans[0].front;
+        if (maxLayers == 0) continue;  // flattened only: no surfaces, and no element's own (perElement needs them)
         if (rgb) sampleColours(px, n, 2 + C, rgb, alpha, colours);
         if (!band.merged.addPixel(px.spans.data(), n, maxLayers, rgb ? colours.data() : nullptr))
             ++band.counts.truncatedPixels;
@@ -397,6 +398,7 @@ DeepMerge mergeDeepElements(const std::vector<DeepElement>& elements, int maxLay
         m.emptyPixels += b.counts.emptyPixels;
         m.truncatedPixels += b.counts.truncatedPixels;
     }
+    if (maxLayers == 0) return m;
     const auto merged = [](const MergeBand& b) -> const DeepLayerBuilder& { return b.merged; };
     m.layers = stitchLayers(bands, merged, W, H, m.layerCount);
     if (coloured) m.colour = stitchLayers(bands, merged, W, H, m.layerCount, true);

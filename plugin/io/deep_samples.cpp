@@ -66,7 +66,7 @@ public:
     // The windows, every pixel's sample count and every sample of `targets`. OpenEXR's idiom:
     // the frame buffer names each band's table of per-pixel pointers, filled once the band's
     // counts are read and before its samples are.
-    void read(DeepWindows& w, const std::vector<DeepTarget>& targets) {
+    void windows(DeepWindows& w) const {
         const Imath::Box2i& display = header().displayWindow();
         w.fullWidth = display.max.x - display.min.x + 1;
         w.fullHeight = display.max.y - display.min.y + 1;
@@ -74,6 +74,10 @@ public:
         w.y = dw_.min.y - display.min.y;
         w.width = width_;
         w.height = dw_.max.y - dw_.min.y + 1;
+    }
+
+    void read(DeepWindows& w, const std::vector<DeepTarget>& targets) {
+        windows(w);
         w.counts.assign((size_t)w.width * w.height, 0u);
         const int rows = tiled_ ? tiled_->tileYSize() : kBandRows;
         std::vector<std::vector<float*>> pointers(targets.size(), std::vector<float*>((size_t)rows * width_));
@@ -155,12 +159,25 @@ auto readDeepPart(const std::string& path, Read read) {
     }
 }
 
+void requireChannel(const std::string& path, const DeepPartReader& reader, const std::string& z) {
+    if (!reader.header().channels().findChannel(z)) throw FileError(path, "deep image without a " + z + " channel");
+}
+
 } // namespace
+
+DeepWindows readDeepWindows(const std::string& path, const std::string& z) {
+    return readDeepPart(path, [&](DeepPartReader& reader) {
+        requireChannel(path, reader, z);
+        DeepWindows w;
+        reader.windows(w);
+        return w;
+    });
+}
 
 DeepSamples readDeepDepthSamples(const std::string& path, const std::string& z, const std::string& zBack) {
     return readDeepPart(path, [&](DeepPartReader& reader) {
+        requireChannel(path, reader, z);
         const Imf::ChannelList& channels = reader.header().channels();
-        if (!channels.findChannel(z)) throw FileError(path, "deep image without a " + z + " channel");
         DeepSamples out;
         out.hasZBack = channels.findChannel(zBack) != nullptr;
         std::vector<DeepTarget> targets = {{z, &out.z, 0, 1}};

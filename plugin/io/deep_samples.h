@@ -30,6 +30,10 @@ struct DeepChannels : DeepWindows {
 // counts the file's size cannot hold, or a truncated or corrupt file.
 DeepSamples readDeepDepthSamples(const std::string& path, const std::string& z, const std::string& zBack);
 
+// The windows (no counts), after what readDeepDepthSamples checks before it reads a sample: a deep
+// first part with channel z.
+DeepWindows readDeepWindows(const std::string& path, const std::string& z);
+
 // Every channel of every sample, as readDeepDepthSamples.
 DeepChannels readDeepChannelSamples(const std::string& path);
 

@@ -6,6 +6,7 @@
 
 #include "base/error.h"
 #include "core/methods.h"
+#include "core/hbao_plan.h"
 #include "io/colour.h"
 #include "io/deep_file.h"
 #include "io/deep_job.h"
@@ -182,8 +183,13 @@ bool readsColour(const FrameJob& job) {
 }
 
 bool readsDeepColour(const FrameJob& job) {
-    return methodReads(job.settings.method, "deep") && methodOutputs(job.settings.method, "gi") &&
-           (job.writeIndirect || job.writeRelit);
+    return readsDeepLayers(job.settings) && methodOutputs(job.settings.method, "gi") && (job.writeIndirect || job.writeRelit);
+}
+
+void warnIfDeepLayersIgnored(const FrameJob& job, FrameReport& report) {
+    if (methodReads(job.settings.method, "deep") && !readsDeepLayers(job.settings))
+        report.warnings.push_back("linear falloff (the default) ignores the deep layers: only the visible surface "
+                                  "occludes; give --falloff none for the hidden surfaces to occlude (docs/deep.md)");
 }
 
 void noteDeepColour(bool coloured, FrameReport& report) {
@@ -380,8 +386,9 @@ Camera resolveFrameCamera(const FrameJob& job, const FramePasses& p) {
     return resolveCamera(request, &p.info.parts[p.part].header, position, p.data, p.display, p.pixelAspect);
 }
 
-DeepLayers readJobDeepLayers(const FrameJob& job, const FramePasses& p) {
+DeepLayers readJobDeepLayers(const FrameJob& job, const FramePasses& p, bool windowsOnly) {
     return blameInput(job.deepInput, [&] {
+        if (windowsOnly) return readDeepLayerWindows(job.deepInput, p.plan.deep, job.maxPixels);
         return readDeepLayers(job.deepInput, job.settings.deepLayers, p.plan.deep, job.maxPixels, readsDeepColour(job));
     });
 }
@@ -393,12 +400,18 @@ namespace {
 Image readDeepInput(const FrameJob& job, const FramePasses& p, Image& colour, FrameReport& report) {
     if (job.deepInput.empty()) return Image();
     StageTimer timer{&report.stages, "deep"};
-    DeepLayers deep = readJobDeepLayers(job, p);
+    const bool used = readsDeepLayers(job.settings);  // else only the header is checked: the layers would go unused
+    DeepLayers deep = readJobDeepLayers(job, p, !used);
     return blameInput(job.deepInput, [&] {
         if (deep.display != p.display)
             throw Error("its display window (" + std::to_string(deep.display.width()) + "x" +
                         std::to_string(deep.display.height()) + ") is not the flat passes' (" +
                         std::to_string(p.display.width()) + "x" + std::to_string(p.display.height()) + ")");
+        if (!used) {
+            report.plan.push_back("deep: " + job.deepInput + " not read (its layers are used with falloff none only)");
+            warnIfDeepLayersIgnored(job, report);
+            return Image();
+        }
         report.deepLayers = deep.layers;
         report.deepEmptyPixels = deep.emptyPixels;
         report.deepDroppedSamples = deep.droppedSamples;
@@ -487,10 +500,7 @@ OperatorInputs operatorInputs(const FrameJob& job, FramePasses& p, Settings& set
     in.camera = report.camera;
     settings.skyDepth = report.skyDepth;
     if (deep.empty()) deep = readDeepInput(job, p, deepColour, report);  // deep elements bring their merge's
-    if (!deep.empty() && methodReads(settings.method, "deep")) in.deepLayers = deep.view();
-    if (in.deepLayers.valid() && settings.falloff == Falloff::Linear)
-        report.warnings.push_back("linear falloff (the default) ignores the deep layers: only the visible surface "
-                                  "occludes; give --falloff none for the hidden surfaces to occlude (docs/deep.md)");
+    if (!deep.empty() && readsDeepLayers(settings)) in.deepLayers = deep.view();
     if (!deepColour.empty() && readsDeepColour(job)) in.deepColour = deepColour.view();
     if (readsColour(job)) addSsdoInputs(job, p, settings, in, environment, report);
     else report.plan.push_back(settings.method);

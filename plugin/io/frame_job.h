@@ -111,6 +111,7 @@ struct FrameReport {
     OperatorStats stats;
     long long nonUnitNormalPixels = 0;    // normalised on the fly; counted for the report
     // Deep input (docs/deep.md): layers used, and what the reader skipped, sorted or merged.
+    int deepElements = 0;                 // deep elements merged (0: none, or --flat)
     int deepLayers = 0;
     long long deepEmptyPixels = 0, deepDroppedSamples = 0, deepUnsortedPixels = 0, deepTruncatedPixels = 0;
     std::vector<StageTiming> stages;      // read, camera, compute, write (append: copy, append), preview
@@ -134,6 +135,8 @@ void requestBounce(FrameJob& job);
 bool readsColour(const FrameJob& job);
 // Whether the job's deep layers need their colour: a method that reads them lights with a bounce.
 bool readsDeepColour(const FrameJob& job);
+// The warning that deep input's layers go unused with linear falloff, where the method reads them.
+void warnIfDeepLayersIgnored(const FrameJob& job, FrameReport& report);
 // The report's line on the deep layers' colour (`coloured`: the deep input has R, G and B).
 void noteDeepColour(bool coloured, FrameReport& report);
 
@@ -165,8 +168,9 @@ FramePasses loadFramePasses(const FrameJob& job, bool keepAll, std::vector<Stage
 Image interleavePlanes(const std::vector<Image>& planes, size_t first, int channels);
 // The camera this job would use for these passes.
 Camera resolveFrameCamera(const FrameJob& job, const FramePasses& passes);
-// The job's deep file (--flat), with the channel names of the flat passes' preset; errors name the file.
-DeepLayers readJobDeepLayers(const FrameJob& job, const FramePasses& passes);
+// The job's deep file (--flat), with the channel names of the flat passes' preset; errors name the
+// file. `windowsOnly`: checked and its windows read, no sample (readDeepLayerWindows).
+DeepLayers readJobDeepLayers(const FrameJob& job, const FramePasses& passes, bool windowsOnly = false);
 // Runs f(); an error that names no file (a camera, flag or operator problem, a library's
 // exception) is re-thrown as a FileError naming `input`, so every failure reads 'FILE': what.
 template <class F>

@@ -78,7 +78,7 @@ std::string frameReportJson(const FrameJob& job, const FrameReport& r) {
                       {"invalid_depth_pixels", r.stats.invalidDepthPixels},
                       {"zero_normal_pixels", r.stats.zeroNormalPixels},
                       {"non_unit_normal_pixels", r.nonUnitNormalPixels}, {"device", r.stats.device}};
-        if (!job.deepInput.empty() || r.deepLayers > 0) {  // --flat, or deep elements (their merge)
+        if (!job.deepInput.empty() || r.deepElements > 0) {  // --flat, or deep elements (their merge)
             j["deep"] = {{"layers", r.deepLayers}, {"empty_pixels", r.deepEmptyPixels},
                          {"dropped_samples", r.deepDroppedSamples}, {"unsorted_pixels", r.deepUnsortedPixels},
                          {"truncated_pixels", r.deepTruncatedPixels}};
