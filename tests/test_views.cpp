@@ -267,6 +267,25 @@ TEST(Inspect, TakesADepthUnderAnUnknownName) {
     EXPECT_GE(obscura::test::partChannel((dir / "odd_ao.exr").string(), 0, "obscura.AO.Y").size(), 1u);
 }
 
+// The command never replaces an earlier output: with odd_ao.exr there it writes odd_ao_2.exr,
+// and says why; the earlier output is left as it was.
+TEST(Inspect, CommandWritesBesideAnEarlierOutput) {
+    const fs::path dir = obscura::test::testDir("views");
+    const std::string in = (dir / "odd.exr").string(), earlier = (dir / "odd_ao.exr").string();
+    writeSimple(in, {"R", "G", "B", "A", "Z"});
+    writeSimple(earlier, {"R", "G", "B", "A", "Z"});
+    const auto before = fs::last_write_time(earlier);
+    nlohmann::json j;
+    const CliResult r = runInspectCommand(in, j);
+    ASSERT_EQ(r.exitCode, 0) << outcome(r);
+    const std::string second = (dir / "odd_ao_2.exr").string();
+    EXPECT_EQ(j["command_args"][3], second) << j.dump();
+    EXPECT_NE(j["command_notes"].dump().find("odd_ao.exr exists; the command writes " + second), std::string::npos)
+        << j.dump();
+    EXPECT_EQ(fs::last_write_time(earlier), before);
+    EXPECT_GE(obscura::test::partChannel(second, 0, "obscura.AO.Y").size(), 1u);
+}
+
 // A file with no depth at all still gets an answer: what is missing, and why no command runs.
 TEST(Inspect, AnswersOnAFileWithoutDepth) {
     const fs::path dir = obscura::test::testDir("views");

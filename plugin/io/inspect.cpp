@@ -261,7 +261,7 @@ json inspectFrameJson(const FrameJob& job) {
     }
     j["write"] = describeWrite(job, info, p ? p->part : 0, p && !p->carried.empty());
     j["problems"] = problems;
-    const SuggestedCommand command = suggestCommand(job);
+    const SuggestedCommand command = suggestCommand(job, p ? &*p : nullptr);
     j["command"] = command.args.empty() ? json(nullptr) : json(commandLine(command.args));
     j["command_args"] = command.args.empty() ? json(nullptr) : json(command.args);
     j["command_notes"] = command.notes;

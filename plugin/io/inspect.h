@@ -21,13 +21,15 @@ std::string inspectText(const nlohmann::json& inspected);
 // A command line that would run on the job's file: its own flags, plus what a run needs that
 // they lack (an assumed lens when nothing gives one; normals from depth when world-space
 // normals have no camera pose), each addition explained in `notes`. No args and the reason in
-// `problem` when no flag can make it run (no depth, nor a position pass).
+// `problem` when no flag can make it run (no depth, nor a position pass). Without -o the command
+// writes NAME_ao.exr beside the input, or the first NAME_ao_K.exr that does not exist (noted).
+// `loaded`: the passes loadPassesForInspection gave for `job`, where the caller has them.
 struct SuggestedCommand {
     std::vector<std::string> args;   // "obscura", INPUT, "-o", OUTPUT, ...
     std::vector<std::string> notes;
     std::string problem;
 };
-SuggestedCommand suggestCommand(const FrameJob& job);
+SuggestedCommand suggestCommand(const FrameJob& job, const FramePasses* loaded = nullptr);
 // The args as one line a POSIX shell reads back as them.
 std::string commandLine(const std::vector<std::string>& args);
 std::string shellQuoted(const std::string& arg);

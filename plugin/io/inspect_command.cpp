@@ -9,6 +9,7 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 
 namespace obscura {
@@ -26,11 +27,19 @@ std::string number(double v) {
     return os.str();
 }
 
-// NAME_ao.exr beside the input.
-std::string defaultOutput(const std::string& input) {
+// NAME_ao.exr beside the input, or NAME_ao_2.exr, ... where that exists: the command the user
+// copies must not replace an earlier output.
+std::string defaultOutput(const std::string& input, std::vector<std::string>& notes) {
     namespace fs = std::filesystem;
     const fs::path in(input);
-    return (in.parent_path() / (in.stem().string() + "_ao.exr")).string();
+    const auto named = [&](int k) {
+        return (in.parent_path() / (in.stem().string() + "_ao" + (k > 1 ? "_" + std::to_string(k) : "") + ".exr")).string();
+    };
+    std::error_code ec;
+    int k = 1;
+    while (fs::exists(named(k), ec)) ++k;
+    if (k > 1) notes.push_back("output: " + named(1) + " exists; the command writes " + named(k));
+    return named(k);
 }
 
 // The flags that give `job` what it holds beside the defaults (in --help's spelling).
@@ -102,12 +111,17 @@ std::string depthCandidate(const FrameJob& job) {
     return "";
 }
 
-// Makes `run` one that runs: the camera and normals it needs added, each addition noted.
-void completeRun(FrameJob& run, std::vector<std::string>& notes) {
-    DeepElementsInput merged;
-    FrameReport merge;
-    const FramePasses p = loadPassesForInspection(run, merged, merge);
-    const bool deep = !run.deepInput.empty() || merged.layers.channels > 0;
+// Makes `run` one that runs: the camera and normals it needs added, each addition noted. Its
+// passes are `loaded` where given, else read.
+void completeRun(FrameJob& run, std::vector<std::string>& notes, const FramePasses* loaded) {
+    std::optional<FramePasses> read;
+    if (!loaded) {
+        DeepElementsInput merged;
+        FrameReport merge;
+        read = loadPassesForInspection(run, merged, merge);
+    }
+    const FramePasses& p = loaded ? *loaded : *read;
+    const bool deep = !run.deepInput.empty() || !p.carried.empty();  // carried: deep elements' flattened image
     if (deep && run.settings.falloff == Falloff::Linear && methodReads(run.settings.method, "deep")) {
         run.settings.falloff = Falloff::None;
         notes.push_back("falloff: linear falloff ignores the deep layers; the command adds --falloff none so that "
@@ -140,13 +154,13 @@ std::string shellQuoted(const std::string& arg) {
     return q + "'";
 }
 
-SuggestedCommand suggestCommand(const FrameJob& job) {
+SuggestedCommand suggestCommand(const FrameJob& job, const FramePasses* loaded) {
     SuggestedCommand s;
     FrameJob run = job;
-    if (run.output.empty()) run.output = defaultOutput(job.deepInput.empty() ? job.input : job.deepInput);
+    if (run.output.empty()) run.output = defaultOutput(job.deepInput.empty() ? job.input : job.deepInput, s.notes);
     for (bool retried = false;; retried = true) {
         try {
-            completeRun(run, s.notes);
+            completeRun(run, s.notes, retried ? nullptr : loaded);
             break;
         } catch (const Error& e) {
             std::string candidate;
