@@ -1,3 +1,7 @@
 #include "cli/cli.h"
+#include "cli/heap_tuning.h"
 
-int main(int argc, char** argv) { return obscura::cli::run(argc, argv); }
+int main(int argc, char** argv) {
+    obscura::cli::tuneHeap(argv);
+    return obscura::cli::run(argc, argv);
+}
