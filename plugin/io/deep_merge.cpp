@@ -184,6 +184,8 @@ DeepElement readDeepElement(const std::string& path, const DeepChannelNames& nam
     if (!info.parts[0].deep) throw FileError(path, "is not a deep image; several inputs are merged as deep elements");
     e.part = std::move(info.parts[0]);
     e.part.channels = headerChannels(e.part.header);
+    if (e.part.findChannel(names.z) < 0)  // said before any sample is read
+        throw FileError(path, "deep image without a " + names.z + " channel (its samples' depth)");
     e.samples = readDeepChannelSamples(path);
     const std::vector<std::string>& n = e.samples.names;
     auto index = [&](const std::string& name) {
@@ -192,7 +194,6 @@ DeepElement readDeepElement(const std::string& path, const DeepChannelNames& nam
     };
     e.z = index(names.z);
     e.zBack = index(names.zBack);
-    if (e.z < 0) throw FileError(path, "deep image without a " + names.z + " channel (its samples' depth)");
     return e;
 }
 
