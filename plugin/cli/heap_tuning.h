@@ -15,8 +15,8 @@ inline constexpr const char* kHeapTunables = "glibc.malloc.hugetlb=1:glibc.mallo
 // Called first in main(). Without the tunables, runs this program again (same PID, arguments and
 // descriptors) with them added to GLIBC_TUNABLES; in that run, gives the environment back as the
 // user had it, so that nothing the CLI starts (sbatch) inherits them. Returns where nothing is to
-// be done: OBSCURA_HEAP_TUNING=0 or GLIBC_TUNABLES naming glibc.malloc.hugetlb already, or the
-// exec failed.
+// be done: OBSCURA_HEAP_TUNING=0, GLIBC_TUNABLES naming glibc.malloc.hugetlb already, a run
+// under valgrind, a debugger or strace, or an exec that failed.
 void tuneHeap(char** argv);
 
 } // namespace obscura::cli

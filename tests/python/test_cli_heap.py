@@ -3,10 +3,10 @@ top-pad tunables, which cuts the page faults a frame takes, and gives the enviro
 user had it, so that what it starts (sbatch) sees the user's GLIBC_TUNABLES and nothing else."""
 import os
 import resource
+import shutil
 import subprocess
 from pathlib import Path
 
-import numpy as np
 import pytest
 
 from conftest import CLI, synthetic_scene, write_exr
@@ -57,3 +57,14 @@ def test_what_the_cli_starts_sees_the_users_environment(tmp, user):
     seen = dict(line.split("=", 1) for line in (tmp / "sbatch.env").read_text().splitlines() if "=" in line)
     assert seen.get("GLIBC_TUNABLES") == user
     assert not any(k.startswith("OBSCURA_HEAP") for k in seen)
+
+
+@pytest.mark.skipif(shutil.which("valgrind") is None, reason="valgrind is not installed")
+def test_valgrind_checks_obscura_itself(tmp):
+    """Under valgrind the CLI does not start itself again (that would run valgrind's own program,
+    or leave obscura unchecked): the run is valgrind's, and it works."""
+    env = {k: v for k, v in os.environ.items() if k not in ("GLIBC_TUNABLES", "OBSCURA_HEAP_TUNING")}
+    proc = subprocess.run(["valgrind", "-q", "--error-exitcode=9", CLI, "--version"], capture_output=True, text=True,
+                          env=env, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.startswith("obscura ")
