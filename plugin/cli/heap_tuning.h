@@ -2,7 +2,7 @@
 //
 // A frame's buffers are touched page by page the first time. Each 4 KiB page costs a fault, and
 // on a virtual machine a fault traps to the hypervisor: on the machines obscura is tested on, the
-// faults were half of a 1024 x 576 frame's time (docs/farm.md#the-processs-heap). glibc backs its
+// faults were a third of a 1024 x 576 frame's time (docs/farm.md#the-processs-heap). glibc backs its
 // heap with huge pages and grows it in large steps when asked by two tunables (glibc.malloc.hugetlb
 // and glibc.malloc.top_pad), which it reads only as a process starts.
 #pragma once

@@ -41,7 +41,8 @@ struct DeepMerge {
 };
 
 // Merges the elements' samples, on `threads` threads (0: every core); maxLayers 0 flattens them
-// and builds no surfaces (`layers` empty, layerCount 0); with `colour`, the merge's surfaces' colours too, each from its own samples (so each element's). Throws FileError naming
+// and builds no surfaces (`layers` empty, layerCount 0); with `colour`, the merge's surfaces'
+// colours too, each from its own samples (so each element's). Throws FileError naming
 // the element whose display or data window is not the first element's.
 DeepMerge mergeDeepElements(const std::vector<DeepElement>& elements, int maxLayers, bool perElement, int threads = 0,
                             bool colour = false);
