@@ -61,13 +61,11 @@ void compositeUnder(float* acc, const float* under) {
     for (int c = 0; c < 4; ++c) acc[c] += t * under[c];
 }
 
-} // namespace
-
-namespace {
 void setWindows(const DeepWindows& w, DeepLayers& out) {
     out.display = Box2i{0, 0, w.fullWidth, w.fullHeight};
     out.data = Box2i{w.x, w.y, w.x + w.width, w.y + w.height};
 }
+
 } // namespace
 
 DeepLayers readDeepLayerWindows(const std::string& path, const DeepChannelNames& names, long long maxPixels) {

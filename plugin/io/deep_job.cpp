@@ -143,12 +143,15 @@ std::vector<std::string> deepElementsOf(const FrameJob& job, const ExrInfo* inpu
     return input->parts[0].deep ? std::vector<std::string>{job.input} : std::vector<std::string>{};
 }
 
-FramePasses loadPassesForInspection(const FrameJob& job, DeepElementsInput& deep, FrameReport& report) {
-    std::optional<ExrInfo> headers;
-    if (job.deepElements.empty()) headers = readExrInfo(job.input, job.maxPixels, true);
-    const std::vector<std::string> elements = deepElementsOf(job, headers ? &*headers : nullptr);
+FramePasses loadPassesForInspection(const FrameJob& job, DeepElementsInput& deep, FrameReport& report,
+                                    const ExrInfo* input) {
+    std::optional<ExrInfo> read;
+    if (!input && job.deepElements.empty()) read = readExrInfo(job.input, job.maxPixels, true);
+    const ExrInfo* headers = input ? input : read ? &*read : nullptr;
+    const std::vector<std::string> elements = deepElementsOf(job, headers);
     if (!elements.empty()) return loadDeepElements(job, elements, deep, report, true);
-    return loadFramePasses(job, false);
+    if (job.write != WriteMode::Append) requireFlatParts(*headers);  // as a run checks the headers it passes on
+    return loadFramePasses(job, false, nullptr, false, headers);
 }
 
 FramePasses loadDeepElements(const FrameJob& job, const std::vector<std::string>& paths, DeepElementsInput& deep,

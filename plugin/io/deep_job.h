@@ -37,8 +37,10 @@ FramePasses loadDeepElements(const FrameJob& job, const std::vector<std::string>
 
 // The passes a run of `job` computes on, without writing or keeping raw channels: for deep
 // elements (deepElementsOf) their merge, whose layers and counts go to `deep` and `report`; else
-// the flat input's, as loadFramePasses reads them. What --inspect describes.
-FramePasses loadPassesForInspection(const FrameJob& job, DeepElementsInput& deep, FrameReport& report);
+// the flat input's, as loadFramePasses reads them. What --inspect describes. `input`: the input's
+// headers (read with deep parts allowed), where the caller has read them; else they are read here.
+FramePasses loadPassesForInspection(const FrameJob& job, DeepElementsInput& deep, FrameReport& report,
+                                    const ExrInfo* input = nullptr);
 
 // --per-element-ao: the AO of each element's visible surface, with every element as occluders,
 // named <ao layer>.<element name> (e.g. obscura.AO.balls.Y).

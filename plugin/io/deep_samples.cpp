@@ -63,9 +63,7 @@ public:
 
     const Imf::Header& header() const { return file_.header(0); }
 
-    // The windows, every pixel's sample count and every sample of `targets`. OpenEXR's idiom:
-    // the frame buffer names each band's table of per-pixel pointers, filled once the band's
-    // counts are read and before its samples are.
+    // The windows alone, from the header.
     void windows(DeepWindows& w) const {
         const Imath::Box2i& display = header().displayWindow();
         w.fullWidth = display.max.x - display.min.x + 1;
@@ -76,6 +74,9 @@ public:
         w.height = dw_.max.y - dw_.min.y + 1;
     }
 
+    // The windows, every pixel's sample count and every sample of `targets`. OpenEXR's idiom:
+    // the frame buffer names each band's table of per-pixel pointers, filled once the band's
+    // counts are read and before its samples are.
     void read(DeepWindows& w, const std::vector<DeepTarget>& targets) {
         windows(w);
         w.counts.assign((size_t)w.width * w.height, 0u);

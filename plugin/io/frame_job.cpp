@@ -5,8 +5,8 @@
 #include "io/stage_timer.h"
 
 #include "base/error.h"
-#include "core/methods.h"
 #include "core/hbao_plan.h"
+#include "core/methods.h"
 #include "io/colour.h"
 #include "io/deep_file.h"
 #include "io/deep_job.h"

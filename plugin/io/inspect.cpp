@@ -229,7 +229,7 @@ json inspectFrameJson(const FrameJob& job) {
     DeepElementsInput merged;
     FrameReport merge;
     try {
-        p = loadPassesForInspection(job, merged, merge);
+        p = loadPassesForInspection(job, merged, merge, &info);
     } catch (const Error& e) {
         // Pixels that cannot be decoded make the file unreadable; anything else is reported.
         if (std::string(e.what()).find("': truncated or corrupt: ") != std::string::npos) throw;
