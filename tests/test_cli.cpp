@@ -209,6 +209,50 @@ TEST(CliSamples, ReportJson) {
     EXPECT_EQ(tempLeftovers(dir), std::vector<std::string>{});
 }
 
+// The settings a --report records for these flags (room.exr, its sidecar's camera).
+nlohmann::json reportedSettings(const std::vector<std::string>& flags) {
+    const fs::path dir = testDir();
+    const fs::path out = dir / "room_ao.exr", report = dir / "r.json";
+    std::vector<std::string> args = {kRoom, "-o", out.string(), "--report", report.string(), "--quiet"};
+    args.insert(args.end(), flags.begin(), flags.end());
+    const CliResult r = cli(args);
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    return fs::exists(report) ? nlohmann::json::parse(fileBytes(report))["settings"] : nlohmann::json{};
+}
+
+// --quality sets what the flags do not, wherever it stands; ssdo's levels are its sample counts
+// (the report's presets) and keep its blur as wide as the interleaving block.
+TEST(CliSamples, QualityLevelsUnderTheFlags) {
+    for (const auto& [level, samples] : std::vector<std::pair<std::string, int>>{{"low", 16}, {"medium", 64},
+                                                                                {"high", 256}, {"ultra", 1024}}) {
+        const nlohmann::json s = reportedSettings({"--method", "ssdo", "--quality", level});
+        EXPECT_EQ(s["ssdo"]["samples"].get<int>(), samples) << level;
+        EXPECT_EQ(s["blur"].get<int>(), 2) << level << ": the interleaving block, not hbao's level blur";
+    }
+    EXPECT_EQ(reportedSettings({"--quality", "low", "--method", "ssdo", "--samples", "32"})["ssdo"]["samples"], 32);
+    EXPECT_EQ(reportedSettings({"--samples", "32", "--quality", "low", "--method", "ssdo"})["ssdo"]["samples"], 32);
+    for (const auto& flags : std::vector<std::vector<std::string>>{{"--blur", "3", "--directions", "5", "--quality", "low"},
+                                                                   {"--quality", "low", "--blur", "3", "--directions", "5"}}) {
+        const nlohmann::json s = reportedSettings(flags);
+        EXPECT_EQ(s["blur"].get<int>(), 3);
+        EXPECT_EQ(s["directions"].get<int>(), 5);
+        EXPECT_EQ(s["steps"].get<int>(), 4) << "the level's, where no flag was given";
+    }
+    EXPECT_EQ(reportedSettings({"--quality", "high"})["blur"].get<int>(), 0);
+    EXPECT_EQ(reportedSettings({})["blur"].get<int>(), 1);
+}
+
+// The report records what the method reads: no hbao settings for ssdo, the bounce for hbao.
+TEST(CliSamples, ReportHoldsWhatTheMethodReads) {
+    const nlohmann::json ssdo = reportedSettings({"--method", "ssdo"});
+    for (const char* key : {"directions", "steps", "weighting", "falloff", "thickness"})
+        EXPECT_FALSE(ssdo.contains(key)) << key << " in " << ssdo.dump();
+    const nlohmann::json lit = reportedSettings({"--bounce", "--bounce-source", "beauty"});
+    EXPECT_TRUE(lit["bounce"].get<bool>()) << lit.dump();
+    EXPECT_EQ(lit["bounce_source"].get<std::string>(), "beauty");
+    EXPECT_FALSE(reportedSettings({})["bounce"].get<bool>());
+}
+
 TEST(CliSamples, InspectWritesNothing) {
     const fs::path dir = testDir();
     fs::copy_file(kRoom, dir / "room.exr");

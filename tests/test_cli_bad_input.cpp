@@ -146,7 +146,10 @@ TEST(CliBadInput, EveryFailureNamesTheFileAtFault) {
         {cat({in, "-o", out, "--method", "ssdo", "--env", missing}, cam), missing, "cannot read the environment map"},
         {cat({in, "-o", out, "--layer", "normal=nope"}, cam), in, "--layer normal=nope: no layer or channel 'nope'"},
         {cat({in, "-o", out, "--reference", "nope"}, cam), in, "no reference layer 'nope'"},
-        {cat({in, "-o", out, "--method", "ssdo", "--bounce"}, cam), in, "no direct-diffuse layer for the bounce"},
+        // Neither a direct-diffuse nor an albedo layer: one line names both ways on.
+        {cat({in, "-o", out, "--method", "ssdo", "--bounce"}, cam), in,
+         "no direct-diffuse layer for the bounce; use --bounce-source beauty or --layer direct-diffuse=NAME, and GI "
+         "alone (--out-layer gi=NAME in place of --bounce: relit needs an albedo)"},
         {cat({(dir / "seq.####.exr").string(), "-o", (dir / "o.####.exr").string()}, cam),
          (dir / "seq.####.exr").string(), "no frames match"},
     };

@@ -253,6 +253,20 @@ TEST(Inspect, AnswersOnThePlateAndItsCommandRuns) {
     }
 }
 
+// A --view the plate lacks: --inspect names it as what stops a run, and describes the roles as
+// the default view holds them (its depth is found), not as a file with no depth.
+TEST(Inspect, NamesAViewTheFileLacks) {
+    const fs::path dir = obscura::test::testDir("views");
+    const std::string in = (dir / "names.exr").string();
+    writeViewsByName(in);
+    const CliResult r = runObscura({in, "--inspect", "--view", "middle"});
+    ASSERT_EQ(r.exitCode, 0) << outcome(r);
+    EXPECT_NE(r.out.find("a run processes nothing: --view names a view the file lacks"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("problem: '" + in + "': no view 'middle'; the file's views: left, right"), std::string::npos)
+        << r.out;
+    EXPECT_EQ(r.out.find("depth: (not found)"), std::string::npos) << r.out;
+}
+
 // A depth under a name no preset knows: --inspect says so and its command takes it.
 TEST(Inspect, TakesADepthUnderAnUnknownName) {
     const fs::path dir = obscura::test::testDir("views");

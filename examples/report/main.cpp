@@ -291,17 +291,15 @@ int main(int argc, char** argv) {
                         r.device = device;
                         r.definition = def.name;
                         r.deviceDetail = t.deviceDetail;
+                        r.blur = obscura::resolvedBlur(s);
                         if (ssdo) {
                             r.samples = s.ssdoSamples;
                             r.interleave = s.interleave;
-                            r.blur = obscura::resolvedBlur(s);
                         } else if (s.method == "hbao") {
                             r.directions = s.directions;
                             r.steps = s.steps;
-                            r.blur = s.blur;
                         } else {
                             r.samples = obscura::findMethod(s.method)->samplesPerPixel(s);  // points or rays
-                            r.blur = s.blur;
                         }
                         if (o.overscan > 0 && !ssdo && !lights) {  // the lit runs read the frame's own passes
                             t.ao = displayWindowOf(t.ao, o.overscan, rs.width, rs.height);

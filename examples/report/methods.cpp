@@ -66,11 +66,9 @@ bool anyMethod(const std::vector<std::string>& methods, bool (*test)(const std::
 }
 
 int ssdoSamplesForPreset(const std::string& preset) {
-    if (preset == "low") return 16;
-    if (preset == "medium") return 64;
-    if (preset == "high") return 256;
-    if (preset == "ultra") return 1024;
-    return 0;
+    obscura::Settings s;
+    s.method = "ssdo";
+    return obscura::applyQualityPreset(preset, s) ? s.ssdoSamples : 0;
 }
 
 void configureMethod(const std::string& method, const std::string& preset, obscura::Settings& s) {
@@ -93,7 +91,7 @@ void configureMethod(const std::string& method, const std::string& preset, obscu
         return;
     }
     s.method = "ssdo";
-    s.ssdoSamples = ssdoSamplesForPreset(preset);
+    obscura::applyQualityPreset(preset, s);
     s.interleave = method == "ssdo-noint" ? 1 : 2;
     s.blur = 0;  // 0 = the operator's automatic blur, as wide as the interleaving block (none for interleave 1)
     s.bounce = hasBounce(method);

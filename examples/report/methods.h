@@ -55,7 +55,8 @@ bool isLit(const std::string& method);
 bool usesDeep(const std::string& method);
 // True when `test` holds for one of `methods` (e.g. anyMethod(o.methods, isSsdoMethod)).
 bool anyMethod(const std::vector<std::string>& methods, bool (*test)(const std::string&));
-// SSDO sample count N per preset: low 16, medium 64, high 256, ultra 1024 (0 for an unknown name).
+// SSDO sample count N per preset, from the method table (--quality): low 16, medium 64, high 256,
+// ultra 1024 (0 for an unknown name).
 int ssdoSamplesForPreset(const std::string& preset);
 // The operator's method a report variant runs ("rtao+thick" -> "rtao", "hbao+clamp" -> "hbao").
 std::string operatorMethod(const std::string& method);

@@ -25,13 +25,26 @@ namespace obscura::cli {
 
 namespace {
 
+// The layers written, each with its channels' last components: "obscura.AO.Y, obscura.GI.RGB".
+std::string writtenLayers(const FrameReport& r) {
+    std::vector<std::pair<std::string, std::string>> layers;
+    for (const std::string& c : r.written) {
+        const size_t dot = c.rfind('.');
+        const std::string layer = dot == std::string::npos ? "" : c.substr(0, dot + 1);
+        const std::string channel = dot == std::string::npos ? c : c.substr(dot + 1);
+        if (!layers.empty() && layers.back().first == layer) layers.back().second += channel;
+        else layers.push_back({layer, channel});
+    }
+    std::string text;
+    for (const auto& [layer, channels] : layers) text += (text.empty() ? "" : ", ") + layer + channels;
+    return text.empty() ? r.aoChannel : text;
+}
+
 void printSummary(const Options& o, const FrameReport& r) {
     double total = 0;
     for (const StageTiming& t : r.stages) total += t.seconds;
-    std::string views;  // a stereo file: every view processed, the AO named in each
-    for (const std::string& v : r.views) views += (views.empty() ? "; views " : ", ") + v;
-    std::fprintf(stderr, "obscura: %s -> %s  [%s%s]  %lld px (%lld sky)  %.3f s (", o.job.input.c_str(),
-                 o.job.output.c_str(), r.aoChannel.c_str(), views.c_str(), r.stats.pixels, r.stats.skyPixels, total);
+    std::fprintf(stderr, "obscura: %s -> %s  [%s]  %lld px (%lld sky)  %.3f s (", o.job.input.c_str(),
+                 o.job.output.c_str(), writtenLayers(r).c_str(), r.stats.pixels, r.stats.skyPixels, total);
     for (size_t i = 0; i < r.stages.size(); ++i)
         std::fprintf(stderr, "%s%s %.3f", i ? ", " : "", r.stages[i].name.c_str(), r.stages[i].seconds);
     std::fprintf(stderr, ")\n");

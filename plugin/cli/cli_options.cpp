@@ -137,7 +137,8 @@ std::string methodHelp() {
     return h;
 }
 std::string qualityHelp() {
-    std::string h = "sample-count preset per method (default medium; discs default to k 1); later flags override:";
+    std::string h = "sample-count preset per method (default medium; discs default to k 1); a method's own flags "
+                    "and --blur override it, wherever they stand:";
     for (const MethodInfo& m : methods()) {
         if (m.presets.empty()) continue;
         h += std::string("\n" + std::string(34, ' ')) + m.name + ":";
@@ -178,8 +179,10 @@ std::vector<Flag> makeFlags() {
                           [](Options& o) -> auto& { return o.job.settings.falloff; }),
         {"--quality", "low|medium|high|ultra", qualityHelp(),
          [](Options& o, const std::string& v) {
-             if (!applyQualityPreset(v, o.job.settings))
+             Settings scratch;
+             if (!applyQualityPreset(v, scratch))
                  throw UsageError("--quality expects low, medium, high or ultra, got '" + v + "'");
+             o.quality = v;  // applied once every flag is read (applyQuality)
          }},
         {"--blur", "N", "geometry-aware blur radius in pixels, 0 = off (default 1, the medium preset's; ssdo: 0 and the "
                        "default are the interleave width); hbao's and ssdo's also within R/4 across the surface",
@@ -237,8 +240,9 @@ std::vector<Flag> makeFlags() {
          "passes and is what the output copies (a pattern with #### for sequences; docs/deep.md)",
          [](Options& o, const std::string& v) { o.flat = v; }},
         {"--per-element-ao", nullptr,
-         "deep elements (several deep inputs, merged): also an AO per element, of its own visible surface "
-         "with every element as occluders, in <ao layer>.<file stem> (docs/deep.md)",
+         "deep elements (one or more deep inputs, no --flat): also an AO per element, of its own visible "
+         "surface with every element as occluders, in <ao layer>.<element>.Y, the file's stem less its frame "
+         "number (hbao, --falloff none; docs/deep.md)",
          [](Options& o, const std::string&) { o.job.perElementAo = true; }},
         {"--layer", "ROLE=NAME", "use layer NAME for ROLE (depth, normal, position, beauty, albedo, direct-diffuse)",
          [](Options& o, const std::string& v) {
@@ -330,17 +334,19 @@ std::vector<Flag> makeFlags() {
          [](Options& o, const std::string& v) { o.job.referenceLayer = v; }},
         {"--report", "FILE.json|DIR/", "write timings per stage, settings, camera and statistics (DIR/: OUTPUT's name .json there)",
          [](Options& o, const std::string& v) { o.reportPath = v; }},
-        {"--preview", "FILE.png|DIR/", "write an 8-bit sRGB PNG of the AO (ssdo: of the relit layer when written, else the DO)",
+        {"--preview", "FILE.png|DIR/", "write an 8-bit sRGB PNG of the AO (a lit run, ssdo or hbao --bounce: of the relit layer "
+                                           "when written, else ssdo's DO or hbao's GI)",
          [](Options& o, const std::string& v) { o.job.previewPath = v; }},
-        {"--preview-exposure", "EV", "stops applied before the preview's encoding (default: AO 0; ssdo automatic, the "
-                                     "99th percentile at 0.8)",
+        {"--preview-exposure", "EV", "stops applied before the preview's encoding (default: AO 0; a lit run automatic, "
+                                     "the 99th percentile at 0.8)",
          [](Options& o, const std::string& v) { o.job.previewExposure = (float)toSetting("--preview-exposure", v); }},
         {"--in-place", nullptr, "allow OUTPUT to be the input file (replaced atomically)",
          [](Options& o, const std::string&) { o.job.inPlace = true; }},
         {"--frames", "LIST", "frames of a sequence (INPUT and -o hold #### or %04d): 1-100, 1-100x2, 1,5,9-12 "
                              "(default: every input frame found)",
          [](Options& o, const std::string& v) { o.frames = v; }},
-        {"--resume", nullptr, "skip frames whose output (and --report) already exists complete; clear a killed run's temp files",
+        {"--resume", nullptr, "skip frames whose output (and --report, --preview) already exists complete; clear a killed run's "
+                           "temp files",
          [](Options& o, const std::string&) { o.resume = true; }},
         {"--inspect", nullptr, "print the layers found, the role of each and the camera, then exit",
          [](Options& o, const std::string&) { o.inspect = true; }},
@@ -415,6 +421,23 @@ std::string helpText() {
     return os.str();
 }
 
+// The quality level sets each method's fields but those whose flag was given, before or after
+// --quality (--blur sets its own field, which wins over the level's blur in resolvedBlur).
+void applyQuality(Options& o) {
+    if (o.quality.empty()) return;
+    Settings level = o.job.settings;
+    applyQualityPreset(o.quality, level);
+    const Settings& flags = o.job.settings;
+    for (const MethodInfo& m : methods())
+        for (const MethodParam& p : m.params) {
+            if (std::find(o.given.begin(), o.given.end(), std::string(p.flag)) == o.given.end()) continue;
+            if (p.intField) level.*p.intField = flags.*p.intField;
+            if (p.floatField) level.*p.floatField = flags.*p.floatField;
+            if (p.boolField) level.*p.boolField = flags.*p.boolField;
+        }
+    o.job.settings = level;
+}
+
 Options parseArgs(int argc, char** argv) {
     Options o;
     for (int i = 1; i < argc; ++i) {
@@ -446,6 +469,7 @@ Options parseArgs(int argc, char** argv) {
         if (o.job.input.empty()) o.job.input = arg;
         o.job.deepElements.push_back(arg);
     }
+    applyQuality(o);
     checkDeepElements(o);
     if (!o.flat.empty()) {
         if (!methodReads(o.job.settings.method, "deep"))

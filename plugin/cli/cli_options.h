@@ -16,6 +16,7 @@ struct Options {
     bool inspectJson = false;  // --inspect --json
     std::string reportPath, frames;
     std::string flat;  // --flat: the input is deep, this file gives the passes
+    std::string quality;  // --quality: applied after the flags, which win over it
     std::vector<std::string> given;    // every flag given, to refuse those the method does not read
     std::vector<std::string> outputs;  // outputs asked for by name (--out-layer ROLE=, --bounce)
 };

@@ -10,12 +10,13 @@ namespace obscura {
 
 namespace {
 
-// HBAO's levels carry the shared blur; directions x steps are HBAO's own.
+// HBAO's levels carry the AO methods' blur (an explicit --blur wins, whatever the flags'
+// order); directions x steps are HBAO's own.
 void hbaoLevel(Settings& s, int level) {
     const QualityPreset& q = qualityPresets()[level];
     s.directions = q.directions;
     s.steps = q.steps;
-    s.blur = q.blur;
+    s.presetBlur = q.blur;
 }
 
 MethodParam intParam(const char* key, const char* flag, const char* help, int lo, int hi, int Settings::*field) {
@@ -90,7 +91,11 @@ std::vector<MethodInfo> makeTable() {
                  /*blurWithinReach=*/true});
     t.push_back({"ssdo", "directional occlusion and one bounce (Ritschel et al. 2009): DO, AO and, with --bounce, GI",
                  "kernels/ssdo.glsl", true, true, {"depth", "normal", "beauty|direct-diffuse", "albedo"},
-                 {"ao", "do", "gi", "relit"}, {},
+                 {"ao", "do", "gi", "relit"},
+                 {{"low", "16 samples", [](Settings& s) { s.ssdoSamples = 16; }},
+                  {"medium", "64 samples", [](Settings& s) { s.ssdoSamples = 64; }},
+                  {"high", "256 samples", [](Settings& s) { s.ssdoSamples = 256; }},
+                  {"ultra", "1024 samples", [](Settings& s) { s.ssdoSamples = 1024; }}},
                  {intParam("samples", "--samples", "ssdo: sample set per M x M block (default 64)", 1, 4096,
                            &Settings::ssdoSamples),
                   intParam("interleave", "--interleave",

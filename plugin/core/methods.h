@@ -38,7 +38,7 @@ struct MethodParam {
 };
 
 // What a quality level sets for this method (applied with every other method's levels,
-// each to its own fields, so flag order does not matter).
+// each to its own fields; the hosts apply it under the flags or keywords given).
 struct MethodPreset {
     const char* quality;   // "low", "medium", "high", "ultra"
     const char* summary;   // for --help: "8 samples"

@@ -22,6 +22,7 @@ bool applyQualityPreset(const std::string& name, Settings& s) { return applyMeth
 int resolvedBlur(const Settings& s) {
     if (methodOutputs(s.method, "do")) return s.blur > 0 ? s.blur : (s.interleave > 1 ? s.interleave : 0);
     if (s.blur != kBlurAuto) return s.blur;
+    if (s.presetBlur != kBlurAuto) return s.presetBlur;
     for (const QualityPreset& q : qualityPresets())
         if (std::string(q.name) == "medium") return q.blur;
     return 0;

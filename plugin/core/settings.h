@@ -33,6 +33,7 @@ struct Settings {
     Weighting weighting = Weighting::Uniform;
     Falloff falloff = Falloff::Linear;
     int blur = kBlurAuto;       // geometry-aware blur radius in pixels, 0 = off; kBlurAuto: resolvedBlur()
+    int presetBlur = kBlurAuto; // the --quality level's blur, used where `blur` is kBlurAuto (not by ssdo)
     float skyDepth = 1e9f;      // depth at or beyond this (and inf/NaN/<=0) is background
     int threads = 0;            // 0 = all cores
     std::string device = "cpu";
@@ -90,10 +91,10 @@ const std::vector<QualityPreset>& qualityPresets();  // low, medium, high, ultra
 // Applies every method's level `name` (core/methods.h) to `s`; false for an unknown name.
 bool applyQualityPreset(const std::string& name, Settings& s);
 
-// The blur radius in pixels that `s` asks for. kBlurAuto is the `medium` preset's blur, so the
-// default hbao (8 x 8), ssao (16 points) and rtao (16 rays) are medium; docs/cli.md measures
-// the grain it removes. ssdo gathers its M x M interleaving block instead: kBlurAuto or 0
-// give M (0 when M is 1).
+// The blur radius in pixels that `s` asks for: `blur` when given, else the quality level's, else
+// the `medium` preset's, so the default hbao (8 x 8), ssao (16 points) and rtao (16 rays) are
+// medium; docs/cli.md measures the grain it removes. ssdo gathers its M x M interleaving block
+// instead: kBlurAuto or 0 give M (0 when M is 1), whatever the quality level.
 int resolvedBlur(const Settings& s);
 
 // The thickness in world units that `s` asks for: s.thickness, or for kThicknessAuto

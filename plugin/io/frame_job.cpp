@@ -205,15 +205,18 @@ SsdoReads planSsdoReads(const FrameJob& job, const FramePasses& p) {
     if (bounce) {
         if (job.bounceSource == "direct-diffuse") {
             r.radiance = roleRgb(p.plan, Role::DirectDiffuse);
+            // Both of what is missing at once, where the file lacks an albedo too.
+            const std::string relitToo = job.writeRelit && roleRgb(p.plan, Role::Albedo).empty()
+                                             ? ", and GI alone (--out-layer gi=NAME in place of --bounce: relit "
+                                               "needs an albedo)"
+                                             : "";
             if (r.radiance.empty())
-                throw FileError(job.input, p.carried.empty()
-                                               ? "no direct-diffuse layer for the bounce; use --bounce-source beauty "
-                                                 "or --layer direct-diffuse=NAME"
-                                               : std::string("deep elements hold R, G, B and A only: the bounce "
-                                                             "needs --bounce-source beauty") +
-                                                     (job.writeRelit ? ", and GI alone (--out-layer gi=NAME in "
-                                                                       "place of --bounce: relit needs an albedo)"
-                                                                     : ""));
+                throw FileError(job.input, (p.carried.empty() ? std::string("no direct-diffuse layer for the bounce; use "
+                                                                            "--bounce-source beauty or --layer "
+                                                                            "direct-diffuse=NAME")
+                                                              : std::string("deep elements hold R, G, B and A only: the "
+                                                                            "bounce needs --bounce-source beauty")) +
+                                               relitToo);
             r.senderAlbedo = true;
         } else if (job.bounceSource == "beauty") {
             r.radiance = roleRgb(p.plan, Role::Beauty);

@@ -53,7 +53,7 @@ struct FrameJob {
     Settings settings;
     std::string aoLayer = "obscura.AO";   // layer name; the channel is "<layer>.Y"
     bool aoFloat = false;                 // --out-type float (default half)
-    std::string previewPath;              // PNG of the AO (ssdo: relit when written, else DO), optional
+    std::string previewPath;              // PNG of the AO (a lit run: relit when written, else DO or GI), optional
     std::optional<float> previewExposure; // stops before the preview's encoding; unset: ssdo's automatic, AO's 0
     std::string referenceLayer;           // compare against this layer, optional
     BadPixelPolicy badPixels = BadPixelPolicy::Error;

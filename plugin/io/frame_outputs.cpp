@@ -146,10 +146,11 @@ std::string describeWrite(const FrameJob& job, const ExrInfo& info, int part, bo
 }
 
 // --preview: the display window's part of the frame (overscan is not part of it) of the AO, or
-// for ssdo of the relit layer when it is written, else of the DO layer, converted from the
-// working space to sRGB's primaries where the config has them. AO is a fraction, shown as it
-// is; light has no fixed scale (a sunlit floor is far above 1), so it is exposed automatically
-// unless --preview-exposure says how. Returns the report's plan line.
+// in a lit run (`ssdo`: ssdo, or hbao with --bounce) of the relit layer when it is written, else
+// of ssdo's DO or hbao's GI layer, converted from the working space to sRGB's primaries where
+// the config has them. AO is a fraction, shown as it is; light has no fixed scale (a sunlit
+// floor is far above 1), so it is exposed automatically unless --preview-exposure says how.
+// Returns the report's plan line.
 std::string writeFramePreview(const FrameJob& job, const FramePasses& p, const OperatorOutputs& out, bool ssdo) {
     const Image& light = out.directional.empty() ? out.indirect : out.directional; // hbao's bounce: GI
     const Image colour = !ssdo ? Image() : job.writeRelit ? relitImage(job, p, out) : ssdoLayerImage(job, p, light);

@@ -23,11 +23,18 @@ std::string frameReportJson(const FrameJob& job, const FrameReport& r) {
     j["obscura"] = OBSCURA_VERSION_STRING;
     j["input"] = job.input;
     j["output"] = job.output;
-    j["settings"] = {{"method", s.method},          {"radius", s.radius},
-                     {"directions", s.directions},  {"steps", s.steps},
-                     {"weighting", toString(s.weighting)}, {"falloff", toString(s.falloff)},
-                     {"blur", resolvedBlur(s)},     {"threads", s.threads},
-                     {"device", s.device}};
+    // What the method reads: its own parameters follow, from the method table.
+    j["settings"] = {{"method", s.method}, {"radius", s.radius}, {"blur", resolvedBlur(s)},
+                     {"threads", s.threads}, {"device", s.device}};
+    if (settingRefusal(s.method, "weighting", Spelling::Key).empty()) j["settings"]["weighting"] = toString(s.weighting);
+    if (settingRefusal(s.method, "falloff", Spelling::Key).empty()) j["settings"]["falloff"] = toString(s.falloff);
+    if (methodOutputs(s.method, "gi") && !methodOutputs(s.method, "do")) {  // hbao --bounce; ssdo's below
+        j["settings"]["bounce"] = job.writeIndirect || job.writeRelit;
+        if (job.writeIndirect || job.writeRelit) {
+            j["settings"]["bounce_source"] = job.bounceSource;
+            j["settings"]["times_albedo"] = job.timesAlbedo;
+        }
+    }
     for (const MethodParam* p : paramsOf(s.method)) {
         json v = p->intField ? json(s.*(p->intField)) : p->floatField ? json(s.*(p->floatField)) : json(s.*(p->boolField));
         for (const NamedValue& n : p->named)  // "auto", "inf" (JSON has no infinity)

@@ -125,7 +125,8 @@ void writeViews(std::ostream& os, const json& j) {
     os << "views:   ";
     for (size_t i = 0; i < j["views"].size(); ++i) os << (i ? ", " : "") << j["views"][i].get<std::string>() << (i ? "" : " (default)");
     os << "; a run processes ";
-    if (j["views_processed"].empty()) os << "the file as one image (no view has a depth)";
+    if (j.contains("view_missing")) os << "nothing: --view names a view the file lacks (the problem below)";
+    else if (j["views_processed"].empty()) os << "the file as one image (no view has a depth)";
     for (size_t i = 0; i < j["views_processed"].size(); ++i) os << (i ? ", " : "") << j["views_processed"][i].get<std::string>();
     if (!j["view"].is_null()) os << "; described below: " << j["view"].get<std::string>();
     os << "\n";
@@ -181,7 +182,10 @@ void addViews(json& j, const FrameJob& job, const ExrInfo& info, const FramePass
         j["views_processed"] = processed;
         if (!p && !processed.empty()) j["view"] = processed.front();
     } catch (const Error&) {
-        // A --view the file lacks: loadFramePasses has reported it as the problem.
+        // A --view the file lacks (loadFramePasses has reported it as the problem): the roles are
+        // described as the file's default view holds them.
+        j["view_missing"] = true;
+        if (!p && !fileViews(info).empty()) j["view"] = fileViews(info).front();
     }
 }
 
@@ -212,8 +216,8 @@ json fillsJson(const FrameJob& job, const LayerPlan& plan) {
                                : std::string("not in the file: the camera comes from the flags, a sidecar or the header");
     for (Role r : {Role::Beauty, Role::Albedo, Role::DirectDiffuse}) {
         const LayerBinding* b = plan.find(r);
-        out[roleName(r)] = b ? bindingName(*b) + ": read by --method ssdo's bounce and relit"
-                             : std::string("not in the file: only --method ssdo's bounce and relit read it");
+        out[roleName(r)] = b ? bindingName(*b) + ": read by --bounce (ssdo, hbao) and the relit layer"
+                             : std::string("not in the file: only --bounce (ssdo, hbao) and the relit layer read it");
     }
     return out;
 }

@@ -88,7 +88,8 @@ Camera cameraForRun(FrameJob& run, const FramePasses& p, std::vector<std::string
     }
     run.camera.fovDeg = kAssumedFovDeg;
     notes.push_back("camera: none in the file; the command assumes --fov-deg " + number(kAssumedFovDeg) +
-                    " (a 50 mm lens on a 36 mm film back): give your camera's");
+                    " (a 50 mm lens on a 36 mm film back); give your camera's lens as --fov-deg, or "
+                    "--focal-mm with --aperture-mm");
     return resolveFrameCamera(run, p);
 }
 

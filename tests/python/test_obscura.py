@@ -85,6 +85,21 @@ def test_process_options(tmp):
         obscura.process(src, src)
 
 
+def test_quality_sets_what_the_keywords_do_not(tmp):
+    """ssdo's levels are its sample counts, its blur stays the interleaving block's; a keyword wins."""
+    depth, normal = synthetic_scene()
+    src = tmp / "scene.exr"
+    write_exr(src, depth, normal)
+    common = dict(fov_deg=FOV_DEG, camera_to_world=pose_matrix().reshape(-1), preset="generic", threads=1)
+    for level, samples in (("low", 16), ("high", 256)):
+        report = obscura.process(str(src), str(tmp / f"{level}.exr"), method="ssdo", quality=level, **common)
+        assert report["settings"]["ssdo"]["samples"] == samples and report["settings"]["blur"] == 2
+    report = obscura.process(str(src), str(tmp / "own.exr"), method="ssdo", quality="low", samples=32, **common)
+    assert report["settings"]["ssdo"]["samples"] == 32
+    report = obscura.process(str(src), str(tmp / "blur.exr"), quality="low", blur=3, **common)
+    assert report["settings"]["blur"] == 3 and report["settings"]["directions"] == 4
+
+
 def copy_and(tmp, mode):
     """The synthetic scene (with its sidecar) written with write='copy' and with `mode`:
     (input, depth, the copy, the other output, its report)."""
