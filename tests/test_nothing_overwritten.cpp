@@ -258,6 +258,25 @@ TEST(Resume, OneFrameSkipsAFinishedOutputAndClearsADeadWritersTemp) {
     EXPECT_NE(slurp(w("plain.exr")), slurp(w("in.exr")));
 }
 
+// A job resubmitted with other settings: --resume computes a finished frame again, saying so;
+// with the same settings and another thread count it is still skipped.
+TEST(Resume, RecomputesAFrameWrittenWithOtherSettings) {
+    const Workspace w(freshDir());
+    const CliResult first = cli({w("in.exr"), "-o", w("out.exr"), "--radius", "0.5", "--quiet"});
+    ASSERT_EQ(first.exitCode, 0) << describe(first);
+    const std::string written = slurp(w("out.exr"));
+    const CliResult same = cli({w("in.exr"), "-o", w("out.exr"), "--radius", "0.5", "--threads", "1", "--resume"});
+    EXPECT_EQ(same.exitCode, 0) << describe(same);
+    EXPECT_NE(same.err.find("skipped"), std::string::npos) << describe(same);
+    const CliResult other = cli({w("in.exr"), "-o", w("out.exr"), "--radius", "0.25", "--resume"});
+    EXPECT_EQ(other.exitCode, 0) << describe(other);
+    EXPECT_NE(other.err.find("out.exr was written with other settings; computed again (--resume)"), std::string::npos)
+        << describe(other);
+    EXPECT_NE(slurp(w("out.exr")), written);
+    const CliResult now = cli({w("in.exr"), "-o", w("out.exr"), "--radius", "0.25", "--resume"});
+    EXPECT_NE(now.err.find("skipped"), std::string::npos) << describe(now);
+}
+
 // A new user runs --help's example exactly as printed, beside a render and its sidecar: it
 // works, and every file they started with is byte-identical afterwards.
 TEST(NothingOverwritten, HelpsExampleKeepsEveryFile) {

@@ -9,6 +9,7 @@
 #include "io/sequence.h"
 #include "io/write_guard.h"
 
+#include <OpenEXR/ImfStringAttribute.h>
 #include <nlohmann/json.hpp>
 #include <unistd.h>
 
@@ -88,12 +89,18 @@ void writeFailureReport(const FrameJob& job, int frame, const std::string& repor
 }
 
 // --resume, for one frame as for a sequence: the temp files of a run killed mid-frame (a farm
-// task, a dead node) are cleared, then a complete frame is skipped (true).
+// task, a dead node) are cleared, then a complete frame is skipped (true), unless it was written
+// with other settings (a job resubmitted with a new radius), which is computed again.
 bool resumeSkips(const Options& o, const FrameJob& job, const std::string& reportPath) {
     if (!o.resume) return false;
     for (const std::string& path : {job.output, reportPath, job.previewPath})
         if (!path.empty()) removeStaleTemps(path);
-    return frameComplete(job, reportPath);
+    if (!frameComplete(job, reportPath)) return false;
+    if (!writtenWithOtherSettings(job)) return true;
+    if (!o.quiet)
+        std::fprintf(stderr, "obscura: %s was written with other settings; computed again (--resume)\n",
+                     job.output.c_str());
+    return false;
 }
 
 // A --report or --preview that is neither a pattern nor a directory would be overwritten by
@@ -172,20 +179,44 @@ int runSequence(const Options& o) {
 } // namespace
 
 // Writes are atomic, so a file that exists was written whole; the read guards against other writers.
+namespace {
+// The part of an output that holds the AO (a stereo file's views by channel names), or nullptr.
+const ExrPart* partWithAo(const ExrInfo& info, const std::string& aoChannel) {
+    const std::vector<std::string> views = fileViews(info);
+    for (const ExrPart& part : info.parts) {
+        if (part.findChannel(aoChannel) >= 0) return &part;
+        for (size_t v = 0; v < views.size(); ++v)
+            if (part.findChannel(nameInView(aoChannel, views, v)) >= 0) return &part;
+    }
+    return nullptr;
+}
+} // namespace
+
 bool outputComplete(const std::string& path, const std::string& aoChannel) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) return false;
     try {
-        const ExrInfo info = readExrInfo(path, kDefaultMaxPixels, true);  // append keeps deep parts
-        const std::vector<std::string> views = fileViews(info);
-        for (const ExrPart& part : info.parts) {
-            if (part.findChannel(aoChannel) >= 0) return true;
-            for (size_t v = 0; v < views.size(); ++v)  // a stereo file's views by channel names
-                if (part.findChannel(nameInView(aoChannel, views, v)) >= 0) return true;
-        }
+        return partWithAo(readExrInfo(path, kDefaultMaxPixels, true), aoChannel) != nullptr;  // append keeps deep parts
     } catch (const Error&) {
     }
     return false;
+}
+
+bool writtenWithOtherSettings(const FrameJob& job) {
+    try {
+        const ExrInfo info = readExrInfo(job.output, kDefaultMaxPixels, true);
+        const ExrPart* part = partWithAo(info, aoChannelName(job.aoLayer));
+        const auto* said = part ? part->header.findTypedAttribute<Imf::StringAttribute>("obscura/settings") : nullptr;
+        if (!said) return false;
+        nlohmann::json then = nlohmann::json::parse(said->value(), nullptr, false);
+        nlohmann::json now = nlohmann::json::parse(frameReportJson(job, FrameReport{}));
+        if (!then.is_object() || !then.contains("settings")) return false;
+        for (nlohmann::json* j : {&then, &now})
+            for (const char* key : {"threads", "device"}) (*j)["settings"].erase(key);
+        return then["settings"] != now["settings"];
+    } catch (const Error&) {
+        return false;
+    }
 }
 
 RunPlan planRun(const std::vector<std::string>& args) {
