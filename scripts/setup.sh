@@ -9,7 +9,7 @@ PACKAGES=(
   libopenexr-dev libimath-dev
   libopenimageio-dev openimageio-tools
   libopencolorio-dev
-  libglm-dev nlohmann-json3-dev
+  libglm-dev nlohmann-json3-dev zlib1g-dev
   libosmesa6-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
   libembree-dev libtinyobjloader-dev
   libgtest-dev libgmock-dev googletest libbenchmark-dev libtbb-dev

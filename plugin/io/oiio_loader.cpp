@@ -42,7 +42,7 @@ const OiioModule* load() {
             throw Error("the OpenImageIO module " + path + " is from another build of obscura");
         return m;
     }
-    throw Error(std::string("cannot find ") + kModuleFile + " (environment maps and PNG previews need it)");
+    throw Error(std::string("cannot find ") + kModuleFile + " (environment maps need it)");
 }
 
 } // namespace

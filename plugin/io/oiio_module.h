@@ -1,4 +1,4 @@
-// The few things obscura asks of OpenImageIO (environment maps, PNG previews), as a
+// What obscura asks of OpenImageIO (reading environment maps in any format it knows), as a
 // table of functions in a shared library of their own, libobscura_oiio.so, loaded on first use.
 // Why: OpenImageIO pulls in ~255 shared libraries (codecs, DICOM, video...), and loading them
 // cost every obscura process ~0.45 s of CPU at start, though most runs never call it.
@@ -20,11 +20,8 @@ struct OiioModule {
     // one open. `accept` sees the size before any pixel is allocated and may throw to refuse it.
     std::string (*readRgb)(const std::string& path, const std::function<void(int width, int height, int channels)>& accept,
                            Image& rgb, ColourMetadata& meta);
-    // An 8-bit PNG of `channels` interleaved channels, straight to `path` (the caller renames).
-    std::string (*writePng)(const std::string& path, int width, int height, int channels,
-                            const std::uint8_t* bytes, const std::string& colourSpaceTag);
 };
-constexpr int kOiioModuleAbi = 4;
+constexpr int kOiioModuleAbi = 5;
 
 // The module, loaded once (thread-safe). Throws obscura::Error when it cannot be loaded.
 const OiioModule& oiioModule();

@@ -2,7 +2,7 @@
 
 #include "base/error.h"
 #include "core/settings_schema.h"
-#include "io/oiio_module.h"
+#include "io/png_file.h"
 
 #include <algorithm>
 #include <cmath>
@@ -30,7 +30,7 @@ void writePngBytes(const std::string& path, const std::string& what, int width, 
 
     // The temp name keeps the .png extension so nothing guesses another format.
     const fs::path tmp = dir / ("." + target.filename().string() + ".tmp.png");
-    const std::string failed = oiioModule().writePng(tmp.string(), width, height, channels, bytes.data(), colourSpaceTag);
+    const std::string failed = writePngFile(tmp.string(), width, height, channels, bytes.data(), colourSpaceTag);
     if (!failed.empty()) {
         fs::remove(tmp, ec);
         throw FileError(path, what + failed);

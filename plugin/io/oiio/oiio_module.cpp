@@ -37,19 +37,7 @@ std::string readRgb(const std::string& path, const std::function<void(int, int, 
     return {};
 }
 
-std::string writePng(const std::string& path, int width, int height, int channels, const std::uint8_t* bytes,
-                     const std::string& colourSpaceTag) {
-    auto out = OIIO::ImageOutput::create("png");
-    if (!out) return oiioError(OIIO::geterror());
-    OIIO::ImageSpec spec(width, height, channels, OIIO::TypeDesc::UINT8);
-    if (!colourSpaceTag.empty()) spec.attribute("oiio:ColorSpace", colourSpaceTag);  // data previews stay untagged
-    spec.attribute("Software", "obscura");
-    bool ok = out->open(path, spec) && out->write_image(OIIO::TypeDesc::UINT8, bytes);
-    ok = out->close() && ok;
-    return ok ? std::string() : oiioError(out->geterror());
-}
-
-const OiioModule kModule{kOiioModuleAbi, &readRgb, &writePng};
+const OiioModule kModule{kOiioModuleAbi, &readRgb};
 
 } // namespace
 } // namespace obscura
