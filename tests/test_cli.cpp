@@ -253,6 +253,24 @@ TEST(CliSamples, ReportHoldsWhatTheMethodReads) {
     EXPECT_FALSE(reportedSettings({})["bounce"].get<bool>());
 }
 
+// Run again on its own output, obscura says what becomes of the earlier AO: replaced (copy), or
+// kept beside the new one (append); under another name nothing is said.
+TEST(CliSamples, SaysWhenTheInputHoldsTheNewLayers) {
+    const fs::path dir = testDir();
+    const std::string first = (dir / "first.exr").string(), sidecar = (dir / "first.json").string();
+    ASSERT_EQ(cli({kRoom, "-o", first, "--quiet"}).exitCode, 0);
+    fs::copy_file(kData + "/room.json", sidecar);
+    const CliResult copy = cli({first, "-o", (dir / "again.exr").string()});
+    EXPECT_EQ(copy.exitCode, 0) << copy.err;
+    EXPECT_NE(copy.err.find("warning: the input already holds obscura.AO.Y; the output's new layers replace them"),
+              std::string::npos) << copy.err;
+    const CliResult append = cli({first, "-o", (dir / "both.exr").string(), "--write", "append"});
+    EXPECT_NE(append.err.find("the output holds both, the new ones in a part of their own"), std::string::npos)
+        << append.err;
+    const CliResult apart = cli({first, "-o", (dir / "apart.exr").string(), "--out-layer", "ao=second"});
+    EXPECT_EQ(apart.err.find("already holds"), std::string::npos) << apart.err;
+}
+
 TEST(CliSamples, InspectWritesNothing) {
     const fs::path dir = testDir();
     fs::copy_file(kRoom, dir / "room.exr");

@@ -167,6 +167,28 @@ std::string writeFramePreview(const FrameJob& job, const FramePasses& p, const O
     return line;
 }
 
+namespace {
+// A channel the input already holds under a new channel's name (an earlier run's AO): copy
+// replaces it in the output, append adds the new one in a part of its own beside it. Either is
+// what was asked, but not what a user re-running on an output expects without a word.
+void warnOfEarlierLayers(const FrameJob& job, const ExrInfo& input, const std::vector<NewChannel>& add,
+                         FrameReport& report) {
+    if (job.write == WriteMode::New) return;
+    std::string names;
+    int clashes = 0;
+    for (const NewChannel& c : add) {
+        const bool held = std::any_of(input.parts.begin(), input.parts.end(),
+                                      [&](const ExrPart& part) { return part.findChannel(c.name) >= 0; });
+        if (held && clashes++ < 3) names += (names.empty() ? "" : ", ") + c.name;
+    }
+    if (clashes == 0) return;
+    report.warnings.push_back("the input already holds " + names + (clashes > 3 ? ", ..." : "") +
+                              (job.write == WriteMode::Copy ? "; the output's new layers replace them"
+                                                            : "; the output holds both, the new ones in a part of their own") +
+                              " (--out-layer ao=NAME, gi=NAME, ... names the new layers apart)");
+}
+} // namespace
+
 void writeFrameOutputs(const FrameJob& job, std::vector<ViewResult>& views, FrameReport& report,
                        std::vector<NewChannel> extra) {
     const bool copy = job.write == WriteMode::Copy;
@@ -221,6 +243,7 @@ void writeFrameOutputs(const FrameJob& job, std::vector<ViewResult>& views, Fram
             report.plan.push_back(note);
     }
     for (const NewChannel& c : add) report.written.push_back(c.name);
+    warnOfEarlierLayers(job, first.info, add, report);
     if (copy)  // deep elements: the flattened image is the copy's input
         for (NewChannel& c : views.front().passes.carried) add.push_back({firstPart, c.name, std::move(c.plane), c.type});
     if (append)
