@@ -540,11 +540,14 @@ ViewResult computeView(const FrameJob& job, FramePasses passes, FrameReport& rep
     return r;
 }
 
-// A later view's report into the first's: its plan and warnings named by the view, its stages
-// added to the first's of the same name, its pixels counted.
+// A later view's report into the first's: its plan and warnings named by the view (a warning
+// the first view gave in the same words, such as the file's colour space, is not repeated), its
+// stages added to the first's of the same name, its pixels counted.
 void mergeViewReport(const std::string& view, FrameReport& from, FrameReport& into) {
     for (const std::string& line : from.plan) into.plan.push_back("view " + view + ": " + line);
-    for (const std::string& line : from.warnings) into.warnings.push_back("view " + view + ": " + line);
+    for (const std::string& line : from.warnings)
+        if (std::find(into.warnings.begin(), into.warnings.end(), line) == into.warnings.end())
+            into.warnings.push_back("view " + view + ": " + line);
     for (const StageTiming& t : from.stages) {
         auto same = std::find_if(into.stages.begin(), into.stages.end(), [&](const StageTiming& s) { return s.name == t.name; });
         if (same == into.stages.end()) into.stages.push_back(t);

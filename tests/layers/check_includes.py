@@ -4,6 +4,7 @@ gpu/ (neither includes the other), plugin/core, plugin/io, and the hosts (plugin
 plugin/ofx, plugin/python), which reach the backends only through plugin/core.
 
 Exits 1 listing every include that breaks the rule (FILE:LINE: "what" -- why)."""
+import os
 import re
 import sys
 from pathlib import Path
@@ -32,12 +33,21 @@ def layer_of(path):
     return None
 
 
+def source_files(root):
+    """The tree's .h, .cpp and .glsl files, not descending into build directories or .git: tests
+    running beside this one create and remove scratch directories there, which a walk through
+    them can trip on."""
+    for directory, subdirs, files in os.walk(root):
+        subdirs[:] = [d for d in subdirs if not d.startswith("build") and d != ".git"]
+        for name in files:
+            if name.endswith((".h", ".cpp", ".glsl")):
+                yield Path(directory) / name
+
+
 def main(root):
     broken = []
-    for file in sorted(root.rglob("*")):
+    for file in sorted(source_files(root)):
         rel = file.relative_to(root).as_posix()
-        if file.suffix not in (".h", ".cpp", ".glsl") or rel.startswith("build"):
-            continue
         layer = layer_of(rel)
         if not layer:
             continue
