@@ -131,7 +131,7 @@ class Variant:
     kind: str = "ao"
 
     def to_json(self):
-        return {"name": self.name, "kind": self.kind, "settings": self.settings}
+        return {"name": self.name, "kind": self.kind, "settings": farm.recorded(self.settings)}
 
 
 def radius_name(r):

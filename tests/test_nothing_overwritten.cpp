@@ -13,6 +13,7 @@
 #include <sys/stat.h>
 
 #include <cstdlib>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -275,6 +276,18 @@ TEST(Resume, RecomputesAFrameWrittenWithOtherSettings) {
     EXPECT_NE(slurp(w("out.exr")), written);
     const CliResult now = cli({w("in.exr"), "-o", w("out.exr"), "--radius", "0.25", "--resume"});
     EXPECT_NE(now.err.find("skipped"), std::string::npos) << describe(now);
+    // How the passes are read counts as the settings do: normals from the depth.
+    const CliResult normals = cli({w("in.exr"), "-o", w("out.exr"), "--radius", "0.25", "--normals", "depth", "--resume"});
+    EXPECT_NE(normals.err.find("written with other settings"), std::string::npos) << describe(normals);
+    // A frame rendered again, or its camera edited, after its output was written.
+    for (const char* source : {"in.exr", "in.json"}) {
+        const fs::file_time_type written = fs::last_write_time(w("out.exr"));
+        for (const char* f : {"in.exr", "in.json"}) fs::last_write_time(w(f), written - std::chrono::seconds(100));
+        fs::last_write_time(w(source), written + std::chrono::seconds(2));
+        const CliResult again = cli({w("in.exr"), "-o", w("out.exr"), "--radius", "0.25", "--normals", "depth", "--resume"});
+        EXPECT_NE(again.err.find("out.exr is older than " + w(source) + "; computed again (--resume)"), std::string::npos)
+            << describe(again);
+    }
 }
 
 // A new user runs --help's example exactly as printed, beside a render and its sidecar: it

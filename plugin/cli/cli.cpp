@@ -89,17 +89,16 @@ void writeFailureReport(const FrameJob& job, int frame, const std::string& repor
 }
 
 // --resume, for one frame as for a sequence: the temp files of a run killed mid-frame (a farm
-// task, a dead node) are cleared, then a complete frame is skipped (true), unless it was written
-// with other settings (a job resubmitted with a new radius), which is computed again.
+// task, a dead node) are cleared, then a complete frame is skipped (true), unless it is stale
+// (a job resubmitted with a new radius, a frame rendered again), which is computed again.
 bool resumeSkips(const Options& o, const FrameJob& job, const std::string& reportPath) {
     if (!o.resume) return false;
     for (const std::string& path : {job.output, reportPath, job.previewPath})
         if (!path.empty()) removeStaleTemps(path);
     if (!frameComplete(job, reportPath)) return false;
-    if (!writtenWithOtherSettings(job)) return true;
-    if (!o.quiet)
-        std::fprintf(stderr, "obscura: %s was written with other settings; computed again (--resume)\n",
-                     job.output.c_str());
+    const std::string stale = staleOutputReason(job);
+    if (stale.empty()) return true;
+    if (!o.quiet) std::fprintf(stderr, "obscura: %s %s; computed again (--resume)\n", job.output.c_str(), stale.c_str());
     return false;
 }
 
@@ -131,11 +130,7 @@ int runSequence(const Options& o) {
     std::vector<FrameFiles> files;
     for (size_t i = 0; i < frames.size(); ++i) {
         FrameJob& job = jobs[i];
-        job.input = framePath(o.job.input, frames[i]);
-        job.deepInput = framePath(o.job.deepInput, frames[i]);
-        for (std::string& element : job.deepElements) element = framePath(element, frames[i]);
-        job.output = framePath(o.job.output, frames[i]);
-        job.previewPath = framePath(o.job.previewPath, frames[i]);
+        job = sequenceFrame(o.job, frames[i]);
         files.push_back({&job, framePath(o.reportPath, frames[i])});
     }
     checkFrameFiles(files, Spelling::Flag);  // every frame's files, before the first is written
@@ -192,6 +187,16 @@ const ExrPart* partWithAo(const ExrInfo& info, const std::string& aoChannel) {
 }
 } // namespace
 
+FrameJob sequenceFrame(const FrameJob& sequence, int frame) {
+    FrameJob job = sequence;
+    job.input = framePath(sequence.input, frame);
+    job.deepInput = framePath(sequence.deepInput, frame);
+    for (std::string& element : job.deepElements) element = framePath(element, frame);
+    job.output = framePath(sequence.output, frame);
+    job.previewPath = framePath(sequence.previewPath, frame);
+    return job;
+}
+
 bool outputComplete(const std::string& path, const std::string& aoChannel) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) return false;
@@ -202,21 +207,46 @@ bool outputComplete(const std::string& path, const std::string& aoChannel) {
     return false;
 }
 
-bool writtenWithOtherSettings(const FrameJob& job) {
+namespace {
+// The settings and the recipe (io/frame_report.cpp) a report records, threads and device aside.
+nlohmann::json comparedPart(nlohmann::json report) {
+    if (!report.is_object() || !report.contains("settings")) return nullptr;
+    for (const char* key : {"threads", "device"}) report["settings"].erase(key);
+    return {{"settings", report["settings"]}, {"recipe", report.contains("recipe") ? report["recipe"] : nullptr}};
+}
+
+// The files a frame is computed from that exist: the input, deep inputs, the camera sidecar, the
+// environment map.
+std::vector<std::string> filesReadBy(const FrameJob& job) {
+    std::vector<std::string> files = {job.input, job.deepInput, job.camera.sidecarPath, job.envPath};
+    files.insert(files.end(), job.deepElements.begin(), job.deepElements.end());
+    if (job.camera.sidecarPath.empty()) files.push_back(findSidecar(job.input));
+    std::error_code ec;
+    files.erase(std::remove_if(files.begin(), files.end(),
+                               [&](const std::string& f) { return f.empty() || !std::filesystem::exists(f, ec); }),
+                files.end());
+    return files;
+}
+} // namespace
+
+std::string staleOutputReason(const FrameJob& job) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const fs::file_time_type written = fs::last_write_time(job.output, ec);
+    if (ec) return "";
+    for (const std::string& f : filesReadBy(job))
+        if (fs::last_write_time(f, ec) > written && !ec) return "is older than " + f;
     try {
         const ExrInfo info = readExrInfo(job.output, kDefaultMaxPixels, true);
         const ExrPart* part = partWithAo(info, aoChannelName(job.aoLayer));
         const auto* said = part ? part->header.findTypedAttribute<Imf::StringAttribute>("obscura/settings") : nullptr;
-        if (!said) return false;
-        nlohmann::json then = nlohmann::json::parse(said->value(), nullptr, false);
-        nlohmann::json now = nlohmann::json::parse(frameReportJson(job, FrameReport{}));
-        if (!then.is_object() || !then.contains("settings")) return false;
-        for (nlohmann::json* j : {&then, &now})
-            for (const char* key : {"threads", "device"}) (*j)["settings"].erase(key);
-        return then["settings"] != now["settings"];
+        if (!said) return "";
+        const nlohmann::json then = comparedPart(nlohmann::json::parse(said->value(), nullptr, false));
+        if (then != comparedPart(nlohmann::json::parse(frameReportJson(job, FrameReport{}))))
+            return "was written with other settings";
     } catch (const Error&) {
-        return false;
     }
+    return "";
 }
 
 RunPlan planRun(const std::vector<std::string>& args) {

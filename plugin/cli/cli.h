@@ -25,12 +25,17 @@ struct RunPlan {
 };
 RunPlan planRun(const std::vector<std::string>& args);
 
+// A sequence's job (its paths frame patterns) for one frame.
+FrameJob sequenceFrame(const FrameJob& sequence, int frame);
+
 // A frame's output is complete: it reads back as an EXR holding the AO channel.
 bool outputComplete(const std::string& path, const std::string& aoChannel);
-// A complete output says (its part's obscura/settings, what a --report records) that it was
-// written with other settings than `job`'s. The threads and the device change no result beyond
-// GL's parity and do not count; an output that does not say counts as written alike.
-bool writtenWithOtherSettings(const FrameJob& job);
+// Why a complete output is stale, or "" when it is not: a file it was computed from (the input,
+// a deep input, the camera sidecar, the environment map) is newer ("is older than FILE"), or its
+// part's obscura/settings (what a --report records: the settings and the recipe) differ from
+// `job`'s ("was written with other settings"). The threads and the device change no result
+// beyond GL's parity and do not count; an output that records no settings is not stale.
+std::string staleOutputReason(const FrameJob& job);
 
 // `obscura farm ...` (farm.cpp): argv[1] is "farm".
 int runFarm(int argc, char** argv);

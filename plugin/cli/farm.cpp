@@ -2,6 +2,7 @@
 // job, one task per chunk of frames, each task an ordinary `obscura ... --frames CHUNK --resume`
 // run; `summary` merges the per-frame reports the tasks write next to the outputs.
 #include "cli.h"
+#include "cli/cli_options.h"
 
 #include "io/frame_job.h"
 #include "io/sequence.h"
@@ -15,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 
 namespace obscura::cli {
@@ -39,8 +41,9 @@ const char* const kFarmHelp =
     "  --dry-run          print the script; write and submit nothing\n"
     "  --job-name NAME    Slurm job name (obscura)\n"
     "  --sbatch-arg ARG   one more #SBATCH line, e.g. --sbatch-arg=--partition=render (repeatable)\n\n"
-    "summary: frames done, failed and missing, time per frame and the reference error, from the\n"
-    "job's reports in DIR; --json prints it as JSON. Exit status 0 when every frame is done, else 1.\n";
+    "summary: frames done, failed, missing and stale (an earlier job's output, written with other\n"
+    "settings or before its input changed), time per frame and the reference error, from the job's\n"
+    "reports in DIR; --json prints it as JSON. Exit status 0 when every frame is done, else 1.\n";
 
 std::string shellQuote(const std::string& s) {
     std::string q = "'";
@@ -145,7 +148,7 @@ json manifest(const SlurmJob& job) {
     return {{"obscura", OBSCURA_VERSION_STRING}, {"engine", "slurm"},
             {"input", absolutePath(job.plan.input)}, {"output", absolutePath(job.plan.output)},
             {"report", job.report}, {"ao_channel", job.plan.aoChannel}, {"frames", job.frames},
-            {"chunks", chunks}};
+            {"chunks", chunks}, {"args", job.runArgs}, {"cwd", fs::current_path().string()}};
 }
 
 // Runs `command` through the shell, returning its exit status and its stdout.
@@ -194,8 +197,29 @@ struct Range {
     json toJson() const { return n ? json{{"mean", sum / n}, {"min", lo}, {"max", hi}, {"total", sum}} : json(); }
 };
 
+// The job the manifest's tasks run (its command line, from the directory it was submitted in),
+// to tell a frame done by this job from one an earlier job left; nullopt for a manifest from
+// before it recorded the command line.
+std::optional<FrameJob> submittedJob(const json& m) {
+    if (!m.contains("args") || !m.contains("cwd")) return std::nullopt;
+    std::vector<std::string> args = m["args"].get<std::vector<std::string>>();
+    std::vector<char*> argv{const_cast<char*>("obscura")};
+    for (std::string& a : args) argv.push_back(a.data());
+    std::error_code ec;
+    const fs::path here = fs::current_path(ec);
+    fs::current_path(m["cwd"].get<std::string>(), ec);
+    if (ec) return std::nullopt;
+    FrameJob job = parseArgs((int)argv.size(), argv.data()).job;
+    job.input = m["input"], job.output = m["output"];  // absolute
+    for (std::string* p : {&job.deepInput, &job.camera.sidecarPath, &job.envPath, &job.previewPath})
+        if (!p->empty()) *p = fs::absolute(*p).string();
+    for (std::string& e : job.deepElements) e = fs::absolute(e).string();
+    fs::current_path(here, ec);
+    return job;
+}
+
 json summarise(const std::string& dir) {
-    const fs::path path = fs::path(dir) / kManifest;
+    const fs::path path = fs::absolute(fs::path(dir) / kManifest);
     std::ifstream f(path);
     if (!f) throw FileError(path.string(), "cannot read (obscura farm slurm writes it)");
     const json m = json::parse(f, nullptr, false);
@@ -203,6 +227,8 @@ json summarise(const std::string& dir) {
         throw FileError(path.string(), "not an obscura farm manifest");
     const std::string output = m["output"], report = m["report"], channel = m.value("ao_channel", "obscura.AO.Y");
     json done = json::array(), missing = json::array(), failed = json::object(), temps = json::array();
+    json stale = json::object();
+    const std::optional<FrameJob> submitted = submittedJob(m);
     Range seconds;
     std::map<std::string, Range> error;
     std::string referenceLayer;
@@ -215,6 +241,12 @@ json summarise(const std::string& dir) {
         if (r.is_object() && r.contains("error")) {
             failed[std::to_string(frame)] = r["error"];
         } else if (r.is_object() && r.contains("total_s") && outputComplete(out, channel)) {
+            // An earlier job's frame (other settings), or one whose input was rendered again.
+            if (const std::string why = submitted ? staleOutputReason(sequenceFrame(*submitted, frame)) : "";
+                !why.empty()) {
+                stale[std::to_string(frame)] = why;
+                continue;
+            }
             done.push_back(frame);
             seconds.add(r["total_s"].get<double>());
             if (r.contains("reference")) {
@@ -228,7 +260,7 @@ json summarise(const std::string& dir) {
         }
     }
     json s = {{"manifest", path.string()}, {"frames", m["frames"].size()}, {"done", done}, {"failed", failed},
-              {"missing", missing}, {"temp_files", temps}, {"seconds_per_frame", seconds.toJson()}};
+              {"missing", missing}, {"stale", stale}, {"temp_files", temps}, {"seconds_per_frame", seconds.toJson()}};
     if (m.contains("job_id")) s["job_id"] = m["job_id"];
     if (!error.empty()) {
         s["reference"] = {{"layer", referenceLayer}};
@@ -241,8 +273,8 @@ std::string summaryText(const json& s) {
     std::ostringstream os;
     char line[256];
     os << "obscura farm: " << s["manifest"].get<std::string>() << "\n";
-    std::snprintf(line, sizeof line, "frames: %zu: %zu done, %zu failed, %zu missing\n", s["frames"].get<size_t>(),
-                  s["done"].size(), s["failed"].size(), s["missing"].size());
+    std::snprintf(line, sizeof line, "frames: %zu: %zu done, %zu failed, %zu missing, %zu stale\n",
+                  s["frames"].get<size_t>(), s["done"].size(), s["failed"].size(), s["missing"].size(), s["stale"].size());
     os << line;
     if (const json& t = s["seconds_per_frame"]; !t.is_null()) {
         std::snprintf(line, sizeof line, "time per frame: mean %.3f s, min %.3f s, max %.3f s; %.1f s in all\n",
@@ -265,6 +297,8 @@ std::string summaryText(const json& s) {
         os << "\n";
     }
     for (const auto& [frame, err] : s["failed"].items()) os << "failed " << frame << ": " << err.get<std::string>() << "\n";
+    for (const auto& [frame, why] : s["stale"].items())
+        os << "stale " << frame << ": the output " << why.get<std::string>() << " (a task of this job computes it again)\n";
     if (!s["missing"].empty()) {
         std::vector<int> missing = s["missing"].get<std::vector<int>>();
         os << "missing: " << frameSpec(missing) << "\n";
@@ -297,6 +331,11 @@ int runFarm(int argc, char** argv) {
     try {
         const std::string what = argc > 2 ? argv[2] : "";
         if (what == "--help" || what == "-h") {
+            std::fputs(kFarmHelp, stdout);
+            return 0;
+        }
+        const std::string next = argc > 3 ? argv[3] : "";
+        if ((what == "slurm" || what == "summary") && (next == "--help" || next == "-h")) {
             std::fputs(kFarmHelp, stdout);
             return 0;
         }

@@ -14,6 +14,42 @@ std::string frameFailureJson(const FrameJob& job, int frame, const std::string& 
     return j.dump(2);
 }
 
+namespace {
+template <class T> nlohmann::json optionalJson(const std::optional<T>& v) { return v ? nlohmann::json(*v) : nlohmann::json(); }
+
+// What else of the job changes the output's pixels or channels beyond the settings: how the
+// passes are read (the camera, the layers, the depth's encoding), which layers are written and
+// where the light comes from. With the settings, what --resume compares (io/frame_job.h); paths
+// of the files written, the threads and the device are not part of it.
+nlohmann::json recipeJson(const FrameJob& job) {
+    using nlohmann::json;
+    json layers = json::object();
+    for (const auto& [role, name] : job.layerOverrides) layers[roleName(role)] = name;
+    const CameraRequest& c = job.camera;
+    return {{"preset", job.preset},
+            {"layers", layers},
+            {"depth", job.depthEncoding ? json(toString(*job.depthEncoding)) : json()},
+            {"depth_range", optionalJson(job.depthRange)},
+            {"normals", job.normalSpace ? json(toString(*job.normalSpace)) : json()},
+            {"sky_depth", optionalJson(job.skyDepth)},
+            {"bad_pixels", job.badPixels == BadPixelPolicy::Skip ? "skip" : "error"},
+            {"camera", {{"sidecar", c.sidecarPath}, {"fov_deg", optionalJson(c.fovDeg)},
+                        {"focal_mm", optionalJson(c.focalMm)}, {"aperture_mm", optionalJson(c.apertureMm)},
+                        {"ortho_width", optionalJson(c.orthoWidth)}, {"camera_to_world", optionalJson(c.cameraToWorld)}}},
+            {"views", job.views},
+            {"deep", {{"input", job.deepInput}, {"elements", job.deepElements}, {"per_element_ao", job.perElementAo}}},
+            {"write", toString(job.write)},
+            {"out_type", job.aoFloat ? "float" : "half"},
+            {"out_layers", {{"ao", job.aoLayer},
+                            {"do", job.writeDirectional ? json(job.doLayer) : json()},
+                            {"gi", job.writeIndirect ? json(job.giLayer) : json()},
+                            {"relit", job.writeRelit ? json(job.relitLayer) : json()}}},
+            {"light", {{"bounce_source", job.bounceSource}, {"times_albedo", job.timesAlbedo},
+                       {"relit_direct", job.relitWithDirect}, {"env", job.envPath}, {"up", optionalJson(job.zUp)},
+                       {"colorspace", job.colourSpace}, {"env_colorspace", job.envColourSpace}}}};
+}
+} // namespace
+
 // One statement per field of the report (docs/cli.md's schema): a table, so longer than a function
 // should be.
 std::string frameReportJson(const FrameJob& job, const FrameReport& r) {
@@ -23,6 +59,7 @@ std::string frameReportJson(const FrameJob& job, const FrameReport& r) {
     j["obscura"] = OBSCURA_VERSION_STRING;
     j["input"] = job.input;
     j["output"] = job.output;
+    j["recipe"] = recipeJson(job);
     // What the method reads: its own parameters follow, from the method table.
     j["settings"] = {{"method", s.method}, {"radius", s.radius}, {"blur", resolvedBlur(s)},
                      {"threads", s.threads}, {"device", s.device}};

@@ -134,7 +134,7 @@ def test_tasks_resume_and_summary(sequence):
     assert summary["seconds_per_frame"]["mean"] == pytest.approx(sum(times) / 5)
     assert summary["seconds_per_frame"]["max"] == pytest.approx(max(times))
     text = farm("summary", out).stdout
-    assert "frames: 7: 5 done, 1 failed, 1 missing" in text and "missing: 7" in text and "failed 6:" in text
+    assert "frames: 7: 5 done, 1 failed, 1 missing, 0 stale" in text and "missing: 7" in text and "failed 6:" in text
 
     # A resubmission after the input is fixed: finished frames are skipped (their files untouched).
     depth, normal = synthetic_scene(48, 32, 6)
@@ -149,7 +149,20 @@ def test_tasks_resume_and_summary(sequence):
     assert not stale.exists()
     s = farm("summary", out)
     assert s.returncode == 0, s.stdout
-    assert "frames: 7: 7 done, 0 failed, 0 missing" in s.stdout
+    assert "frames: 7: 7 done, 0 failed, 0 missing, 0 stale" in s.stdout
+
+    # Resubmitted with another radius: the earlier job's frames are stale, not done, until its
+    # tasks compute them again.
+    args[args.index("0.5")] = "0.25"
+    assert farm(*args, env=env, cwd=sequence).returncode == 0
+    s = farm("summary", out, "--json")
+    assert s.returncode == 1
+    summary = json.loads(s.stdout)
+    assert summary["done"] == [] and sorted(summary["stale"]) == [str(f) for f in range(1, 8)]
+    assert summary["stale"]["1"] == "was written with other settings"
+    for task, proc in run_tasks((out / "obscura_farm.sbatch").read_text(), 4, sequence):
+        assert proc.returncode == 0, proc.stderr
+    assert "frames: 7: 7 done, 0 failed, 0 missing, 0 stale" in farm("summary", out).stdout
 
 
 def test_summary_merges_reference_error(tmp):

@@ -137,3 +137,14 @@ def test_run_dask_passes_the_write_mode(tmp):
         inp.close()
         with open(report) as f:
             assert json.load(f)["write"]["mode"] == "append"
+
+
+def test_resume_records_settings_as_a_report_holds_them():
+    """Tuples and arrays as lists, threads and device aside, so a resumed run compares like with like."""
+    settings = {"radius": 0.5, "threads": 2, "device": "cpu", "sky": (1, 1, 1), "camera_to_world": np.eye(4)}
+    record = obscura.farm.recorded(settings)
+    assert record == {"radius": 0.5, "sky": [1, 1, 1], "camera_to_world": np.eye(4).tolist()}
+    assert record == json.loads(json.dumps(record))
+    assert obscura.farm.recorded(dict(settings, threads=1)) == record
+    with pytest.raises(TypeError, match="a list of input files"):
+        obscura.farm.run_dask(None, "shot.####.exr", {"a": {}}, out_dir="out")

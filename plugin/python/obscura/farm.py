@@ -8,7 +8,8 @@
 
 A task writes OUT/<variant>/<input file name> and its report OUT/<variant>/<name>.json, which
 records the variant. A task is complete when its output and report exist, are newer than the
-input and the report records the same variant; with resume those are skipped, on the client
+input and the report records the same variant (its settings as recorded() gives them: threads
+and device aside); with resume those are skipped, on the client
 and again on the worker (a task re-run after its worker died may find its work done). Outputs
 and reports are written to a temp file and renamed; a task starting a frame first removes the
 temp files a killed run left (those whose writer process is gone). examples/batch_ao.py uses
@@ -103,6 +104,21 @@ def _task(src, out, report, settings, record, resume):
     return "done", render(src, out, report, settings, record)
 
 
+def _plain(value):
+    """A setting as JSON holds it: arrays (a numpy camera_to_world) as lists."""
+    if hasattr(value, "tolist"):
+        return value.tolist()
+    raise TypeError(f"a setting of type {type(value).__name__} cannot be recorded in a report")
+
+
+def recorded(settings):
+    """The settings as the report records them (tuples and arrays as lists), less the threads
+    and the device, which change no result beyond GL's parity: what resume compares, as the
+    CLI's --resume does."""
+    kept = {k: v for k, v in settings.items() if k not in ("threads", "device")}
+    return json.loads(json.dumps(kept, default=_plain))
+
+
 def _variants(variants, common):
     """[(name, settings, record)] from {name: settings} or objects with .name, .settings (.kind)."""
     items = variants.items() if isinstance(variants, dict) else [(v.name, v) for v in variants]
@@ -111,7 +127,7 @@ def _variants(variants, common):
         settings = dict(common)
         settings.update(v if isinstance(v, dict) else v.settings)
         kind = "ao" if isinstance(v, dict) else getattr(v, "kind", "ao")
-        result.append((name, settings, {"name": name, "kind": kind, "settings": settings}))
+        result.append((name, settings, {"name": name, "kind": kind, "settings": recorded(settings)}))
     names = [n for n, _, _ in result]
     if len(set(names)) != len(names) or not names:
         raise ValueError(f"variants need distinct names, got {names}")
@@ -130,6 +146,9 @@ def run_dask(client, frames, variants, *, out_dir, resume=True, progress=True, r
     """
     from distributed import as_completed
 
+    if isinstance(frames, (str, os.PathLike)):
+        raise TypeError("frames: a list of input files (a pattern such as 'shot.####.exr' is not expanded; "
+                        "use sorted(glob.glob('shot.*.exr')))")
     frames = [os.path.abspath(f) for f in frames]
     out_dir = os.path.abspath(out_dir)
     plan = _variants(variants, settings)
