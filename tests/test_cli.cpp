@@ -269,6 +269,11 @@ TEST(CliSamples, SaysWhenTheInputHoldsTheNewLayers) {
         << append.err;
     const CliResult apart = cli({first, "-o", (dir / "apart.exr").string(), "--out-layer", "ao=second"});
     EXPECT_EQ(apart.err.find("already holds"), std::string::npos) << apart.err;
+    // A setting only deep input reads, on a flat file: said to be unread.
+    const CliResult layers = cli({kRoom, "-o", (dir / "layers.exr").string(), "--deep-layers", "2"});
+    EXPECT_EQ(layers.exitCode, 0) << layers.err;
+    EXPECT_NE(layers.err.find("warning: the deep layers setting is read with deep input only"), std::string::npos)
+        << layers.err;
 }
 
 TEST(CliSamples, InspectWritesNothing) {

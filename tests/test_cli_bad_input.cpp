@@ -150,6 +150,8 @@ TEST(CliBadInput, EveryFailureNamesTheFileAtFault) {
         {cat({in, "-o", out, "--method", "ssdo", "--bounce"}, cam), in,
          "no direct-diffuse layer for the bounce; use --bounce-source beauty or --layer direct-diffuse=NAME, and GI "
          "alone (--out-layer gi=NAME in place of --bounce: relit needs an albedo)"},
+        {cat({in, "-o", out, "--per-element-ao", "--falloff", "none"}, cam), in,
+         "holds no deep data: the per-element AO is made of deep elements"},
         {cat({(dir / "seq.####.exr").string(), "-o", (dir / "o.####.exr").string()}, cam),
          (dir / "seq.####.exr").string(), "no frames match"},
     };

@@ -298,6 +298,12 @@ TEST(Inspect, CommandWritesBesideAnEarlierOutput) {
         << j.dump();
     EXPECT_EQ(fs::last_write_time(earlier), before);
     EXPECT_GE(obscura::test::partChannel(second, 0, "obscura.AO.Y").size(), 1u);
+    // A frame of a sequence keeps its number last.
+    const std::string frame = (dir / "odd.1001.exr").string();
+    fs::copy_file(in, frame);
+    const CliResult f = runObscura({frame, "--inspect", "--json"});
+    ASSERT_EQ(f.exitCode, 0) << outcome(f);
+    EXPECT_EQ(nlohmann::json::parse(f.out)["command_args"][3], (dir / "odd_ao.1001.exr").string()) << f.out;
 }
 
 // A file with no depth at all still gets an answer: what is missing, and why no command runs.

@@ -560,6 +560,16 @@ void mergeViewReport(const std::string& view, FrameReport& from, FrameReport& in
     into.nonUnitNormalPixels += from.nonUnitNormalPixels;
 }
 
+// A flat input with no deep file: the per-element AO, an output it cannot have, is refused
+// before anything is written; the deep layers, a setting with no effect, are said to be unread.
+void checkDeepSettingsRead(const FrameJob& job, FrameReport& report) {
+    if (!job.deepInput.empty()) return;
+    if (job.perElementAo)
+        throw FileError(job.input, "holds no deep data: the per-element AO is made of deep elements (docs/deep.md)");
+    if (job.settings.deepLayers != Settings{}.deepLayers)
+        report.warnings.push_back("the deep layers setting is read with deep input only; the input is flat");
+}
+
 FrameReport runJob(const FrameJob& job) {
     checkDestinations(job);
     setExrThreads(job.settings.threads);
@@ -577,6 +587,7 @@ FrameReport runJob(const FrameJob& job) {
         results.push_back(computeView(job, std::move(p), report, &merged, &elementAo));
     } else {
         if (job.write != WriteMode::Append) requireFlatParts(*headers);
+        checkDeepSettingsRead(job, report);
         report.views = viewsToProcess(job, *headers);
         // Every view processed runs on its own passes; one camera serves them all unless each
         // view's part carries its own.

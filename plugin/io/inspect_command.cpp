@@ -6,6 +6,7 @@
 #include "io/deep_job.h"
 #include "io/views.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
@@ -28,12 +29,18 @@ std::string number(double v) {
 }
 
 // NAME_ao.exr beside the input, or NAME_ao_2.exr, ... where that exists: the command the user
-// copies must not replace an earlier output.
+// copies must not replace an earlier output. A frame's number stays last (shot.1001.exr ->
+// shot_ao.1001.exr), where sequence tools look for it.
 std::string defaultOutput(const std::string& input, std::vector<std::string>& notes) {
     namespace fs = std::filesystem;
     const fs::path in(input);
+    std::string name = in.stem().string(), frame;
+    const size_t dot = name.rfind('.');
+    if (dot != std::string::npos && dot + 1 < name.size() &&
+        std::all_of(name.begin() + dot + 1, name.end(), [](char c) { return std::isdigit((unsigned char)c); }))
+        frame = name.substr(dot), name.resize(dot);
     const auto named = [&](int k) {
-        return (in.parent_path() / (in.stem().string() + "_ao" + (k > 1 ? "_" + std::to_string(k) : "") + ".exr")).string();
+        return (in.parent_path() / (name + "_ao" + (k > 1 ? "_" + std::to_string(k) : "") + frame + ".exr")).string();
     };
     std::error_code ec;
     int k = 1;
