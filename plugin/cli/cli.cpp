@@ -262,6 +262,8 @@ RunPlan planRun(const std::vector<std::string>& args) {
     plan.aoChannel = aoChannelName(o.job.aoLayer);
     plan.threads = o.job.settings.threads;
     plan.resume = o.resume;
+    for (const std::string& f : {o.job.camera.sidecarPath, o.job.envPath})
+        if (!f.empty() && !isFramePattern(f)) plan.readFiles.push_back(f);
     return plan;
 }
 

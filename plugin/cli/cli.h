@@ -20,6 +20,7 @@ using obscura::UsageError;
 // planning runs elsewhere needs (obscura farm). Throws UsageError as `run` would.
 struct RunPlan {
     std::string input, output, frames, report, aoChannel;
+    std::vector<std::string> readFiles;  // what every frame reads beside its input: --camera, --env
     int threads = 0;
     bool resume = false;
 };

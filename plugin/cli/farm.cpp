@@ -162,14 +162,31 @@ int capture(const std::string& command, std::string& out) {
     return WIFEXITED(status) ? WEXITSTATUS(status) : 128;
 }
 
+// What would make tasks fail, said before they are submitted: frames without an input, and the
+// files every frame reads (--camera, --env) missing. Warnings, not refusals: a job may be
+// submitted to run after the renders it reads (an sbatch dependency).
+void warnOfMissingInputs(const SlurmJob& job) {
+    std::vector<int> absent;
+    std::error_code ec;
+    for (int frame : job.frames)
+        if (!fs::exists(framePath(job.plan.input, frame), ec)) absent.push_back(frame);
+    if (!absent.empty())
+        std::fprintf(stderr, "obscura: warning: frame(s) %s of %zu have no input (%s) yet; their tasks fail unless it "
+                     "is written before they run\n", frameSpec(absent).c_str(), job.frames.size(), job.plan.input.c_str());
+    for (const std::string& file : job.plan.readFiles)
+        if (!fs::exists(file, ec))
+            std::fprintf(stderr, "obscura: warning: '%s' does not exist; every task reads it\n", file.c_str());
+}
+
 int runSlurm(int argc, char** argv) {
     const SlurmJob job = parseSlurm(argc, argv);
     const std::string script = slurmScript(job);
+    requireOutputDirectory(job.plan.output);  // as the submission would, so that a dry run tells
+    warnOfMissingInputs(job);
     if (job.dryRun) {
         std::fputs(script.c_str(), stdout);
         return 0;
     }
-    requireOutputDirectory(job.plan.output);
     fs::create_directories(fs::path(job.dir) / kLogs);
     const std::string scriptPath = (fs::path(job.dir) / kScript).string();
     writeTextFileAtomically(scriptPath, script);

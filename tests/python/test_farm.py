@@ -55,6 +55,19 @@ def test_dry_run_script_chunks_and_writes_nothing(sequence):
     # Without --frames, the frames found on disk; a chunk larger than the job is one task.
     whole = farm("slurm", "shot.####.exr", "-o", "out/ao.####.exr", "--chunk", "100", "--dry-run", cwd=sequence)
     assert "chunks=(1-7)" in whole.stdout.splitlines() and "#SBATCH --array=0-0" in whole.stdout
+    assert proc.stderr == "" and whole.stderr == ""
+
+
+def test_submission_warns_of_what_tasks_would_miss(sequence):
+    """Frames with no input and a missing --env are said before submitting (a job may run after
+    the renders it reads, so they are warnings); a missing output directory is refused, dry or not."""
+    proc = farm("slurm", "shot.####.exr", "-o", "out/ao.####.exr", "--frames", "1-10", "--method", "ssdo",
+                "--env", "nope.hdr", "--dry-run", cwd=sequence)
+    assert proc.returncode == 0, proc.stderr
+    assert "warning: frame(s) 8-10 of 10 have no input (shot.####.exr) yet" in proc.stderr
+    assert "warning: 'nope.hdr' does not exist; every task reads it" in proc.stderr
+    nodir = farm("slurm", "shot.####.exr", "-o", "nodir/ao.####.exr", "--dry-run", cwd=sequence)
+    assert nodir.returncode != 0 and "nodir" in nodir.stderr and nodir.stdout == ""
 
 
 def test_bad_command_lines(sequence):
