@@ -32,7 +32,9 @@ has one; 'camera' obscura.Camera or None ('camera_error' then says why); 'normal
 'world'|'camera'|'depth';
 'depth_kind' 'planar'|'radial' (of 'depth'); 'depth_encoding' 'planar'|'radial'|'inverse'|'normalized'
 (how the file stores it); 'sky_depth'; 'data_window' and 'display_window'
-(x0, y0, x1, y1), half-open, display min = (0, 0); 'pixel_aspect'; 'preset'; 'layers'
+(x0, y0, x1, y1), half-open, display min = (0, 0); 'pixel_aspect'; 'up' ('z' for Blender's
+files, else 'y': the world's up axis process() lights them with; give it to compute_ssdo's up=);
+'preset'; 'layers'
 {role: [channel names]}; 'part'; 'view' (of a multi-view file, else None); 'path'. Arrays cover the
 data window.
 
@@ -143,6 +145,7 @@ py::dict readPassesPy(const py::object& path, const FileArgs& f) {
     d["data_window"] = boxToTuple(p.data);
     d["display_window"] = boxToTuple(p.display);
     d["pixel_aspect"] = p.pixelAspect;
+    d["up"] = job.zUp.value_or(p.plan.preset == "blender") ? "z" : "y";  // the world's, as process() takes it
     d["preset"] = p.plan.preset;
     d["layers"] = layers;
     d["part"] = p.part;

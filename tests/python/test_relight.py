@@ -214,3 +214,25 @@ def test_batch_relight_resume_and_contact_sheet(tmp):
     assert "2 tile(s)" in proc.stderr
     data = sheet.read_bytes()
     assert data[:8] == b"\x89PNG\r\n\x1a\n" and data[25] == 2  # IHDR colour type 2: RGB
+
+
+def test_read_passes_up_lights_arrays_as_process_does(tmp):
+    """room.exr is Blender's (Z up): read_passes says so, and compute_ssdo given that up lights the
+    arrays with an environment map exactly as process() lights the file."""
+    import OpenImageIO as oiio
+    h, w = 16, 32
+    env = np.zeros((h, w, 3), np.float32)
+    env[..., 0] = np.linspace(0.0, 2.0, w)[None, :]
+    env[..., 2] = np.linspace(0.0, 1.0, h)[:, None] ** 2
+    path = tmp / "env.exr"
+    out = oiio.ImageOutput.create(str(path))
+    assert out.open(str(path), oiio.ImageSpec(w, h, 3, oiio.FLOAT)) and out.write_image(env)
+    out.close()
+    p = obscura.read_passes(ROOM)
+    assert p["up"] == "z"
+    arrays = obscura.compute_ssdo(p["depth"], p["normal"], camera=p["camera"], environment=env, up=p["up"], **FAST)
+    obscura.process(ROOM, tmp / "o.exr", method="ssdo", env=str(path), out_type="float", **FAST)
+    written = rgb(tmp / "o.exr", "obscura.DO")
+    assert np.abs(arrays["do"] - written).max() < 1e-5
+    other = obscura.compute_ssdo(p["depth"], p["normal"], camera=p["camera"], environment=env, up="y", **FAST)
+    assert np.abs(other["do"] - written).max() > 0.01  # the axis matters on this map
