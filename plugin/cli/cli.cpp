@@ -110,7 +110,24 @@ void requirePerFrame(const char* flag, const std::string& spec, const char* exam
                      ") or a directory");
 }
 
-// A frame sequence, with a progress line and --resume; stops at the first failing frame.
+// The message as one printable line: control bytes (a corrupt file's names may hold
+// newlines) become '?', trailing whitespace is dropped.
+static std::string printableLine(std::string s) {
+    for (char& c : s)
+        if ((unsigned char)c < 0x20 || c == 0x7f) c = '?';
+    while (!s.empty() && s.back() == ' ') s.pop_back();
+    return s;
+}
+
+// A frame's failure as the run reports it: 'FILE': frame N: what, the number after the file.
+FileError frameFailure(const FrameJob& job, int frame, const std::string& what) {
+    const std::string prefix = "'" + job.input + "': ";
+    const bool named = what.rfind(prefix, 0) == 0;
+    return FileError(job.input, "frame " + std::to_string(frame) + ": " + (named ? what.substr(prefix.size()) : what));
+}
+
+// A frame sequence, with a progress line and --resume; stops at the first failing frame, or with
+// --keep-going runs every frame and fails at the end, naming the frames that failed.
 int runSequence(const Options& o) {
     if (!isFramePattern(o.job.output)) throw UsageError("the input is a sequence: -o needs a pattern too (e.g. out.####.exr)");
     requirePerFrame("--report", o.reportPath, "out.####.json");
@@ -137,6 +154,7 @@ int runSequence(const Options& o) {
     const bool tty = ::isatty(2);
     const auto start = std::chrono::steady_clock::now();
     int done = 0, skipped = 0;
+    std::vector<int> failed;
     for (size_t i = 0; i < frames.size(); ++i) {
         const FrameJob& job = jobs[i];
         const std::string& reportPath = files[i].report;
@@ -150,11 +168,11 @@ int runSequence(const Options& o) {
             } catch (const std::exception& e) {
                 if (tty && !o.quiet) std::fputc('\n', stderr);
                 writeFailureReport(job, frames[i], reportPath, e.what());
-                // 'FILE': what, with the frame number after the file it names.
-                const std::string prefix = "'" + job.input + "': ", what = e.what();
-                const bool named = what.rfind(prefix, 0) == 0;
-                throw FileError(job.input, "frame " + std::to_string(frames[i]) + ": " +
-                                               (named ? what.substr(prefix.size()) : what));
+                const FileError failure = frameFailure(job, frames[i], e.what());
+                if (!o.keepGoing) throw failure;
+                std::fprintf(stderr, "obscura: %s\n", printableLine(failure.what()).c_str());
+                failed.push_back(frames[i]);
+                continue;
             }
             ++done;
         }
@@ -168,6 +186,9 @@ int runSequence(const Options& o) {
                      frames.size(), skipped, perFrame, perFrame * left, tty ? "" : "\n");
     }
     if (tty && !o.quiet) std::fputc('\n', stderr);
+    if (!failed.empty())
+        throw FileError(o.job.input, std::to_string(failed.size()) + " of " + std::to_string(frames.size()) +
+                                         " frame(s) failed (--keep-going): " + frameSpec(failed));
     return 0;
 }
 
@@ -267,14 +288,6 @@ RunPlan planRun(const std::vector<std::string>& args) {
     return plan;
 }
 
-// The message as one printable line: control bytes (a corrupt file's names may hold
-// newlines) become '?', trailing whitespace is dropped.
-static std::string printableLine(std::string s) {
-    for (char& c : s)
-        if ((unsigned char)c < 0x20 || c == 0x7f) c = '?';
-    while (!s.empty() && s.back() == ' ') s.pop_back();
-    return s;
-}
 
 int run(int argc, char** argv) {
     if (argc > 1 && std::string(argv[1]) == "farm") return runFarm(argc, argv);

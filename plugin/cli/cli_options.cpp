@@ -348,6 +348,9 @@ std::vector<Flag> makeFlags() {
         {"--resume", nullptr, "skip frames whose output (and --report, --preview) already exists complete; clear a killed run's "
                            "temp files",
          [](Options& o, const std::string&) { o.resume = true; }},
+        {"--keep-going", nullptr, "a sequence: go on past a failing frame (its line printed, its --report holding the "
+                                  "error) and fail at the end, naming the frames that failed",
+         [](Options& o, const std::string&) { o.keepGoing = true; }},
         {"--inspect", nullptr, "print the layers found, the role of each and the camera, then exit",
          [](Options& o, const std::string&) { o.inspect = true; }},
         {"--json", nullptr, "with --inspect: print the same as JSON (what Python's obscura.inspect returns)",

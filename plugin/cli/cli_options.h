@@ -13,6 +13,7 @@ namespace obscura::cli {
 struct Options {
     FrameJob job;
     bool inspect = false, quiet = false, help = false, version = false, resume = false;
+    bool keepGoing = false;  // --keep-going: a sequence runs every frame past a failing one
     bool inspectJson = false;  // --inspect --json
     std::string reportPath, frames;
     std::string flat;  // --flat: the input is deep, this file gives the passes

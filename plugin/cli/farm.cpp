@@ -138,7 +138,8 @@ std::string slurmScript(const SlurmJob& job) {
     for (size_t i = 0; i < job.chunks.size(); ++i) s << (i ? " " : "") << frameSpec(job.chunks[i]);
     s << ")\nexec " << shellQuote(selfPath());
     for (const std::string& a : job.runArgs) s << " " << shellQuote(a);
-    s << " --frames \"${chunks[$SLURM_ARRAY_TASK_ID]}\" --resume --report " << shellQuote(job.report) << "\n";
+    s << " --frames \"${chunks[$SLURM_ARRAY_TASK_ID]}\" --resume --keep-going --report " << shellQuote(job.report)
+      << "\n";
     return s.str();
 }
 

@@ -45,7 +45,7 @@ def test_dry_run_script_chunks_and_writes_nothing(sequence):
     assert f"#SBATCH --chdir={sequence}" in lines
     command = lines[-1]
     assert command.startswith(f"exec '{os.path.realpath(CLI)}' 'shot.####.exr' '-o' 'out/ao.####.exr'")
-    assert command.endswith(f"--frames \"${{chunks[$SLURM_ARRAY_TASK_ID]}}\" --resume --report "
+    assert command.endswith(f"--frames \"${{chunks[$SLURM_ARRAY_TASK_ID]}}\" --resume --keep-going --report "
                             f"'{sequence}/out/ao.####.json'")
     assert sorted(os.listdir(sequence / "out")) == []
     # The same command line gives the same chunks: a resubmission redoes the same split.
@@ -201,3 +201,17 @@ def test_summary_merges_reference_error(tmp):
     # The same frame twice: the same error, and a real one (HBAO against Cycles' AO: small, not zero).
     assert maes[0] == maes[1] and 0.005 < maes[0] < 0.2
     assert "reference ViewLayer.AO" in farm("summary", tmp / "out").stdout
+
+
+def test_keep_going_runs_the_frames_after_a_failing_one(sequence):
+    (sequence / "shot.0002.exr").write_bytes(b"not an exr")
+    args = [CLI, "shot.####.exr", "-o", "out/ao.####.exr", "--frames", "1-3", "--report", "out/ao.####.json"]
+    stop = subprocess.run(args, capture_output=True, text=True, cwd=sequence, timeout=300)
+    assert stop.returncode == 1 and "frame 2" in stop.stderr
+    assert not (sequence / "out" / "ao.0003.exr").exists()
+    go = subprocess.run(args + ["--keep-going", "--resume"], capture_output=True, text=True, cwd=sequence, timeout=300)
+    assert go.returncode == 1
+    assert (sequence / "out" / "ao.0003.exr").exists()
+    last = go.stderr.strip().splitlines()[-1]
+    assert last.endswith("1 of 3 frame(s) failed (--keep-going): 2"), go.stderr
+    assert "error" in json.loads((sequence / "out" / "ao.0002.json").read_text())
