@@ -148,3 +148,12 @@ def test_resume_records_settings_as_a_report_holds_them():
     assert obscura.farm.recorded(dict(settings, threads=1)) == record
     with pytest.raises(TypeError, match="a list of input files"):
         obscura.farm.run_dask(None, "shot.####.exr", {"a": {}}, out_dir="out")
+
+
+def test_bad_settings_are_refused_before_any_task(tmp):
+    """A typo or a value out of range fails once, on the client, naming the variant; no task runs."""
+    for variants, error, words in (({"bad": {"raduis": 0.5}}, TypeError, "variant bad: .*raduis"),
+                                   ({"cos": {"weighting": "cos"}}, ValueError, "variant cos: weighting must be")):
+        with pytest.raises(error, match=words):
+            obscura.farm.run_dask(None, [str(tmp / "shot.1001.exr")], variants, out_dir=str(tmp / "out"))
+    assert not any(p.name.startswith(".obscura-settings-check") for p in (tmp / "out").rglob("*"))

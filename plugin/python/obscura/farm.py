@@ -134,6 +134,19 @@ def _variants(variants, common):
     return result
 
 
+def check_settings(name, settings, out_dir):
+    """Raises the TypeError or ValueError obscura.process would raise for these settings (an
+    unknown keyword, a value out of range), before any task is sent: a worker would fail every
+    frame alike, and retry each. Runs process's own checks on an input that does not exist."""
+    probe = os.path.join(out_dir, f".obscura-settings-check-{os.getpid()}")
+    try:
+        _obscura.process(probe + "-in.exr", probe + "-out.exr", **settings)
+    except (TypeError, ValueError) as e:
+        raise type(e)(f"variant {name}: {e}") from None
+    except _obscura.Error:
+        pass  # the probe's input does not exist: every setting was read
+
+
 def run_dask(client, frames, variants, *, out_dir, resume=True, progress=True, retries=1, **settings):
     """Maps frames x variants onto a distributed.Client; each task is one obscura.process call.
 
@@ -155,6 +168,7 @@ def run_dask(client, frames, variants, *, out_dir, resume=True, progress=True, r
     tasks, skipped = [], 0
     for name, merged, record in plan:
         os.makedirs(os.path.join(out_dir, name), exist_ok=True)
+        check_settings(name, merged, os.path.join(out_dir, name))
         for src in frames:
             out, report = output_paths(out_dir, name, src)
             if resume and is_complete(src, out, report, record):
