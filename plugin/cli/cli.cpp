@@ -119,6 +119,21 @@ static std::string printableLine(std::string s) {
     return s;
 }
 
+// --inspect: the file, or of a sequence its first frame (or --frames' first), as every frame
+// runs alike; the command then runs that frame, and a note says how to run them all.
+nlohmann::json inspectSequenceOrFrame(const Options& o) {
+    if (!isFramePattern(o.job.input)) return inspectFrameJson(o.job);
+    const std::string& pattern = o.job.deepInput.empty() ? o.job.input : o.job.deepInput;
+    const std::vector<int> frames = o.frames.empty() ? existingFrames(pattern) : parseFrames(o.frames);
+    if (frames.empty()) throw FileError(o.job.input, "no frames match");
+    nlohmann::json j = inspectFrameJson(sequenceFrame(o.job, frames.front()));
+    j["sequence"] = {{"pattern", o.job.input}, {"frames", frames.size()}, {"described", frames.front()}};
+    j["command_notes"].push_back("sequence: " + std::to_string(frames.size()) + " frame(s) of " + o.job.input +
+                                 "; the command runs frame " + std::to_string(frames.front()) +
+                                 ": give the pattern as the input and -o with #### to run them all");
+    return j;
+}
+
 // A frame's failure as the run reports it: 'FILE': frame N: what, the number after the file.
 FileError frameFailure(const FrameJob& job, int frame, const std::string& what) {
     const std::string prefix = "'" + job.input + "': ";
@@ -307,8 +322,8 @@ int run(int argc, char** argv) {
         if (o.job.input.empty()) throw UsageError("no input file (usage: obscura INPUT.exr -o OUTPUT.exr; see --help)");
         if (o.inspectJson && !o.inspect) throw UsageError("--json goes with --inspect (--report FILE.json writes a run's JSON)");
         if (o.inspect) {
-            const std::string out = o.inspectJson ? inspectFrameJson(o.job).dump(2) + "\n" : inspectFrame(o.job);
-            std::fputs(out.c_str(), stdout);
+            const nlohmann::json j = inspectSequenceOrFrame(o);
+            std::fputs((o.inspectJson ? j.dump(2) + "\n" : inspectText(j)).c_str(), stdout);
             return 0;
         }
         if (o.job.output.empty()) throw UsageError("no output file: give -o OUTPUT.exr (or --inspect)");

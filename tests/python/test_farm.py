@@ -215,3 +215,13 @@ def test_keep_going_runs_the_frames_after_a_failing_one(sequence):
     last = go.stderr.strip().splitlines()[-1]
     assert last.endswith("1 of 3 frame(s) failed (--keep-going): 2"), go.stderr
     assert "error" in json.loads((sequence / "out" / "ao.0002.json").read_text())
+
+
+def test_inspect_describes_a_sequence_by_its_first_frame(sequence):
+    proc = subprocess.run([CLI, "shot.####.exr", "--inspect", "--json"], capture_output=True, text=True,
+                          cwd=sequence, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    j = json.loads(proc.stdout)
+    assert j["sequence"] == {"pattern": "shot.####.exr", "frames": 7, "described": 1}
+    assert j["command_args"][1:4] == ["shot.0001.exr", "-o", "shot_ao.0001.exr"]
+    assert any(n.startswith("sequence: 7 frame(s) of shot.####.exr") for n in j["command_notes"])
