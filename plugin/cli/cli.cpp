@@ -166,6 +166,8 @@ int runSequence(const Options& o) {
         files.push_back({&job, framePath(o.reportPath, frames[i])});
     }
     checkFrameFiles(files, Spelling::Flag);  // every frame's files, before the first is written
+    for (const std::string& written : {jobs.front().output, files.front().report, jobs.front().previewPath})
+        if (!written.empty()) requireOutputDirectory(written);  // before the first frame is computed
     const bool tty = ::isatty(2);
     const auto start = std::chrono::steady_clock::now();
     int done = 0, skipped = 0;

@@ -225,3 +225,11 @@ def test_inspect_describes_a_sequence_by_its_first_frame(sequence):
     assert j["sequence"] == {"pattern": "shot.####.exr", "frames": 7, "described": 1}
     assert j["command_args"][1:4] == ["shot.0001.exr", "-o", "shot_ao.0001.exr"]
     assert any(n.startswith("sequence: 7 frame(s) of shot.####.exr") for n in j["command_notes"])
+
+
+def test_a_sequence_into_a_missing_directory_fails_before_computing(sequence):
+    proc = subprocess.run([CLI, "shot.####.exr", "-o", "nodir/ao.####.exr", "--report", "out/"], capture_output=True,
+                          text=True, cwd=sequence, timeout=300)
+    assert proc.returncode == 1
+    assert proc.stderr.strip() == "obscura: 'nodir/ao.0001.exr': cannot write: directory 'nodir' does not exist"
+    assert os.listdir(sequence / "out") == []
