@@ -39,13 +39,16 @@ The same operator and file pipeline as the ``obscura`` command, for numpy:
 - ``read_deep(path, colour=)`` -> dict of a deep EXR's surfaces ('deep' (H, W, 2L), 'colour'), for
   compute_ao(deep=) and compute_gi(deep=, deep_colour=).
 - ``Camera.perspective / .orthographic / .from_sidecar``.
+- ``obscura.farm``: frames x settings variants as farm work on a Dask cluster (``run_dask``),
+  skipping the outputs a run with the same settings completed (resume).
 
 Settings are the CLI's flags with underscores: radius, directions, steps, weighting
 ('uniform' | 'cosine'), falloff ('linear' | 'none'), blur, quality ('low' | 'medium' |
-'high' | 'ultra', applied before directions/steps/blur), method (a key of obscura.METHODS:
-'hbao', 'ssdo', 'ssao', 'rtao'), device, threads; each method's own keywords as METHODS lists
-them (ssao_samples, ssao_hemisphere, rtao_rays, thickness, rtao_grid); for 'ssdo' also
-samples, interleave, sky, env_rotate, env_intensity, lights, up.
+'high' | 'ultra', applied before the keywords, which win over it), method (a key of
+obscura.METHODS: 'hbao', 'ssdo', 'ssao', 'rtao', 'discs'), device, threads; each method's own
+keywords as METHODS lists them (thickness, border, deep_layers, ssao_samples, ssao_hemisphere,
+rtao_rays, rtao_grid, disc_window, ...); for 'ssdo' also samples, interleave, sky, env_rotate,
+env_intensity, lights, up. help(obscura.process) lists the file keywords.
 
 Relighting from Python: ``process(path, out, method='ssdo', bounce=True, env='studio.exr',
 env_rotate=90, out_layer={'relit': 'Relit'})`` writes OUT with the directional occlusion

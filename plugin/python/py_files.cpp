@@ -53,30 +53,37 @@ plan, written: the channels added).
 The layers written, by argument (the CLI's flags write the same):
 - always: the AO, obscura.AO.Y (out_layer='NAME' or {'ao': 'NAME'}: NAME.Y).
 - method='ssdo': also the directional occlusion obscura.DO.R/G/B ({'do': NAME} renames it).
-- method='ssdo', bounce=True: also the one bounce obscura.GI.R/G/B and the relit image
-  obscura.relit.R/G/B = albedo x (DO + GI) / pi (+ albedo x direct diffuse with
-  relit_direct=True). Needs the albedo pass and the bounce source's (bounce_source, default
-  'direct-diffuse', itself times the albedo); a file without them raises obscura.Error.
-- out_layer={'gi': NAME} or {'relit': NAME} (ssdo): names that layer and asks for it alone, so
-  out_layer={'gi': 'obscura.GI'} without bounce writes GI but no relit.
+- bounce=True (method 'ssdo', or 'hbao': the horizon's bounce): also the one bounce
+  obscura.GI.R/G/B and the relit image obscura.relit.R/G/B = albedo x (DO + GI) / pi (hbao: albedo
+  x GI / pi; + albedo x direct diffuse with relit_direct=True). Needs the albedo pass and the
+  bounce source's (bounce_source, default 'direct-diffuse', itself times the albedo); a file
+  without them raises obscura.Error.
+- out_layer={'gi': NAME} or {'relit': NAME} (ssdo, hbao): names that layer and asks for it alone,
+  so out_layer={'gi': 'obscura.GI'} without bounce writes GI but no relit.
 
 Keywords are the CLI's flags with underscores: quality, method (a key of obscura.METHODS), radius,
-directions, steps, weighting, falloff, blur, device, threads; preset, layer={role: name}, camera
+directions, steps, weighting, falloff, blur, device, threads; each method's own parameters
+(obscura.METHODS[m]['params']: thickness, border and deep_layers for hbao, ssao_samples,
+rtao_rays, disc_window, ...); preset, layer={role: name}, camera
 (sidecar path), fov_deg (or focal_mm with aperture_mm: the horizontal film back), ortho_width,
 camera_to_world (4x4 or 16 numbers, row-major), depth
-('planar' | 'radial'), normals ('world' | 'camera'), sky_depth, max_pixels (refuse a data or
+('planar' | 'radial' | 'inverse' | 'normalized'), depth_range ((near, far): what a normalized
+depth's 0 and 1 stand for), normals ('world' | 'camera' | 'depth': reconstructed from the depth),
+sky_depth, max_pixels (refuse a data or
 display window above it before allocating, as --max-pixels; default 16384^2), view (a multi-view
 file's views to process: a name or a list, as --view; default every view with a depth); out_layer (above),
 out_type ('half' | 'float'), bad_pixels ('error' | 'skip'), reference (layer name), report
-(also write the JSON there), preview (PNG path: 8-bit sRGB of the AO, or for 'ssdo' of the relit
-layer when written, else the DO), preview_exposure (stops before the preview's encoding; default
-AO 0, ssdo automatic: the 99th percentile at 0.8), in_place (bool), write ('copy': PATH plus the
+(also write the JSON there), preview (PNG path: 8-bit sRGB of the AO, or in a lit run, ssdo or
+hbao with bounce, of the relit layer when written, else ssdo's DO or hbao's GI),
+preview_exposure (stops before the preview's encoding; default AO 0, a lit run automatic: the
+99th percentile at 0.8), in_place (bool), write ('copy': PATH plus the
 new layers, the default; 'new': only the new layers, with PATH's windows, camera and colour
 attributes; PATH's other channels are not decoded; 'append': PATH's parts copied as compressed
 chunks, untouched, plus a part holding the new layers).
 Deep input (docs/deep.md): PATH a deep EXR with no flat file, or a list of deep elements rendered
-apart, merged; OUT is then the flattened image plus the new layers. per_element_ao=True (hbao)
-also writes an AO per element, of its own visible surface: <ao layer>.<file stem>.Y.
+apart, merged; OUT is then the flattened image plus the new layers. per_element_ao=True (hbao,
+falloff='none') also writes an AO per element, of its own visible surface: <ao layer>.<element>.Y,
+the file's stem less its frame number.
 method='ssdo': samples (1-4096), interleave (1-8), bounce (bool, above), bounce_source
 ('direct-diffuse' | 'beauty' | layer), env (lat-long map path), env_rotate (degrees),
 env_intensity, env_colorspace, colorspace (of the input's colour passes), sky ((r, g, b) without
