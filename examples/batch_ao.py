@@ -209,12 +209,25 @@ def run_task(task):
 
 
 def write_manifest(out_dir, pattern, frames, variants):
+    """OUT/batch.json: the pattern, frames and variants, merged with what an earlier run into the
+    same directory recorded for the same pattern, so that a narrower re-run (one variant, a few
+    frames) does not drop the others from the contact sheet."""
     prefix, pad, suffix = parse_pattern(pattern)
     name = os.path.basename(prefix) + "#" * pad + suffix
+    entries = [dict(v.to_json(), output=os.path.join(v.name, name)) for v in variants]
+    try:
+        with open(os.path.join(out_dir, "batch.json")) as f:
+            earlier = json.load(f)
+    except (OSError, ValueError):
+        earlier = {}
+    if isinstance(earlier, dict) and earlier.get("pattern") == os.path.abspath(pattern):
+        names = {e["name"] for e in entries}
+        entries = [e for e in earlier.get("variants", []) if e.get("name") not in names] + entries
+        frames = sorted(set(earlier.get("frames", [])) | set(frames))
     manifest = {
         "pattern": os.path.abspath(pattern),
         "frames": frames,
-        "variants": [dict(v.to_json(), output=os.path.join(v.name, name)) for v in variants],
+        "variants": entries,
         "obscura": obscura.__version__,
     }
     tmp = os.path.join(out_dir, f".batch.json.tmp-{os.getpid()}")

@@ -75,6 +75,12 @@ def test_batch_resume_and_contact_sheet(sequence):
     changed = [a.replace("falloff=none", "falloff=linear") for a in map(str, args)]
     proc = run("batch_ao.py", *changed, "--resume")
     assert "6 complete, 3 to do" in proc.stderr, proc.stderr
+    # A narrower re-run (one variant, one frame) keeps the others in the manifest.
+    narrow = run("batch_ao.py", args[0], "-o", out, "--frames", "1", "--radii", "0.5", "--set", "out_type=float",
+                 "--resume")
+    assert narrow.returncode == 0 and "1 complete, 0 to do" in narrow.stderr, narrow.stderr
+    manifest = json.loads((out / "batch.json").read_text())
+    assert sorted(v["name"] for v in manifest["variants"]) == ["cos", "r0.5", "r1.5"] and manifest["frames"] == [1, 2, 3]
 
     # Contact sheet from the batch, and from one frame in memory.
     sheet = sequence / "sheet.png"
