@@ -215,26 +215,32 @@ struct Range {
     json toJson() const { return n ? json{{"mean", sum / n}, {"min", lo}, {"max", hi}, {"total", sum}} : json(); }
 };
 
-// The job the manifest's tasks run (its command line, from the directory it was submitted in),
-// to tell a frame done by this job from one an earlier job left; nullopt for a manifest from
-// before it recorded the command line.
+// The job the manifest's tasks run (its command line, as given), to tell a frame done by this
+// job from one an earlier job left; nullopt for a manifest from before it recorded the command
+// line. Its paths are relative to the manifest's "cwd", as the tasks' (--chdir) and as the
+// recipe each output records them: compare from there (SubmittedDirectory).
 std::optional<FrameJob> submittedJob(const json& m) {
     if (!m.contains("args") || !m.contains("cwd")) return std::nullopt;
     std::vector<std::string> args = m["args"].get<std::vector<std::string>>();
     std::vector<char*> argv{const_cast<char*>("obscura")};
     for (std::string& a : args) argv.push_back(a.data());
-    std::error_code ec;
-    const fs::path here = fs::current_path(ec);
-    fs::current_path(m["cwd"].get<std::string>(), ec);
-    if (ec) return std::nullopt;
-    FrameJob job = parseArgs((int)argv.size(), argv.data()).job;
-    job.input = m["input"], job.output = m["output"];  // absolute
-    for (std::string* p : {&job.deepInput, &job.camera.sidecarPath, &job.envPath, &job.previewPath})
-        if (!p->empty()) *p = fs::absolute(*p).string();
-    for (std::string& e : job.deepElements) e = fs::absolute(e).string();
-    fs::current_path(here, ec);
-    return job;
+    return parseArgs((int)argv.size(), argv.data()).job;
 }
+
+// The working directory the job was submitted from, for as long as this lives.
+struct SubmittedDirectory {
+    fs::path before;
+    bool moved = false;
+    explicit SubmittedDirectory(const json& m) {
+        std::error_code ec;
+        before = fs::current_path(ec);
+        if (!ec && m.contains("cwd")) fs::current_path(m["cwd"].get<std::string>(), ec), moved = !ec;
+    }
+    ~SubmittedDirectory() {
+        std::error_code ec;
+        if (moved) fs::current_path(before, ec);
+    }
+};
 
 json summarise(const std::string& dir) {
     const fs::path path = fs::absolute(fs::path(dir) / kManifest);
@@ -246,7 +252,8 @@ json summarise(const std::string& dir) {
     const std::string output = m["output"], report = m["report"], channel = m.value("ao_channel", "obscura.AO.Y");
     json done = json::array(), missing = json::array(), failed = json::object(), temps = json::array();
     json stale = json::object();
-    const std::optional<FrameJob> submitted = submittedJob(m);
+    const SubmittedDirectory from(m);  // the manifest's paths are absolute; the job's, from here
+    const std::optional<FrameJob> submitted = from.moved ? submittedJob(m) : std::nullopt;
     Range seconds;
     std::map<std::string, Range> error;
     std::string referenceLayer;

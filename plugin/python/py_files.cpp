@@ -47,7 +47,7 @@ sky_depth, max_pixels, view (a multi-view file's view to read; default the first
 Raises obscura.Error for a missing/unreadable file or missing passes.)doc";
 
 const char* kProcessDoc = R"doc(obscura PATH -o OUT [flags]: writes OUT, a copy of PATH with the new layers added, and returns
-the --report JSON as a dict (settings, camera, conventions, timings_s, stats, reference, warnings,
+the --report JSON as a dict (settings, recipe, camera, conventions, timings_s, stats, reference, warnings,
 plan, written: the channels added).
 
 The layers written, by argument (the CLI's flags write the same):
