@@ -267,6 +267,10 @@ TEST(CliSamples, SaysWhenTheInputHoldsTheNewLayers) {
     const CliResult append = cli({first, "-o", (dir / "both.exr").string(), "--write", "append"});
     EXPECT_NE(append.err.find("the output holds both, the new ones in a part of their own"), std::string::npos)
         << append.err;
+    // Copied again, the appended file's earlier AO stays in its own part beside the new one.
+    fs::copy_file(kData + "/room.json", dir / "both.json");
+    const CliResult again = cli({(dir / "both.exr").string(), "-o", (dir / "third.exr").string()});
+    EXPECT_NE(again.err.find("the output holds both"), std::string::npos) << again.err;
     const CliResult apart = cli({first, "-o", (dir / "apart.exr").string(), "--out-layer", "ao=second"});
     EXPECT_EQ(apart.err.find("already holds"), std::string::npos) << apart.err;
     // A setting only deep input reads, on a flat file: said to be unread.

@@ -290,6 +290,25 @@ TEST(Resume, RecomputesAFrameWrittenWithOtherSettings) {
     }
 }
 
+// An input that holds an earlier run's AO in a part of its own (append): --resume reads the
+// settings of the part this output's run wrote, not of the first part holding an AO.
+TEST(Resume, ReadsThePartThisOutputsRunWrote) {
+    const Workspace w(freshDir());
+    fs::copy_file(w("in.json"), w("a.json"));
+    fs::copy_file(w("in.json"), w("b.json"));
+    const auto run = [&](const std::string& in, const std::string& out, const char* radius, bool resume) {
+        std::vector<std::string> args = {w(in), "-o", w(out), "--write", "append", "--radius", radius};
+        if (resume) args.push_back("--resume");
+        return cli(args);
+    };
+    ASSERT_EQ(run("in.exr", "a.exr", "0.5", false).exitCode, 0);
+    ASSERT_EQ(run("a.exr", "b.exr", "1", false).exitCode, 0);
+    const CliResult same = run("a.exr", "b.exr", "1", true);
+    EXPECT_NE(same.err.find("b.exr is complete; skipped"), std::string::npos) << describe(same);
+    const CliResult other = run("a.exr", "b.exr", "0.5", true);
+    EXPECT_NE(other.err.find("b.exr was written with other settings"), std::string::npos) << describe(other);
+}
+
 // A new user runs --help's example exactly as printed, beside a render and its sidecar: it
 // works, and every file they started with is byte-identical afterwards.
 TEST(NothingOverwritten, HelpsExampleKeepsEveryFile) {

@@ -213,14 +213,19 @@ int runSequence(const Options& o) {
 
 // Writes are atomic, so a file that exists was written whole; the read guards against other writers.
 namespace {
-// The part of an output that holds the AO (a stereo file's views by channel names), or nullptr.
+// Whether a part holds the AO channel (of a stereo file, in any view, by channel names).
+bool holdsAo(const ExrPart& part, const std::string& aoChannel, const std::vector<std::string>& views) {
+    if (part.findChannel(aoChannel) >= 0) return true;
+    for (size_t v = 0; v < views.size(); ++v)
+        if (part.findChannel(nameInView(aoChannel, views, v)) >= 0) return true;
+    return false;
+}
+
+// The first part of an output that holds the AO, or nullptr.
 const ExrPart* partWithAo(const ExrInfo& info, const std::string& aoChannel) {
     const std::vector<std::string> views = fileViews(info);
-    for (const ExrPart& part : info.parts) {
-        if (part.findChannel(aoChannel) >= 0) return &part;
-        for (size_t v = 0; v < views.size(); ++v)
-            if (part.findChannel(nameInView(aoChannel, views, v)) >= 0) return &part;
-    }
+    for (const ExrPart& part : info.parts)
+        if (holdsAo(part, aoChannel, views)) return &part;
     return nullptr;
 }
 } // namespace
@@ -248,9 +253,28 @@ bool outputComplete(const std::string& path, const std::string& aoChannel) {
 namespace {
 // The settings and the recipe (io/frame_report.cpp) a report records, threads and device aside.
 nlohmann::json comparedPart(nlohmann::json report) {
-    if (!report.is_object() || !report.contains("settings")) return nullptr;
+    if (!report.is_object() || !report["settings"].is_object() || !report.contains("recipe")) return nullptr;
     for (const char* key : {"threads", "device"}) report["settings"].erase(key);
-    return {{"settings", report["settings"]}, {"recipe", report.contains("recipe") ? report["recipe"] : nullptr}};
+    return {{"settings", report["settings"]}, {"recipe", report["recipe"]}};
+}
+
+// What the run that wrote `job.output` recorded: of the parts holding the AO, the last whose
+// obscura/settings names this output (an input's earlier AO keeps its own run's, naming that
+// run's output); null when none does, or it records no recipe (an older obscura's).
+nlohmann::json recordedByThisOutput(const FrameJob& job) {
+    const ExrInfo info = readExrInfo(job.output, kDefaultMaxPixels, true);
+    const std::string channel = aoChannelName(job.aoLayer);
+    const std::vector<std::string> views = fileViews(info);
+    nlohmann::json found;
+    for (const ExrPart& part : info.parts) {
+        const auto* said = holdsAo(part, channel, views)
+                               ? part.header.findTypedAttribute<Imf::StringAttribute>("obscura/settings")
+                               : nullptr;
+        if (!said) continue;
+        const nlohmann::json report = nlohmann::json::parse(said->value(), nullptr, false);
+        if (report.is_object() && report.value("output", "") == job.output) found = comparedPart(report);
+    }
+    return found;
 }
 
 // The files a frame is computed from that exist: the input, deep inputs, the camera sidecar, the
@@ -275,14 +299,11 @@ std::string staleOutputReason(const FrameJob& job) {
     for (const std::string& f : filesReadBy(job))
         if (fs::last_write_time(f, ec) > written && !ec) return "is older than " + f;
     try {
-        const ExrInfo info = readExrInfo(job.output, kDefaultMaxPixels, true);
-        const ExrPart* part = partWithAo(info, aoChannelName(job.aoLayer));
-        const auto* said = part ? part->header.findTypedAttribute<Imf::StringAttribute>("obscura/settings") : nullptr;
-        if (!said) return "";
-        const nlohmann::json then = comparedPart(nlohmann::json::parse(said->value(), nullptr, false));
-        if (then != comparedPart(nlohmann::json::parse(frameReportJson(job, FrameReport{}))))
+        const nlohmann::json then = recordedByThisOutput(job);
+        if (!then.is_null() && then != comparedPart(nlohmann::json::parse(frameReportJson(job, FrameReport{}))))
             return "was written with other settings";
     } catch (const Error&) {
+    } catch (const nlohmann::json::exception&) {  // a header attribute of another shape: cannot tell
     }
     return "";
 }

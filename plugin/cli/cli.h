@@ -32,10 +32,11 @@ FrameJob sequenceFrame(const FrameJob& sequence, int frame);
 // A frame's output is complete: it reads back as an EXR holding the AO channel.
 bool outputComplete(const std::string& path, const std::string& aoChannel);
 // Why a complete output is stale, or "" when it is not: a file it was computed from (the input,
-// a deep input, the camera sidecar, the environment map) is newer ("is older than FILE"), or its
-// part's obscura/settings (what a --report records: the settings and the recipe) differ from
-// `job`'s ("was written with other settings"). The threads and the device change no result
-// beyond GL's parity and do not count; an output that records no settings is not stale.
+// a deep input, the camera sidecar, the environment map) is newer ("is older than FILE"), or the
+// obscura/settings of the part this output's run wrote (the one naming this output: what a
+// --report records, the settings and the recipe) differ from `job`'s ("was written with other
+// settings"). The threads and the device change no result beyond GL's parity and do not count;
+// an output that records no recipe (an older obscura's), or none naming it, is not stale.
 std::string staleOutputReason(const FrameJob& job);
 
 // `obscura farm ...` (farm.cpp): argv[1] is "farm".

@@ -224,7 +224,11 @@ std::optional<FrameJob> submittedJob(const json& m) {
     std::vector<std::string> args = m["args"].get<std::vector<std::string>>();
     std::vector<char*> argv{const_cast<char*>("obscura")};
     for (std::string& a : args) argv.push_back(a.data());
-    return parseArgs((int)argv.size(), argv.data()).job;
+    try {
+        return parseArgs((int)argv.size(), argv.data()).job;
+    } catch (const Error&) {  // flags of another version of obscura: frames are counted as before
+        return std::nullopt;
+    }
 }
 
 // The working directory the job was submitted from, for as long as this lives.

@@ -169,22 +169,25 @@ std::string writeFramePreview(const FrameJob& job, const FramePasses& p, const O
 
 namespace {
 // A channel the input already holds under a new channel's name (an earlier run's AO): copy
-// replaces it in the output, append adds the new one in a part of its own beside it. Either is
-// what was asked, but not what a user re-running on an output expects without a word.
+// replaces it where the new layer goes into the part holding it, else the output holds both, as
+// append always does. Either is what was asked, but not what a user re-running on an output
+// expects without a word.
 void warnOfEarlierLayers(const FrameJob& job, const ExrInfo& input, const std::vector<NewChannel>& add,
                          FrameReport& report) {
     if (job.write == WriteMode::New) return;
     std::string names;
     int clashes = 0;
-    for (const NewChannel& c : add) {
-        const bool held = std::any_of(input.parts.begin(), input.parts.end(),
-                                      [&](const ExrPart& part) { return part.findChannel(c.name) >= 0; });
-        if (held && clashes++ < 3) names += (names.empty() ? "" : ", ") + c.name;
-    }
+    bool kept = false;  // some earlier channel stays beside its new namesake
+    for (const NewChannel& c : add)
+        for (size_t part = 0; part < input.parts.size(); ++part) {
+            if (input.parts[part].findChannel(c.name) < 0) continue;
+            if (clashes++ < 3) names += (names.empty() ? "" : ", ") + c.name;
+            kept = kept || job.write == WriteMode::Append || (int)part != c.part;
+        }
     if (clashes == 0) return;
     report.warnings.push_back("the input already holds " + names + (clashes > 3 ? ", ..." : "") +
-                              (job.write == WriteMode::Copy ? "; the output's new layers replace them"
-                                                            : "; the output holds both, the new ones in a part of their own") +
+                              (kept ? "; the output holds both, the new ones in a part of their own"
+                                    : "; the output's new layers replace them") +
                               " (--out-layer ao=NAME, gi=NAME, ... names the new layers apart)");
 }
 } // namespace

@@ -2,6 +2,7 @@
 
 #include <zlib.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -96,7 +97,11 @@ std::string writePngFile(const std::string& path, int width, int height, int cha
     }
     if (!colourSpaceTag.empty()) putChunk(file, "tEXt", text("oiio:ColorSpace", colourSpaceTag));
     putChunk(file, "tEXt", text("Software", "obscura"));
-    putChunk(file, "IDAT", packed);
+    // IDAT in pieces: a chunk holds at most 2^31 - 1 bytes, and readers take any split.
+    constexpr std::size_t kPiece = std::size_t(1) << 24;
+    for (std::size_t at = 0; at < packed.size(); at += kPiece)
+        putChunk(file, "IDAT", std::vector<std::uint8_t>(packed.begin() + at,
+                                                         packed.begin() + std::min(packed.size(), at + kPiece)));
     putChunk(file, "IEND", {});
 
     std::ofstream out(path, std::ios::binary | std::ios::trunc);

@@ -233,3 +233,16 @@ def test_a_sequence_into_a_missing_directory_fails_before_computing(sequence):
     assert proc.returncode == 1
     assert proc.stderr.strip() == "obscura: 'nodir/ao.0001.exr': cannot write: directory 'nodir' does not exist"
     assert os.listdir(sequence / "out") == []
+
+
+def test_summary_reads_the_jobs_paths_from_where_it_was_submitted(sequence):
+    """A relative --camera, as the tasks record it: the summary, run from elsewhere, counts the
+    frames done, not stale."""
+    env = fake_sbatch(sequence)
+    args = ["slurm", "shot.####.exr", "-o", "out/ao.####.exr", "--camera", "shot.0001.json", "--frames", "1-2",
+            "--chunk", "1"]
+    assert farm(*args, env=env, cwd=sequence).returncode == 0
+    for task, proc in run_tasks((sequence / "out" / "obscura_farm.sbatch").read_text(), 2, sequence):
+        assert proc.returncode == 0, proc.stderr
+    summary = json.loads(farm("summary", sequence / "out", "--json").stdout)
+    assert summary["done"] == [1, 2] and summary["stale"] == {}

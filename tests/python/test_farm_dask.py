@@ -141,9 +141,11 @@ def test_run_dask_passes_the_write_mode(tmp):
 
 def test_resume_records_settings_as_a_report_holds_them():
     """Tuples and arrays as lists, threads and device aside, so a resumed run compares like with like."""
-    settings = {"radius": 0.5, "threads": 2, "device": "cpu", "sky": (1, 1, 1), "camera_to_world": np.eye(4)}
+    import pathlib
+    settings = {"radius": 0.5, "threads": 2, "device": "cpu", "sky": (1, 1, 1), "camera_to_world": np.eye(4),
+                "camera": pathlib.Path("cam.json")}
     record = obscura.farm.recorded(settings)
-    assert record == {"radius": 0.5, "sky": [1, 1, 1], "camera_to_world": np.eye(4).tolist()}
+    assert record == {"radius": 0.5, "sky": [1, 1, 1], "camera_to_world": np.eye(4).tolist(), "camera": "cam.json"}
     assert record == json.loads(json.dumps(record))
     assert obscura.farm.recorded(dict(settings, threads=1)) == record
     with pytest.raises(TypeError, match="a list of input files"):
@@ -156,4 +158,3 @@ def test_bad_settings_are_refused_before_any_task(tmp):
                                    ({"cos": {"weighting": "cos"}}, ValueError, "variant cos: weighting must be")):
         with pytest.raises(error, match=words):
             obscura.farm.run_dask(None, [str(tmp / "shot.1001.exr")], variants, out_dir=str(tmp / "out"))
-    assert not any(p.name.startswith(".obscura-settings-check") for p in (tmp / "out").rglob("*"))

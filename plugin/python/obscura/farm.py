@@ -105,16 +105,17 @@ def _task(src, out, report, settings, record, resume):
 
 
 def _plain(value):
-    """A setting as JSON holds it: arrays (a numpy camera_to_world) as lists."""
+    """A setting as JSON holds it: arrays (a numpy camera_to_world) as lists, paths as strings."""
     if hasattr(value, "tolist"):
         return value.tolist()
+    if isinstance(value, os.PathLike):
+        return os.fspath(value)
     raise TypeError(f"a setting of type {type(value).__name__} cannot be recorded in a report")
 
 
 def recorded(settings):
     """The settings as the report records them (tuples and arrays as lists), less the threads
-    and the device, which change no result beyond GL's parity: what resume compares, as the
-    CLI's --resume does."""
+    and the device, which change no result beyond GL's parity: what resume compares."""
     kept = {k: v for k, v in settings.items() if k not in ("threads", "device")}
     return json.loads(json.dumps(kept, default=_plain))
 
