@@ -199,13 +199,14 @@ def is_complete(task):
 
 
 def run_task(task):
+    """Renders one output; returns its seconds and its report's warnings."""
     t0 = time.perf_counter()
     farm.remove_stale_temps(task.out)
     farm.remove_stale_temps(task.report)
     report = RENDERERS[task.variant.kind](task.src, task.out, task.variant.settings, task.report)
     # Record the variant in the report, so --resume can tell a stale output from a complete one.
     farm.write_report(task.report, report, task.variant.to_json())
-    return time.perf_counter() - t0
+    return time.perf_counter() - t0, report.get("warnings", [])
 
 
 def write_manifest(out_dir, pattern, frames, variants):
@@ -298,6 +299,7 @@ def run_batch(tool, pattern, frames, variants, out_dir, resume=False, jobs=1, dr
     failures = []
     t_start = time.perf_counter()
     width = len(str(len(todo)))
+    warned = set()  # each distinct warning printed once, not once a frame
     with ThreadPoolExecutor(max_workers=jobs) as pool:
         futures = {pool.submit(run_task, t): t for t in todo}
         for i, fut in enumerate(as_completed(futures), 1):
@@ -305,9 +307,13 @@ def run_batch(tool, pattern, frames, variants, out_dir, resume=False, jobs=1, dr
             elapsed = time.perf_counter() - t_start
             eta = elapsed / i * (len(todo) - i)
             try:
-                seconds = fut.result()
+                seconds, warnings = fut.result()
                 log(f"[{i:{width}}/{len(todo)}] {t.variant.name} frame {t.frame}: {seconds:.2f} s  "
                     f"(elapsed {elapsed:.1f} s, eta {eta:.1f} s)")
+                for w in warnings:
+                    if w not in warned:
+                        warned.add(w)
+                        log(f"{tool}: warning: {w} (first at {t.variant.name} frame {t.frame})")
             except (obscura.Error, ValueError, TypeError, OSError) as e:
                 failures.append((t, str(e)))
                 print(f"[{i:{width}}/{len(todo)}] {t.variant.name} frame {t.frame}: FAILED: {e}",

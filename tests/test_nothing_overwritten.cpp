@@ -309,6 +309,16 @@ TEST(Resume, ReadsThePartThisOutputsRunWrote) {
     EXPECT_NE(other.err.find("b.exr was written with other settings"), std::string::npos) << describe(other);
 }
 
+// Two spellings of one sidecar (./ and a/../) are one recipe: the frame is skipped.
+TEST(Resume, TakesTwoSpellingsOfAPathAsOne) {
+    const Workspace w(freshDir());
+    ASSERT_EQ(cli({w("in.exr"), "-o", w("out.exr"), "--camera", w("cam.json"), "--quiet"}).exitCode, 0);
+    fs::create_directory(w.dir / "sub");
+    const std::string spelled = (w.dir / "." / "sub" / ".." / "cam.json").string();
+    const CliResult again = cli({w("in.exr"), "-o", w("out.exr"), "--camera", spelled, "--resume"});
+    EXPECT_NE(again.err.find("complete; skipped"), std::string::npos) << describe(again);
+}
+
 // A new user runs --help's example exactly as printed, beside a render and its sidecar: it
 // works, and every file they started with is byte-identical afterwards.
 TEST(NothingOverwritten, HelpsExampleKeepsEveryFile) {

@@ -6,6 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <filesystem>
+
 namespace obscura {
 
 std::string frameFailureJson(const FrameJob& job, int frame, const std::string& error) {
@@ -17,6 +19,11 @@ std::string frameFailureJson(const FrameJob& job, int frame, const std::string& 
 namespace {
 template <class T> nlohmann::json optionalJson(const std::optional<T>& v) { return v ? nlohmann::json(*v) : nlohmann::json(); }
 
+// A path as given, less what names nothing (./, a/../): two spellings of one file compare equal.
+std::string normalPath(const std::string& p) {
+    return p.empty() ? p : std::filesystem::path(p).lexically_normal().string();
+}
+
 // What else of the job changes the output's pixels or channels beyond the settings: how the
 // passes are read (the camera, the layers, the depth's encoding), which layers are written and
 // where the light comes from. With the settings, what --resume compares (io/frame_job.h); paths
@@ -26,6 +33,8 @@ nlohmann::json recipeJson(const FrameJob& job) {
     json layers = json::object();
     for (const auto& [role, name] : job.layerOverrides) layers[roleName(role)] = name;
     const CameraRequest& c = job.camera;
+    std::vector<std::string> elements;
+    for (const std::string& e : job.deepElements) elements.push_back(normalPath(e));
     return {{"preset", job.preset},
             {"layers", layers},
             {"depth", job.depthEncoding ? json(toString(*job.depthEncoding)) : json()},
@@ -33,11 +42,11 @@ nlohmann::json recipeJson(const FrameJob& job) {
             {"normals", job.normalSpace ? json(toString(*job.normalSpace)) : json()},
             {"sky_depth", optionalJson(job.skyDepth)},
             {"bad_pixels", job.badPixels == BadPixelPolicy::Skip ? "skip" : "error"},
-            {"camera", {{"sidecar", c.sidecarPath}, {"fov_deg", optionalJson(c.fovDeg)},
+            {"camera", {{"sidecar", normalPath(c.sidecarPath)}, {"fov_deg", optionalJson(c.fovDeg)},
                         {"focal_mm", optionalJson(c.focalMm)}, {"aperture_mm", optionalJson(c.apertureMm)},
                         {"ortho_width", optionalJson(c.orthoWidth)}, {"camera_to_world", optionalJson(c.cameraToWorld)}}},
             {"views", job.views},
-            {"deep", {{"input", job.deepInput}, {"elements", job.deepElements}, {"per_element_ao", job.perElementAo}}},
+            {"deep", {{"input", normalPath(job.deepInput)}, {"elements", elements}, {"per_element_ao", job.perElementAo}}},
             {"write", toString(job.write)},
             {"out_type", job.aoFloat ? "float" : "half"},
             {"out_layers", {{"ao", job.aoLayer},
@@ -45,7 +54,7 @@ nlohmann::json recipeJson(const FrameJob& job) {
                             {"gi", job.writeIndirect ? json(job.giLayer) : json()},
                             {"relit", job.writeRelit ? json(job.relitLayer) : json()}}},
             {"light", {{"bounce_source", job.bounceSource}, {"times_albedo", job.timesAlbedo},
-                       {"relit_direct", job.relitWithDirect}, {"env", job.envPath}, {"up", optionalJson(job.zUp)},
+                       {"relit_direct", job.relitWithDirect}, {"env", normalPath(job.envPath)}, {"up", optionalJson(job.zUp)},
                        {"colorspace", job.colourSpace}, {"env_colorspace", job.envColourSpace}}}};
 }
 } // namespace
@@ -88,7 +97,7 @@ std::string frameReportJson(const FrameJob& job, const FrameReport& r) {
                                  {"interleave", s.interleave},
                                  {"bounce", job.writeIndirect || job.writeRelit},
                                  {"bounce_source", job.bounceSource},
-                                 {"env", job.envPath},
+                                 {"env", normalPath(job.envPath)},
                                  {"env_rotate_deg", s.envRotationDeg},
                                  {"env_intensity", s.envIntensity},
                                  {"sky", {s.skyRadiance[0], s.skyRadiance[1], s.skyRadiance[2]}},

@@ -103,3 +103,10 @@ def test_batch_reports_failures(sequence):
     assert proc.returncode == 2 and "bad frame range" in proc.stderr
     proc = run("batch_ao.py", str(sequence / "shot.####.exr"), "-o", out, "--variant", "a:weighting=bogus")
     assert proc.returncode == 1 and "weighting must be" in proc.stderr
+
+
+def test_batch_prints_each_warning_once(sequence):
+    proc = run("batch_ao.py", str(sequence / "shot.####.exr"), "-o", sequence / "w", "--frames", "1-3",
+               "--set", "deep_layers=2")
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stderr.count("warning: the deep layers setting is read with deep input only") == 1, proc.stderr
