@@ -68,14 +68,16 @@ void runOneFrame(const Options& o, const FrameJob& job, const std::string& repor
 
 // With --report, a frame is complete once its report is written too (it comes after the output),
 // and the report is not a failure's; with --preview, once the preview exists.
-bool frameComplete(const FrameJob& job, const std::string& reportPath) {
-    if (!outputComplete(job.output, aoChannelName(job.aoLayer))) return false;
+// The output's headers when the frame is complete (its output, preview and report), else nullopt.
+std::optional<ExrInfo> frameComplete(const FrameJob& job, const std::string& reportPath) {
+    std::optional<ExrInfo> output = completeOutput(job.output, aoChannelName(job.aoLayer));
     std::error_code ec;
-    if (!job.previewPath.empty() && !std::filesystem::is_regular_file(job.previewPath, ec)) return false;
-    if (reportPath.empty()) return true;
+    if (!output || (!job.previewPath.empty() && !std::filesystem::is_regular_file(job.previewPath, ec))) return std::nullopt;
+    if (reportPath.empty()) return output;
     std::ifstream f(reportPath);
     const nlohmann::json report = nlohmann::json::parse(f, nullptr, false);
-    return report.is_object() && report.contains("total_s") && !report.contains("error");
+    if (report.is_object() && report.contains("total_s") && !report.contains("error")) return output;
+    return std::nullopt;
 }
 
 // A failed frame's report holds the error, so `obscura farm summary` can tell failed from missing.
@@ -95,8 +97,9 @@ bool resumeSkips(const Options& o, const FrameJob& job, const std::string& repor
     if (!o.resume) return false;
     for (const std::string& path : {job.output, reportPath, job.previewPath})
         if (!path.empty()) removeStaleTemps(path);
-    if (!frameComplete(job, reportPath)) return false;
-    const std::string stale = staleOutputReason(job);
+    const std::optional<ExrInfo> output = frameComplete(job, reportPath);
+    if (!output) return false;
+    const std::string stale = staleOutputReason(job, *output);
     if (stale.empty()) return true;
     if (!o.quiet) std::fprintf(stderr, "obscura: %s %s; computed again (--resume)\n", job.output.c_str(), stale.c_str());
     return false;
@@ -221,13 +224,6 @@ bool holdsAo(const ExrPart& part, const std::string& aoChannel, const std::vecto
     return false;
 }
 
-// The first part of an output that holds the AO, or nullptr.
-const ExrPart* partWithAo(const ExrInfo& info, const std::string& aoChannel) {
-    const std::vector<std::string> views = fileViews(info);
-    for (const ExrPart& part : info.parts)
-        if (holdsAo(part, aoChannel, views)) return &part;
-    return nullptr;
-}
 } // namespace
 
 FrameJob sequenceFrame(const FrameJob& sequence, int frame) {
@@ -240,14 +236,17 @@ FrameJob sequenceFrame(const FrameJob& sequence, int frame) {
     return job;
 }
 
-bool outputComplete(const std::string& path, const std::string& aoChannel) {
+std::optional<ExrInfo> completeOutput(const std::string& path, const std::string& aoChannel) {
     std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) return false;
+    if (!std::filesystem::exists(path, ec)) return std::nullopt;
     try {
-        return partWithAo(readExrInfo(path, kDefaultMaxPixels, true), aoChannel) != nullptr;  // append keeps deep parts
+        ExrInfo info = readExrInfo(path, kDefaultMaxPixels, true);  // append keeps deep parts
+        const std::vector<std::string> views = fileViews(info);
+        for (const ExrPart& part : info.parts)
+            if (holdsAo(part, aoChannel, views)) return info;
     } catch (const Error&) {
     }
-    return false;
+    return std::nullopt;
 }
 
 namespace {
@@ -261,8 +260,7 @@ nlohmann::json comparedPart(nlohmann::json report) {
 // What the run that wrote `job.output` recorded: of the parts holding the AO, the last whose
 // obscura/settings names this output (an input's earlier AO keeps its own run's, naming that
 // run's output); null when none does, or it records no recipe (an older obscura's).
-nlohmann::json recordedByThisOutput(const FrameJob& job) {
-    const ExrInfo info = readExrInfo(job.output, kDefaultMaxPixels, true);
+nlohmann::json recordedByThisOutput(const FrameJob& job, const ExrInfo& info) {
     const std::string channel = aoChannelName(job.aoLayer);
     const std::vector<std::string> views = fileViews(info);
     nlohmann::json found;
@@ -291,7 +289,7 @@ std::vector<std::string> filesReadBy(const FrameJob& job) {
 }
 } // namespace
 
-std::string staleOutputReason(const FrameJob& job) {
+std::string staleOutputReason(const FrameJob& job, const ExrInfo& output) {
     namespace fs = std::filesystem;
     std::error_code ec;
     const fs::file_time_type written = fs::last_write_time(job.output, ec);
@@ -299,10 +297,9 @@ std::string staleOutputReason(const FrameJob& job) {
     for (const std::string& f : filesReadBy(job))
         if (fs::last_write_time(f, ec) > written && !ec) return "is older than " + f;
     try {
-        const nlohmann::json then = recordedByThisOutput(job);
+        const nlohmann::json then = recordedByThisOutput(job, output);
         if (!then.is_null() && then != comparedPart(nlohmann::json::parse(frameReportJson(job, FrameReport{}))))
             return "was written with other settings";
-    } catch (const Error&) {
     } catch (const nlohmann::json::exception&) {  // a header attribute of another shape: cannot tell
     }
     return "";

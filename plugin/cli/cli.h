@@ -1,7 +1,9 @@
 // The obscura command-line host: parses a recipe of flags, runs the operator, writes files.
 #pragma once
 #include "base/error.h"
+#include "io/exr_file.h"
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,15 +31,16 @@ RunPlan planRun(const std::vector<std::string>& args);
 // A sequence's job (its paths frame patterns) for one frame.
 FrameJob sequenceFrame(const FrameJob& sequence, int frame);
 
-// A frame's output is complete: it reads back as an EXR holding the AO channel.
-bool outputComplete(const std::string& path, const std::string& aoChannel);
-// Why a complete output is stale, or "" when it is not: a file it was computed from (the input,
+// A frame's output is complete: it reads back as an EXR holding the AO channel. Its headers, for
+// staleOutputReason, else nullopt.
+std::optional<ExrInfo> completeOutput(const std::string& path, const std::string& aoChannel);
+// Why a complete output (its headers `output`, as completeOutput read them) is stale, or "" when it is not: a file it was computed from (the input,
 // a deep input, the camera sidecar, the environment map) is newer ("is older than FILE"), or the
 // obscura/settings of the part this output's run wrote (the one naming this output: what a
 // --report records, the settings and the recipe) differ from `job`'s ("was written with other
 // settings"). The threads and the device change no result beyond GL's parity and do not count;
 // an output that records no recipe (an older obscura's), or none naming it, is not stale.
-std::string staleOutputReason(const FrameJob& job);
+std::string staleOutputReason(const FrameJob& job, const ExrInfo& output);
 
 // `obscura farm ...` (farm.cpp): argv[1] is "farm".
 int runFarm(int argc, char** argv);

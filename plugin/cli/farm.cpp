@@ -269,9 +269,11 @@ json summarise(const std::string& dir) {
         const json r = rf ? json::parse(rf, nullptr, false) : json();
         if (r.is_object() && r.contains("error")) {
             failed[std::to_string(frame)] = r["error"];
-        } else if (r.is_object() && r.contains("total_s") && outputComplete(out, channel)) {
+        } else if (const std::optional<ExrInfo> written = r.is_object() && r.contains("total_s")
+                                                              ? completeOutput(out, channel)
+                                                              : std::nullopt) {
             // An earlier job's frame (other settings), or one whose input was rendered again.
-            if (const std::string why = submitted ? staleOutputReason(sequenceFrame(*submitted, frame)) : "";
+            if (const std::string why = submitted ? staleOutputReason(sequenceFrame(*submitted, frame), *written) : "";
                 !why.empty()) {
                 stale[std::to_string(frame)] = why;
                 continue;
@@ -358,13 +360,9 @@ int runSummary(int argc, char** argv) {
 
 int runFarm(int argc, char** argv) {
     try {
-        const std::string what = argc > 2 ? argv[2] : "";
-        if (what == "--help" || what == "-h") {
-            std::fputs(kFarmHelp, stdout);
-            return 0;
-        }
-        const std::string next = argc > 3 ? argv[3] : "";
-        if ((what == "slurm" || what == "summary") && (next == "--help" || next == "-h")) {
+        const std::string what = argc > 2 ? argv[2] : "", next = argc > 3 ? argv[3] : "";
+        const auto isHelp = [](const std::string& a) { return a == "--help" || a == "-h"; };
+        if (isHelp(what) || ((what == "slurm" || what == "summary") && isHelp(next))) {
             std::fputs(kFarmHelp, stdout);
             return 0;
         }
