@@ -225,6 +225,10 @@ def test_inspect_describes_a_sequence_by_its_first_frame(sequence):
     assert j["sequence"] == {"pattern": "shot.####.exr", "frames": 7, "described": 1}
     assert j["command_args"][1:4] == ["shot.0001.exr", "-o", "shot_ao.0001.exr"]
     assert any(n.startswith("sequence: 7 frame(s) of shot.####.exr") for n in j["command_notes"])
+    none = subprocess.run([CLI, "none.####.exr", "--inspect"], capture_output=True, text=True, cwd=sequence,
+                          timeout=300)
+    assert none.returncode == 1 and none.stdout == ""
+    assert none.stderr.strip() == "obscura: 'none.####.exr': no frames match"
 
 
 def test_a_sequence_into_a_missing_directory_fails_before_computing(sequence):
