@@ -9,6 +9,7 @@
 // call_args.h (the call as a whole).
 #include "base/error.h"
 #include "python/py_bind.h"
+#include "python/py_spelling.h"
 
 #include <pybind11/pybind11.h>
 
@@ -65,13 +66,14 @@ Errors: bad arguments (shape, dtype, memory layout, unknown names, out-of-range 
 ValueError (TypeError for a wrong kind of object, a missing argument or one too many), in one line
 naming the argument; a failure of the file pipeline or the
 operator (missing or corrupt file, no camera, bad pixels, unwritable output) raises
-obscura.Error, a RuntimeError whose message is the CLI's one-line error.
+obscura.Error, a RuntimeError whose message is the CLI's one-line error, the flags it names spelled as
+keywords (--depth-range NEAR,FAR as depth_range=(NEAR, FAR)).
 The GIL is released while files are read or written and while the AO is computed.)doc";
 
 const char* kErrorDoc =
     "A failure reported by obscura's file pipeline or operator (missing, unreadable or corrupt file, no "
     "camera, bad pixels, unwritable output). Subclass of RuntimeError; str(e) is one line naming the file "
-    "and the problem, as the CLI prints it.";
+    "and the problem, as the CLI prints it, with the flags it names spelled as keywords.";
 
 } // namespace
 } // namespace obscura::python
@@ -81,14 +83,17 @@ PYBIND11_MODULE(_obscura, m) {
     using namespace obscura::python;
     m.doc() = kModuleDoc;
     m.attr("__version__") = OBSCURA_VERSION_STRING;
-    py::register_exception<Error>(m, "Error", PyExc_RuntimeError);
-    // Registered after Error, so tried first: a request that cannot be carried out as asked
-    // (two roles naming one file) is the caller's ValueError, like a bad keyword.
+    // The messages name the CLI's flags; a Python caller reads them as keywords. A request that
+    // cannot be carried out as asked (two roles naming one file) is the caller's ValueError,
+    // like a bad keyword.
+    static py::exception<Error> error(m, "Error", PyExc_RuntimeError);
     py::register_exception_translator([](std::exception_ptr p) {
         try {
             if (p) std::rethrow_exception(p);
         } catch (const UsageError& e) {
-            PyErr_SetString(PyExc_ValueError, e.what());
+            PyErr_SetString(PyExc_ValueError, keywordSpelling(e.what()).c_str());
+        } catch (const Error& e) {
+            error(keywordSpelling(e.what()).c_str());
         }
     });
     m.attr("Error").attr("__doc__") = kErrorDoc;

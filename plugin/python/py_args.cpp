@@ -1,4 +1,5 @@
 #include "python/py_args.h"
+#include "python/py_spelling.h"
 
 #include "base/error.h"
 #include "core/methods.h"
@@ -123,7 +124,7 @@ std::array<double, 16> matrixRowsArg(const py::handle& obj, const char* what) {
     try {
         (void)cameraToWorldFromRows(rows, what);
     } catch (const Error& e) {
-        valueError(e.what());
+        valueError(keywordSpelling(e.what()));
     }
     return rows;
 }

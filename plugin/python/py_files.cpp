@@ -9,6 +9,7 @@
 #include "python/py_args.h"
 #include "python/py_bind.h"
 #include "python/py_job.h"
+#include "python/py_spelling.h"
 
 #include <pybind11/stl.h>
 
@@ -128,7 +129,7 @@ py::dict readPassesPy(const py::object& path, const FileArgs& f) {
         try {
             camera = resolveFrameCamera(job, p);
         } catch (const Error& e) {
-            cameraError = e.what();
+            cameraError = keywordSpelling(e.what());
         }
         depthKind = decodedKind(p.depthEncoding);
         normalSpace = p.normalsFromDepth ? NormalSpace::Depth : job.normalSpace.value_or(p.plan.normalSpace);

@@ -41,7 +41,7 @@ def test_each_encoding_reads_as_the_planar_depth_and_writes_the_clis_ao(tmp):
 
 def test_what_cannot_be_decoded_is_refused(tmp):
     _, _, files = encoded_files(tmp)
-    with pytest.raises(obscura.Error, match="--depth normalized needs --depth-range NEAR,FAR"):
+    with pytest.raises(obscura.Error, match=r"depth='normalized' needs depth_range=\(NEAR, FAR\)"):
         obscura.process(files["normalized"], tmp / "never.exr", fov_deg=FOV_DEG, depth="normalized")
     with pytest.raises(ValueError, match="depth_range needs two different ends"):
         obscura.read_passes(files["normalized"], depth="normalized", depth_range=(3, 3))

@@ -116,6 +116,27 @@ def test_missing_arguments_name_the_function():
         obscura.process(out="o.exr")
 
 
+def test_errors_name_keywords_not_flags(tmp):
+    """The file pipeline's messages are the CLI's; Python's say what to pass as a keyword."""
+    cases = [
+        (dict(method="rtao", device="gl"), "method='rtao' runs on the CPU only; use device='cpu'"),
+        (dict(layer={"normal": "Nope"}), "layer={'normal': 'Nope'}: no layer or channel 'Nope'"),
+    ]
+    for kwargs, said in cases:
+        with pytest.raises(obscura.Error) as e:
+            obscura.process(ROOM, tmp / "o.exr", **kwargs)
+        assert said in str(e.value) and "--" not in str(e.value), str(e.value)
+    # A path is quoted as it is, dashes and all.
+    odd = tmp / "--takes" / "shot--v2.exr"
+    with pytest.raises(obscura.Error, match="shot--v2.exr': cannot open"):
+        obscura.process(odd, tmp / "o.exr")
+    depth, normal = synthetic_scene(32, 24)
+    nocam = tmp / "nocam.exr"
+    write_exr(nocam, depth, normal)
+    error = obscura.read_passes(nocam)["camera_error"]
+    assert "give fov_deg, focal_mm with aperture_mm, or ortho_width" in error and "--" not in error, error
+
+
 # ------------------------------------------------------------------------------------------
 # process(bounce=True) writes what it asks for
 
@@ -178,7 +199,7 @@ def write_beauty_without_albedo(path):
 def test_bounce_without_albedo_says_how_to_get_gi_alone(tmp):
     src, out = tmp / "beauty.exr", tmp / "o.exr"
     write_beauty_without_albedo(src)
-    with pytest.raises(obscura.Error, match="no albedo layer.*--out-layer gi=NAME"):
+    with pytest.raises(obscura.Error, match=r"no albedo layer.*out_layer=\{'gi': NAME\} in place of bounce=True"):
         obscura.process(src, out, method="ssdo", bounce=True, bounce_source="beauty", **FAST)
     assert not out.exists()
     report = obscura.process(src, out, method="ssdo", bounce_source="beauty", out_layer={"gi": "obscura.GI"}, **FAST)
