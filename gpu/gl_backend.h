@@ -16,6 +16,24 @@ namespace obscura::gpu {
 class GlContext;
 enum class ContextKind;
 
+// The calling thread's EGL state (current context and surfaces, bound client API) as the thread's
+// owner left it, put back when the scope ends. A host application lends its threads to a render
+// and may draw on them with its own GL: obscura's context must not stay current there (under
+// libglvnd a thread with an EGL context current cannot make a GLX one current). Where nothing was
+// current, obscura's context is released. OSMesa keeps a state of its own, outside EGL's.
+class ThreadGlState {
+public:
+    ThreadGlState();
+    ~ThreadGlState();
+    ThreadGlState(const ThreadGlState&) = delete;
+    ThreadGlState& operator=(const ThreadGlState&) = delete;
+
+private:
+    bool eglLoaded_ = false;  // libEGL was in the process when the scope began
+    void *display_ = nullptr, *draw_ = nullptr, *read_ = nullptr, *context_ = nullptr;
+    unsigned api_ = 0;
+};
+
 struct GlTimings {
     double upload = 0, compute = 0, readback = 0;  // seconds
     int tiles = 0;

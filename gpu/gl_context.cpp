@@ -1,5 +1,7 @@
 #include "gpu/gl_context.h"
 
+#include "gpu/gl_backend.h"
+
 #include "base/error.h"
 
 #include <EGL/egl.h>
@@ -97,17 +99,20 @@ public:
             }
         }
         if (display_ == EGL_NO_DISPLAY) throw Error(why);
+        bindApi_ = bindApi;
         makeCurrent();
         loadApi(&eglProc, "gl-egl");
     }
     void makeCurrent() override {
-        if (!makeCurrent_(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_))
+        // The thread's bound API may have been put back to its owner's since (ThreadGlState).
+        if (!bindApi_(EGL_OPENGL_API) || !makeCurrent_(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_))
             throw Error("EGL: eglMakeCurrent failed");
     }
 
 private:
     void* lib_ = nullptr;  // kept loaded for the process lifetime: drivers do not unload cleanly
     PFNEGLINITIALIZEPROC initialize_ = nullptr;
+    PFNEGLBINDAPIPROC bindApi_ = nullptr;
     PFNEGLMAKECURRENTPROC makeCurrent_ = nullptr;
     EGLDisplay display_ = EGL_NO_DISPLAY;
     EGLContext context_ = EGL_NO_CONTEXT;
@@ -146,7 +151,57 @@ private:
     unsigned char pixel_[4] = {0, 0, 0, 0};
 };
 
+// libEGL's entry points the thread's state is read and put back with, when the process has it.
+struct EglState {
+    PFNEGLGETCURRENTDISPLAYPROC display = nullptr;
+    PFNEGLGETCURRENTSURFACEPROC surface = nullptr;
+    PFNEGLGETCURRENTCONTEXTPROC context = nullptr;
+    PFNEGLQUERYAPIPROC queryApi = nullptr;
+    PFNEGLBINDAPIPROC bindApi = nullptr;
+    PFNEGLMAKECURRENTPROC makeCurrent = nullptr;
+};
+
+// Null where libEGL is not loaded: then no EGL context can be current.
+const EglState* eglState() {
+    void* lib = dlopen("libEGL.so.1", RTLD_NOW | RTLD_NOLOAD);
+    if (!lib) return nullptr;
+    static const EglState state = [lib] {
+        EglState s;
+        s.display = symbol<PFNEGLGETCURRENTDISPLAYPROC>(lib, "eglGetCurrentDisplay");
+        s.surface = symbol<PFNEGLGETCURRENTSURFACEPROC>(lib, "eglGetCurrentSurface");
+        s.context = symbol<PFNEGLGETCURRENTCONTEXTPROC>(lib, "eglGetCurrentContext");
+        s.queryApi = symbol<PFNEGLQUERYAPIPROC>(lib, "eglQueryAPI");
+        s.bindApi = symbol<PFNEGLBINDAPIPROC>(lib, "eglBindAPI");
+        s.makeCurrent = symbol<PFNEGLMAKECURRENTPROC>(lib, "eglMakeCurrent");
+        return s;
+    }();
+    dlclose(lib);  // the reference RTLD_NOLOAD took; the library stays loaded
+    const EglState* s = &state;
+    return s->display && s->surface && s->context && s->queryApi && s->bindApi && s->makeCurrent ? s : nullptr;
+}
+
 } // namespace
+
+ThreadGlState::ThreadGlState() {
+    const EglState* egl = eglState();
+    eglLoaded_ = egl != nullptr;
+    if (!egl) return;
+    api_ = egl->queryApi();
+    display_ = egl->display();
+    draw_ = egl->surface(EGL_DRAW);
+    read_ = egl->surface(EGL_READ);
+    context_ = egl->context();
+}
+
+ThreadGlState::~ThreadGlState() {
+    const EglState* egl = eglState();
+    if (!egl || (eglLoaded_ && egl->queryApi() == api_ && egl->context() == context_)) return;  // untouched
+    // Release whatever obscura made current for its API, then put the owner's back.
+    if (egl->bindApi(EGL_OPENGL_API) && egl->context() != EGL_NO_CONTEXT && egl->context() != context_)
+        egl->makeCurrent(egl->display(), EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    egl->bindApi(eglLoaded_ && api_ != 0 ? api_ : EGL_OPENGL_ES_API);  // EGL's default API
+    if (eglLoaded_ && context_ != EGL_NO_CONTEXT) egl->makeCurrent(display_, draw_, read_, context_);
+}
 
 void GlContext::loadApi(void* (*getProc)(const char*), const char* backend) {
     if (const char* missing = gl_.load(getProc)) throw Error(std::string(backend) + ": OpenGL entry point " + missing + " missing");

@@ -24,6 +24,8 @@ void GlBackend::runSsdo(const glsl::KernelParams&, const SsdoInputs&, MutablePla
 void GlBackend::runDiscs(const glsl::KernelParams&, const float*, size_t, ConstPlane, ConstPlane, MutablePlane, int,
                          GlTimings*) {}
 void GlBackend::runDepthNormals(const glsl::KernelParams&, ConstPlane, MutablePlane, GlTimings*) {}
+ThreadGlState::ThreadGlState() = default;
+ThreadGlState::~ThreadGlState() = default;
 GlBackend& glBackendFor(const std::string&) { throw Error("this build of obscura has no OpenGL backend"); }
 
 } // namespace obscura::gpu

@@ -53,6 +53,7 @@ std::string deviceDescription(const gpu::GlBackend* gl, int threads) {
 }
 
 DeviceChoice chooseDevice(const Settings& s) {
+    const gpu::ThreadGlState callersGl;  // probing makes a context current: not left so
     DeviceChoice c;
     const gpu::GlBackend* gl = selectGlBackend(s.device, c.notes);
     c.gl = gl != nullptr;

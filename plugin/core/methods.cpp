@@ -4,6 +4,7 @@
 #include "base/kernel_params.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 namespace obscura {
@@ -222,7 +223,12 @@ const NamedValue* findNamed(const MethodParam& p, const std::string& word) {
 double fromHostValue(const MethodParam& p, double hostValue) {
     for (const NamedValue& n : p.named)
         if (hostValue == n.hostValue) return n.value;
-    return hostValue;
+    if (hostValue >= p.min && hostValue <= p.max) return hostValue;
+    // Outside the range (the host's takes in the words' stand-ins): the nearest word.
+    const NamedValue* nearest = nullptr;
+    for (const NamedValue& n : p.named)
+        if (!nearest || std::abs(n.hostValue - hostValue) < std::abs(nearest->hostValue - hostValue)) nearest = &n;
+    return nearest ? nearest->value : hostValue;
 }
 
 std::string checkParam(const MethodParam& p, double v, bool named) {

@@ -82,7 +82,8 @@ std::vector<const MethodParam*> allMethodParams();
 std::vector<const MethodParam*> paramsOf(const std::string& method);
 // The named value spelled `word`, or nullptr.
 const NamedValue* findNamed(const MethodParam& p, const std::string& word);
-// A host's plain number (OFX) as the parameter's value: a named value's hostValue maps back to it.
+// A host's plain number (OFX) as the parameter's value: a named value's hostValue maps back to it,
+// and so does a number outside the range nearer to that hostValue than to any other word's.
 double fromHostValue(const MethodParam& p, double hostValue);
 // The message for a value outside the parameter's range, or "" when it is inside. A named
 // value's number passes only with `named` (Settings hold them; hosts parse them as words).

@@ -214,6 +214,7 @@ OperatorOutputs runOperator(const OperatorInputs& given, const Settings& s) {
     OperatorStats& st = out.stats;
     const int threads = cpu::resolveThreads(s.threads);
     const MethodInfo& method = *findMethod(s.method);
+    const gpu::ThreadGlState callersGl;  // the calling thread's GL state, as it was, when the run ends
     const std::unique_ptr<Backend> backend = chooseBackend(s, method.gl, threads, st.notes);
     st.device = backend->description();
     st.pixels = in.dataWindow.area();

@@ -4,11 +4,13 @@
 // concern (ofx_actions.h) and turns what it throws into the host's status.
 #include "ofx_actions.h"
 
+#include "ofx_instance.h"
 #include "ofx_names.h"
 #include "ofx_suites.h"
 
 #include <cstring>
 #include <exception>
+#include <mutex>
 #include <new>
 #include <string>
 
@@ -43,19 +45,36 @@ OfxStatus dispatch(const char* action, OfxImageEffectHandle effect, OfxPropertyS
     return kOfxStatReplyDefault;
 }
 
-// Nothing escapes to the host: a failed suite call answers its status, an error is posted
+// An instance's error shown once, kept until a render succeeds (ofx_suites.h); a descriptor's
+// (no instance yet) each time.
+void showError(OfxImageEffectHandle effect, const std::string& text) {
+    Instance* in = findInstance(effect);
+    if (!in) return reportError(effect, text, nullptr);
+    std::lock_guard<std::mutex> lock(in->errorMutex);
+    reportError(effect, text, &in->shownError);
+}
+
+void renderSucceeded(OfxImageEffectHandle effect) {
+    if (Instance* in = findInstance(effect)) {
+        std::lock_guard<std::mutex> lock(in->errorMutex);
+        clearError(effect, &in->shownError);
+    }
+}
+
+// Nothing escapes to the host: a failed suite call answers its status, an error is shown
 // through the message suite (except while describing, before any instance exists).
 OfxStatus mainEntry(const char* action, const void* handle, OfxPropertySetHandle inArgs, OfxPropertySetHandle outArgs) {
     OfxImageEffectHandle effect = (OfxImageEffectHandle)handle;
     try {
-        return dispatch(action, effect, inArgs, outArgs);
+        const OfxStatus status = dispatch(action, effect, inArgs, outArgs);
+        if (status == kOfxStatOK && !std::strcmp(action, kOfxImageEffectActionRender)) renderSucceeded(effect);
+        return status;
     } catch (const OfxFailure& e) {
         return e.status == kOfxStatOK ? kOfxStatFailed : e.status;
     } catch (const std::bad_alloc&) {
         return kOfxStatErrMemory;
     } catch (const std::exception& e) {
-        if (effect && std::strcmp(action, kOfxActionDescribe) != 0)
-            postMessage(effect, kOfxMessageError, std::string("obscura: ") + e.what());
+        if (effect && std::strcmp(action, kOfxActionDescribe) != 0) showError(effect, std::string("obscura: ") + e.what());
         return kOfxStatFailed;
     } catch (...) {
         return kOfxStatFailed;

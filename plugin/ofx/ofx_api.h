@@ -376,7 +376,8 @@ typedef struct OfxParameterSuiteV1 {
 } OfxParameterSuiteV1;
 
 // ---------------------------------------------------------------------------
-// Messages (ofxMessage.h): "OfxMessageSuite", version 1
+// Messages (ofxMessage.h): "OfxMessageSuite", versions 1 and 2 (2 adds the persistent message
+// a host shows on the node until it is cleared; its first member is version 1's)
 // ---------------------------------------------------------------------------
 
 #define kOfxMessageSuite "OfxMessageSuite"
@@ -390,6 +391,13 @@ typedef struct OfxParameterSuiteV1 {
 typedef struct OfxMessageSuiteV1 {
     OfxStatus (*message)(void* handle, const char* messageType, const char* messageId, const char* format, ...);
 } OfxMessageSuiteV1;
+
+typedef struct OfxMessageSuiteV2 {
+    OfxStatus (*message)(void* handle, const char* messageType, const char* messageId, const char* format, ...);
+    OfxStatus (*setPersistentMessage)(void* handle, const char* messageType, const char* messageId,
+                                      const char* format, ...);
+    OfxStatus (*clearPersistentMessage)(void* handle);
+} OfxMessageSuiteV2;
 
 #ifdef __cplusplus
 }

@@ -1,6 +1,7 @@
-// What the host asks about the output before a render: the clips' depths, premultiplication
+// What the host asks about the output before a render: the clips' components, premultiplication
 // and colourspaces (clip preferences, OFX 1.5's output colourspace), and whether the effect
-// is an identity on Source.
+// is an identity on Source. Every clip is float already: the plugin declares no other depth and
+// no mixed depths, so the host maps them and the plugin may not set them.
 #include "ofx_actions.h"
 #include "ofx_instance.h"
 #include "ofx_names.h"
@@ -8,6 +9,7 @@
 #include "ofx_suites.h"
 
 #include <string>
+#include <utility>
 
 namespace obscura::ofx {
 
@@ -25,8 +27,19 @@ const OutputOption& currentOutput(const Instance& in) {
 OfxStatus onGetClipPreferences(OfxImageEffectHandle effect, OfxPropertySetHandle outArgs) {
     const Instance& in = *instanceOf(effect);
     const OutputOption& o = currentOutput(in);
-    for (const char* name : {kClipSource, kClipDepth, kClipNormal, kClipPosition, kClipAlbedo, kClipOutput})
-        gProp->propSetString(outArgs, (std::string(kOfxImageClipPropDepthPrefix) + name).c_str(), 0, kOfxBitDepthFloat);
+    // The general context's default Output is Alpha unless an input is RGBA (a Depth clip alone
+    // gives Alpha): the colour outputs ask for RGBA. Depth and Source, the inputs that take Alpha,
+    // keep the components they have, so a host that remaps inputs to the Output's does not move
+    // an Alpha depth out of channel 0 (RGB, which no clip takes, is left to the host's RGBA).
+    if (o.kind != OutputKind::Ao)
+        gProp->propSetString(outArgs, (std::string(kOfxImageClipPropComponentsPrefix) + kClipOutput).c_str(), 0,
+                             kOfxImageComponentRGBA);
+    const std::pair<OfxImageClipHandle, const char*> inputs[] = {{in.source, kClipSource}, {in.depth, kClipDepth}};
+    for (const auto& [clip, name] : inputs) {
+        const std::string own = connected(clip) ? getString(clipProps(clip), kOfxImageClipPropUnmappedComponents) : "";
+        if (own == kOfxImageComponentRGBA || own == kOfxImageComponentAlpha)
+            gProp->propSetString(outArgs, (std::string(kOfxImageClipPropComponentsPrefix) + name).c_str(), 0, own.c_str());
+    }
     if (keepsSourceAlpha(o.kind) && connected(in.source)) {
         const std::string premult = getString(clipProps(in.source), kOfxImageEffectPropPreMultiplication);
         gProp->propSetString(outArgs, kOfxImageEffectPropPreMultiplication, 0,

@@ -18,8 +18,12 @@ namespace obscura::ofx {
 FrameMap frameMap(const Instance& in, OfxTime t, OfxPropertySetHandle actionArgs) {
     FrameMap f;
     OfxPropertySetHandle props = effectProps(in.effect);
-    f.par = getDouble(props, kOfxImageEffectPropProjectPixelAspectRatio, 1.0);
-    if (!(f.par > 0)) f.par = 1;
+    // The images' pixel aspect ratio maps canonical to pixel coordinates: the clips', which the host
+    // made one (the plugin takes no mixed PARs) and which need not be the project's.
+    const double projectPar = getDouble(props, kOfxImageEffectPropProjectPixelAspectRatio, 1.0);
+    f.par = getDouble(clipProps(in.output), kOfxImagePropPixelAspectRatio,
+                      getDouble(clipProps(in.depth), kOfxImagePropPixelAspectRatio, projectPar));
+    if (!(f.par > 0)) f.par = projectPar > 0 ? projectPar : 1;
     f.sx = getDouble(actionArgs, kOfxImageEffectPropRenderScale, 1.0, 0);
     f.sy = getDouble(actionArgs, kOfxImageEffectPropRenderScale, 1.0, 1);
     if (!(f.sx > 0 && f.sy > 0)) throw Error("the host gives an invalid render scale");

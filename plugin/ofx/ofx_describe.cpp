@@ -13,6 +13,9 @@
 #include "core/settings_schema.h"
 
 #include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -43,11 +46,11 @@ const MethodParam& tableParam(const char* key) {
     throw Error(std::string("the method table has no parameter ") + key);
 }
 
-// Defines the parameters one by one, remembering the top-level ones (the page's children)
-// and every name (the method table's parameters not defined yet get their own groups).
+// Defines the parameters one by one, remembering every name (the method table's parameters not
+// defined yet get their own groups) and the controls (the page's children: no groups, no pages).
 struct ParamDef {
     OfxParamSetHandle set;
-    std::vector<std::string> topLevel;
+    std::vector<std::string> controls;
     std::vector<std::string> defined;
 
     OfxPropertySetHandle define(const char* type, const char* name, const char* label, const char* hint,
@@ -68,10 +71,9 @@ struct ParamDef {
             gProp->propSetInt(p, kOfxParamPropEnabled, 0, settingRefusal(Settings{}.method, name, Spelling::Key).empty());
         }
         if (!text.empty()) gProp->propSetString(p, kOfxParamPropHint, 0, text.c_str());
-        if (parent)
-            gProp->propSetString(p, kOfxParamPropParent, 0, parent);
-        else
-            topLevel.push_back(name);
+        if (parent) gProp->propSetString(p, kOfxParamPropParent, 0, parent);
+        if (std::strcmp(type, kOfxParamTypeGroup) != 0 && std::strcmp(type, kOfxParamTypePage) != 0)
+            controls.push_back(name);
         return p;
     }
     void choice(const char* name, const char* label, const char* hint, std::vector<const char*> options, int def,
@@ -254,6 +256,35 @@ void describeSsdo(ParamDef& d) {
               false, kGroupSsdo);
 }
 
+// A method parameter's label from its flag: --ssao-samples is "SSAO Samples".
+std::string labelOf(const MethodParam& mp) {
+    std::string label, word;
+    const std::string flag = std::string(mp.flag).substr(2);
+    for (size_t i = 0; i <= flag.size(); ++i) {
+        if (i < flag.size() && flag[i] != '-') {
+            word += flag[i];
+            continue;
+        }
+        const bool method = findMethod(word) != nullptr;
+        for (size_t k = 0; k < word.size(); ++k)
+            if (method || k == 0) word[k] = (char)std::toupper((unsigned char)word[k]);
+        label += (label.empty() ? "" : " ") + word;
+        word.clear();
+    }
+    return label;
+}
+
+// The table's help, and the numbers this node stores for its words (the node has no words).
+std::string hintOf(const MethodParam& mp) {
+    std::string hint = mp.help, words;
+    for (const NamedValue& n : mp.named) {
+        char one[64];
+        std::snprintf(one, sizeof one, "%s%g = %s", words.empty() ? "" : ", ", n.hostValue, n.word);
+        words += one;
+    }
+    return words.empty() ? hint : hint + " (this node: " + words + ")";
+}
+
 // The methods' own parameters that have no control above (ssao's, rtao's), from the method
 // table, with its ranges and the Settings defaults, in a group per method.
 void describeMethodParams(ParamDef& d) {
@@ -264,11 +295,12 @@ void describeMethodParams(ParamDef& d) {
             if (!mp.ofx || std::find(d.defined.begin(), d.defined.end(), mp.key) != d.defined.end()) continue;
             if (!grouped) d.group(m.name, m.name);
             grouped = true;
+            const std::string label = labelOf(mp), hint = hintOf(mp);
             if (mp.boolField) {
-                d.boolean(mp.key, mp.key, mp.help, defaults.*(mp.boolField), m.name);
+                d.boolean(mp.key, label.c_str(), hint.c_str(), defaults.*(mp.boolField), m.name);
             } else if (mp.intField) {
-                d.integer(mp.key, mp.key, mp.help, defaults.*(mp.intField), (int)mp.min, (int)mp.max, (int)mp.min,
-                          (int)std::min(mp.max, 256.0), m.name);
+                d.integer(mp.key, label.c_str(), hint.c_str(), defaults.*(mp.intField), (int)mp.min, (int)mp.max,
+                          (int)mp.min, (int)std::min(mp.max, 256.0), m.name);
             } else {
                 // Named values (auto, inf) are plain numbers here: their hostValue, inside the range.
                 double def = defaults.*(mp.floatField), lo = mp.min, hi = std::min(mp.max, 1e9);
@@ -277,18 +309,18 @@ void describeMethodParams(ParamDef& d) {
                     lo = std::min(lo, n.hostValue);
                     hi = std::max(hi, n.hostValue);
                 }
-                d.real(mp.key, mp.key, mp.help, def, lo, hi, mp.min, std::min(mp.max, 10.0), m.name);
+                d.real(mp.key, label.c_str(), hint.c_str(), def, lo, hi, lo, std::min(mp.max, 10.0), m.name);
             }
         }
     }
 }
 
-// One page holding every top-level parameter and group, in definition order.
+// One page holding every control, in definition order: a page's children are parameters, never
+// groups (ofxParam.h, kOfxParamPropPageChild); hosts that lay out by group still show the groups.
 void describePage(ParamDef& d) {
     OfxPropertySetHandle page = d.define(kOfxParamTypePage, kPage, "Controls", nullptr);
-    d.topLevel.pop_back();  // the page itself
-    for (int i = 0; i < (int)d.topLevel.size(); ++i)
-        gProp->propSetString(page, kOfxParamPropPageChild, i, d.topLevel[i].c_str());
+    for (int i = 0; i < (int)d.controls.size(); ++i)
+        gProp->propSetString(page, kOfxParamPropPageChild, i, d.controls[i].c_str());
 }
 
 } // namespace

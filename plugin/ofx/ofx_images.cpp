@@ -5,6 +5,7 @@
 
 #include "base/error.h"
 
+#include <new>
 #include <string>
 
 namespace obscura::ofx {
@@ -14,7 +15,9 @@ ClipImage::~ClipImage() {
 }
 
 bool ClipImage::fetch(OfxImageClipHandle clip, OfxTime t, const OfxRectD* region, const char* what) {
-    if (gEffect->clipGetImage(clip, t, region, &handle_) != kOfxStatOK || !handle_) {
+    const OfxStatus status = gEffect->clipGetImage(clip, t, region, &handle_);
+    if (status == kOfxStatErrMemory) throw std::bad_alloc();
+    if (status != kOfxStatOK || !handle_) {
         handle_ = nullptr;
         return false;
     }
@@ -35,8 +38,8 @@ bool ClipImage::fetch(OfxImageClipHandle clip, OfxTime t, const OfxRectD* region
     return true;
 }
 
-void fetchOrThrow(ClipImage& img, OfxImageClipHandle clip, OfxTime t, const OfxRectD& region, const char* what) {
-    if (!img.fetch(clip, t, &region, what)) throw Error(std::string("the ") + what + " clip gave no image");
+void fetchInput(ClipImage& img, OfxImageClipHandle clip, OfxTime t, const OfxRectD& region, const char* what) {
+    img.fetch(clip, t, &region, what);
 }
 
 Image toDisplayPlane(const ClipImage& img, const PixRect& r, const FrameMap& f, int channels, float fill) {

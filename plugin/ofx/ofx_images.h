@@ -21,6 +21,7 @@ public:
     // False when the host gives none; throws for a pixel depth or components it cannot be read in.
     bool fetch(OfxImageClipHandle clip, OfxTime t, const OfxRectD* region, const char* what);
 
+    bool empty() const { return handle_ == nullptr; }  // none fetched: every pixel a hole
     int components() const { return comps_; }
     const PixRect& bounds() const { return bounds_; }
     // The pixel at OFX pixel (x, y), or nullptr outside the image's bounds.
@@ -37,8 +38,10 @@ private:
     int comps_ = 0;
 };
 
-// `clip`'s image over canonical `region` into `img`; throws "the <what> clip gave no image".
-void fetchOrThrow(ClipImage& img, OfxImageClipHandle clip, OfxTime t, const OfxRectD& region, const char* what);
+// A connected input clip's image over canonical `region` into `img`. A host may answer that the
+// clip has none at that time or there (kOfxStatFailed): the spec says to go on as if it were
+// black and transparent, so `img` stays empty and every pixel reads as a hole.
+void fetchInput(ClipImage& img, OfxImageClipHandle clip, OfxTime t, const OfxRectD& region, const char* what);
 
 // Copies `channels` channels of `img` over OFX region `r` into a packed display-ordered
 // (y down) plane; pixels the image does not cover read `fill`.

@@ -37,7 +37,9 @@ void enable(OfxParamHandle h, bool on) {
 }
 
 void updateEnabled(const Instance& in) {
-    int projection = 0, normals = 0, output = 0, depthKind = 0;
+    int projection = 0, normals = 0, output = 0, depthKind = 0, method = 0, giMethod = 0;
+    gParam->paramGetValue(in.method, &method);
+    gParam->paramGetValue(in.giMethod, &giMethod);
     gParam->paramGetValue(in.projection, &projection);
     gParam->paramGetValue(in.depthKind, &depthKind);
     gParam->paramGetValue(in.normalSpace, &normals);
@@ -50,20 +52,18 @@ void updateEnabled(const Instance& in) {
     enable(in.depthNear, depthKind == 3);  // normalized
     enable(in.depthFar, depthKind == 3);
     enable(in.cameraToWorld, normals == 0);
-    // DO, GI and Relit are SSDO whatever the method; Times Albedo concerns DO and GI only.
-    const bool ao = kind == OutputKind::Ao || kind == OutputKind::BeautyTimesAo;
-    enable(in.method, ao);
+    // Method runs the AO outputs, GI Method GI and Relit, ssdo DO; Times Albedo concerns DO and GI only.
+    enable(in.method, !outputAt(output).light);
+    enable(in.giMethod, kind == OutputKind::Indirect || kind == OutputKind::Relit);
     // What the method does not read is greyed out, from the same table the CLI and Python refuse by.
-    int methodIndex = 0;
-    gParam->paramGetValue(in.method, &methodIndex);
-    const std::string method = ao ? methods()[std::clamp(methodIndex, 0, (int)methods().size() - 1)].name : "ssdo";
+    const std::string runs = methodFor(outputAt(output), method, giMethod);
     const std::vector<const MethodParam*> own = allMethodParams();
     for (size_t i = 0; i < own.size(); ++i)
-        if (in.methodParams[i]) enable(in.methodParams[i], settingRefusal(method, own[i]->key, Spelling::Key).empty());
+        if (in.methodParams[i]) enable(in.methodParams[i], settingRefusal(runs, own[i]->key, Spelling::Key).empty());
     OfxParamSetHandle set = nullptr;
     gEffect->getParamSet(in.effect, &set);
     for (const MethodOption& o : methodOptions())
-        if (o.ofx) enable(param(set, o.ofx), settingRefusal(method, o.ofx, Spelling::Key).empty());
+        if (o.ofx) enable(param(set, o.ofx), settingRefusal(runs, o.ofx, Spelling::Key).empty());
     enable(in.timesAlbedo, kind == OutputKind::Directional || kind == OutputKind::Indirect);
 }
 
@@ -119,6 +119,14 @@ Instance* instanceOf(OfxImageEffectHandle effect) {
     void* p = nullptr;
     check(gProp->propGetPointer(effectProps(effect), kOfxPropInstanceData, 0, &p));
     if (!p) throw OfxFailure{kOfxStatErrBadHandle};
+    return static_cast<Instance*>(p);
+}
+
+Instance* findInstance(OfxImageEffectHandle effect) noexcept {
+    OfxPropertySetHandle props = nullptr;
+    void* p = nullptr;
+    if (!effect || gEffect->getPropertySet(effect, &props) != kOfxStatOK) return nullptr;
+    if (gProp->propGetPointer(props, kOfxPropInstanceData, 0, &p) != kOfxStatOK) return nullptr;
     return static_cast<Instance*>(p);
 }
 

@@ -1,10 +1,12 @@
-// One instance of the node: its clip and parameter handles, found once at creation, and its
-// own environment map cache (the only mutable state, behind its mutex; never shared between
-// instances).
+// One instance of the node: its clip and parameter handles, found once at creation, its own
+// environment map cache and the error it last showed (the only mutable state, each behind its
+// mutex; never shared between instances).
 #pragma once
 #include "ofx_api.h"
 #include "ofx_environment.h"
 
+#include <mutex>
+#include <string>
 #include <vector>
 
 namespace obscura::ofx {
@@ -23,9 +25,13 @@ struct Instance {
                    envRotation = nullptr, envIntensity = nullptr, upAxis = nullptr, timesAlbedo = nullptr;
     std::vector<OfxParamHandle> methodParams;  // one per allMethodParams(), in its order
     mutable EnvironmentCache environment;
+    std::mutex errorMutex;
+    std::string shownError;  // reportError's (ofx_suites.h): tiles of one frame fail alike
 };
 
 // The instance the host holds for `effect` (its instance data); throws for none.
 Instance* instanceOf(OfxImageEffectHandle effect);
+// The same, or nullptr where there is none (a descriptor, a failed creation); never throws.
+Instance* findInstance(OfxImageEffectHandle effect) noexcept;
 
 } // namespace obscura::ofx

@@ -110,16 +110,20 @@ int ssdoGiMethodIndex() {
     return 0;
 }
 
+std::string methodFor(const OutputOption& o, int method, int giMethod) {
+    if (!o.light) return methods()[std::clamp(method, 0, (int)methods().size() - 1)].name;
+    if (o.kind == OutputKind::Directional) return "ssdo";
+    const std::vector<const char*> gi = giMethods();
+    return gi[std::clamp(giMethod, 0, (int)gi.size() - 1)];
+}
+
 Params readParams(const Instance& in, OfxTime t) {
     Params p;
     const OutputOption& o = kOutputOptions[choiceAt(in.output_, t, kOutputCount)];
     p.output = o.kind;
     p.strength = std::clamp(doubleAt(in.strength, t), 0.0, 1.0);
     Settings& s = p.settings;
-    const std::vector<const char*> gi = giMethods();
-    s.method = !o.light                               ? methods()[choiceAt(in.method, t, (int)methods().size())].name
-               : o.kind == OutputKind::Directional ? "ssdo"
-                                                   : gi[choiceAt(in.giMethod, t, (int)gi.size())];
+    s.method = methodFor(o, intAt(in.method, t), intAt(in.giMethod, t));
     s.bounce = o.bounce;
     s.ssdoSamples = intAt(in.ssdoSamples, t);
     s.interleave = intAt(in.interleave, t);

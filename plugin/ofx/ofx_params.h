@@ -69,6 +69,9 @@ struct Params {
 
 // The values at time `t`, at full resolution (paramsAt in ofx_coords.h scales them to a render).
 Params readParams(const Instance& in, OfxTime t);
+// The method output `o` runs: Method (stored index `method`) for the AO outputs, ssdo for DO, GI
+// Method (index `giMethod`) for GI and Relit. Indices out of range clamp to the choices.
+std::string methodFor(const OutputOption& o, int method, int giMethod);
 
 // What an output reads and computes (regions of interest and render agree through these).
 inline const OutputOption& optionOf(const Params& p) { return kOutputOptions[(int)p.output]; }

@@ -98,11 +98,12 @@ bool occlude(OfxImageEffectHandle effect, const Instance& in, OfxTime t, const P
              Occlusion& occ) {
     const OfxRectD region = f.toCanonical(occ.data);
     ClipImage depth, normal, radiance;
-    fetchOrThrow(depth, in.depth, t, region, "Depth");
+    fetchInput(depth, in.depth, t, region, "Depth");
     const bool normals = p.normalSpace != NormalSpace::Depth;  // else reconstructed from the depth
     if (normals) {
-        fetchOrThrow(normal, in.normal, t, region, "Normal");
-        if (normal.components() < 3) throw Error("the Normal clip must be RGB(A): normals are three channels");
+        fetchInput(normal, in.normal, t, region, "Normal");
+        if (!normal.empty() && normal.components() < 3)
+            throw Error("the Normal clip must be RGB(A): normals are three channels");
     }
     // Holes outside what the host delivered read as sky (+inf in every encoding) and missing normals.
     Image depthPlane = toDisplayPlane(depth, occ.data, f, 1, std::numeric_limits<float>::infinity());
@@ -110,8 +111,8 @@ bool occlude(OfxImageEffectHandle effect, const Instance& in, OfxTime t, const P
     const Image normalPlane = normals ? toDisplayPlane(normal, occ.data, f, 3, 0.0f) : Image();
     Image radiancePlane;
     if (optionOf(p).bounce) {
-        fetchOrThrow(radiance, in.source, t, region, "Source");
-        if (radiance.components() < 3) throw Error("the bounce needs an RGB(A) Source clip");
+        fetchInput(radiance, in.source, t, region, "Source");
+        if (!radiance.empty() && radiance.components() < 3) throw Error("the bounce needs an RGB(A) Source clip");
         radiancePlane = toDisplayPlane(radiance, occ.data, f, 3, 0.0f);
     }
     const std::shared_ptr<const Image> environment = environmentOf(in, p);
@@ -135,6 +136,9 @@ OfxStatus onRender(OfxImageEffectHandle effect, OfxPropertySetHandle inArgs) {
 
     ClipImage out;
     if (!out.fetch(in.output, t, nullptr, "Output")) throw Error("the host gave no Output image");
+    if (optionOf(p).kind != OutputKind::Ao && out.components() == 1)
+        throw Error(std::string("the ") + optionOf(p).label + " output is colour, and the host gave an Alpha Output "
+                    "image: set the node's output to RGBA");
     requireOutputInputs(in, p);
 
     // The occlusion over the window's data region, or nothing when the AO is off.
@@ -146,8 +150,8 @@ OfxStatus onRender(OfxImageEffectHandle effect, OfxPropertySetHandle inArgs) {
     // What the output composites with, under the window.
     ClipImage source, albedo;
     const OfxRectD underWindow = f.toCanonical(window);
-    if (optionOf(p).needsSource) fetchOrThrow(source, in.source, t, underWindow, "Source");
-    if (needsAlbedo(p)) fetchOrThrow(albedo, in.albedo, t, underWindow, "Albedo");
+    if (optionOf(p).needsSource) fetchInput(source, in.source, t, underWindow, "Source");
+    if (needsAlbedo(p)) fetchInput(albedo, in.albedo, t, underWindow, "Albedo");
 
     writeOutput(p, f, occ, out, source, albedo, window);
     return kOfxStatOK;

@@ -8,6 +8,7 @@ const OfxPropertySuiteV1* gProp = nullptr;
 const OfxImageEffectSuiteV1* gEffect = nullptr;
 const OfxParameterSuiteV1* gParam = nullptr;
 const OfxMessageSuiteV1* gMessage = nullptr;
+const OfxMessageSuiteV2* gMessageV2 = nullptr;
 
 OfxStatus fetchSuites() {
     if (!gHost) return kOfxStatErrMissingHostFeature;
@@ -15,6 +16,7 @@ OfxStatus fetchSuites() {
     gEffect = static_cast<const OfxImageEffectSuiteV1*>(gHost->fetchSuite(gHost->host, kOfxImageEffectSuite, 1));
     gParam = static_cast<const OfxParameterSuiteV1*>(gHost->fetchSuite(gHost->host, kOfxParameterSuite, 1));
     gMessage = static_cast<const OfxMessageSuiteV1*>(gHost->fetchSuite(gHost->host, kOfxMessageSuite, 1));
+    gMessageV2 = static_cast<const OfxMessageSuiteV2*>(gHost->fetchSuite(gHost->host, kOfxMessageSuite, 2));
     if (!suitesLoaded()) return kOfxStatErrMissingHostFeature;
     return kOfxStatOK;
 }
@@ -60,8 +62,20 @@ bool connected(OfxImageClipHandle clip) {
     return clip && getInt(clipProps(clip), kOfxImageClipPropConnected, 0) != 0;
 }
 
-void postMessage(OfxImageEffectHandle effect, const char* type, const std::string& text) {
-    if (gMessage) gMessage->message(effect, type, nullptr, "%s", text.c_str());
+void reportError(OfxImageEffectHandle effect, const std::string& text, std::string* shown) {
+    if (shown) {
+        if (*shown == text) return;
+        *shown = text;
+    }
+    if (gMessageV2 && gMessageV2->setPersistentMessage(effect, kOfxMessageError, "", "%s", text.c_str()) == kOfxStatOK)
+        return;
+    if (gMessage) gMessage->message(effect, kOfxMessageError, nullptr, "%s", text.c_str());
+}
+
+void clearError(OfxImageEffectHandle effect, std::string* shown) {
+    if (!shown || shown->empty()) return;
+    shown->clear();
+    if (gMessageV2) gMessageV2->clearPersistentMessage(effect);
 }
 
 bool colourManaged(OfxPropertySetHandle p) {

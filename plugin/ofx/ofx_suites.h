@@ -12,7 +12,8 @@ extern OfxHost* gHost;
 extern const OfxPropertySuiteV1* gProp;
 extern const OfxImageEffectSuiteV1* gEffect;
 extern const OfxParameterSuiteV1* gParam;
-extern const OfxMessageSuiteV1* gMessage;  // optional
+extern const OfxMessageSuiteV1* gMessage;    // optional
+extern const OfxMessageSuiteV2* gMessageV2;  // optional: persistent messages, where the host has them
 
 // kOfxActionLoad: fetches the suites; a host without the required three lacks a feature.
 OfxStatus fetchSuites();
@@ -37,7 +38,13 @@ void setStrings(OfxPropertySetHandle p, const char* name, std::initializer_list<
 OfxPropertySetHandle effectProps(OfxImageEffectHandle effect);
 OfxPropertySetHandle clipProps(OfxImageClipHandle clip);
 bool connected(OfxImageClipHandle clip);
-void postMessage(OfxImageEffectHandle effect, const char* type, const std::string& text);
+// An action's failure as the user sees it: a persistent error on the node where the host has
+// version 2 of the message suite, else a transient message. `shown` is the text last reported for
+// this instance: the same failure again (every tile of a frame, its regions of interest) is
+// not reported again.
+void reportError(OfxImageEffectHandle effect, const std::string& text, std::string* shown);
+// A render succeeded: the node's persistent error, if one was reported, is cleared.
+void clearError(OfxImageEffectHandle effect, std::string* shown);
 
 // OFX 1.5 colour management: the host offers a style on its own properties, the plugin
 // declares the one it supports at describe (Basic: it only names basic spaces, ofx_raw and

@@ -120,7 +120,10 @@ OfxStatus clipGetImage(OfxImageClipHandle h, OfxTime, const OfxRectD* region, Of
         const OfxRectI px = toPixels(*c->effect, want);
         b = {std::max(src.bounds.x1, px.x1), std::max(src.bounds.y1, px.y1), std::min(src.bounds.x2, px.x2),
              std::min(src.bounds.y2, px.y2)};
-        if (b.x2 <= b.x1 || b.y2 <= b.y1) b = {0, 0, 0, 0};
+        if (b.x2 <= b.x1 || b.y2 <= b.y1) {
+            if (host.failEmptyFetch) return kOfxStatFailed;
+            b = {0, 0, 0, 0};
+        }
         comps = src.components;
         const int w = b.x2 - b.x1, hgt = b.y2 - b.y1, rowFloats = w * comps;
         img->storage.assign((size_t)std::max(w * hgt * comps, 1), std::numeric_limits<float>::quiet_NaN());

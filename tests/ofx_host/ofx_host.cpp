@@ -39,12 +39,32 @@ OfxStatus message(void*, const char* type, const char* id, const char* format, .
 }
 const OfxMessageSuiteV1 kMessageSuite = {message};
 
+// Version 2: a persistent message is logged as "persistent <type>: <text>" and kept until cleared.
+OfxStatus setPersistentMessage(void*, const char* type, const char*, const char* format, ...) {
+    char buf[4096];
+    va_list ap;
+    va_start(ap, format);
+    std::vsnprintf(buf, sizeof buf, format, ap);
+    va_end(ap);
+    std::lock_guard<std::mutex> lock(gHostObject->logMutex_);
+    gHostObject->persistent_ = std::string(type ? type : "?") + ": " + buf;
+    gHostObject->messages_.push_back("persistent " + gHostObject->persistent_);
+    return kOfxStatOK;
+}
+OfxStatus clearPersistentMessage(void*) {
+    std::lock_guard<std::mutex> lock(gHostObject->logMutex_);
+    gHostObject->persistent_.clear();
+    return kOfxStatOK;
+}
+const OfxMessageSuiteV2 kMessageSuiteV2 = {message, setPersistentMessage, clearPersistentMessage};
+
 const void* fetchSuite(OfxPropertySetHandle, const char* name, int version) {
     const std::string n = name ? name : "";
     {
         std::lock_guard<std::mutex> lock(gHostObject->logMutex_);
         gHostObject->suites_.push_back(n + " v" + std::to_string(version));
     }
+    if (n == kOfxMessageSuite && version == 2) return gHostObject->messageSuiteV2 ? &kMessageSuiteV2 : nullptr;
     if (version != 1) return nullptr;
     if (n == kOfxPropertySuite) return &kPropertySuite;
     if (n == kOfxImageEffectSuite) return &kImageEffectSuite;
@@ -256,6 +276,11 @@ std::vector<std::string> Host::messages() const {
     return messages_;
 }
 
+std::string Host::persistentMessage() const {
+    std::lock_guard<std::mutex> lock(logMutex_);
+    return persistent_;
+}
+
 std::unique_ptr<Instance> Host::createInstance(const ProjectSetup& project,
                                                const std::map<std::string, const HostImage*>& inputs,
                                                OfxStatus* status) {
@@ -285,7 +310,8 @@ std::unique_ptr<Instance> Host::createInstance(const ProjectSetup& project,
     e.props.setDouble(kOfxImageEffectPropProjectSize, {project.width * project.pixelAspect, (double)project.height});
     e.props.setDouble(kOfxImageEffectPropProjectOffset, {0.0, 0.0});
     e.props.setDouble(kOfxImageEffectPropProjectExtent, {project.width * project.pixelAspect, (double)project.height});
-    e.props.setDouble(kOfxImageEffectPropProjectPixelAspectRatio, {project.pixelAspect});
+    e.props.setDouble(kOfxImageEffectPropProjectPixelAspectRatio,
+                      {project.projectPar > 0 ? project.projectPar : project.pixelAspect});
     e.props.setDouble(kOfxImageEffectInstancePropEffectDuration, {1.0});
     e.props.setInt(kOfxImageEffectInstancePropSequentialRender, {0});
     e.props.setDouble(kOfxImageEffectPropFrameRate, {24.0});

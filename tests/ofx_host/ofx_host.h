@@ -151,7 +151,10 @@ struct ProjectSetup {
     int width = 0, height = 0;  // project size in full-resolution pixels (extent = size * (PAR, 1))
     double pixelAspect = 1.0;
     double renderScale = 1.0;   // input images are pixels at this scale; so are render windows
-    int outputComponents = 4;   // the Output clip: 4 (RGBA) or 1 (Alpha)
+    int outputComponents = 4;   // the Output clip: 4 (RGBA) or 1 (Alpha), until clip preferences set it
+    // The project's PAR as the effect reports it (0: pixelAspect). HostSupport gives the clips the
+    // inputs' PAR, which need not be the project's (an anamorphic render in a square-pixel project).
+    double projectPar = 0;
 };
 
 class Host;
@@ -228,15 +231,23 @@ public:
     OfxStatus action(const char* name, Effect* effect, PropertySet* in, PropertySet* out);
 
     std::vector<std::string> fetchedSuites() const;
+    // Every message posted, transient ("<type>: <text>") or persistent ("persistent <type>: <text>").
     std::vector<std::string> messages() const;
+    // The persistent message the node shows now ("<type>: <text>"), "" when none or cleared.
+    std::string persistentMessage() const;
     long long liveImages() const { return liveImages_.load(); }
     bool negativeRowBytes = true;  // lay fetched input images out top-down
     bool exactRegions = true;      // input images cover only what the tile's RoI asked for
+    // kOfxStatFailed for an input image with nothing in the region asked for, or for a clip with
+    // no image at that time: what the specification lets a host answer ("assume black").
+    bool failEmptyFetch = false;
+    bool messageSuiteV2 = true;    // offer version 2 of the message suite (persistent messages)
 
     // Host internals used by the suite implementations.
     std::atomic<long long> liveImages_{0};
     mutable std::mutex logMutex_;
     std::vector<std::string> suites_, messages_;
+    std::string persistent_;
     std::set<const PropertySet*> images_;  // images handed to the plugin, not yet released
     PropertySet hostProps_;
 

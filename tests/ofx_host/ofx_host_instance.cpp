@@ -102,6 +102,12 @@ OfxStatus Instance::clipPreferences(PropertySet& out) {
     if (st != kOfxStatOK && st != kOfxStatReplyDefault) return st;
     Clip* output = effect_->clip(kOfxImageEffectOutputClipName);
     output->props.setString(kOfxImageEffectPropPreMultiplication, {out.string(kOfxImageEffectPropPreMultiplication)});
+    // The general context lets the plugin remap the Output's components.
+    const std::string comps = out.string(std::string(kOfxImageClipPropComponentsPrefix) + kOfxImageEffectOutputClipName);
+    if (comps == kOfxImageComponentAlpha || comps == kOfxImageComponentRGBA) {
+        outputComponents = comps == kOfxImageComponentAlpha ? 1 : 4;
+        output->props.setString(kOfxImageEffectPropComponents, {comps});
+    }
     // A colour-managed host asks for the output colourspace after the clip preferences.
     if (colourManaged) {
         std::string space;
