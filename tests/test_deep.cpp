@@ -69,7 +69,7 @@ TEST(DeepRead, LayersAreSortedCountedMergedAndCapped) {
     const std::vector<Samples> pixels = {
         {},                                       // 0: no sample: sky
         {{5, 5}, {2, 2}, {9, 9}},                 // 1: unsorted
-        {{kNaN, kNaN}, {3, 3}, {kInf, kInf}},     // 2: NaN and inf Z dropped
+        {{kNaN, kNaN}, {3, 3}, {kInf, kInf}},     // 2: NaN Z dropped; inf Z the sky, no surface
         {{2, 3}, {3, 4}, {6, 7}},                 // 3: a span touching the next: one surface [2, 4]
         {{1, 1}, {2, 2}, {3, 3}, {4, 4}, {5, 5}}, // 4: five surfaces, four kept
         {{4, 8}, {5, 6}},                         // 5: a sample inside a span: one surface [4, 8]
@@ -83,7 +83,7 @@ TEST(DeepRead, LayersAreSortedCountedMergedAndCapped) {
         EXPECT_EQ(d.layers, 4);
         EXPECT_EQ(d.planes.channels, 8);
         EXPECT_EQ(d.emptyPixels, 1);
-        EXPECT_EQ(d.droppedSamples, 2);
+        EXPECT_EQ(d.droppedSamples, 1);
         EXPECT_EQ(d.unsortedPixels, 1);
         EXPECT_EQ(d.truncatedPixels, 1);
         EXPECT_EQ(front(d, 0, 0), kInf);

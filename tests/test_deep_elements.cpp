@@ -128,6 +128,32 @@ TEST(DeepElements, DeepOnlyPlaneGivesAoOne) {
     EXPECT_EQ(written.header(0).channels().findChannel("ZBack"), nullptr) << "the depths flatten to the front's Z";
 }
 
+// A sample at Z = +inf is the sky (docs/conventions.md): its colour is flattened behind everything,
+// as OpenEXR's flattening keeps it, and it is no surface and no skipped sample.
+TEST(DeepElements, SkySamplesKeepTheirColour) {
+    const fs::path dir = testDir("deep_elements");
+    const std::string in = (dir / "sky.exr").string(), out = (dir / "sky_ao.exr").string();
+    const float inf = std::numeric_limits<float>::infinity();
+    writeElement(in, [&](const double d[3]) {
+        if (d[1] > 0) return std::vector<DeepSample>{{inf, inf, 0.2f, 0.3f, 0.4f, 0.0f}};  // above the horizon
+        const float t = (float)(-1.0 / d[1]);  // the ground, y = -1
+        return std::vector<DeepSample>{{t, t, 0.5f, 0.5f, 0.5f, 1.0f}, {inf, inf, 0.2f, 0.3f, 0.4f, 0.0f}};
+    });
+    const std::string report = (dir / "sky.json").string();
+    const CliResult r = runObscura(plus({in, "--report", report}, aoArgs(out)));
+    ASSERT_EQ(r.exitCode, 0) << outcome(r);
+    const std::vector<float> red = partChannel(out, 0, "R"), alpha = partChannel(out, 0, "A"),
+                             z = partChannel(out, 0, "Z"), ao = partChannel(out, 0, "obscura.AO.Y");
+    EXPECT_FLOAT_EQ(red[W / 2], 0.2f) << "the sky's colour, top row";
+    EXPECT_FLOAT_EQ(alpha[W / 2], 0.0f);
+    EXPECT_EQ(z[W / 2], inf);
+    EXPECT_FLOAT_EQ(ao[W / 2], 1.0f);
+    EXPECT_FLOAT_EQ(red[W * (H - 1) + W / 2], 0.5f) << "the ground, opaque, hides the sky";
+    std::ifstream f(report);
+    const nlohmann::json j = nlohmann::json::parse(f);
+    EXPECT_EQ(j["warnings"].dump().find("skipped"), std::string::npos) << j["warnings"].dump();
+}
+
 // Three elements rendered apart: the tree darkens the side of the ball that faces it only when
 // it is merged in; the far side, beyond the radius from the tree, keeps its AO. The order of the
 // elements changes nothing.

@@ -104,7 +104,7 @@ Image decodedDepth(const std::string& path, const std::vector<std::string>& flag
                 &rows[2], &rows[3], &rows[4], &rows[5], &rows[6], &rows[7], &rows[8], &rows[9], &rows[10], &rows[11],
                 &rows[12], &rows[13], &rows[14], &rows[15]);
     job.camera.cameraToWorld = rows;
-    return loadFramePasses(job, false).depth;
+    return loadFramePasses(job, {}).depth;
 }
 
 std::vector<float> aoOf(const std::string& path) { return obscura::test::partChannel(path, 0, "obscura.AO.Y"); }
@@ -271,4 +271,27 @@ TEST(DepthEncodings, InspectDescribesTheStoredDepth) {
     EXPECT_NE(normalized.find("looks like a normalised depth whose far end (1) is the sky"), std::string::npos) << normalized;
     const std::string position = inspect(writeScene(dir, "position_only", nullptr, "P"));
     EXPECT_NE(position.find("(from the position pass and camera)"), std::string::npos) << position;
+}
+
+// A run says what the depth's values say: one that looks inverse or normalised, read as a distance
+// because no --depth was given, and one with no surface at all (AO 1 everywhere), each warned of
+// while the run goes on; with the right --depth, nothing.
+TEST(DepthEncodings, TheRunWarnsOfADepthThatIsNoDistance) {
+    const fs::path dir = testDir("depth-encodings");
+    const std::string out = (dir / "warned.exr").string();
+    const auto warned = [&](const std::string& in, const std::vector<std::string>& flags) {
+        std::vector<std::string> args = {in, "-o", out, "--threads", "2"};
+        args.insert(args.end(), flags.begin(), flags.end());
+        for (const std::string& f : cameraFlags()) args.push_back(f);
+        const CliResult r = runProgram(OBSCURA_CLI_PATH, args);
+        EXPECT_EQ(r.exitCode, 0) << r.err;
+        return r.err;
+    };
+    const std::string inverse = writeScene(dir, "inverse_warned", encodings()[3].stored);
+    EXPECT_NE(warned(inverse, {}).find("warning: the depth looks like every value is in [0, 1]: an inverse (--depth inverse)"),
+              std::string::npos);
+    EXPECT_EQ(warned(inverse, {"--depth", "inverse"}).find("warning"), std::string::npos);
+    const std::string zero = writeScene(dir, "zero", [](int, int) { return 0.0f; });
+    EXPECT_NE(warned(zero, {}).find("warning: the depth holds no surface"), std::string::npos);
+    EXPECT_EQ(warned(writeScene(dir, "planar_warned", encodings()[0].stored), {}).find("warning"), std::string::npos);
 }

@@ -123,7 +123,7 @@ TEST(HbaoBorder, ReferenceOverscanWidensTheDataWindowOnly) {
         job.input = path;
         job.preset = "blender";
         job.referenceLayer = "Reference.AO_cosine_none";
-        return loadFramePasses(job, false);
+        return loadFramePasses(job, {});
     };
     const FramePasses plain = render("plain.exr", 0), wide = render("wide.exr", N);
     EXPECT_EQ(wide.display, plain.display);

@@ -168,7 +168,7 @@ TEST(ExrRead, UnknownChannelIsNotCorruption) {
     expectError([&] { readExrChannels(path, info, {{0, "Q"}}, false, nullptr); }, {"no channel 'Q'", path});
 }
 
-TEST(ExrRead, MipmappedTiledReadsLevelZeroAndWritesOneLevel) {
+TEST(ExrRead, MipmappedTiledKeepsItsLevelsUntouchedAndOneWithNewLayers) {
     FixturePart part;
     part.tiled = true;
     part.levelMode = Imf::MIPMAP_LEVELS;
@@ -182,7 +182,11 @@ TEST(ExrRead, MipmappedTiledReadsLevelZeroAndWritesOneLevel) {
     ExrPixels px;
     auto planes = readExrChannels(path, info, {{0, "Y"}}, true, &px);
     expectPlane(planes[0], part.channels[0], part.dataWindow);
+    // Nothing new: the part is copied chunk for chunk, every level.
     writeExrWithNewChannels(out, px, {}, false);
+    EXPECT_EQ(readExrInfo(out).parts[0].header.tileDescription().mode, Imf::MIPMAP_LEVELS);
+    // A new channel: the part is encoded again, at level 0 only.
+    writeExrWithNewChannels(out, px, {{0, "AO", Image(21, 14, 1, 0.5f), Imf::HALF}}, false);
     ExrInfo oi = readExrInfo(out);
     EXPECT_TRUE(oi.parts[0].tiled);
     EXPECT_EQ(oi.parts[0].header.tileDescription().mode, Imf::ONE_LEVEL);
@@ -347,10 +351,15 @@ TEST(ExrWrite, FailuresLeaveNoTempFile) {
                 {"cannot add channel 'AO'", "16x12"});
     EXPECT_FALSE(fs::exists(out));
     EXPECT_FALSE(tempLeft(out));
-    // Pixels not kept (keepAll=false) cannot be passed through.
+    // A part whose pixels were not kept cannot take new layers (it would be encoded again); with
+    // none, it is copied chunk for chunk.
     ExrPixels partial;
     readExrChannels(path, info, {{0, "Z"}}, false, &partial);
-    expectError([&] { writeExrWithNewChannels(out, partial, {}, false); }, {"were not all kept"});
+    expectError([&] { writeExrWithNewChannels(out, partial, {{0, "AO", Image(16, 12, 1), Imf::HALF}}, false); },
+                {"were not all kept"});
+    EXPECT_FALSE(fs::exists(out));
+    writeExrWithNewChannels(out, partial, {}, false);
+    EXPECT_EQ(readExrInfo(out).parts[0].channels.size(), 1u);
 }
 
 // ----------------------------------------------------------------- errors

@@ -155,6 +155,24 @@ TEST(Presets, Generic) {
     EXPECT_EQ(p.find(Role::Albedo), nullptr);
 }
 
+// Nuke writes the channels of every layer but rgba as red, green, blue (N.red), and V-Ray its
+// render elements too: they are R, G, B, listed in that order.
+TEST(Presets, NukesRedGreenBlueSpelling) {
+    const std::vector<std::string> rgb = {"N.blue", "N.green", "N.red", "P.blue", "P.green", "P.red"};
+    LayerPlan p = planFor("nuke", cat({{"R", "G", "B", "A", "depth.Z"}, rgb}));
+    ASSERT_NE(p.find(Role::Normal), nullptr);
+    EXPECT_EQ(p.find(Role::Normal)->channels, (std::vector<std::string>{"N.red", "N.green", "N.blue"}));
+    ASSERT_NE(p.find(Role::Position), nullptr);
+    EXPECT_EQ(p.find(Role::Position)->channels, (std::vector<std::string>{"P.red", "P.green", "P.blue"}));
+    LayerPlan q = planFor("nuke_albedo", cat({{"depth.Z", "diffuse.red", "diffuse.green", "diffuse.blue", "diffuse.alpha"}}),
+                          "auto", {{Role::Albedo, "diffuse"}});
+    EXPECT_EQ(q.find(Role::Albedo)->channels,
+              (std::vector<std::string>{"diffuse.red", "diffuse.green", "diffuse.blue", "diffuse.alpha"}));
+    const std::string path = tmp("nuke_list.exr");
+    writeSimple(path, rgb);
+    EXPECT_EQ(listLayers(readExrInfo(path))[0], "N (red,green,blue) float");
+}
+
 TEST(Presets, ExplicitPresetThatDoesNotFitErrors) {
     std::string path = tmp("wrongpreset.exr");
     writeSimple(path, cat({{"ViewLayer.Depth.Z"}, channelsOf("ViewLayer.Normal", "XYZ")}));

@@ -16,6 +16,8 @@
 #include <OpenEXR/ImfStandardAttributes.h>
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include <cmath>
 #include <string>
 #include <vector>
@@ -184,10 +186,16 @@ TEST_P(Views, EveryViewGetsItsAoAndTheInputIsKept) {
     const fs::path dir = obscura::test::testDir("views");
     const std::string in = (dir / "plate.exr").string(), out = (dir / "plate_ao.exr").string();
     c.byPart ? writeViewsByPart(in) : writeViewsByName(in);
-    const CliResult r = run(in, out, {"--write", c.write});
+    const std::string report = (dir / "plate_ao.json").string();
+    const CliResult r = run(in, out, {"--write", c.write, "--report", report});
     ASSERT_EQ(r.exitCode, 0) << outcome(r);
     if (std::string(c.write) != "new") expectInputKept(in, out);
     expectViewsAo(dir, out, aoPlaces(c.byPart), {0, 1});
+    // Each channel written, told apart where a part per view repeats the names.
+    std::ifstream f(report);
+    const nlohmann::json written = nlohmann::json::parse(f)["written"];
+    EXPECT_EQ(written, c.byPart ? nlohmann::json({"view left: obscura.AO.Y", "view right: obscura.AO.Y"})
+                                : nlohmann::json({"obscura.AO.left.Y", "obscura.AO.right.Y"}));
     EXPECT_EQ(fileViews(readExrInfo(out)), kViews) << "a stereo-aware reader must still find both views";
 }
 
@@ -261,10 +269,34 @@ TEST(Inspect, NamesAViewTheFileLacks) {
     writeViewsByName(in);
     const CliResult r = runObscura({in, "--inspect", "--view", "middle"});
     ASSERT_EQ(r.exitCode, 0) << outcome(r);
-    EXPECT_NE(r.out.find("a run processes nothing: --view names a view the file lacks"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("a run processes nothing (the problem below)"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("problem: '" + in + "': no view 'middle'; the file's views: left, right"), std::string::npos)
         << r.out;
     EXPECT_EQ(r.out.find("depth: (not found)"), std::string::npos) << r.out;
+}
+
+// A --layer that names a layer of one view only (N.X holds no view by OpenEXR's rule, N.right.X
+// the right view's): the view without it is named, and nothing is written, rather than the
+// hero eye left without its AO. --inspect names the same problem and still finds the depth.
+TEST(Views, ALayerOneViewLacksIsRefusedNamingTheView) {
+    const fs::path dir = obscura::test::testDir("views");
+    const std::string in = (dir / "normals_one_view.exr").string(), out = (dir / "never.exr").string();
+    FixturePart p = platePart("");
+    p.channels = plateChannels(0, "");
+    for (FixtureChannel& c : plateChannels(1, "right.")) p.channels.push_back(c);
+    for (const std::string prefix : {"N.", "N.right."})
+        for (int c = 0; c < 3; ++c) p.channels.push_back({prefix + "XYZ"[c], Imf::HALF, 1, 1, [c](int, int) { return c == 1 ? 1.0f : 0.0f; }});
+    p.editHeader = [](Imf::Header& h) { Imf::addMultiView(h, Imf::StringVector(kViews.begin(), kViews.end())); };
+    writeFixture(in, {p});
+    const CliResult r = run(in, out, {"--layer", "normal=N"});
+    EXPECT_EQ(r.exitCode, 1) << outcome(r);
+    EXPECT_EQ(r.err.rfind("obscura: '" + in + "': view 'left': --layer normal=N: no layer or channel 'N'", 0), 0u) << r.err;
+    EXPECT_FALSE(fs::exists(out));
+    const CliResult right = run(in, out, {"--layer", "normal=N", "--normals", "camera", "--view", "right"});
+    EXPECT_EQ(right.exitCode, 0) << "the view that has it runs alone: " << outcome(right);
+    const CliResult inspect = runObscura({in, "--inspect", "--layer", "normal=N"});
+    EXPECT_NE(inspect.out.find("problem: '" + in + "': view 'left'"), std::string::npos) << inspect.out;
+    EXPECT_EQ(inspect.out.find("depth: (not found)"), std::string::npos) << inspect.out;
 }
 
 // A depth under a name no preset knows: --inspect says so and its command takes it.

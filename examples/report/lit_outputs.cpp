@@ -19,7 +19,7 @@ obscura::Image readRgbLayer(const std::string& exrPath, const std::string& layer
     job.settings.method = "ssdo";
     job.writeIndirect = true;
     job.bounceSource = layer;
-    obscura::Image rgb = std::move(obscura::loadFramePasses(job, false).radiance);
+    obscura::Image rgb = std::move(obscura::loadFramePasses(job, {}).radiance);
     if (rgb.empty()) throw obscura::Error("'" + exrPath + "' has no " + layer + " layer");
     return rgb;
 }

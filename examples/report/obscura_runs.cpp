@@ -21,7 +21,7 @@ LoadedFrame loadFrame(const std::string& exrPath, const std::string& referenceLa
         job.writeIndirect = true;
     }
     LoadedFrame f;
-    f.passes = obscura::loadFramePasses(job, false);
+    f.passes = obscura::loadFramePasses(job, {});
     if (withBounce) {
         if (f.passes.radiance.empty() || f.passes.albedo.empty())
             throw obscura::Error("'" + exrPath + "' has no DiffDir/DiffCol for the bounce");

@@ -96,6 +96,7 @@ DeepLayers readDeepLayers(const std::string& path, int maxLayers, const DeepChan
         order.clear();
         for (size_t i = first; i < first + (size_t)n; ++i) {
             const float z = dd.z[i];
+            if (z == std::numeric_limits<float>::infinity()) continue;  // the sky: no surface
             if (!std::isfinite(z) || z <= 0.0f) {
                 ++out.droppedSamples;
                 continue;

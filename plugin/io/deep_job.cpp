@@ -121,7 +121,7 @@ void reportMerge(const std::vector<std::string>& paths, const DeepMerge& m, Fram
                           (m.layerCount ? std::to_string(m.layerCount) + " layer(s)" : "no layers (falloff none uses them)"));
     if (m.droppedSamples)
         report.warnings.push_back(std::to_string(m.droppedSamples) +
-                                  " deep samples with NaN, infinite or non-positive Z skipped");
+                                  " deep samples with NaN, -inf or non-positive Z skipped");
 }
 
 } // namespace
@@ -151,7 +151,7 @@ FramePasses loadPassesForInspection(const FrameJob& job, DeepElementsInput& deep
     const std::vector<std::string> elements = deepElementsOf(job, headers);
     if (!elements.empty()) return loadDeepElements(job, elements, deep, report, true);
     if (job.write != WriteMode::Append) requireFlatParts(*headers);  // as a run checks the headers it passes on
-    return loadFramePasses(job, false, nullptr, false, headers);
+    return loadFramePasses(job, {}, nullptr, false, headers);
 }
 
 FramePasses loadDeepElements(const FrameJob& job, const std::vector<std::string>& paths, DeepElementsInput& deep,

@@ -234,7 +234,8 @@ public:
         }
     }
 
-    // Pixel p's valid samples, sorted by (Z, ZBack); counts what was dropped.
+    // Pixel p's valid samples, sorted by (Z, ZBack); counts what was dropped. A sample at Z = +inf
+    // is the sky (docs/conventions.md): it comes last, and is colour without a surface.
     void gather(size_t p, MergeCounts& m) {
         buf_.clear();
         owner_.clear();
@@ -245,7 +246,7 @@ public:
                 const float* v = &el.samples.values[s * nc];
                 ++m.samples;
                 const float z = v[el.z], zb = el.zBack >= 0 ? v[el.zBack] : z;
-                if (!std::isfinite(z) || z <= 0.0f) {
+                if (!(z > 0.0f)) {  // NaN, -inf, 0 or negative
                     ++m.droppedSamples;
                     continue;
                 }
@@ -264,17 +265,17 @@ public:
         });
         sorted.resize(n * stride);
         owner.resize(n);
-        spans.resize(n);
+        spans.clear();
         for (size_t i = 0; i < n; ++i) {
             std::copy_n(&buf_[order_[i] * stride], stride, &sorted[i * stride]);
             owner[i] = owner_[order_[i]];
-            spans[i] = {sorted[i * stride], sorted[i * stride + 1]};
+            if (sorted[i * stride] < kInf) spans.push_back({sorted[i * stride], sorted[i * stride + 1]});
         }
     }
 
     std::vector<float> sorted;    // stride floats a sample: Z, ZBack, the flattened channels
     std::vector<int> owner;       // each sorted sample's element
-    std::vector<DeepSpan> spans;  // each sorted sample's (Z, ZBack)
+    std::vector<DeepSpan> spans;  // the surfaces: each sorted sample's (Z, ZBack) but the sky's, which come last
 
 private:
     const std::vector<DeepElement>& elements_;
@@ -333,9 +334,9 @@ void mergeBand(const std::vector<DeepElement>& elements, int alpha, const int* r
     std::vector<DeepSpan> rest;
     for (size_t p = (size_t)W * band.y0; p < (size_t)W * band.y1; ++p) {
         px.gather(p, band.counts);
-        const size_t n = px.spans.size();
+        const size_t n = px.spans.size();  // the surfaces; the sky's samples follow them
         if (n == 0) ++band.counts.emptyPixels;
-        flattenSamples(px.sorted.data(), n, 2 + C, alpha, scratch, out.data());
+        flattenSamples(px.sorted.data(), px.owner.size(), 2 + C, alpha, scratch, out.data());
         for (int c = 0; c < C; ++c) m.flat[c].pixels[p] = out[c];
         if (n) m.front.pixels[p] = px.spans[0].front;
         if (maxLayers == 0) continue;  // flattened only: no surfaces, and no element's own (perElement needs them)

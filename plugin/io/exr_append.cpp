@@ -3,17 +3,9 @@
 #include "base/error.h"
 #include "io/exr_chunk_table.h"
 
-#include <OpenEXR/ImfDeepScanLineInputPart.h>
-#include <OpenEXR/ImfDeepScanLineOutputPart.h>
-#include <OpenEXR/ImfDeepTiledInputPart.h>
-#include <OpenEXR/ImfDeepTiledOutputPart.h>
-#include <OpenEXR/ImfInputPart.h>
 #include <OpenEXR/ImfMultiPartInputFile.h>
 #include <OpenEXR/ImfMultiPartOutputFile.h>
-#include <OpenEXR/ImfOutputPart.h>
 #include <OpenEXR/ImfPartType.h>
-#include <OpenEXR/ImfTiledInputPart.h>
-#include <OpenEXR/ImfTiledOutputPart.h>
 
 #include <chrono>
 #include <cstring>
@@ -49,20 +41,6 @@ Imf::Header appendedHeader(const Imf::Header& own, const Imf::Header& first, con
     return h;
 }
 
-template <class In, class Out>
-void copyChunks(Imf::MultiPartInputFile& in, Imf::MultiPartOutputFile& out, int p) {
-    In from(in, p);
-    Out(out, p).copyPixels(from);
-}
-
-void copyPart(Imf::MultiPartInputFile& in, Imf::MultiPartOutputFile& out, int p) {
-    const std::string& type = out.header(p).type();
-    if (type == Imf::TILEDIMAGE) copyChunks<Imf::TiledInputPart, Imf::TiledOutputPart>(in, out, p);
-    else if (type == Imf::DEEPSCANLINE) copyChunks<Imf::DeepScanLineInputPart, Imf::DeepScanLineOutputPart>(in, out, p);
-    else if (type == Imf::DEEPTILE) copyChunks<Imf::DeepTiledInputPart, Imf::DeepTiledOutputPart>(in, out, p);
-    else copyChunks<Imf::InputPart, Imf::OutputPart>(in, out, p);
-}
-
 } // namespace
 
 void writeAppended(const std::string& outPath, const ExrInfo& input, const ExrPixels& layers,
@@ -88,7 +66,7 @@ void writeAppended(const std::string& outPath, const ExrInfo& input, const ExrPi
         }
         Imf::MultiPartOutputFile out(tmp.c_str(), headers.data(), n + added);
         const auto c0 = Clock::now();
-        for (int p = 0; p < n; ++p) copyPart(in, out, p);
+        for (int p = 0; p < n; ++p) copyPartChunks(in, out, p);
         copySeconds += secondsSince(c0);
         for (int p = 0; p < added; ++p) writePartPixels(out, n + p, layers.info.parts[p], {}, byPart[p]);
     });

@@ -2,9 +2,19 @@
 
 #include "base/error.h"
 
+#include <OpenEXR/ImfDeepScanLineInputPart.h>
+#include <OpenEXR/ImfDeepScanLineOutputPart.h>
+#include <OpenEXR/ImfDeepTiledInputPart.h>
+#include <OpenEXR/ImfDeepTiledOutputPart.h>
+#include <OpenEXR/ImfInputPart.h>
 #include <OpenEXR/ImfIntAttribute.h>
+#include <OpenEXR/ImfMultiPartInputFile.h>
+#include <OpenEXR/ImfMultiPartOutputFile.h>
+#include <OpenEXR/ImfOutputPart.h>
 #include <OpenEXR/ImfPartType.h>
 #include <OpenEXR/ImfTileDescription.h>
+#include <OpenEXR/ImfTiledInputPart.h>
+#include <OpenEXR/ImfTiledOutputPart.h>
 
 #include <algorithm>
 #include <cstdint>
@@ -186,6 +196,24 @@ void checkChunkTables(const std::string& path, const ExrInfo& info) {
     TableReader reader{path, f, fileBytes, tablesEnd, multipart};
     long long at = tablesStart;
     for (size_t p = 0; p < info.parts.size(); ++p) at = reader.checkPart((int)p, info.parts[p], at);
+}
+
+namespace {
+
+template <class In, class Out>
+void copyChunks(Imf::MultiPartInputFile& in, Imf::MultiPartOutputFile& out, int p) {
+    In from(in, p);
+    Out(out, p).copyPixels(from);
+}
+
+} // namespace
+
+void copyPartChunks(Imf::MultiPartInputFile& in, Imf::MultiPartOutputFile& out, int p) {
+    const std::string& type = out.header(p).type();
+    if (type == Imf::TILEDIMAGE) copyChunks<Imf::TiledInputPart, Imf::TiledOutputPart>(in, out, p);
+    else if (type == Imf::DEEPSCANLINE) copyChunks<Imf::DeepScanLineInputPart, Imf::DeepScanLineOutputPart>(in, out, p);
+    else if (type == Imf::DEEPTILE) copyChunks<Imf::DeepTiledInputPart, Imf::DeepTiledOutputPart>(in, out, p);
+    else copyChunks<Imf::InputPart, Imf::OutputPart>(in, out, p);
 }
 
 } // namespace obscura

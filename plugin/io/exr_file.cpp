@@ -1,6 +1,7 @@
 #include "io/exr_file.h"
 
 #include "base/error.h"
+#include "io/exr_chunk_table.h"
 
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
@@ -26,6 +27,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
+#include <optional>
 #include <thread>
 #include <unistd.h>
 
@@ -293,7 +296,7 @@ void requireFlatParts(const ExrInfo& info) {
 }
 
 std::vector<Image> readExrChannels(const std::string& path, const ExrInfo& info,
-                                   const std::vector<ChannelRef>& wanted, bool keepAll,
+                                   const std::vector<ChannelRef>& wanted, const std::vector<int>& rawParts,
                                    ExrPixels* out) {
     const int nParts = (int)info.parts.size();
     // Resolve wanted channels before touching pixel data: a typo is not corruption.
@@ -306,18 +309,21 @@ std::vector<Image> readExrChannels(const std::string& path, const ExrInfo& info,
                                (info.multipart ? " in part " + std::to_string(r.part) : std::string()));
         wantedIdx.push_back(c);
     }
-    if (keepAll && !out) throw Error("internal: readExrChannels keepAll needs an output");
+    if (!rawParts.empty() && !out) throw Error("internal: readExrChannels keeping raw parts needs an output");
     ensureExrThreads();
 
-    // Raw buffers: every channel when keeping all; else float buffers for wanted ones only.
+    // Raw buffers: every channel of a part kept raw; else float buffers for the wanted ones only.
     std::vector<std::vector<std::vector<char>>> raw(nParts);
+    std::vector<bool> keep(nParts, false);
+    for (int p : rawParts)
+        if (p >= 0 && p < nParts) keep[p] = true;
     std::vector<std::vector<char>> floats(wanted.size());
     std::vector<Imf::FrameBuffer> fbs(nParts);
     std::vector<bool> readIt(nParts, false);
     for (int p = 0; p < nParts; ++p) {
         const ExrPart& part = info.parts[p];
         raw[p].resize(part.channels.size());
-        if (!keepAll || part.deep) continue;  // deep parts list no channels: nothing to decode
+        if (!keep[p] || part.deep) continue;  // deep parts list no channels: nothing to decode
         readIt[p] = true;
         for (size_t c = 0; c < part.channels.size(); ++c) {
             const ExrChannel& ch = part.channels[c];
@@ -325,14 +331,13 @@ std::vector<Image> readExrChannels(const std::string& path, const ExrInfo& info,
             fbs[p].insert(ch.name, makeSlice(part, ch, ch.type, raw[p][c].data()));
         }
     }
-    if (!keepAll) {
-        for (size_t i = 0; i < wanted.size(); ++i) {
-            const ExrPart& part = info.parts[wanted[i].part];
-            const ExrChannel& ch = part.channels[wantedIdx[i]];
-            floats[i].resize(channelSamples(part, ch) * 4);
-            fbs[wanted[i].part].insert(ch.name, makeSlice(part, ch, Imf::FLOAT, floats[i].data()));
-            readIt[wanted[i].part] = true;
-        }
+    for (size_t i = 0; i < wanted.size(); ++i) {
+        if (keep[wanted[i].part]) continue;  // read raw, converted below
+        const ExrPart& part = info.parts[wanted[i].part];
+        const ExrChannel& ch = part.channels[wantedIdx[i]];
+        floats[i].resize(channelSamples(part, ch) * 4);
+        fbs[wanted[i].part].insert(ch.name, makeSlice(part, ch, Imf::FLOAT, floats[i].data()));
+        readIt[wanted[i].part] = true;
     }
 
     try {
@@ -355,7 +360,7 @@ std::vector<Image> readExrChannels(const std::string& path, const ExrInfo& info,
     for (size_t i = 0; i < wanted.size(); ++i) {
         const ExrPart& part = info.parts[wanted[i].part];
         const ExrChannel& ch = part.channels[wantedIdx[i]];
-        if (keepAll)
+        if (keep[wanted[i].part])
             result.push_back(toFloatPlane(part, ch, raw[wanted[i].part][wantedIdx[i]].data(), ch.type));
         else
             result.push_back(toFloatPlane(part, ch, floats[i].data(), Imf::FLOAT));
@@ -365,6 +370,13 @@ std::vector<Image> readExrChannels(const std::string& path, const ExrInfo& info,
         out->raw = std::move(raw);
     }
     return result;
+}
+
+std::vector<Image> readExrChannels(const std::string& path, const ExrInfo& info,
+                                   const std::vector<ChannelRef>& wanted, bool keepAll, ExrPixels* out) {
+    std::vector<int> parts;
+    for (int p = 0; keepAll && p < (int)info.parts.size(); ++p) parts.push_back(p);
+    return readExrChannels(path, info, wanted, parts, out);
 }
 
 namespace {
@@ -416,15 +428,38 @@ void shareFirstPartsAttributes(std::vector<Imf::Header>& headers) {
     }
 }
 
+// Whether part p gets nothing new: its compressed chunks are then copied as they are. Encoding them
+// again would lose more of a lossy codec's (DWAA, B44) and keep only a mip-mapped part's level 0.
+bool untouched(int p, const std::vector<std::vector<const NewChannel*>>& byPart, const std::vector<StringAttribute>& attrs) {
+    return byPart[p].empty() && std::none_of(attrs.begin(), attrs.end(), [p](const StringAttribute& a) { return a.part == p; });
+}
+
 void writeParts(const std::string& tmp, const ExrPixels& in,
                 const std::vector<std::vector<const NewChannel*>>& byPart,
                 const std::vector<StringAttribute>& attrs) {
     const int nParts = (int)in.info.parts.size();
     std::vector<Imf::Header> headers;
-    for (int p = 0; p < nParts; ++p) headers.push_back(headerWithNewChannels(in.info.parts[p], byPart[p], attrs, p));
+    for (int p = 0; p < nParts; ++p)
+        headers.push_back(untouched(p, byPart, attrs)
+                              ? headerWithout(in.info.parts[p].header, [](const char* n) { return std::strcmp(n, "chunkCount") == 0; })
+                              : headerWithNewChannels(in.info.parts[p], byPart[p], attrs, p));
     shareFirstPartsAttributes(headers);
     Imf::MultiPartOutputFile file(tmp.c_str(), headers.data(), nParts);
-    for (int p = 0; p < nParts; ++p) writePartPixels(file, p, in.info.parts[p], in.raw[p], byPart[p]);
+    std::optional<Imf::MultiPartInputFile> source;
+    for (int p = 0; p < nParts; ++p) {
+        if (!untouched(p, byPart, attrs)) {
+            writePartPixels(file, p, in.info.parts[p], in.raw[p], byPart[p]);
+            continue;
+        }
+        if (!source) {
+            // The file's own parts (a part obscura adds is not among them): a table OpenEXR would
+            // rebuild by scanning is refused.
+            checkChunkTables(in.info.path, readExrInfo(in.info.path, std::numeric_limits<long long>::max(), true));
+            source.emplace(in.info.path.c_str());
+        }
+        if (p >= source->parts()) throw FileError(in.info.path, "changed while being read");
+        copyPartChunks(*source, file, p);
+    }
 }
 
 bool samePath(const std::string& a, const std::string& b) {
@@ -538,7 +573,9 @@ void writeExrWithNewChannels(const std::string& outPath, const ExrPixels& in,
     const int nParts = (int)info.parts.size();
     if (nParts == 0 || (int)in.raw.size() != nParts)
         throw Error("internal: no pixels kept for pass-through of " + quoted(info.path));
-    for (int p = 0; p < nParts; ++p) {
+    const std::vector<std::vector<const NewChannel*>> byPart = newChannelsByPart(outPath, info, add, attrs);
+    for (int p = 0; p < nParts; ++p) {  // a part taking new layers is encoded again: all its pixels are needed
+        if (untouched(p, byPart, attrs)) continue;
         const ExrPart& part = info.parts[p];
         if (in.raw[p].size() != part.channels.size())
             throw Error("internal: pixels of " + quoted(info.path) + " were not all kept");
@@ -546,7 +583,6 @@ void writeExrWithNewChannels(const std::string& outPath, const ExrPixels& in,
             if (in.raw[p][c].size() != channelSamples(part, part.channels[c]) * bytesPerSample(part.channels[c].type))
                 throw Error("internal: pixels of " + quoted(info.path) + " were not all kept");
     }
-    const std::vector<std::vector<const NewChannel*>> byPart = newChannelsByPart(outPath, info, add, attrs);
     writeFileAtomically(outPath, info.path, allowOverwriteInput,
                         [&](const std::string& tmp) { writeParts(tmp, in, byPart, attrs); });
 }

@@ -98,12 +98,16 @@ struct ExrPixels {
 int sampleCount(int lo, int hiExclusive, int sampling);
 
 // Reads pixel data once. `wanted` come back as 1-channel float planes over their part's data
-// window (subsampled channels are replicated to full resolution). With keepAll, every channel
-// of every part is also kept raw in *out; otherwise only the wanted channels are decoded.
+// window (subsampled channels are replicated to full resolution). Every channel of the parts in
+// `rawParts` is also kept raw in *out (the parts a copy writes new layers into); of the others
+// only the wanted channels are decoded, and *out holds none of theirs.
 // Truncated/corrupt data -> Error("'path' is truncated or corrupt: <detail>").
 std::vector<Image> readExrChannels(const std::string& path, const ExrInfo& info,
-                                   const std::vector<ChannelRef>& wanted, bool keepAll,
+                                   const std::vector<ChannelRef>& wanted, const std::vector<int>& rawParts,
                                    ExrPixels* out);
+// The same with every part kept raw (keepAll), or none.
+std::vector<Image> readExrChannels(const std::string& path, const ExrInfo& info,
+                                   const std::vector<ChannelRef>& wanted, bool keepAll, ExrPixels* out);
 
 struct NewChannel {
     int part = 0;

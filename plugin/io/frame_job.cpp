@@ -303,7 +303,7 @@ void requireFullResolution(const FrameJob& job, const FramePasses& p, const std:
     }
 }
 
-FramePasses loadPasses(const FrameJob& job, bool keepAll, std::vector<StageTiming>* stages, bool alwaysReadPosition,
+FramePasses loadPasses(const FrameJob& job, const std::vector<int>& rawParts, std::vector<StageTiming>* stages, bool alwaysReadPosition,
                        const ExrInfo* headers) {
     StageTimer timer{stages, "read"};
     FramePasses p;
@@ -353,7 +353,7 @@ FramePasses loadPasses(const FrameJob& job, bool keepAll, std::vector<StageTimin
     const SsdoReads ssdo = planSsdoReads(job, p);
     addSsdoChannels(job, p, ssdo, wanted);
     requireFullResolution(job, p, wanted);
-    std::vector<Image> planes = readExrChannels(job.input, p.info, wanted, keepAll, keepAll ? &p.raw : nullptr);
+    std::vector<Image> planes = readExrChannels(job.input, p.info, wanted, rawParts, rawParts.empty() ? nullptr : &p.raw);
     size_t next = 0;
     if (depth) p.depth = std::move(planes[next++]);
     if (normal) {
@@ -377,9 +377,9 @@ FramePasses loadPasses(const FrameJob& job, bool keepAll, std::vector<StageTimin
 
 } // namespace
 
-FramePasses loadFramePasses(const FrameJob& job, bool keepAll, std::vector<StageTiming>* stages,
+FramePasses loadFramePasses(const FrameJob& job, const std::vector<int>& rawParts, std::vector<StageTiming>* stages,
                              bool alwaysReadPosition, const ExrInfo* headers) {
-    return blameInput(job.input, [&] { return loadPasses(job, keepAll, stages, alwaysReadPosition, headers); });
+    return blameInput(job.input, [&] { return loadPasses(job, rawParts, stages, alwaysReadPosition, headers); });
 }
 
 Camera resolveFrameCamera(const FrameJob& job, const FramePasses& p) {
@@ -422,7 +422,7 @@ Image readDeepInput(const FrameJob& job, const FramePasses& p, Image& colour, Fr
         report.deepTruncatedPixels = deep.truncatedPixels;
         report.plan.push_back("deep: " + std::to_string(deep.layers) + " layer(s) from " + job.deepInput);
         if (deep.droppedSamples)
-            report.warnings.push_back(std::to_string(deep.droppedSamples) + " deep samples with NaN, infinite or non-positive Z skipped");
+            report.warnings.push_back(std::to_string(deep.droppedSamples) + " deep samples with NaN, -inf or non-positive Z skipped");
         if (deep.unsortedPixels)
             report.warnings.push_back(std::to_string(deep.unsortedPixels) + " deep pixels with unsorted samples sorted by Z");
         if (readsDeepColour(job)) noteDeepColour(!deep.colour.empty(), report);
@@ -518,6 +518,29 @@ void compareWithReference(const FramePasses& p, const OperatorOutputs& out, Fram
                                        [&](int x, int y) { return isSurface(*p.depth.at(x, y), sky); });
 }
 
+// What the depth's values say, where the run would otherwise give an answer without a word: no
+// surface at all (AO 1 everywhere), or values that look like 1/Z or a normalised depth.
+void warnOfTheDepth(const FramePasses& p, FrameReport& report) {
+    const DepthStatistics& s = p.depthStats;
+    if (s.skyShare >= 1.0)
+        report.warnings.push_back("the depth holds no surface: every pixel is 0, NaN, infinite or at or beyond the sky "
+                                  "depth, so the AO is 1 everywhere; check the depth layer (--layer depth=NAME) and --depth");
+    else if (!s.hint.empty())
+        report.warnings.push_back("the depth looks like " + s.hint + "; it is read as a distance");
+}
+
+// The parts of the input a copy may write new layers into: each processed view's depth part (its
+// position part without a depth). The others are copied chunk for chunk, never decoded.
+std::vector<int> partsTakingLayers(const FrameJob& job, const ExrInfo& info, const std::vector<std::string>& views) {
+    std::vector<int> parts;
+    for (const std::string& view : views.empty() ? std::vector<std::string>{""} : views) {
+        const LayerPlan plan = planViewLayers(job, info, view);
+        const LayerBinding* b = plan.find(Role::Depth) ? plan.find(Role::Depth) : plan.find(Role::Position);
+        if (b && std::find(parts.begin(), parts.end(), b->part) == parts.end()) parts.push_back(b->part);
+    }
+    return parts;
+}
+
 // One view's (or the merged deep elements') passes through the operator. `merged`: deep
 // elements, whose surfaces are the deep input and whose per-element AO goes to `elementAo`.
 ViewResult computeView(const FrameJob& job, FramePasses passes, FrameReport& report,
@@ -525,6 +548,7 @@ ViewResult computeView(const FrameJob& job, FramePasses passes, FrameReport& rep
     ViewResult r{std::move(passes), {}};
     FramePasses& p = r.passes;
     resolveConventions(job, p, report);
+    warnOfTheDepth(p, report);
     Settings settings = job.settings;
     Image deep = merged ? std::move(merged->layers) : Image{}, environment;
     Image deepColour = merged ? std::move(merged->colour) : Image{};
@@ -589,15 +613,17 @@ FrameReport runJob(const FrameJob& job) {
         if (job.write != WriteMode::Append) requireFlatParts(*headers);
         checkDeepSettingsRead(job, report);
         report.views = viewsToProcess(job, *headers);
+        const std::vector<int> copied = job.write == WriteMode::Copy ? partsTakingLayers(job, *headers, report.views)
+                                                                       : std::vector<int>{};
         // Every view processed runs on its own passes; one camera serves them all unless each
-        // view's part carries its own.
+        // view's part carries its own. The first view's read keeps the parts a copy writes into.
         for (size_t v = 0; v < std::max<size_t>(1, report.views.size()); ++v) {
             FrameJob viewJob = job;
             if (!report.views.empty()) viewJob.views = {report.views[v]};
             FrameReport viewReport;
             FrameReport& into = v == 0 ? report : viewReport;
-            const bool keepAll = v == 0 && job.write == WriteMode::Copy;
-            results.push_back(computeView(viewJob, loadFramePasses(viewJob, keepAll, &into.stages, false, &*headers), into));
+            const std::vector<int> raw = v == 0 ? copied : std::vector<int>{};
+            results.push_back(computeView(viewJob, loadFramePasses(viewJob, raw, &into.stages, false, &*headers), into));
             if (v > 0) mergeViewReport(report.views[v], viewReport, report);
         }
     }

@@ -157,12 +157,13 @@ std::vector<std::string> viewsToProcess(const FrameJob& job, const ExrInfo& info
 // The layers of `view` of the file ("": the whole file), channel names as the file spells them.
 LayerPlan planViewLayers(const FrameJob& job, const ExrInfo& info, const std::string& view);
 
-// Reads headers, plans layers and reads the pixels `job` needs (plus everything raw if keepAll).
+// Reads headers, plans layers and reads the pixels `job` needs, plus every channel of the parts in
+// `rawParts` raw (a copy's parts that take new layers).
 // alwaysReadPosition: read the position pass whenever it covers the depth's pixels, not only
 // when the camera must be fitted from it (Python's read_passes returns it). `headers`: the
 // input's, when the caller has read them and refused deep parts as readExrInfo would (else they
 // are read here).
-FramePasses loadFramePasses(const FrameJob& job, bool keepAll, std::vector<StageTiming>* stages = nullptr,
+FramePasses loadFramePasses(const FrameJob& job, const std::vector<int>& rawParts, std::vector<StageTiming>* stages = nullptr,
                             bool alwaysReadPosition = false, const ExrInfo* headers = nullptr);
 // Single-channel planes [first, first + channels) interleaved into one image.
 Image interleavePlanes(const std::vector<Image>& planes, size_t first, int channels);

@@ -8,6 +8,8 @@
 #include "io/stage_timer.h"
 #include "io/views.h"
 
+#include <OpenEXR/ImfTileDescription.h>
+
 #include <algorithm>
 #include <map>
 
@@ -190,6 +192,21 @@ void warnOfEarlierLayers(const FrameJob& job, const ExrInfo& input, const std::v
                                     : "; the output's new layers replace them") +
                               " (--out-layer ao=NAME, gi=NAME, ... names the new layers apart)");
 }
+
+// Copy encodes again the parts that take new layers, and a tiled part only at its level 0: a
+// mip-mapped (texture) input would lose its lower levels without a word. Parts that take
+// nothing are copied chunk for chunk, levels and all.
+void warnOfLostLevels(const FrameJob& job, const ExrInfo& input, const std::vector<NewChannel>& add, FrameReport& report) {
+    if (job.write != WriteMode::Copy) return;
+    for (size_t part = 0; part < input.parts.size(); ++part) {
+        const Imf::Header& h = input.parts[part].header;
+        const bool levels = h.hasTileDescription() && h.tileDescription().mode != Imf::ONE_LEVEL;
+        const bool touched = std::any_of(add.begin(), add.end(), [&](const NewChannel& c) { return c.part == (int)part; });
+        if (levels && touched)
+            report.warnings.push_back("part " + std::to_string(part) + " of the input is mip-mapped; copy writes its "
+                                      "level 0 only, beside the new layers (--write append keeps every level)");
+    }
+}
 } // namespace
 
 void writeFrameOutputs(const FrameJob& job, std::vector<ViewResult>& views, FrameReport& report,
@@ -219,10 +236,12 @@ void writeFrameOutputs(const FrameJob& job, std::vector<ViewResult>& views, Fram
     std::vector<StringAttribute> attrs;
     std::map<int, std::pair<std::vector<std::string>, std::vector<std::string>>> tags;  // part: colour layers, data channels
     int firstPart = -1;
+    std::map<int, std::string> partView;  // a view in a part of its own: its channels' names repeat
     for (ViewResult& v : views) {
         const FramePasses& p = v.passes;
         const int outPart = destinationPart(job, p, target, ownParts);
         if (firstPart < 0) firstPart = outPart;
+        if (!namedInView(p) && !p.view.empty()) partView[outPart] = p.view;
         NewChannel ao{outPart, viewedName(p, aoChannelName(job.aoLayer)), v.out.ao, type};
         if (report.aoChannel.empty()) report.aoChannel = ao.name;
         tags[outPart].second.push_back(ao.name);
@@ -245,8 +264,10 @@ void writeFrameOutputs(const FrameJob& job, std::vector<ViewResult>& views, Fram
         if (!note.empty() && std::find(report.plan.begin(), report.plan.end(), note) == report.plan.end())
             report.plan.push_back(note);
     }
-    for (const NewChannel& c : add) report.written.push_back(c.name);
+    for (const NewChannel& c : add)
+        report.written.push_back(partView.count(c.part) ? "view " + partView[c.part] + ": " + c.name : c.name);
     warnOfEarlierLayers(job, first.info, add, report);
+    warnOfLostLevels(job, first.info, add, report);
     if (copy)  // deep elements: the flattened image is the copy's input
         for (NewChannel& c : views.front().passes.carried) add.push_back({firstPart, c.name, std::move(c.plane), c.type});
     if (append)

@@ -28,8 +28,16 @@ std::vector<std::string> viewsToProcess(const FrameJob& job, const ExrInfo& info
         try {
             const LayerPlan plan = planViewLayers(job, info, v);
             if (plan.find(Role::Depth) || plan.find(Role::Position)) out.push_back(v);
-        } catch (const Error&) {
-            // A --layer override this view lacks: the view has nothing to run on.
+        } catch (const Error& e) {
+            // A --layer override this view lacks. A view with no depth has nothing to run on
+            // anyway; one with a depth would be left without its AO, so that is said.
+            FrameJob plain = job;
+            plain.layerOverrides.clear();
+            const LayerPlan own = planViewLayers(plain, info, v);
+            if (!own.find(Role::Depth) && !own.find(Role::Position)) continue;
+            const std::string why = e.what(), prefix = "'" + info.path + "': ";
+            throw FileError(info.path, "view '" + v + "': " + (why.rfind(prefix, 0) == 0 ? why.substr(prefix.size()) : why) +
+                                           " (name the layer as this view spells it, or give --view for the others)");
         }
     }
     return out;

@@ -37,6 +37,17 @@ json rolesJson(const LayerPlan& plan) {
     return out;
 }
 
+// In a multipart file, the part each role is read from (its name, else its index): parts often
+// hold bare R, G, B channels, which alone do not say which pass they are.
+json rolePartsJson(const LayerPlan& plan, const ExrInfo& info) {
+    json out = json::object();
+    if (!info.multipart) return out;
+    for (Role r : allRoles())
+        if (const LayerBinding* b = plan.find(r); b && b->part >= 0 && b->part < (int)info.parts.size())
+            out[roleName(r)] = info.parts[b->part].name.empty() ? std::to_string(b->part) : info.parts[b->part].name;
+    return out;
+}
+
 json conventionsJson(const FrameJob& job, const FramePasses& p) {
     const NormalSpace normals = p.normalsFromDepth ? NormalSpace::Depth : job.normalSpace.value_or(p.plan.normalSpace);
     return {{"depth", toString(p.depthEncoding)},
@@ -109,13 +120,14 @@ void writeLayers(std::ostream& os, const json& j) {
     }
 }
 
-void writeRoles(std::ostream& os, const json& roles, const json& fills) {
+void writeRoles(std::ostream& os, const json& roles, const json& fills, const json& parts) {
     os << "roles:\n";
     for (Role r : allRoles()) {
         const json& channels = roles[roleName(r)];
         os << "  " << roleName(r) << ": ";
         if (channels.is_null()) os << "(not found) " << fills[roleName(r)].get<std::string>();
         for (size_t i = 0; i < channels.size(); ++i) os << (i ? ", " : "") << channels[i].get<std::string>();
+        if (parts.contains(roleName(r))) os << " (part " << parts[roleName(r)].get<std::string>() << ")";
         os << "\n";
     }
 }
@@ -125,7 +137,7 @@ void writeViews(std::ostream& os, const json& j) {
     os << "views:   ";
     for (size_t i = 0; i < j["views"].size(); ++i) os << (i ? ", " : "") << j["views"][i].get<std::string>() << (i ? "" : " (default)");
     os << "; a run processes ";
-    if (j.contains("view_missing")) os << "nothing: --view names a view the file lacks (the problem below)";
+    if (j.contains("views_unplanned")) os << "nothing (the problem below)";
     else if (j["views_processed"].empty()) os << "the file as one image (no view has a depth)";
     for (size_t i = 0; i < j["views_processed"].size(); ++i) os << (i ? ", " : "") << j["views_processed"][i].get<std::string>();
     if (!j["view"].is_null()) os << "; described below: " << j["view"].get<std::string>();
@@ -182,22 +194,27 @@ void addViews(json& j, const FrameJob& job, const ExrInfo& info, const FramePass
         j["views_processed"] = processed;
         if (!p && !processed.empty()) j["view"] = processed.front();
     } catch (const Error&) {
-        // A --view the file lacks (loadFramePasses has reported it as the problem): the roles are
-        // described as the file's default view holds them.
-        j["view_missing"] = true;
+        // A --view the file lacks, or a --layer a view lacks (loadFramePasses has reported it as
+        // the problem): the roles are described as the file's default view holds them.
+        j["views_unplanned"] = true;
         if (!p && !fileViews(info).empty()) j["view"] = fileViews(info).front();
     }
 }
 
-// The layers found, or none when even that fails (a --layer naming nothing).
+// The layers found; where a --layer names nothing (the problem reported), those the file offers
+// without it; none when even that fails.
 LayerPlan planOrNothing(const FrameJob& job, const ExrInfo& info, const std::string& view) {
-    try {
-        return planViewLayers(job, info, view);
-    } catch (const Error&) {
-        LayerPlan none;
-        none.preset = job.preset;
-        return none;
+    FrameJob plain = job;
+    plain.layerOverrides.clear();
+    for (const FrameJob* j : std::initializer_list<const FrameJob*>{&job, &plain}) {
+        try {
+            return planViewLayers(*j, info, view);
+        } catch (const Error&) {
+        }
     }
+    LayerPlan none;
+    none.preset = job.preset;
+    return none;
 }
 
 std::string bindingName(const LayerBinding& b) { return "layer '" + (b.layer.empty() ? b.channels[0] : b.layer) + "'"; }
@@ -247,6 +264,7 @@ json inspectFrameJson(const FrameJob& job) {
     const LayerPlan plan = p ? p->plan : planOrNothing(job, info, j["view"].is_null() ? "" : j["view"].get<std::string>());
     j["preset"] = plan.preset;
     j["roles"] = rolesJson(plan);
+    j["role_parts"] = rolePartsJson(plan, p && !elements.empty() ? p->info : info);
     j["fills"] = fillsJson(job, plan);
     j["conventions"] = p ? conventionsJson(job, *p) : json(nullptr);
     j["depth_statistics"] = p ? depthStatisticsJson(p->depthStats) : json(nullptr);
@@ -292,7 +310,7 @@ std::string inspectText(const json& j) {
     writeLayers(os, j);
     writeViews(os, j);
     os << "preset:  " << j["preset"].get<std::string>() << "\n";
-    writeRoles(os, j["roles"], j["fills"]);
+    writeRoles(os, j["roles"], j["fills"], j["role_parts"]);
     const json& conv = j["conventions"];
     if (!conv.is_null()) {
         os << "depth:   " << conv["depth"].get<std::string>() << "   normals: " << conv["normals"].get<std::string>()

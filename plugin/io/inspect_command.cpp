@@ -101,7 +101,8 @@ Camera cameraForRun(FrameJob& run, const FramePasses& p, std::vector<std::string
 }
 
 // A channel that looks like a depth where the preset found neither a depth nor a position pass:
-// its last name component is Z, or its name says depth. Named as the view described sees it.
+// its last name component is Z, its name says depth, or it is Mantra's Pz. Named as the view
+// described sees it.
 std::string depthCandidate(const FrameJob& job) {
     const ExrInfo info = readExrInfo(job.input, job.maxPixels);
     const std::vector<std::string> views = viewsToProcess(job, info);
@@ -113,7 +114,8 @@ std::string depthCandidate(const FrameJob& job) {
             std::string lower = ch.name;
             for (char& c : lower) c = (char)std::tolower((unsigned char)c);
             const size_t dot = lower.rfind('.');
-            if (lower.substr(dot == std::string::npos ? 0 : dot + 1) == "z" || lower.find("depth") != std::string::npos)
+            const std::string last = lower.substr(dot == std::string::npos ? 0 : dot + 1);
+            if (last == "z" || last == "pz" || lower.find("depth") != std::string::npos)
                 return ch.name;
         }
     return "";
@@ -149,6 +151,9 @@ void completeRun(FrameJob& run, std::vector<std::string>& notes, const FramePass
         notes.push_back("normals: the file's are in world space and no camera pose is known; the command "
                         "reconstructs them from depth (--normals depth): give --camera-to-world to use them");
     }
+    // A scene within a unit of the camera is stored so too: the command cannot tell, so it says.
+    if (!p.depthStats.hint.empty())
+        notes.push_back("depth: the command reads it as a distance, but it looks like " + p.depthStats.hint);
 }
 
 } // namespace

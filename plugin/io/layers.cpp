@@ -62,12 +62,13 @@ const std::vector<Preset>& presetTable() {
     return table;
 }
 
-// Channel suffixes, in preference order.
+// Channel suffixes, in preference order. Nuke writes the channels of layers other than rgba as
+// red, green, blue (N.red), and so do V-Ray's render elements.
 const std::vector<std::string> kScalarSuffixes = {"Z", "z", "V", "R", "r", "Y", "y"};
 const std::vector<std::vector<std::string>> kVectorSuffixes = {
-    {"X", "Y", "Z"}, {"x", "y", "z"}, {"R", "G", "B"}, {"r", "g", "b"}};
-const std::vector<std::vector<std::string>> kColourSuffixes = {{"R", "G", "B"}, {"r", "g", "b"}};
-const std::vector<std::string> kAlphaSuffixes = {"A", "a"};
+    {"X", "Y", "Z"}, {"x", "y", "z"}, {"R", "G", "B"}, {"r", "g", "b"}, {"red", "green", "blue"}};
+const std::vector<std::vector<std::string>> kColourSuffixes = {{"R", "G", "B"}, {"r", "g", "b"}, {"red", "green", "blue"}};
+const std::vector<std::string> kAlphaSuffixes = {"A", "a", "alpha"};
 
 const char* kRoleNames[] = {"depth", "normal", "position", "beauty", "albedo", "direct-diffuse"};
 
@@ -232,14 +233,23 @@ LayerPlan planPreset(const Preset& pr, const std::vector<LayerEntry>& layers) {
 
 // Display order: R,G,B,A then X,Y,Z, then the rest as stored (alphabetical).
 std::vector<std::string> displayOrder(std::vector<std::string> v) {
-    auto rank = [](const std::string& s) {
-        static const std::string order = "RGBAXYZ";
-        size_t i = s.size() == 1 ? order.find((char)std::toupper((unsigned char)s[0])) : std::string::npos;
-        return i == std::string::npos ? 100 : (int)i;
-    };
-    std::stable_sort(v.begin(), v.end(), [&](const std::string& a, const std::string& b) { return rank(a) < rank(b); });
+    std::stable_sort(v.begin(), v.end(),
+                     [](const std::string& a, const std::string& b) { return channelOrder(a) < channelOrder(b); });
     return v;
 }
+
+} // namespace
+
+int channelOrder(const std::string& suffix) {
+    static const std::string order = "RGBAXYZW";
+    static const char* const words[] = {"red", "green", "blue", "alpha"};
+    for (int i = 0; i < 4; ++i)
+        if (suffix == words[i]) return i;
+    const size_t i = suffix.size() == 1 ? order.find((char)std::toupper((unsigned char)suffix[0])) : std::string::npos;
+    return i == std::string::npos ? 100 : (int)i;
+}
+
+namespace {
 
 std::string layerLabel(const LayerEntry& e, bool multipart) {
     std::string s = multipart ? (e.partName.empty() ? std::to_string(e.part) : e.partName) + ": " : "";
@@ -269,8 +279,8 @@ LayerBinding resolveOverride(const ExrInfo& info, const std::vector<LayerEntry>&
         std::string prefix;
         if (!layerMatches(e, name, false, &prefix)) continue;
         if (bindLayer(role, e, &b)) return b;
-        throw FileError(info.path, what + ": layer '" + name + "' lacks the channels a " +
-                    roleName(role) + " needs (" + (role == Role::Depth ? "Z/V/R/Y" : "X,Y,Z or R,G,B") + ")");
+        throw FileError(info.path, what + ": layer '" + name + "' lacks the channels a " + roleName(role) +
+                                       " needs (" + (role == Role::Depth ? "Z/V/R/Y" : "X,Y,Z, R,G,B in either case, or red,green,blue") + ")");
     }
     if (bindChannel(role, layers, name, &b)) return b;
     for (const LayerEntry& e : layers)

@@ -54,6 +54,10 @@ LayerPlan planLayers(const ExrInfo& info, const std::string& preset,
 // Throws Error naming the first missing role, the preset and the layers found.
 void requireRoles(const LayerPlan&, const ExrInfo&, const std::vector<Role>&);
 
+// Where a channel suffix sorts in a layer's display order: R, G, B, A, X, Y, Z, W in either case
+// (Nuke's red, green, blue, alpha as R, G, B, A), then the rest, in their own order.
+int channelOrder(const std::string& suffix);
+
 // One layer of a file as --inspect lists it: channel suffixes in display order (R,G,B,A, X,Y,Z,
 // then the rest), and the pixel type ("half", "float", "uint", or "mixed").
 struct LayerSummary {

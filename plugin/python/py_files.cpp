@@ -4,6 +4,7 @@
 #include "base/error.h"
 #include "io/frame_job.h"
 #include "io/inspect.h"
+#include "io/layers.h"
 #include "io/write_guard.h"
 #include "python/call_args.h"
 #include "python/py_args.h"
@@ -101,7 +102,7 @@ const char* kInspectDoc = R"doc(obscura PATH --inspect --json, as a dict: what o
 
 'file'; 'parts' and 'multipart'; 'display_window', 'data_window' (x0, y0, x1, y1) half-open;
 'layers' [{'name', 'part', 'part_name', 'channels', 'type'}]; 'preset'; 'roles' {role: [channel
-names] or None}; 'conventions' {'depth', 'normals', 'normals_left_handed', 'sky_depth'}; 'deep'
+names] or None}; 'role_parts' {role: part name or index} in a multipart file; 'conventions' {'depth', 'normals', 'normals_left_handed', 'sky_depth'}; 'deep'
 (None without deep input); 'camera' {'projection', 'fx', 'fy', 'cx', 'cy', 'source',
 'horizontal_fov_deg' or 'ortho_width', 'camera_to_world' (4 rows or None), 'fit_residual_px'
 when fitted} or None, then 'camera_error' says why; 'write' (how process() would write);
@@ -125,7 +126,7 @@ py::dict readPassesPy(const py::object& path, const FileArgs& f) {
     float sky = 1e9f;
     {
         py::gil_scoped_release release;
-        p = loadFramePasses(job, false, nullptr, true);
+        p = loadFramePasses(job, {}, nullptr, true);
         try {
             camera = resolveFrameCamera(job, p);
         } catch (const Error& e) {
@@ -193,7 +194,7 @@ py::object inspectPy(const py::object& path, const FileArgs& f, const py::object
 }
 
 // read_layer's name in the first part that has it: the channel itself, or LAYER.c channels in a
-// conventional order: R G B A, X Y Z, then the rest by name. Empty when no part has it.
+// conventional order (io/layers.h channelOrder): R G B A, X Y Z, then the rest by name. Empty when no part has it.
 std::vector<ChannelRef> channelsNamed(const ExrInfo& info, const std::string& name) {
     std::vector<ChannelRef> wanted;
     for (size_t p = 0; p < info.parts.size() && wanted.empty(); ++p) {
@@ -207,12 +208,7 @@ std::vector<ChannelRef> channelsNamed(const ExrInfo& info, const std::string& na
             if (c.name.size() > name.size() + 1 && c.name.compare(0, name.size() + 1, name + ".") == 0 &&
                 c.name.find('.', name.size() + 1) == std::string::npos)
                 found.push_back(c.name);
-        auto rank = [&](const std::string& n) {
-            static const std::string order = "RGBAXYZW";
-            const std::string suffix = n.substr(name.size() + 1);
-            const size_t i = suffix.size() == 1 ? order.find(suffix[0]) : std::string::npos;
-            return i == std::string::npos ? order.size() : i;
-        };
+        auto rank = [&](const std::string& n) { return channelOrder(n.substr(name.size() + 1)); };
         std::stable_sort(found.begin(), found.end(),
                          [&](const std::string& a, const std::string& b) { return rank(a) < rank(b); });
         for (const std::string& n : found) wanted.push_back({(int)p, n});

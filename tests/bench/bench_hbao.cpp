@@ -64,7 +64,7 @@ namespace {
 SceneBuffers loadRender(const std::string& path) {
     FrameJob job;
     job.input = path;
-    FramePasses p = loadFramePasses(job, false);
+    FramePasses p = loadFramePasses(job, {});
     SceneBuffers sb;
     sb.display = p.display;
     sb.data = p.data;
