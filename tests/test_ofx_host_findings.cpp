@@ -16,14 +16,6 @@ using namespace obscura::test;
 
 namespace {
 
-float maxAbsDiff(const HostImage& a, const HostImage& b) {
-    EXPECT_EQ(a.pixels.size(), b.pixels.size());
-    float worst = a.pixels.size() == b.pixels.size() ? 0.0f : INFINITY;
-    for (size_t i = 0; i < std::min(a.pixels.size(), b.pixels.size()); ++i)
-        worst = std::max(worst, std::fabs(a.pixels[i] - b.pixels[i]));
-    return worst;
-}
-
 void expectBounds(const HostImage& img, int w, int h) {
     EXPECT_EQ(img.bounds.x1, 0);
     EXPECT_EQ(img.bounds.y1, 0);

@@ -21,14 +21,6 @@ namespace {
 
 constexpr int kOutBeautyTimesAo = 1, kOutDo = 2, kOutGi = 3;
 
-float maxAbsDiff(const HostImage& a, const HostImage& b) {
-    EXPECT_EQ(a.pixels.size(), b.pixels.size());
-    float worst = a.pixels.size() == b.pixels.size() ? 0.0f : INFINITY;
-    for (size_t i = 0; i < std::min(a.pixels.size(), b.pixels.size()); ++i)
-        worst = std::max(worst, std::fabs(a.pixels[i] - b.pixels[i]));
-    return worst;
-}
-
 bool enabled(Instance& inst, const char* param) {
     return inst.effect().params.find(param)->props.integer(kOfxParamPropEnabled, 0, 1) != 0;
 }

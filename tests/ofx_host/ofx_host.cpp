@@ -27,28 +27,33 @@ using namespace suites;
 // Message suite
 // ---------------------------------------------------------------------------
 
-OfxStatus message(void*, const char* type, const char* id, const char* format, ...) {
+// "<type>[ <id>]: <text>" of a printf-style message.
+std::string messageLine(const char* type, const char* id, const char* format, va_list ap) {
     char buf[4096];
+    std::vsnprintf(buf, sizeof buf, format, ap);
+    return std::string(type ? type : "?") + (id && *id ? std::string(" ") + id : "") + ": " + buf;
+}
+
+OfxStatus message(void*, const char* type, const char* id, const char* format, ...) {
     va_list ap;
     va_start(ap, format);
-    std::vsnprintf(buf, sizeof buf, format, ap);
+    const std::string line = messageLine(type, id, format, ap);
     va_end(ap);
     std::lock_guard<std::mutex> lock(gHostObject->logMutex_);
-    gHostObject->messages_.push_back(std::string(type ? type : "?") + (id ? std::string(" ") + id : "") + ": " + buf);
+    gHostObject->messages_.push_back(line);
     return kOfxStatOK;
 }
 const OfxMessageSuiteV1 kMessageSuite = {message};
 
 // Version 2: a persistent message is logged as "persistent <type>: <text>" and kept until cleared.
-OfxStatus setPersistentMessage(void*, const char* type, const char*, const char* format, ...) {
-    char buf[4096];
+OfxStatus setPersistentMessage(void*, const char* type, const char* id, const char* format, ...) {
     va_list ap;
     va_start(ap, format);
-    std::vsnprintf(buf, sizeof buf, format, ap);
+    const std::string line = messageLine(type, id, format, ap);
     va_end(ap);
     std::lock_guard<std::mutex> lock(gHostObject->logMutex_);
-    gHostObject->persistent_ = std::string(type ? type : "?") + ": " + buf;
-    gHostObject->messages_.push_back("persistent " + gHostObject->persistent_);
+    gHostObject->persistent_ = line;
+    gHostObject->messages_.push_back("persistent " + line);
     return kOfxStatOK;
 }
 OfxStatus clearPersistentMessage(void*) {

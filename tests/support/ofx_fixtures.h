@@ -325,6 +325,15 @@ inline bool sameBits(const HostImage& a, const HostImage& b) {
            std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(float)) == 0;
 }
 
+// The largest difference of two images' values (infinite when their sizes differ).
+inline float maxAbsDiff(const HostImage& a, const HostImage& b) {
+    EXPECT_EQ(a.pixels.size(), b.pixels.size());
+    float worst = a.pixels.size() == b.pixels.size() ? 0.0f : INFINITY;
+    for (size_t i = 0; i < std::min(a.pixels.size(), b.pixels.size()); ++i)
+        worst = std::max(worst, std::fabs(a.pixels[i] - b.pixels[i]));
+    return worst;
+}
+
 inline std::string joined(const std::vector<std::string>& v) {
     std::string s;
     for (const auto& x : v) s += x + "\n";
