@@ -10,6 +10,7 @@
 #include <dlfcn.h>
 
 #include <cstring>
+#include <mutex>
 #include <vector>
 
 namespace obscura::gpu {
@@ -161,9 +162,17 @@ struct EglState {
     PFNEGLMAKECURRENTPROC makeCurrent = nullptr;
 };
 
-// Null where libEGL is not loaded: then no EGL context can be current.
+// Null where libEGL is not loaded: then no EGL context can be current. Once found, the library
+// is held open (never closed), so the entry points kept stay valid whatever the host unloads.
 const EglState* eglState() {
-    void* lib = dlopen("libEGL.so.1", RTLD_NOW | RTLD_NOLOAD);
+    static void* held = nullptr;
+    static std::mutex holding;
+    void* lib = nullptr;
+    {
+        std::lock_guard<std::mutex> lock(holding);
+        if (!held) held = dlopen("libEGL.so.1", RTLD_NOW | RTLD_NOLOAD);
+        lib = held;
+    }
     if (!lib) return nullptr;
     static const EglState state = [lib] {
         EglState s;
@@ -175,7 +184,6 @@ const EglState* eglState() {
         s.makeCurrent = symbol<PFNEGLMAKECURRENTPROC>(lib, "eglMakeCurrent");
         return s;
     }();
-    dlclose(lib);  // the reference RTLD_NOLOAD took; the library stays loaded
     const EglState* s = &state;
     return s->display && s->surface && s->context && s->queryApi && s->bindApi && s->makeCurrent ? s : nullptr;
 }

@@ -288,7 +288,8 @@ TEST(DepthEncodings, TheRunWarnsOfADepthThatIsNoDistance) {
         return r.err;
     };
     const std::string inverse = writeScene(dir, "inverse_warned", encodings()[3].stored);
-    EXPECT_NE(warned(inverse, {}).find("warning: the depth looks like every value is in [0, 1]: an inverse (--depth inverse)"),
+    EXPECT_NE(warned(inverse, {}).find("warning: the depth is read as a distance, though it looks like every value is in "
+                                       "[0, 1]: an inverse (--depth inverse)"),
               std::string::npos);
     EXPECT_EQ(warned(inverse, {"--depth", "inverse"}).find("warning"), std::string::npos);
     const std::string zero = writeScene(dir, "zero", [](int, int) { return 0.0f; });

@@ -122,6 +122,11 @@ TEST(OfxHostVariants, AnErrorIsShownOnceAndClearedByASuccess) {
         EXPECT_EQ(joined(problems), "");
         EXPECT_EQ(l.host->persistentMessage(), "");
         EXPECT_EQ(l.host->messages().size(), 1u);
+        // The same failure after a success is shown again.
+        ASSERT_EQ(l.inst->setString("cameraToWorld", "1,2,3"), kOfxStatOK);
+        l.inst->renderFrame(0, 0, 1, problems);
+        EXPECT_EQ(l.host->messages().size(), 2u);
+        EXPECT_EQ(l.host->persistentMessage().empty(), !v2);
     }
 }
 

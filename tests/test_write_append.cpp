@@ -421,6 +421,37 @@ TEST(WriteAppend, CorruptChunkTableIsRefusedAndNothingIsWritten) {
     }
 }
 
+// A part's table entry OpenEXR would replace by scanning the file (here 0): append refuses it (above);
+// copy, which copies the parts that take no new layer chunk for chunk where the tables allow it,
+// decodes and encodes every part again, as it did before, and the values come through.
+TEST(WriteAppend, CopyOfATableOpenExrRebuildsEncodesEveryPartAgain) {
+    const fs::path dir = obscura::test::testDir("write-append");
+    FixturePart geometry = renderPart(Imf::ZIP_COMPRESSION, false), beauty = renderPart(Imf::ZIP_COMPRESSION);
+    geometry.name = "geometry";
+    beauty.name = "beauty";
+    beauty.channels.erase(beauty.channels.begin(), beauty.channels.begin() + 4);  // no Z, N: R, G, B, A, crypto
+    const std::string good = (dir / "two_parts.exr").string();
+    writeFixture(good, {geometry, beauty});
+    std::ifstream f(good, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    const int chunks = (kStudioData.max.y - kStudioData.min.y + 1 + 15) / 16;  // ZIP: 16 lines a chunk, each part
+    size_t table = 0;  // the first part's, followed by the second's
+    for (size_t at = 8; at + 8 <= bytes.size() && !table; ++at) {
+        uint64_t v;
+        std::memcpy(&v, bytes.data() + at, 8);
+        if (v == at + 16 * (size_t)chunks) table = at;
+    }
+    ASSERT_NE(table, 0u) << "chunk tables not found";
+    std::memset(bytes.data() + table + 8 * (chunks + 1), 0, 8);  // the beauty's second entry
+    const std::string in = (dir / "zero_entry.exr").string(), out = (dir / "zero_entry_ao.exr").string();
+    std::ofstream(in, std::ios::binary) << bytes;
+    std::vector<std::string> args = {in, "-o", out};
+    args.insert(args.end(), studioRender().cameraFlags.begin(), studioRender().cameraFlags.end());
+    const CliResult r = runObscura(args);
+    ASSERT_EQ(r.exitCode, 0) << outcome(r);
+    for (const char* c : {"R", "G", "B", "A"}) EXPECT_EQ(partChannel(out, 1, c), partChannel(good, 1, c)) << c;
+}
+
 TEST(WriteAppend, FramesResumeAndInPlaceWorkAsWithCopy) {
     const fs::path dir = obscura::test::testDir("write-append");
     for (int f : {1, 2}) writeFixture((dir / ("in." + std::to_string(f) + ".exr")).string(), {renderPart(Imf::ZIP_COMPRESSION)});

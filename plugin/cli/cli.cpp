@@ -26,12 +26,15 @@ namespace obscura::cli {
 
 namespace {
 
-// The layers written, each with its channels' last components: "obscura.AO.Y, obscura.GI.RGB".
+// The layers written, each with its channels' last components: "obscura.AO.Y, obscura.GI.RGB"
+// ("view left: obscura.AO.Y" where each view has a part of its own and the names repeat).
 std::string writtenLayers(const FrameReport& r) {
     std::vector<std::pair<std::string, std::string>> layers;
-    for (const std::string& c : r.written) {
+    for (size_t i = 0; i < r.written.size(); ++i) {
+        const std::string& c = r.written[i];
+        const std::string view = i < r.writtenViews.size() && !r.writtenViews[i].empty() ? "view " + r.writtenViews[i] + ": " : "";
         const size_t dot = c.rfind('.');
-        const std::string layer = dot == std::string::npos ? "" : c.substr(0, dot + 1);
+        const std::string layer = view + (dot == std::string::npos ? "" : c.substr(0, dot + 1));
         const std::string channel = dot == std::string::npos ? c : c.substr(dot + 1);
         if (!layers.empty() && layers.back().first == layer) layers.back().second += channel;
         else layers.push_back({layer, channel});

@@ -177,6 +177,8 @@ bool isLossy(Imf::Compression c) {
 
 Imf::Compression losslessFor(Imf::Compression c) { return isLossy(c) ? Imf::ZIP_COMPRESSION : c; }
 
+bool layersGoInPlace(const ExrPart& p) { return !isLossy(p.header.compression()); }
+
 std::string compressionName(Imf::Compression c) {
     static const char* const names[] = {"none", "rle", "zips", "zip", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab"};
     return c >= 0 && c < Imf::NUM_COMPRESSION_METHODS ? names[c] : "unknown";
@@ -447,14 +449,15 @@ void writeParts(const std::string& tmp, const ExrPixels& in,
     Imf::MultiPartOutputFile file(tmp.c_str(), headers.data(), nParts);
     std::optional<Imf::MultiPartInputFile> source;
     for (int p = 0; p < nParts; ++p) {
-        if (!untouched(p, byPart, attrs)) {
+        if (!untouched(p, byPart, attrs) || !in.copyChunks) {
             writePartPixels(file, p, in.info.parts[p], in.raw[p], byPart[p]);
             continue;
         }
         if (!source) {
             // The file's own parts (a part obscura adds is not among them): a table OpenEXR would
             // rebuild by scanning is refused.
-            checkChunkTables(in.info.path, readExrInfo(in.info.path, std::numeric_limits<long long>::max(), true));
+            if (!in.chunkTablesChecked)
+                checkChunkTables(in.info.path, readExrInfo(in.info.path, std::numeric_limits<long long>::max(), true));
             source.emplace(in.info.path.c_str());
         }
         if (p >= source->parts()) throw FileError(in.info.path, "changed while being read");
@@ -574,8 +577,8 @@ void writeExrWithNewChannels(const std::string& outPath, const ExrPixels& in,
     if (nParts == 0 || (int)in.raw.size() != nParts)
         throw Error("internal: no pixels kept for pass-through of " + quoted(info.path));
     const std::vector<std::vector<const NewChannel*>> byPart = newChannelsByPart(outPath, info, add, attrs);
-    for (int p = 0; p < nParts; ++p) {  // a part taking new layers is encoded again: all its pixels are needed
-        if (untouched(p, byPart, attrs)) continue;
+    for (int p = 0; p < nParts; ++p) {  // a part encoded again needs all its pixels
+        if (untouched(p, byPart, attrs) && in.copyChunks) continue;
         const ExrPart& part = info.parts[p];
         if (in.raw[p].size() != part.channels.size())
             throw Error("internal: pixels of " + quoted(info.path) + " were not all kept");

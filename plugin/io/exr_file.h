@@ -87,12 +87,23 @@ struct ChannelRef {
     std::string name;
 };
 
-// Every channel of a file, raw in its own pixel type, for pass-through.
+// A file's pixels for pass-through: the parts a write encodes again, raw in their own pixel type;
+// the others are copied from the file chunk for chunk.
 struct ExrPixels {
     ExrInfo info;
-    // [part][channel]: tightly packed samples over the data window (subsampled grid if sampled).
+    // [part][channel]: tightly packed samples over the data window (subsampled grid if sampled);
+    // empty for a part that was not kept.
     std::vector<std::vector<std::vector<char>>> raw;
+    // Whether a part that takes no new layer may be copied chunk for chunk: false where the
+    // file's chunk tables failed checkChunkTables (OpenEXR rebuilds such a table when it reads),
+    // and every part was then kept raw to be encoded again. checked: that check was made already.
+    bool copyChunks = true;
+    bool chunkTablesChecked = false;
 };
+
+// Whether a copy writes new layers into part `p` itself: only where its codec is lossless, for
+// AO, DO and GI are data (elsewhere they go to a part of their own).
+bool layersGoInPlace(const ExrPart& p);
 
 // Number of samples of a channel along x / y over a part's data window.
 int sampleCount(int lo, int hiExclusive, int sampling);

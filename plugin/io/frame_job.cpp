@@ -1,6 +1,7 @@
 #include "io/frame_job.h"
 
 #include "io/environment_map.h"
+#include "io/exr_chunk_table.h"
 #include "io/frame_outputs.h"
 #include "io/stage_timer.h"
 
@@ -353,7 +354,9 @@ FramePasses loadPasses(const FrameJob& job, const std::vector<int>& rawParts, st
     const SsdoReads ssdo = planSsdoReads(job, p);
     addSsdoChannels(job, p, ssdo, wanted);
     requireFullResolution(job, p, wanted);
-    std::vector<Image> planes = readExrChannels(job.input, p.info, wanted, rawParts, rawParts.empty() ? nullptr : &p.raw);
+    // p.raw always gets the file's parts: a copy whose layers all go to a part of their own keeps
+    // none raw, and still writes every part.
+    std::vector<Image> planes = readExrChannels(job.input, p.info, wanted, rawParts, &p.raw);
     size_t next = 0;
     if (depth) p.depth = std::move(planes[next++]);
     if (normal) {
@@ -526,17 +529,38 @@ void warnOfTheDepth(const FramePasses& p, FrameReport& report) {
         report.warnings.push_back("the depth holds no surface: every pixel is 0, NaN, infinite or at or beyond the sky "
                                   "depth, so the AO is 1 everywhere; check the depth layer (--layer depth=NAME) and --depth");
     else if (!s.hint.empty())
-        report.warnings.push_back("the depth looks like " + s.hint + "; it is read as a distance");
+        report.warnings.push_back("the depth is read as a distance, though it looks like " + s.hint);
 }
 
-// The parts of the input a copy may write new layers into: each processed view's depth part (its
-// position part without a depth). The others are copied chunk for chunk, never decoded.
+// The parts of the input a copy writes new layers into: each processed view's depth part (its
+// position part without a depth), where the layers go in place (frame_outputs.cpp). Those are
+// decoded whole; of the others only the passes read, and they are copied chunk for chunk.
 std::vector<int> partsTakingLayers(const FrameJob& job, const ExrInfo& info, const std::vector<std::string>& views) {
     std::vector<int> parts;
     for (const std::string& view : views.empty() ? std::vector<std::string>{""} : views) {
         const LayerPlan plan = planViewLayers(job, info, view);
         const LayerBinding* b = plan.find(Role::Depth) ? plan.find(Role::Depth) : plan.find(Role::Position);
-        if (b && std::find(parts.begin(), parts.end(), b->part) == parts.end()) parts.push_back(b->part);
+        if (b && layersGoInPlace(info.parts[b->part]) && std::find(parts.begin(), parts.end(), b->part) == parts.end())
+            parts.push_back(b->part);
+    }
+    return parts;
+}
+
+// Copy's parts to keep raw, the chunk tables checked before any work: a file whose table
+// OpenEXR would rebuild has every part decoded and encoded again, as copy always did.
+std::vector<int> copiedRawParts(const FrameJob& job, const ExrInfo& info, const std::vector<std::string>& views,
+                                bool& copyChunks, bool& checked) {
+    std::vector<int> parts = partsTakingLayers(job, info, views);
+    copyChunks = true;
+    checked = false;
+    if (parts.size() == info.parts.size()) return parts;  // every part taken: nothing copied raw
+    try {
+        checkChunkTables(info.path, info);
+        checked = true;
+    } catch (const Error&) {
+        copyChunks = false;
+        parts.clear();
+        for (int p = 0; p < (int)info.parts.size(); ++p) parts.push_back(p);
     }
     return parts;
 }
@@ -613,8 +637,10 @@ FrameReport runJob(const FrameJob& job) {
         if (job.write != WriteMode::Append) requireFlatParts(*headers);
         checkDeepSettingsRead(job, report);
         report.views = viewsToProcess(job, *headers);
-        const std::vector<int> copied = job.write == WriteMode::Copy ? partsTakingLayers(job, *headers, report.views)
-                                                                       : std::vector<int>{};
+        bool copyChunks = true, tablesChecked = false;
+        const std::vector<int> copied = job.write == WriteMode::Copy
+                                            ? copiedRawParts(job, *headers, report.views, copyChunks, tablesChecked)
+                                            : std::vector<int>{};
         // Every view processed runs on its own passes; one camera serves them all unless each
         // view's part carries its own. The first view's read keeps the parts a copy writes into.
         for (size_t v = 0; v < std::max<size_t>(1, report.views.size()); ++v) {
@@ -623,7 +649,10 @@ FrameReport runJob(const FrameJob& job) {
             FrameReport viewReport;
             FrameReport& into = v == 0 ? report : viewReport;
             const std::vector<int> raw = v == 0 ? copied : std::vector<int>{};
-            results.push_back(computeView(viewJob, loadFramePasses(viewJob, raw, &into.stages, false, &*headers), into));
+            FramePasses passes = loadFramePasses(viewJob, raw, &into.stages, false, &*headers);
+            passes.raw.copyChunks = copyChunks;
+            passes.raw.chunkTablesChecked = tablesChecked;
+            results.push_back(computeView(viewJob, std::move(passes), into));
             if (v > 0) mergeViewReport(report.views[v], viewReport, report);
         }
     }

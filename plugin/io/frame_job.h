@@ -89,7 +89,7 @@ struct FramePasses {
     double pixelAspect = 1.0;
     Image depth, normal, position, reference;  // position/reference empty when not read
     Image radiance, albedo, directDiffuse;      // SSDO inputs, read only when the request needs them
-    ExrPixels raw;                        // every channel, for pass-through (when kept)
+    ExrPixels raw;                        // a copy's pass-through: the parts taking new layers, raw (exr_file.h)
     std::vector<NewChannel> carried;      // deep elements: the flattened image, written with the new layers
     // A multi-view input: the view these passes are of ("" for the whole file) and the file's views.
     std::string view;
@@ -100,6 +100,7 @@ struct FrameReport {
     std::string aoChannel;                // the first view's, when several are written
     std::vector<std::string> views;       // the views processed; empty for a file without views
     std::vector<std::string> written;     // every channel added to the output
+    std::vector<std::string> writtenViews;  // each one's view where the views have parts of their own (names repeat), else ""
     std::string writeDescription;         // how the output was written (mode, codec)
     std::vector<std::string> plan;        // what ran, in order (passes read, kernels, maps loaded)
     std::string inputColourSpace;         // of the colour passes, when any was read

@@ -100,7 +100,7 @@ std::string viewedName(const FramePasses& p, const std::string& name) {
 // a part of its own, which carries that part's `view` attribute (layersOnlyFile keeps it).
 int destinationPart(const FrameJob& job, const FramePasses& p, ExrPixels& target, std::map<std::string, int>& own) {
     const bool copy = job.write == WriteMode::Copy;
-    if (copy && !isLossy(p.info.parts[p.part].header.compression())) return p.part;
+    if (copy && layersGoInPlace(p.info.parts[p.part])) return p.part;
     const std::string key = namedInView(p) ? "" : p.view;
     if (const auto it = own.find(key); it != own.end()) return it->second;
     int part = 0;
@@ -217,8 +217,9 @@ void writeFrameOutputs(const FrameJob& job, std::vector<ViewResult>& views, Fram
     StageTimer timer{append ? nullptr : &report.stages, "write"};  // append times its own stages
     const Imf::PixelType type = job.aoFloat ? Imf::FLOAT : Imf::HALF;
     const FramePasses& first = views.front().passes;
-    // Copy: into the depth's part of the input (the first view's raw channels hold the whole
-    // file), or a part of their own when that part's codec is lossy (AO, DO and GI are data).
+    // Copy: into the depth's part of the input (the first view's read kept every part taking
+    // layers raw; the others are copied chunk for chunk), or a part of their own when that
+    // part's codec is lossy (AO, DO and GI are data).
     // New and append: into a fresh file, which append adds to the input's parts.
     ExrPixels fresh;
     fresh.info.path = first.info.path;
@@ -264,8 +265,10 @@ void writeFrameOutputs(const FrameJob& job, std::vector<ViewResult>& views, Fram
         if (!note.empty() && std::find(report.plan.begin(), report.plan.end(), note) == report.plan.end())
             report.plan.push_back(note);
     }
-    for (const NewChannel& c : add)
-        report.written.push_back(partView.count(c.part) ? "view " + partView[c.part] + ": " + c.name : c.name);
+    for (const NewChannel& c : add) {
+        report.written.push_back(c.name);
+        report.writtenViews.push_back(partView.count(c.part) ? partView[c.part] : "");
+    }
     warnOfEarlierLayers(job, first.info, add, report);
     warnOfLostLevels(job, first.info, add, report);
     if (copy)  // deep elements: the flattened image is the copy's input

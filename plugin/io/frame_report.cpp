@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <filesystem>
 
 namespace obscura {
@@ -148,6 +149,8 @@ std::string frameReportJson(const FrameJob& job, const FrameReport& r) {
         j["warnings"] = r.warnings;
         j["plan"] = r.plan;
         j["written"] = r.written;
+        if (std::any_of(r.writtenViews.begin(), r.writtenViews.end(), [](const std::string& v) { return !v.empty(); }))
+            j["written_views"] = r.writtenViews;
         if (!r.views.empty()) j["views"] = r.views;
     }
     return j.dump(r.aoChannel.empty() ? -1 : 2);

@@ -6,10 +6,23 @@
 
 namespace obscura {
 
+namespace {
+// An error's text without the "'path': " it starts with, to be said again of `path` with more.
+std::string withoutPath(const Error& e, const std::string& path) {
+    const std::string why = e.what(), prefix = "'" + path + "': ";
+    return why.rfind(prefix, 0) == 0 ? why.substr(prefix.size()) : why;
+}
+} // namespace
+
 LayerPlan planViewLayers(const FrameJob& job, const ExrInfo& info, const std::string& view) {
     if (view.empty()) return planLayers(info, job.preset, job.layerOverrides);
     const FileView seen = viewOfFile(info, view);
-    LayerPlan plan = planLayers(seen.info, job.preset, job.layerOverrides);
+    LayerPlan plan;
+    try {
+        plan = planLayers(seen.info, job.preset, job.layerOverrides);
+    } catch (const Error& e) {  // a --layer this view lacks: said of the view
+        throw FileError(info.path, "view '" + view + "': " + withoutPath(e, info.path));
+    }
     for (LayerBinding& b : plan.bindings)
         for (std::string& c : b.channels) c = seen.fileName(b.part, c);
     return plan;
@@ -35,8 +48,7 @@ std::vector<std::string> viewsToProcess(const FrameJob& job, const ExrInfo& info
             plain.layerOverrides.clear();
             const LayerPlan own = planViewLayers(plain, info, v);
             if (!own.find(Role::Depth) && !own.find(Role::Position)) continue;
-            const std::string why = e.what(), prefix = "'" + info.path + "': ";
-            throw FileError(info.path, "view '" + v + "': " + (why.rfind(prefix, 0) == 0 ? why.substr(prefix.size()) : why) +
+            throw FileError(info.path, withoutPath(e, info.path) +
                                            " (name the layer as this view spells it, or give --view for the others)");
         }
     }

@@ -45,20 +45,27 @@ OfxStatus dispatch(const char* action, OfxImageEffectHandle effect, OfxPropertyS
     return kOfxStatReplyDefault;
 }
 
-// An instance's error shown once, kept until a render succeeds (ofx_suites.h); a descriptor's
-// (no instance yet) each time.
+// An instance's error is shown once however many tiles and actions meet it, and kept until a
+// render succeeds; a descriptor's (no instance yet) each time. The host is called with no lock
+// held: a host may show a message on its UI thread and wait for it.
 void showError(OfxImageEffectHandle effect, const std::string& text) {
-    Instance* in = findInstance(effect);
-    if (!in) return reportError(effect, text, nullptr);
-    std::lock_guard<std::mutex> lock(in->errorMutex);
-    reportError(effect, text, &in->shownError);
+    if (Instance* in = findInstance(effect)) {
+        std::lock_guard<std::mutex> lock(in->errorMutex);
+        if (in->shownError == text) return;
+        in->shownError = text;
+    }
+    postError(effect, text);
 }
 
 void renderSucceeded(OfxImageEffectHandle effect) {
-    if (Instance* in = findInstance(effect)) {
+    Instance* in = findInstance(effect);
+    if (!in) return;
+    {
         std::lock_guard<std::mutex> lock(in->errorMutex);
-        clearError(effect, &in->shownError);
+        if (in->shownError.empty()) return;
+        in->shownError.clear();
     }
+    clearPersistentError(effect);
 }
 
 // Nothing escapes to the host: a failed suite call answers its status, an error is shown

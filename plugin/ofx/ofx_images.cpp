@@ -19,7 +19,8 @@ bool ClipImage::fetch(OfxImageClipHandle clip, OfxTime t, const OfxRectD* region
     if (status == kOfxStatErrMemory) throw std::bad_alloc();
     if (status != kOfxStatOK || !handle_) {
         handle_ = nullptr;
-        return false;
+        if (status == kOfxStatFailed || status == kOfxStatOK) return false;
+        throw Error(std::string("the ") + what + " clip gave no image (status " + std::to_string(status) + ")");
     }
     const std::string depth = getString(handle_, kOfxImageEffectPropPixelDepth);
     if (depth != kOfxBitDepthFloat)

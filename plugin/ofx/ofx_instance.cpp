@@ -137,8 +137,8 @@ OfxStatus onCreateInstance(OfxImageEffectHandle effect) {
     OfxParamSetHandle set = nullptr;
     check(gEffect->getParamSet(effect, &set));
     bindParams(*in, set);
+    updateEnabled(*in);  // before the host holds the instance: a throw here frees it
     check(gProp->propSetPointer(effectProps(effect), kOfxPropInstanceData, 0, in.get()));
-    updateEnabled(*in);
     in.release();
     return kOfxStatOK;
 }

@@ -26,7 +26,7 @@ struct Instance {
     std::vector<OfxParamHandle> methodParams;  // one per allMethodParams(), in its order
     mutable EnvironmentCache environment;
     std::mutex errorMutex;
-    std::string shownError;  // reportError's (ofx_suites.h): tiles of one frame fail alike
+    std::string shownError;  // the error last shown (ofx_actions.cpp): tiles of one frame fail alike
 };
 
 // The instance the host holds for `effect` (its instance data); throws for none.

@@ -62,19 +62,13 @@ bool connected(OfxImageClipHandle clip) {
     return clip && getInt(clipProps(clip), kOfxImageClipPropConnected, 0) != 0;
 }
 
-void reportError(OfxImageEffectHandle effect, const std::string& text, std::string* shown) {
-    if (shown) {
-        if (*shown == text) return;
-        *shown = text;
-    }
+void postError(OfxImageEffectHandle effect, const std::string& text) {
     if (gMessageV2 && gMessageV2->setPersistentMessage(effect, kOfxMessageError, "", "%s", text.c_str()) == kOfxStatOK)
         return;
     if (gMessage) gMessage->message(effect, kOfxMessageError, nullptr, "%s", text.c_str());
 }
 
-void clearError(OfxImageEffectHandle effect, std::string* shown) {
-    if (!shown || shown->empty()) return;
-    shown->clear();
+void clearPersistentError(OfxImageEffectHandle effect) {
     if (gMessageV2) gMessageV2->clearPersistentMessage(effect);
 }
 

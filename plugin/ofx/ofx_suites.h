@@ -39,12 +39,10 @@ OfxPropertySetHandle effectProps(OfxImageEffectHandle effect);
 OfxPropertySetHandle clipProps(OfxImageClipHandle clip);
 bool connected(OfxImageClipHandle clip);
 // An action's failure as the user sees it: a persistent error on the node where the host has
-// version 2 of the message suite, else a transient message. `shown` is the text last reported for
-// this instance: the same failure again (every tile of a frame, its regions of interest) is
-// not reported again.
-void reportError(OfxImageEffectHandle effect, const std::string& text, std::string* shown);
-// A render succeeded: the node's persistent error, if one was reported, is cleared.
-void clearError(OfxImageEffectHandle effect, std::string* shown);
+// version 2 of the message suite, else a transient message.
+void postError(OfxImageEffectHandle effect, const std::string& text);
+// The node's persistent error cleared (version 2 of the message suite; else nothing to clear).
+void clearPersistentError(OfxImageEffectHandle effect);
 
 // OFX 1.5 colour management: the host offers a style on its own properties, the plugin
 // declares the one it supports at describe (Basic: it only names basic spaces, ofx_raw and

@@ -50,7 +50,7 @@ Raises obscura.Error for a missing/unreadable file or missing passes.)doc";
 
 const char* kProcessDoc = R"doc(obscura PATH -o OUT [flags]: writes OUT, a copy of PATH with the new layers added, and returns
 the --report JSON as a dict (settings, recipe, camera, conventions, timings_s, stats, reference, warnings,
-plan, written: the channels added).
+plan, written: the channels added, and written_views: each one's view where a part per view repeats the names).
 
 The layers written, by argument (the CLI's flags write the same):
 - always: the AO, obscura.AO.Y (out_layer='NAME' or {'ao': 'NAME'}: NAME.Y).

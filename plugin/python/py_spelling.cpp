@@ -10,6 +10,7 @@
 #include <cctype>
 #include <optional>
 #include <regex>
+#include <vector>
 
 namespace obscura::python {
 namespace {
@@ -72,12 +73,14 @@ bool isChoice(const std::string& key, const std::string& word) {
     return false;
 }
 
-// A flag's value as the keyword's: ROLE=NAME a dict, A,B a tuple, a choice a string. `rest` is
-// the text after the flag; `taken` how much of it the value used.
+// A flag's value as the keyword's: ROLE=NAME a dict, A,B,... a tuple, a choice a string. `rest`
+// is the text after the flag; `taken` how much of it the value used.
 std::string keywordValue(const Keyword& k, const std::string& rest, size_t& taken) {
-    // A layer's name may hold dots (ViewLayer.Depth), though not at its end: there one ends a sentence.
-    static const std::regex rolePair(R"(^ ([a-z][a-z-]*)=([A-Za-z0-9_]+(?:\.[A-Za-z0-9_]+)*))");
-    static const std::regex pair(R"(^ ([A-Z]+|[-0-9.e+]+),([A-Z]+|[-0-9.e+]+))");
+    // A layer's name is the placeholder NAME, or the user's (spaces, dots, dashes: "View
+    // Layer.Depth", "BG-plate"), which runs to what ends the clause: a colon, semicolon, comma or
+    // bracket, or a full stop ending the text.
+    static const std::regex rolePair(R"(^ ([a-z][a-z-]*)=(NAME\b|[^:;,()]*[^:;,().\s]))");
+    static const std::regex tuple(R"(^ ((?:[A-Z]+|[-0-9.e+]+)(?:,(?:[A-Z]+|[-0-9.e+]+))+))");
     static const std::regex word(R"(^ ([a-z][a-z0-9-]*))");
     static const std::regex number(R"(^ (-?[0-9][0-9.e+-]*)\b)");
     std::smatch m;
@@ -87,9 +90,11 @@ std::string keywordValue(const Keyword& k, const std::string& rest, size_t& take
         const std::string name = m.str(2) == "NAME" ? "NAME" : "'" + m.str(2) + "'";
         return "={'" + m.str(1) + "': " + name + "}";
     }
-    if (std::regex_search(rest, m, pair)) {
+    if (std::regex_search(rest, m, tuple)) {
         taken = m.length(0);
-        return "=(" + m.str(1) + ", " + m.str(2) + ")";
+        std::string items = m.str(1);
+        for (size_t c = items.find(','); c != std::string::npos; c = items.find(',', c + 2)) items.insert(c + 1, " ");
+        return "=(" + items + ")";
     }
     if (std::regex_search(rest, m, word) && isChoice(k.key, m.str(1))) {
         taken = m.length(0);
@@ -102,18 +107,37 @@ std::string keywordValue(const Keyword& k, const std::string& rest, size_t& take
     return k.isSwitch ? "=True" : "";
 }
 
+// Whether position i lies inside a quoted span: a path, a layer or a value the message quotes
+// ('shots --radius 2/x.exr'). A quote opens after a space, a bracket, '=' or the start (not the
+// apostrophe of "input's") and closes before a space, a punctuation mark or the end.
+std::vector<bool> quotedSpans(const std::string& s) {
+    std::vector<bool> inside(s.size(), false);
+    auto word = [](char c) { return std::isalnum((unsigned char)c) != 0; };
+    for (size_t i = 0; i < s.size(); ++i) {
+        if (s[i] != '\'' || (i > 0 && word(s[i - 1]))) continue;
+        size_t close = i + 1;
+        while (close < s.size() && !(s[close] == '\'' && (close + 1 == s.size() || !word(s[close + 1])))) ++close;
+        if (close >= s.size()) break;
+        std::fill(inside.begin() + (long)i, inside.begin() + (long)close + 1, true);
+        i = close;
+    }
+    return inside;
+}
+
 } // namespace
 
 std::string keywordSpelling(const std::string& message) {
     // A flag starts the message or follows a space, a comma or a bracket, or a slash right after
-    // another flag (--fov-deg/--ortho-width): a path's "/--dir/" stays as it is.
+    // another flag (--fov-deg/--ortho-width): a path's "/--dir/" stays as it is, and so does
+    // anything the message quotes.
     static const std::regex flag(R"((^|[\s(,/])--([a-z][a-z0-9-]*))");
+    const std::vector<bool> quoted = quotedSpans(message);
     std::string out;
     size_t at = 0;
     for (std::sregex_iterator it(message.begin(), message.end(), flag), end; it != end; ++it) {
         const std::smatch& m = *it;
         const size_t start = m.position(0) + m.length(1);
-        if (start < at) continue;  // inside a value already rewritten
+        if (start < at || quoted[start]) continue;  // inside a value already rewritten, or quoted
         if (m.str(1) == "/" && (size_t)m.position(0) != at) continue;
         out += message.substr(at, start - at);
         at = m.position(0) + m.length(0);

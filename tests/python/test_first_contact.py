@@ -121,6 +121,8 @@ def test_errors_name_keywords_not_flags(tmp):
     cases = [
         (dict(method="rtao", device="gl"), "method='rtao' runs on the CPU only; use device='cpu'"),
         (dict(layer={"normal": "Nope"}), "layer={'normal': 'Nope'}: no layer or channel 'Nope'"),
+        (dict(layer={"depth": "View Layer.Depth"}), "layer={'depth': 'View Layer.Depth'}: no layer or channel"),
+        (dict(layer={"depth": "BG-plate.Z"}), "layer={'depth': 'BG-plate.Z'}: no layer or channel"),
     ]
     for kwargs, said in cases:
         with pytest.raises(obscura.Error) as e:
@@ -130,6 +132,10 @@ def test_errors_name_keywords_not_flags(tmp):
     odd = tmp / "--takes" / "shot--v2.exr"
     with pytest.raises(obscura.Error, match="shot--v2.exr': cannot open"):
         obscura.process(odd, tmp / "o.exr")
+    spaced = tmp / "shots --radius 2" / "x.exr"
+    with pytest.raises(obscura.Error) as e:
+        obscura.process(spaced, tmp / "o.exr")
+    assert str(e.value).startswith(f"'{spaced}': cannot open"), str(e.value)
     depth, normal = synthetic_scene(32, 24)
     nocam = tmp / "nocam.exr"
     write_exr(nocam, depth, normal)
