@@ -4,6 +4,7 @@
 #include "core/camera_fit.h"
 #include "base/error.h"
 #include "io/camera_sources.h"
+#include "support/scratch.h"
 
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFloatAttribute.h>
@@ -444,6 +445,17 @@ TEST(CameraSources, SidecarAndFinding) {
     EXPECT_DOUBLE_EQ(c.cameraToWorld[0][1], 0.3060092329978943);  // row 1, column 0
     EXPECT_THROW(cameraFromSidecar(dir + "/columns.json", {0, 0, 320, 320}, 1.0), Error);  // wrong frame
     EXPECT_THROW(cameraFromSidecar(dir + "/missing.json", {0, 0, 320, 240}, 1.0), Error);
+}
+
+// A report written as NAME.json beside NAME.exr (--report shot.json) sits where a sidecar would:
+// the next run on NAME.exr does not take it for its camera.
+TEST(CameraSources, AReportBesideTheInputIsNoSidecar) {
+    const std::filesystem::path dir = obscura::test::testDir("sidecars");
+    const std::string exr = (dir / "shot.exr").string(), json = (dir / "shot.json").string();
+    std::ofstream(json) << R"({"obscura": "0.1.0", "settings": {}, "recipe": {}, "timings_s": {}, "camera": {}})";
+    EXPECT_EQ(findSidecar(exr), "");
+    std::ofstream(json) << std::ifstream(std::string(OBSCURA_TEST_DATA_DIR) + "/room.json").rdbuf();
+    EXPECT_EQ(findSidecar(exr), json);
 }
 
 TEST(CameraSources, ResolveOrder) {

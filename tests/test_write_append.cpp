@@ -423,23 +423,34 @@ TEST(WriteAppend, CorruptChunkTableIsRefusedAndNothingIsWritten) {
 
 // A part's table entry OpenEXR would replace by scanning the file (here 0): append refuses it (above);
 // copy, which copies the parts that take no new layer chunk for chunk where the tables allow it,
-// decodes and encodes every part again, as it did before, and the values come through.
+// decodes and encodes every part again, as it did before, says so, and the values come through; a
+// mip-mapped part then keeps level 0 (a readable file, and a warning).
 TEST(WriteAppend, CopyOfATableOpenExrRebuildsEncodesEveryPartAgain) {
     const fs::path dir = obscura::test::testDir("write-append");
     FixturePart geometry = renderPart(Imf::ZIP_COMPRESSION, false), beauty = renderPart(Imf::ZIP_COMPRESSION);
     geometry.name = "geometry";
     beauty.name = "beauty";
     beauty.channels.erase(beauty.channels.begin(), beauty.channels.begin() + 4);  // no Z, N: R, G, B, A, crypto
-    const std::string good = (dir / "two_parts.exr").string();
-    writeFixture(good, {geometry, beauty});
+    FixturePart texture = beauty;
+    texture.name = "texture";
+    texture.tiled = true;
+    texture.levelMode = Imf::MIPMAP_LEVELS;
+    const std::string good = (dir / "three_parts.exr").string();
+    writeFixture(good, {geometry, beauty, texture});
     std::ifstream f(good, std::ios::binary);
     std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-    const int chunks = (kStudioData.max.y - kStudioData.min.y + 1 + 15) / 16;  // ZIP: 16 lines a chunk, each part
-    size_t table = 0;  // the first part's, followed by the second's
+    const int chunks = (kStudioData.max.y - kStudioData.min.y + 1 + 15) / 16;  // ZIP: 16 lines a chunk
+    int tiles = 0;
+    {
+        Imf::MultiPartInputFile file(good.c_str());
+        Imf::TiledInputPart t(file, 2);
+        for (int l = 0; l < t.numLevels(); ++l) tiles += t.numXTiles(l) * t.numYTiles(l);
+    }
+    size_t table = 0;  // the parts' tables, one after another; the first entry points past them all
     for (size_t at = 8; at + 8 <= bytes.size() && !table; ++at) {
         uint64_t v;
         std::memcpy(&v, bytes.data() + at, 8);
-        if (v == at + 16 * (size_t)chunks) table = at;
+        if (v == at + 8 * (size_t)(2 * chunks + tiles)) table = at;
     }
     ASSERT_NE(table, 0u) << "chunk tables not found";
     std::memset(bytes.data() + table + 8 * (chunks + 1), 0, 8);  // the beauty's second entry
@@ -449,7 +460,10 @@ TEST(WriteAppend, CopyOfATableOpenExrRebuildsEncodesEveryPartAgain) {
     args.insert(args.end(), studioRender().cameraFlags.begin(), studioRender().cameraFlags.end());
     const CliResult r = runObscura(args);
     ASSERT_EQ(r.exitCode, 0) << outcome(r);
-    for (const char* c : {"R", "G", "B", "A"}) EXPECT_EQ(partChannel(out, 1, c), partChannel(good, 1, c)) << c;
+    EXPECT_NE(r.err.find("the input's chunk tables are damaged"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("part 2 of the input is mip-mapped"), std::string::npos) << r.err;
+    for (int part : {1, 2})
+        for (const char* c : {"R", "G", "B", "A"}) EXPECT_EQ(partChannel(out, part, c), partChannel(good, part, c)) << c;
 }
 
 TEST(WriteAppend, FramesResumeAndInPlaceWorkAsWithCopy) {

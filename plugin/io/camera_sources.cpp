@@ -258,11 +258,21 @@ Camera cameraFromSidecar(const std::string& path, Box2i display, double pixelAsp
     return c;
 }
 
+namespace {
+// An obscura report (`--report NAME.json` beside its input): not a camera sidecar, though it sits
+// where one would.
+bool isObscuraReport(const std::string& path) {
+    std::ifstream f(path);
+    const nlohmann::json j = nlohmann::json::parse(f, nullptr, false);
+    return j.is_object() && j.contains("timings_s") && j.contains("settings") && j.contains("recipe");
+}
+} // namespace
+
 std::string findSidecar(const std::string& exrPath) {
     namespace fs = std::filesystem;
     std::error_code ec;
     for (const fs::path& candidate : {fs::path(exrPath).replace_extension(".json"), fs::path(exrPath + ".json")})
-        if (fs::is_regular_file(candidate, ec)) return candidate.string();
+        if (fs::is_regular_file(candidate, ec) && !isObscuraReport(candidate.string())) return candidate.string();
     return "";
 }
 

@@ -33,7 +33,8 @@ Camera lensFromFlags(const CameraRequest& request, Box2i display, double pixelAs
 // "horizontal_fov_rad" or "ortho_width". Throws obscura::Error on any problem.
 Camera cameraFromSidecar(const std::string& path, Box2i display, double pixelAspect);
 
-// NAME.json next to NAME.exr (then NAME.exr.json), or "" if there is none.
+// NAME.json next to NAME.exr (then NAME.exr.json), or "" if there is none; an obscura report
+// there (--report NAME.json) is not one.
 std::string findSidecar(const std::string& exrPath);
 
 // Camera attributes of an EXR header, if any:

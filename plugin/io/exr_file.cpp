@@ -440,16 +440,21 @@ void writeParts(const std::string& tmp, const ExrPixels& in,
                 const std::vector<std::vector<const NewChannel*>>& byPart,
                 const std::vector<StringAttribute>& attrs) {
     const int nParts = (int)in.info.parts.size();
+    // One choice per part, for its header and its pixels alike: encoded again (level 0, as read)
+    // or copied chunk for chunk (the input's header, every level).
+    std::vector<bool> encoded(nParts);
     std::vector<Imf::Header> headers;
-    for (int p = 0; p < nParts; ++p)
-        headers.push_back(untouched(p, byPart, attrs)
-                              ? headerWithout(in.info.parts[p].header, [](const char* n) { return std::strcmp(n, "chunkCount") == 0; })
-                              : headerWithNewChannels(in.info.parts[p], byPart[p], attrs, p));
+    for (int p = 0; p < nParts; ++p) {
+        encoded[p] = !untouched(p, byPart, attrs) || !in.copyChunks;
+        headers.push_back(encoded[p] ? headerWithNewChannels(in.info.parts[p], byPart[p], attrs, p)
+                                     : headerWithout(in.info.parts[p].header,
+                                                     [](const char* n) { return std::strcmp(n, "chunkCount") == 0; }));
+    }
     shareFirstPartsAttributes(headers);
     Imf::MultiPartOutputFile file(tmp.c_str(), headers.data(), nParts);
     std::optional<Imf::MultiPartInputFile> source;
     for (int p = 0; p < nParts; ++p) {
-        if (!untouched(p, byPart, attrs) || !in.copyChunks) {
+        if (encoded[p]) {
             writePartPixels(file, p, in.info.parts[p], in.raw[p], byPart[p]);
             continue;
         }

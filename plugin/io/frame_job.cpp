@@ -641,6 +641,10 @@ FrameReport runJob(const FrameJob& job) {
         const std::vector<int> copied = job.write == WriteMode::Copy
                                             ? copiedRawParts(job, *headers, report.views, copyChunks, tablesChecked)
                                             : std::vector<int>{};
+        if (!copyChunks)
+            report.warnings.push_back("the input's chunk tables are damaged (OpenEXR rebuilds them as it reads): copy "
+                                      "decodes and encodes every part again, so a lossy part loses more and a "
+                                      "mip-mapped part keeps its level 0 only; --write new is unaffected");
         // Every view processed runs on its own passes; one camera serves them all unless each
         // view's part carries its own. The first view's read keeps the parts a copy writes into.
         for (size_t v = 0; v < std::max<size_t>(1, report.views.size()); ++v) {

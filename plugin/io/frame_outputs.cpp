@@ -193,16 +193,17 @@ void warnOfEarlierLayers(const FrameJob& job, const ExrInfo& input, const std::v
                               " (--out-layer ao=NAME, gi=NAME, ... names the new layers apart)");
 }
 
-// Copy encodes again the parts that take new layers, and a tiled part only at its level 0: a
-// mip-mapped (texture) input would lose its lower levels without a word. Parts that take
-// nothing are copied chunk for chunk, levels and all.
-void warnOfLostLevels(const FrameJob& job, const ExrInfo& input, const std::vector<NewChannel>& add, FrameReport& report) {
+// Copy encodes again the parts that take new layers (every part where the chunk tables failed their
+// check: !copyChunks), and a tiled part only at its level 0: a mip-mapped (texture) input would
+// lose its lower levels without a word. Parts copied chunk for chunk keep every level.
+void warnOfLostLevels(const FrameJob& job, const ExrInfo& input, bool copyChunks, const std::vector<NewChannel>& add,
+                      FrameReport& report) {
     if (job.write != WriteMode::Copy) return;
     for (size_t part = 0; part < input.parts.size(); ++part) {
         const Imf::Header& h = input.parts[part].header;
         const bool levels = h.hasTileDescription() && h.tileDescription().mode != Imf::ONE_LEVEL;
         const bool touched = std::any_of(add.begin(), add.end(), [&](const NewChannel& c) { return c.part == (int)part; });
-        if (levels && touched)
+        if (levels && (touched || !copyChunks))
             report.warnings.push_back("part " + std::to_string(part) + " of the input is mip-mapped; copy writes its "
                                       "level 0 only, beside the new layers (--write append keeps every level)");
     }
@@ -270,7 +271,7 @@ void writeFrameOutputs(const FrameJob& job, std::vector<ViewResult>& views, Fram
         report.writtenViews.push_back(partView.count(c.part) ? partView[c.part] : "");
     }
     warnOfEarlierLayers(job, first.info, add, report);
-    warnOfLostLevels(job, first.info, add, report);
+    warnOfLostLevels(job, first.info, target.copyChunks, add, report);
     if (copy)  // deep elements: the flattened image is the copy's input
         for (NewChannel& c : views.front().passes.carried) add.push_back({firstPart, c.name, std::move(c.plane), c.type});
     if (append)

@@ -45,16 +45,37 @@ OfxStatus dispatch(const char* action, OfxImageEffectHandle effect, OfxPropertyS
     return kOfxStatReplyDefault;
 }
 
+// Tells the host the instance's error state as it is now, again if another thread changed it
+// meanwhile, so the node ends showing the last decision. The host is called with no lock held:
+// a host may show a message on its UI thread and wait for it.
+void publishError(OfxImageEffectHandle effect, Instance& in) {
+    for (;;) {
+        std::string text;
+        unsigned long version = 0;
+        {
+            std::lock_guard<std::mutex> lock(in.errorMutex);
+            text = in.shownError;
+            version = in.errorVersion;
+        }
+        if (text.empty()) clearPersistentError(effect);
+        else postError(effect, text);
+        std::lock_guard<std::mutex> lock(in.errorMutex);
+        if (in.errorVersion == version) return;
+    }
+}
+
 // An instance's error is shown once however many tiles and actions meet it, and kept until a
-// render succeeds; a descriptor's (no instance yet) each time. The host is called with no lock
-// held: a host may show a message on its UI thread and wait for it.
+// render succeeds; a descriptor's (no instance yet) each time.
 void showError(OfxImageEffectHandle effect, const std::string& text) {
-    if (Instance* in = findInstance(effect)) {
+    Instance* in = findInstance(effect);
+    if (!in) return postError(effect, text);
+    {
         std::lock_guard<std::mutex> lock(in->errorMutex);
         if (in->shownError == text) return;
         in->shownError = text;
+        ++in->errorVersion;
     }
-    postError(effect, text);
+    publishError(effect, *in);
 }
 
 void renderSucceeded(OfxImageEffectHandle effect) {
@@ -64,8 +85,9 @@ void renderSucceeded(OfxImageEffectHandle effect) {
         std::lock_guard<std::mutex> lock(in->errorMutex);
         if (in->shownError.empty()) return;
         in->shownError.clear();
+        ++in->errorVersion;
     }
-    clearPersistentError(effect);
+    publishError(effect, *in);
 }
 
 // Nothing escapes to the host: a failed suite call answers its status, an error is shown

@@ -18,8 +18,8 @@ public:
     ~ClipImage();
 
     // region = nullptr: the whole image the host offers (the render window for Output).
-    // False when the host has none there (kOfxStatFailed); throws for any other failure, and for a
-    // pixel depth or components it cannot be read in.
+    // False when the host has none there (kOfxStatFailed, or OK without an image); throws for any
+    // other failure, and for a pixel depth or components it cannot be read in.
     bool fetch(OfxImageClipHandle clip, OfxTime t, const OfxRectD* region, const char* what);
 
     bool empty() const { return handle_ == nullptr; }  // none fetched: every pixel a hole

@@ -26,7 +26,8 @@ struct Instance {
     std::vector<OfxParamHandle> methodParams;  // one per allMethodParams(), in its order
     mutable EnvironmentCache environment;
     std::mutex errorMutex;
-    std::string shownError;  // the error last shown (ofx_actions.cpp): tiles of one frame fail alike
+    std::string shownError;      // the error the node should show (ofx_actions.cpp), "" for none
+    unsigned long errorVersion = 0;  // bumped at each change of shownError: the host is told outside the lock
 };
 
 // The instance the host holds for `effect` (its instance data); throws for none.

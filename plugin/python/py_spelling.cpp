@@ -108,15 +108,17 @@ std::string keywordValue(const Keyword& k, const std::string& rest, size_t& take
 }
 
 // Whether position i lies inside a quoted span: a path, a layer or a value the message quotes
-// ('shots --radius 2/x.exr'). A quote opens after a space, a bracket, '=' or the start (not the
-// apostrophe of "input's") and closes before a space, a punctuation mark or the end.
+// ('shots --radius 2/x.exr'), or a library's text quotes ("..."). A quote opens after a space, a
+// bracket, '=' or the start (not the apostrophe of "input's") and closes before a space, a
+// punctuation mark or the end.
 std::vector<bool> quotedSpans(const std::string& s) {
     std::vector<bool> inside(s.size(), false);
     auto word = [](char c) { return std::isalnum((unsigned char)c) != 0; };
     for (size_t i = 0; i < s.size(); ++i) {
-        if (s[i] != '\'' || (i > 0 && word(s[i - 1]))) continue;
+        const char q = s[i];
+        if ((q != '\'' && q != '"') || (i > 0 && word(s[i - 1]))) continue;
         size_t close = i + 1;
-        while (close < s.size() && !(s[close] == '\'' && (close + 1 == s.size() || !word(s[close + 1])))) ++close;
+        while (close < s.size() && !(s[close] == q && (close + 1 == s.size() || !word(s[close + 1])))) ++close;
         if (close >= s.size()) break;
         std::fill(inside.begin() + (long)i, inside.begin() + (long)close + 1, true);
         i = close;
