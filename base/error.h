@@ -20,6 +20,13 @@ struct FileError : Error {
     FileError(const std::string& path, const std::string& what) : Error("'" + path + "': " + what) {}
 };
 
+// A message's text without the "'path': " a FileError of `path` starts with, to be said again
+// of that file with more context ("frame 12: ...", "view 'left': ...").
+inline std::string withoutFilePrefix(const std::string& what, const std::string& path) {
+    const std::string prefix = "'" + path + "': ";
+    return what.rfind(prefix, 0) == 0 ? what.substr(prefix.size()) : what;
+}
+
 // The first line of a library's message (OpenImageIO, OpenColorIO), trailing spaces and dots
 // dropped: users get one line.
 inline std::string firstLineOf(std::string s, const char* ifEmpty = "unknown error") {

@@ -142,9 +142,7 @@ nlohmann::json inspectSequenceOrFrame(const Options& o) {
 
 // A frame's failure as the run reports it: 'FILE': frame N: what, the number after the file.
 FileError frameFailure(const FrameJob& job, int frame, const std::string& what) {
-    const std::string prefix = "'" + job.input + "': ";
-    const bool named = what.rfind(prefix, 0) == 0;
-    return FileError(job.input, "frame " + std::to_string(frame) + ": " + (named ? what.substr(prefix.size()) : what));
+    return FileError(job.input, "frame " + std::to_string(frame) + ": " + withoutFilePrefix(what, job.input));
 }
 
 // A frame sequence, with a progress line and --resume; stops at the first failing frame, or with

@@ -6,14 +6,6 @@
 
 namespace obscura {
 
-namespace {
-// An error's text without the "'path': " it starts with, to be said again of `path` with more.
-std::string withoutPath(const Error& e, const std::string& path) {
-    const std::string why = e.what(), prefix = "'" + path + "': ";
-    return why.rfind(prefix, 0) == 0 ? why.substr(prefix.size()) : why;
-}
-} // namespace
-
 LayerPlan planViewLayers(const FrameJob& job, const ExrInfo& info, const std::string& view) {
     if (view.empty()) return planLayers(info, job.preset, job.layerOverrides);
     const FileView seen = viewOfFile(info, view);
@@ -21,7 +13,7 @@ LayerPlan planViewLayers(const FrameJob& job, const ExrInfo& info, const std::st
     try {
         plan = planLayers(seen.info, job.preset, job.layerOverrides);
     } catch (const Error& e) {  // a --layer this view lacks: said of the view
-        throw FileError(info.path, "view '" + view + "': " + withoutPath(e, info.path));
+        throw FileError(info.path, "view '" + view + "': " + withoutFilePrefix(e.what(), info.path));
     }
     for (LayerBinding& b : plan.bindings)
         for (std::string& c : b.channels) c = seen.fileName(b.part, c);
@@ -48,7 +40,7 @@ std::vector<std::string> viewsToProcess(const FrameJob& job, const ExrInfo& info
             plain.layerOverrides.clear();
             const LayerPlan own = planViewLayers(plain, info, v);
             if (!own.find(Role::Depth) && !own.find(Role::Position)) continue;
-            throw FileError(info.path, withoutPath(e, info.path) +
+            throw FileError(info.path, withoutFilePrefix(e.what(), info.path) +
                                            " (name the layer as this view spells it, or give --view for the others)");
         }
     }

@@ -83,7 +83,7 @@ std::string choiceArg(const py::handle& obj, const char* what, const std::vector
     valueError(std::string(what) + " must be one of " + all + ", got '" + s + "'");
 }
 
-bool upArg(const py::handle& obj) { return choiceArg(obj, "up", {"y", "z"}) == "z"; }
+bool upArg(const py::handle& obj) { return choiceArg(obj, "up", kUpWords) == "z"; }
 
 std::vector<double> numbersArg(const py::handle& obj, const char* what, size_t count) {
     if (!py::isinstance<py::sequence>(obj) || py::isinstance<py::str>(obj) || py::len(obj) != count)

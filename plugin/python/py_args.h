@@ -48,6 +48,11 @@ E enumArg(const py::handle& obj, const char* what, const char* choices) {
 }
 
 std::string choiceArg(const py::handle& obj, const char* what, const std::vector<std::string>& choices);
+// The words of the keywords that take words the core tables do not list (read here and in py_job;
+// py_spelling recognises them in messages).
+inline const std::vector<std::string> kBadPixelsWords = {"error", "skip"};
+inline const std::vector<std::string> kOutTypeWords = {"half", "float"};
+inline const std::vector<std::string> kUpWords = {"y", "z"};
 // 'y' or 'z': true for z up.
 bool upArg(const py::handle& obj);
 // `count` numbers (a tuple or list), unchecked: the caller checks them against core's table.

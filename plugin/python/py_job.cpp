@@ -57,9 +57,9 @@ void applyJobSsdo(const JobSsdoArgs& js, FrameJob& job) {
 }
 
 void applyOutputs(const OutputArgs& o, FrameJob& job) {
-    if (!o.outType.is_none()) job.aoFloat = choiceArg(o.outType, "out_type", {"half", "float"}) == "float";
+    if (!o.outType.is_none()) job.aoFloat = choiceArg(o.outType, "out_type", kOutTypeWords) == "float";
     if (!o.badPixels.is_none())
-        job.badPixels = choiceArg(o.badPixels, "bad_pixels", {"error", "skip"}) == "skip" ? BadPixelPolicy::Skip
+        job.badPixels = choiceArg(o.badPixels, "bad_pixels", kBadPixelsWords) == "skip" ? BadPixelPolicy::Skip
                                                                                        : BadPixelPolicy::Error;
     if (!o.reference.is_none()) job.referenceLayer = strArg(o.reference, "reference");
     if (!o.preview.is_none()) job.previewPath = pathArg(o.preview, "preview");

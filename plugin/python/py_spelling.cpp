@@ -5,6 +5,7 @@
 #include "core/settings_schema.h"
 #include "io/frame_job.h"
 #include "io/layers.h"
+#include "python/py_args.h"
 
 #include <algorithm>
 #include <cctype>
@@ -44,6 +45,9 @@ std::optional<Keyword> keywordOf(const std::string& flag) {
 
 // Whether `word` is one of the values keyword `key` takes by name ("depth" takes "inverse").
 bool isChoice(const std::string& key, const std::string& word) {
+    const auto in = [&](const std::vector<std::string>& words) {
+        return std::find(words.begin(), words.end(), word) != words.end();
+    };
     Weighting weighting;
     Falloff falloff;
     DepthEncoding encoding;
@@ -56,18 +60,15 @@ bool isChoice(const std::string& key, const std::string& word) {
     if (key == "normals") return parse(word, normals);
     if (key == "write") return parse(word, write);
     if (key == "device") return isDeviceName(word);
-    if (key == "preset") {
-        const std::vector<std::string>& names = presetNames();
-        return std::find(names.begin(), names.end(), word) != names.end();
-    }
+    if (key == "preset") return in(presetNames());
     if (key == "quality") {
         const std::vector<QualityPreset>& levels = qualityPresets();
         return std::any_of(levels.begin(), levels.end(), [&](const QualityPreset& q) { return word == q.name; });
     }
-    if (key == "bad_pixels") return among(word, {"error", "skip"});
+    if (key == "bad_pixels") return in(kBadPixelsWords);
     if (key == "bounce_source") return among(word, {"beauty", "direct-diffuse"});
-    if (key == "out_type") return among(word, {"half", "float"});
-    if (key == "up") return among(word, {"y", "z"});
+    if (key == "out_type") return in(kOutTypeWords);
+    if (key == "up") return in(kUpWords);
     for (const MethodParam* p : allMethodParams())
         if (key == p->key) return findNamed(*p, word) != nullptr;
     return false;
