@@ -119,6 +119,12 @@ TEST_F(SsdoCli, EnvironmentLoadsOnlyForSsdo) {
     const CliResult bad = run(cat({kRoom.string(), "-o", out.string(), "--method", "ssdo", "--env", "/nope.exr"}, fast));
     EXPECT_EQ(bad.exitCode, 1);
     EXPECT_NE(bad.err.find("environment map"), std::string::npos) << bad.err;
+    // An unknown space for the map names the map's flag, not the colour passes'.
+    const CliResult space = run(cat({kRoom.string(), "-o", out.string(), "--method", "ssdo", "--env", env.string(),
+                                     "--env-colorspace", "nosuch"},
+                                    fast));
+    EXPECT_EQ(space.exitCode, 1);
+    EXPECT_NE(space.err.find("'nosuch' for --env-colorspace"), std::string::npos) << space.err;
 }
 
 TEST_F(SsdoCli, BadSsdoFlagsAreUsageErrors) {

@@ -280,11 +280,12 @@ ColourSpaceGuess ColourManager::detectColourSpace(const Imf::Header& header, con
     return detectColourSpace(colourMetadata(header), override);
 }
 
-ColourSpaceGuess ColourManager::detectColourSpace(const ColourMetadata& meta, const std::string& override) const {
+ColourSpaceGuess ColourManager::detectColourSpace(const ColourMetadata& meta, const std::string& override,
+                                                  const std::string& overrideFlag) const {
     ColourSpaceGuess g;
     if (!override.empty()) {
-        g.name = require(override, "--colorspace");
-        g.source = "--colorspace";
+        g.name = require(override, overrideFlag);
+        g.source = overrideFlag;
         return g;
     }
     std::vector<std::string> ignored;

@@ -76,8 +76,10 @@ public:
     // such space) with a warning. An unrecognised string attribute or primaries give a
     // warning and fall through to the next source. A bare "Linear" (which OpenImageIO reports
     // for any float file) yields to chromaticities when the header has them.
+    // `overrideFlag` names the override in messages (--env-colorspace for the environment map).
     ColourSpaceGuess detectColourSpace(const Imf::Header& header, const std::string& override = "") const;
-    ColourSpaceGuess detectColourSpace(const ColourMetadata& meta, const std::string& override = "") const;
+    ColourSpaceGuess detectColourSpace(const ColourMetadata& meta, const std::string& override = "",
+                                       const std::string& overrideFlag = "--colorspace") const;
 
     // Converts channels 0..2 of every pixel (further channels, e.g. alpha, are untouched)
     // in place. No-op when the spaces are the same, or either is data. Needs >= 3 channels.

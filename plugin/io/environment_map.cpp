@@ -17,7 +17,7 @@ EnvironmentMap readEnvironmentMap(const std::string& path, const std::string& co
     const std::string failed = oiioModule().readRgb(path, accept, map.rgb, meta);
     if (!failed.empty()) throw FileError(path, "cannot read the environment map: " + failed);
     const ColourManager& cm = colourManager();
-    const ColourSpaceGuess space = cm.detectColourSpace(meta, colourSpace);
+    const ColourSpaceGuess space = cm.detectColourSpace(meta, colourSpace, "--env-colorspace");
     if (!space.warning.empty()) map.warnings.push_back("environment: " + space.warning);
     cm.toWorkingSpace(map.rgb, space.name);
     map.colourSpace = space.name;
