@@ -1,5 +1,7 @@
 #include "parallel.h"
 
+#include "base/cancel.h"
+
 #include <algorithm>
 #include <atomic>
 #include <exception>
@@ -22,10 +24,18 @@ void parallelForTiles(const Box2i& region, int tileWidth, int tileHeight, int th
     const int tilesY = (region.height() + tileHeight - 1) / tileHeight;
     const int tileCount = tilesX * tilesY;
     std::atomic<int> next{0};
+    std::atomic<bool> cancelled{false};
     std::exception_ptr failure;
     std::mutex failureMutex;
+    const std::thread::id caller = std::this_thread::get_id();
     auto worker = [&] {
         for (int i = next++; i < tileCount; i = next++) {
+            // The host's check, on its own thread only (base/cancel.h); the others see `next` run out.
+            if (std::this_thread::get_id() == caller && cancelRequested()) {
+                cancelled = true;
+                next = tileCount;
+                break;
+            }
             const int tx = i % tilesX, ty = i / tilesX;
             Box2i tile{region.x0 + tx * tileWidth, region.y0 + ty * tileHeight, 0, 0};
             tile.x1 = std::min(tile.x0 + tileWidth, region.x1);
@@ -45,6 +55,7 @@ void parallelForTiles(const Box2i& region, int tileWidth, int tileHeight, int th
     worker();
     for (auto& th : pool) th.join();
     if (failure) std::rethrow_exception(failure);
+    if (cancelled) throw Cancelled();
 }
 
 } // namespace obscura::cpu

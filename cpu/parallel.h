@@ -10,7 +10,8 @@ namespace obscura::cpu {
 int resolveThreads(int requested);
 
 // Calls fn(tile) for tiles of tileWidth x tileHeight covering `region`, on `threads` threads.
-// Tiles are handed out dynamically, so uneven work (sky, radius) balances itself.
+// Tiles are handed out dynamically, so uneven work (sky, radius) balances itself. Throws
+// Cancelled when the calling thread's cancel check (base/cancel.h) says stop between its tiles.
 void parallelForTiles(const Box2i& region, int tileWidth, int tileHeight, int threads,
                       const std::function<void(const Box2i&)>& fn);
 // Square tiles.

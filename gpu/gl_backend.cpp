@@ -1,5 +1,6 @@
 #include "gpu/gl_backend.h"
 
+#include "base/cancel.h"
 #include "base/error.h"
 #include "base/hbao_reach.h"
 #include "gpu/gl_context.h"
@@ -161,6 +162,7 @@ void GlBackend::runTiled(const glsl::KernelParams& p, ConstPlane depth, ConstPla
     const int widest = std::max(3, deep.valid() ? 2 * p.deepLayers : 0);
     if (maxTexels <= 0) maxTexels = info().maxStorageBlockBytes / (widest * (long long)sizeof(float));
     for (const Tile& tile : planTiles(W, H, apron, maxTexels, info())) {
+        throwIfCancelled();  // the host's check, between dispatches (base/cancel.h)
         glsl::KernelParams q = p;
         q.width = tile.buf.width();
         q.height = tile.buf.height();

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <set>
 #include <string>
+#include <thread>
 #include <vector>
 
 using namespace obscura;
@@ -190,3 +191,30 @@ TEST(OfxHostVariants, MethodParametersSayWhatTheirNumbersMean) {
 }
 
 } // namespace
+
+// A host aborts a render when the user moves on: the plugin asks between the operator's tiles, on
+// the thread the host rendered on, and returns at once with nothing written and no error shown.
+TEST(OfxHostVariants, AnAbortStopsTheOperatorBetweenTiles) {
+    const Config c;
+    const Scene s = makeScene(c);
+    for (const int abortFrom : {0, 2}) {  // never; at the first question inside the operator
+        Loaded l = instantiate(s);
+        ASSERT_TRUE(l.inst);
+        l.host->abortFromCall = abortFrom;
+        applyConfig(*l.inst, c, s);
+        std::vector<std::string> problems;
+        const HostImage frame = l.inst->renderFrame(0, 0, 1, problems);  // one tile, on this thread
+        EXPECT_EQ(joined(problems), abortFrom ? "some output pixels were never written\n" : "");
+        EXPECT_EQ(l.host->messages(), std::vector<std::string>{});
+        EXPECT_EQ(l.host->abortThreads_, std::set<std::thread::id>{std::this_thread::get_id()});
+        size_t written = 0;
+        for (float v : frame.pixels) written += !std::isnan(v);
+        if (abortFrom == 0) {
+            EXPECT_GT(l.host->abortCalls_.load(), 2) << "asked only before the operator";
+            EXPECT_EQ(written, frame.pixels.size());
+        } else {
+            EXPECT_EQ(l.host->abortCalls_.load(), 2) << "asked again after it said abort";
+            EXPECT_EQ(written, 0u);
+        }
+    }
+}

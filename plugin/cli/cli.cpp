@@ -1,5 +1,6 @@
 #include "cli.h"
 #include "cli/cli_options.h"
+#include "cli/stop_signals.h"
 
 #include "base/error.h"
 #include "core/methods.h"
@@ -183,9 +184,16 @@ int runSequence(const Options& o) {
             ++skipped;
         } else {
             try {
+                throwIfCancelled();
                 runOneFrame(o, job, reportPath);
             } catch (const UsageError&) {
                 throw;
+            } catch (const Cancelled&) {
+                if (tty && !o.quiet) std::fputc('\n', stderr);
+                std::fprintf(stderr, "obscura: stopped by %s at frame %d, which is not written; the frames before it are "
+                                     "complete (--resume goes on from there)\n",
+                             stopSignalName(), frames[i]);
+                return 128 + stopSignal();
             } catch (const std::exception& e) {
                 if (tty && !o.quiet) std::fputc('\n', stderr);
                 writeFailureReport(job, frames[i], reportPath, e.what());
@@ -350,6 +358,7 @@ int run(int argc, char** argv) {
         if (o.job.output.empty()) throw UsageError("no output file: give -o OUTPUT.exr (or --inspect)");
         o.job.previewPath = besideOutput(o.job.previewPath, o.job.output, ".png");
         o.reportPath = besideOutput(o.reportPath, o.job.output, ".json");
+        const StopSignals stop;  // from here Ctrl-C and SIGTERM stop the run cleanly
         if (isFramePattern(o.job.input)) return runSequence(o);
         if (!o.frames.empty()) throw UsageError("--frames needs an input pattern such as shot.####.exr");
         checkFrameFiles({{&o.job, o.reportPath}}, Spelling::Flag);
@@ -359,6 +368,9 @@ int run(int argc, char** argv) {
         }
         runOneFrame(o, o.job, o.reportPath);
         return 0;
+    } catch (const Cancelled&) {
+        std::fprintf(stderr, "obscura: stopped by %s; nothing written\n", stopSignalName());
+        return 128 + stopSignal();
     } catch (const UsageError& e) {
         std::fprintf(stderr, "obscura: %s\n", printableLine(e.what()).c_str());
         return 2;

@@ -420,7 +420,8 @@ std::string helpText() {
     }
     os << "\nexample:\n  obscura shot.0001.exr -o shot_ao.0001.exr --radius 0.5 --weighting cosine --falloff none \\\n"
           "          --reference ViewLayer.AO --report shot_ao.0001.json\n"
-          "\nexit status: 0 success, 1 failure (one line on stderr), 2 bad command line\n";
+          "\nexit status: 0 success, 1 failure (one line on stderr), 2 bad command line, 130 / 143 stopped by Ctrl-C /\n"
+          "  SIGTERM (the frame being computed not written, no temporary file left)\n";
     return os.str();
 }
 

@@ -2,6 +2,7 @@
 // run the operator, write a copy of the input with the new layers. Shared by the
 // CLI and the Python module; the operator itself never sees a file.
 #pragma once
+#include "base/cancel.h"
 #include "base/error.h"
 #include "core/metrics.h"
 #include "core/operator.h"
@@ -175,12 +176,15 @@ Camera resolveFrameCamera(const FrameJob& job, const FramePasses& passes);
 DeepLayers readJobDeepLayers(const FrameJob& job, const FramePasses& passes, bool windowsOnly = false);
 // Runs f(); an error that names no file (a camera, flag or operator problem, a library's
 // exception) is re-thrown as a FileError naming `input`, so every failure reads 'FILE': what.
+// A host's stop (Cancelled) passes through.
 template <class F>
 auto blameInput(const std::string& input, F&& f) -> decltype(f()) {
     try {
         return f();
     } catch (const FileError&) {
         throw;
+    } catch (const Cancelled&) {
+        throw;  // the host stopped the run: nothing failed
     } catch (const std::bad_alloc&) {
         throw FileError(input, "out of memory");
     } catch (const std::exception& e) {

@@ -14,6 +14,7 @@
 #include "ofx_params.h"
 #include "ofx_suites.h"
 
+#include "base/cancel.h"
 #include "base/error.h"
 #include "core/operator.h"
 #include "core/settings_schema.h"
@@ -93,7 +94,7 @@ OperatorInputs operatorInputs(const Params& p, const FrameMap& f, const PixRect&
 
 // Reads Depth, Normal unless the normals come from the depth (and for the bounce Source) over `occ.data` and runs the operator on
 // them, with the frame's radius cap so every tile computes what the whole frame does. False
-// when the host aborted the render while the inputs were read.
+// when the host aborted the render while the inputs were read or the operator ran.
 bool occlude(OfxImageEffectHandle effect, const Instance& in, OfxTime t, const Params& p, const FrameMap& f,
              Occlusion& occ) {
     const OfxRectD region = f.toCanonical(occ.data);
@@ -120,7 +121,14 @@ bool occlude(OfxImageEffectHandle effect, const Instance& in, OfxTime t, const P
 
     Settings s = p.settings;
     s.maxRadiusPixels = radiusCap(p, f);  // the same for every tile
-    occ.result = runOperator(operatorInputs(p, f, occ.data, depthPlane, normalPlane, radiancePlane, environment.get()), s);
+    // The host's abort is asked between the operator's tiles too: a long frame stops when the
+    // user moves on, not when it ends.
+    const CancelScope hostAbort([effect] { return gEffect->abort(effect) != 0; });
+    try {
+        occ.result = runOperator(operatorInputs(p, f, occ.data, depthPlane, normalPlane, radiancePlane, environment.get()), s);
+    } catch (const Cancelled&) {
+        return false;
+    }
     return true;
 }
 

@@ -7,6 +7,7 @@
 // read_layer), py_deep.cpp (read_deep), py_tables.cpp (METHODS and the other tables); the keywords they take are
 // converted by py_args.h (one argument), py_settings.h (Settings), py_job.h (FrameJob) and
 // call_args.h (the call as a whole).
+#include "base/cancel.h"
 #include "base/error.h"
 #include "python/py_bind.h"
 #include "python/py_spelling.h"
@@ -90,6 +91,8 @@ PYBIND11_MODULE(_obscura, m) {
     py::register_exception_translator([](std::exception_ptr p) {
         try {
             if (p) std::rethrow_exception(p);
+        } catch (const Cancelled&) {
+            if (!PyErr_Occurred()) PyErr_SetNone(PyExc_KeyboardInterrupt);  // else the handler's own error
         } catch (const UsageError& e) {
             PyErr_SetString(PyExc_ValueError, keywordSpelling(e.what()).c_str());
         } catch (const Error& e) {

@@ -6,6 +6,7 @@
 #include "python/call_args.h"
 #include "python/py_args.h"
 #include "python/py_bind.h"
+#include "python/py_interrupt.h"
 #include "python/py_settings.h"
 
 #include <algorithm>
@@ -147,6 +148,7 @@ py::array computeAo(const py::object& depthObj, const py::object& normalObj, con
     {
         // depthObj / normalObj stay referenced by the caller's frame for the whole call.
         py::gil_scoped_release release;
+        const CancelScope interrupt(pythonSignalPending());
         out = runOperator(in, settings);
     }
     return imageToArray(std::move(out.ao), true);
@@ -198,6 +200,7 @@ py::dict computeSsdo(const py::object& depthObj, const py::object& normalObj, co
     OperatorOutputs out;
     {
         py::gil_scoped_release release;
+        const CancelScope interrupt(pythonSignalPending());
         Image environment;
         if (env.valid()) {  // the prefilter wants an owned image: one copy of the (small) map
             environment = ownedRgb(env);
@@ -239,6 +242,7 @@ py::dict computeGi(const py::object& depthObj, const py::object& normalObj, cons
     OperatorOutputs out;
     {
         py::gil_scoped_release release;
+        const CancelScope interrupt(pythonSignalPending());
         out = runOperator(in, settings);
     }
     py::dict d;

@@ -9,6 +9,7 @@
 #include "python/call_args.h"
 #include "python/py_args.h"
 #include "python/py_bind.h"
+#include "python/py_interrupt.h"
 #include "python/py_job.h"
 #include "python/py_spelling.h"
 
@@ -168,6 +169,7 @@ py::object processPy(const FrameJob& job, const std::string& reportPath) {
     std::string json;
     {
         py::gil_scoped_release release;
+        const CancelScope interrupt(pythonSignalPending());
         checkFrameFiles({{&job, reportPath}}, Spelling::Key);
         if (!reportPath.empty()) requireOutputDirectory(reportPath);
         const FrameReport report = runFrameJob(job);

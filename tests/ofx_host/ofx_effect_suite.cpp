@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <mutex>
+#include <thread>
 
 namespace obscura::ofxhost::suites {
 
@@ -169,7 +170,15 @@ OfxStatus clipReleaseImage(OfxPropertySetHandle h) {
     return kOfxStatOK;
 }
 
-int abortRender(OfxImageEffectHandle) { return 0; }
+int abortRender(OfxImageEffectHandle) {
+    Host& host = *gHostObject;
+    {
+        std::lock_guard<std::mutex> lock(host.logMutex_);
+        host.abortThreads_.insert(std::this_thread::get_id());
+    }
+    const int call = ++host.abortCalls_;
+    return host.abortFromCall > 0 && call >= host.abortFromCall ? 1 : 0;
+}
 
 struct Memory {
     unsigned magic = 0x0f5e7006u;

@@ -20,6 +20,7 @@
 #include <mutex>
 #include <set>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace obscura::ofxhost {
@@ -242,9 +243,12 @@ public:
     // no image at that time: what the specification lets a host answer ("assume black").
     bool failEmptyFetch = false;
     bool messageSuiteV2 = true;    // offer version 2 of the message suite (persistent messages)
+    int abortFromCall = 0;         // the effect suite's abort answers 1 from this call on (0: never)
 
     // Host internals used by the suite implementations.
     std::atomic<long long> liveImages_{0};
+    std::atomic<int> abortCalls_{0};
+    std::set<std::thread::id> abortThreads_;  // the threads that called abort (under logMutex_)
     mutable std::mutex logMutex_;
     std::vector<std::string> suites_, messages_;
     std::string persistent_;

@@ -1,0 +1,114 @@
+// A host's stop (base/cancel.h): the operator asks the calling thread's check between tiles, on
+// the CPU and on every GL device, stops at the first "yes" with Cancelled, and without a check,
+// or with one that never says stop, computes what it always does.
+#include "base/cancel.h"
+#include "core/operator.h"
+#include "cpu/parallel.h"
+#include "support/gl_devices.h"
+#include "support/scenes.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <set>
+#include <string>
+#include <thread>
+#include <vector>
+
+using namespace obscura;
+using namespace obscura::test;
+
+namespace {
+
+constexpr int kW = 256, kH = 192;
+
+Settings settingsOn(const std::string& device, const std::string& method) {
+    Settings s = hbaoSettings(Weighting::Cosine, Falloff::None, 0.8f);
+    s.device = device;
+    s.method = method;
+    s.threads = 2;
+    return s;
+}
+
+std::vector<std::string> devices() {
+    std::vector<std::string> all{"cpu"};
+    for (const std::string& d : glDevicesUnderTest()) all.push_back(d);
+    return all;
+}
+
+// A check that says stop from its `stopAt`-th call on (0: never), counting its calls and threads.
+struct CountingCheck {
+    int stopAt = 0;
+    std::atomic<int> calls{0};
+    std::set<std::thread::id> threads;
+    CancelCheck check() {
+        return [this] {
+            threads.insert(std::this_thread::get_id());  // only ever the caller's: no lock needed
+            const int n = ++calls;
+            return stopAt > 0 && n >= stopAt;
+        };
+    }
+};
+
+} // namespace
+
+TEST(Cancel, ACheckThatNeverStopsIsAskedAndChangesNothing) {
+    const SceneBuffers sb = renderScene(studioScene(), studioCamera(kW, kH), kW, kH);
+    for (const std::string& device : devices()) {
+        for (const char* method : {"hbao", "ssao", "discs", "ssdo"}) {
+            const Settings s = settingsOn(device, method);
+            const OperatorOutputs plain = runOperator(sb.inputs(), s);
+            CountingCheck counter;
+            OperatorOutputs checked;
+            {
+                const CancelScope scope(counter.check());
+                checked = runOperator(sb.inputs(), s);
+            }
+            EXPECT_GT(counter.calls.load(), 0) << device << " " << method << ": the check was never asked";
+            EXPECT_EQ(counter.threads, std::set<std::thread::id>{std::this_thread::get_id()})
+                << device << " " << method << ": asked on a thread the caller does not own";
+            EXPECT_EQ(maxAbsDiff(plain.ao, checked.ao), 0.0) << device << " " << method;
+        }
+    }
+}
+
+TEST(Cancel, TheFirstStopEndsTheRun) {
+    const SceneBuffers sb = renderScene(studioScene(), studioCamera(kW, kH), kW, kH);
+    for (const std::string& device : devices()) {
+        // The CPU asks before each tile; GL before each dispatch, of which this frame has one.
+        for (int stopAt : device == "cpu" ? std::vector<int>{1, 2, 5} : std::vector<int>{1}) {
+            CountingCheck counter;
+            counter.stopAt = stopAt;
+            const CancelScope scope(counter.check());
+            EXPECT_THROW(runOperator(sb.inputs(), settingsOn(device, "hbao")), Cancelled) << device;
+            EXPECT_EQ(counter.calls.load(), stopAt) << device << ": asked again after it said stop";
+        }
+    }
+}
+
+// Scopes nest: the inner check is asked while it stands, the outer one again after it.
+TEST(Cancel, ScopesRestoreTheCheckBefore) {
+    EXPECT_FALSE(cancelRequested());
+    {
+        const CancelScope outer([] { return true; });
+        EXPECT_TRUE(cancelRequested());
+        {
+            const CancelScope inner([] { return false; });
+            EXPECT_FALSE(cancelRequested());
+            EXPECT_NO_THROW(throwIfCancelled());
+        }
+        EXPECT_TRUE(cancelRequested());
+        EXPECT_THROW(throwIfCancelled(), Cancelled);
+    }
+    EXPECT_FALSE(cancelRequested());
+}
+
+// The tiles the other threads hold run to their end; no new tile starts after the stop.
+TEST(Cancel, TilesStopBeingHandedOut) {
+    const Box2i region{0, 0, 64, 64};
+    std::atomic<int> ran{0};
+    int asked = 0;
+    const CancelScope scope([&] { return ++asked >= 3; });
+    EXPECT_THROW(cpu::parallelForTiles(region, 8, 1, [&](const Box2i&) { ++ran; }), Cancelled);
+    EXPECT_EQ(ran.load(), 2);  // one thread: the tiles before the third question
+}
