@@ -17,6 +17,32 @@ int resolveThreads(int requested) {
     return hw > 0 ? (int)hw : 1;
 }
 
+namespace {
+
+// Threads beyond each call's own come from one budget for the process, the cores less one: runs
+// at once (an OpenFX host rendering several frames or tiles, Python threads each on a frame) share
+// the cores instead of each starting a thread per core.
+std::atomic<int>& spareThreads() {
+    static std::atomic<int> spare{resolveThreads(0) - 1};
+    return spare;
+}
+
+// Up to `wanted` threads of the budget, handed back when the call ends.
+struct BorrowedThreads {
+    int count = 0;
+    explicit BorrowedThreads(int wanted) {
+        int spare = spareThreads().load();
+        while (spare > 0 && wanted > 0 && !spareThreads().compare_exchange_weak(spare, spare - std::min(spare, wanted))) {
+        }
+        count = std::max(0, std::min(spare, wanted));
+    }
+    ~BorrowedThreads() { spareThreads() += count; }
+    BorrowedThreads(const BorrowedThreads&) = delete;
+    BorrowedThreads& operator=(const BorrowedThreads&) = delete;
+};
+
+} // namespace
+
 void parallelForTiles(const Box2i& region, int tileWidth, int tileHeight, int threads,
                       const std::function<void(const Box2i&)>& fn) {
     if (region.empty()) return;
@@ -49,9 +75,9 @@ void parallelForTiles(const Box2i& region, int tileWidth, int tileHeight, int th
             }
         }
     };
-    const int n = std::max(1, std::min(resolveThreads(threads), tileCount));
+    const BorrowedThreads extra(std::min(resolveThreads(threads), tileCount) - 1);
     std::vector<std::thread> pool;
-    for (int t = 1; t < n; ++t) pool.emplace_back(worker);
+    for (int t = 0; t < extra.count; ++t) pool.emplace_back(worker);
     worker();
     for (auto& th : pool) th.join();
     if (failure) std::rethrow_exception(failure);

@@ -9,7 +9,9 @@ namespace obscura::cpu {
 // 0 (or less) means every hardware thread.
 int resolveThreads(int requested);
 
-// Calls fn(tile) for tiles of tileWidth x tileHeight covering `region`, on `threads` threads.
+// Calls fn(tile) for tiles of tileWidth x tileHeight covering `region`, on `threads` threads at
+// most: the calling thread, and others from one budget of the cores less one that calls running
+// at once share (an OpenFX host's renders in parallel).
 // Tiles are handed out dynamically, so uneven work (sky, radius) balances itself. Throws
 // Cancelled when the calling thread's cancel check (base/cancel.h) says stop between its tiles.
 void parallelForTiles(const Box2i& region, int tileWidth, int tileHeight, int threads,
