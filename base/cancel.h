@@ -3,6 +3,7 @@
 // between tiles (cpu/parallel.cpp, the GL backend's tiles) on that thread only, because a host's
 // function need not be safe to call from threads it does not know.
 #pragma once
+#include <chrono>
 #include <exception>
 #include <functional>
 
@@ -27,6 +28,11 @@ public:
 private:
     CancelCheck outer_;
 };
+
+// `check` asked at most once every `interval` (the first time at once), its last answer standing
+// in between: for a host whose check is costly (OpenFX's guide says a host's abort may be) or
+// takes a lock (Python's GIL). Checks made this way belong to one thread, as a scope's do.
+CancelCheck askedAtMostEvery(std::chrono::milliseconds interval, CancelCheck check);
 
 // Whether this thread's check asks to stop (false without one).
 bool cancelRequested();

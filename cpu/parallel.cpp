@@ -46,6 +46,7 @@ struct BorrowedThreads {
 void parallelForTiles(const Box2i& region, int tileWidth, int tileHeight, int threads,
                       const std::function<void(const Box2i&)>& fn) {
     if (region.empty()) return;
+    throwIfCancelled();  // every pass asks once at least, though the other threads take every tile
     const int tilesX = (region.width() + tileWidth - 1) / tileWidth;
     const int tilesY = (region.height() + tileHeight - 1) / tileHeight;
     const int tileCount = tilesX * tilesY;
@@ -56,17 +57,17 @@ void parallelForTiles(const Box2i& region, int tileWidth, int tileHeight, int th
     const std::thread::id caller = std::this_thread::get_id();
     auto worker = [&] {
         for (int i = next++; i < tileCount; i = next++) {
-            // The host's check, on its own thread only (base/cancel.h); the others see `next` run out.
-            if (std::this_thread::get_id() == caller && cancelRequested()) {
-                cancelled = true;
-                next = tileCount;
-                break;
-            }
             const int tx = i % tilesX, ty = i / tilesX;
             Box2i tile{region.x0 + tx * tileWidth, region.y0 + ty * tileHeight, 0, 0};
             tile.x1 = std::min(tile.x0 + tileWidth, region.x1);
             tile.y1 = std::min(tile.y0 + tileHeight, region.y1);
             try {
+                // The host's check, on its own thread only (base/cancel.h); the others see `next` run out.
+                if (std::this_thread::get_id() == caller && cancelRequested()) {
+                    cancelled = true;
+                    next = tileCount;
+                    break;
+                }
                 fn(tile);
             } catch (...) {
                 std::lock_guard<std::mutex> lock(failureMutex);
@@ -77,9 +78,17 @@ void parallelForTiles(const Box2i& region, int tileWidth, int tileHeight, int th
     };
     const BorrowedThreads extra(std::min(resolveThreads(threads), tileCount) - 1);
     std::vector<std::thread> pool;
-    for (int t = 0; t < extra.count; ++t) pool.emplace_back(worker);
-    worker();
-    for (auto& th : pool) th.join();
+    {
+        // Joined on every way out, an unwinding calling thread's too (a joinable thread's end terminates).
+        struct JoinAll {
+            std::vector<std::thread>& threads;
+            ~JoinAll() {
+                for (std::thread& t : threads) t.join();
+            }
+        } joinAll{pool};
+        for (int t = 0; t < extra.count; ++t) pool.emplace_back(worker);
+        worker();
+    }
     if (failure) std::rethrow_exception(failure);
     if (cancelled) throw Cancelled();
 }

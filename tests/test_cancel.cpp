@@ -10,6 +10,8 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
+#include <mutex>
 #include <set>
 #include <string>
 #include <thread>
@@ -40,10 +42,14 @@ std::vector<std::string> devices() {
 struct CountingCheck {
     int stopAt = 0;
     std::atomic<int> calls{0};
+    std::mutex mutex;
     std::set<std::thread::id> threads;
     CancelCheck check() {
         return [this] {
-            threads.insert(std::this_thread::get_id());  // only ever the caller's: no lock needed
+            {
+                std::lock_guard<std::mutex> lock(mutex);
+                threads.insert(std::this_thread::get_id());
+            }
             const int n = ++calls;
             return stopAt > 0 && n >= stopAt;
         };
@@ -110,5 +116,21 @@ TEST(Cancel, TilesStopBeingHandedOut) {
     int asked = 0;
     const CancelScope scope([&] { return ++asked >= 3; });
     EXPECT_THROW(cpu::parallelForTiles(region, 8, 1, [&](const Box2i&) { ++ran; }), Cancelled);
-    EXPECT_EQ(ran.load(), 2);  // one thread: the tiles before the third question
+    EXPECT_EQ(ran.load(), 1);  // one thread: the call's own question, then one before each tile
+}
+
+// A costly check asked at most every interval: the first time at once, then its answer stands
+// until the interval has passed; once it said stop it is not asked again.
+TEST(Cancel, AChecksAnswerStandsForItsInterval) {
+    int asked = 0;
+    bool answer = false;
+    CancelCheck slow = askedAtMostEvery(std::chrono::hours(1), [&] { return ++asked, answer; });
+    EXPECT_FALSE(slow());
+    answer = true;
+    EXPECT_FALSE(slow());  // the last answer stands
+    EXPECT_EQ(asked, 1);
+    CancelCheck each = askedAtMostEvery(std::chrono::milliseconds(0), [&] { return ++asked, answer; });
+    EXPECT_TRUE(each());
+    EXPECT_TRUE(each());
+    EXPECT_EQ(asked, 2);  // not asked again after it said stop
 }

@@ -190,10 +190,9 @@ int runSequence(const Options& o) {
                 throw;
             } catch (const Cancelled&) {
                 if (tty && !o.quiet) std::fputc('\n', stderr);
-                std::fprintf(stderr, "obscura: stopped by %s at frame %d, which is not written; the frames before it are "
-                                     "complete (--resume goes on from there)\n",
-                             stopSignalName(), frames[i]);
-                return 128 + stopSignal();
+                std::string what = "frame " + std::to_string(frames[i]) + " is not written (--resume goes on from there)";
+                if (!failed.empty()) what += "; frame(s) that failed before it: " + frameSpec(failed);
+                endByStopSignal(what.c_str());
             } catch (const std::exception& e) {
                 if (tty && !o.quiet) std::fputc('\n', stderr);
                 writeFailureReport(job, frames[i], reportPath, e.what());
@@ -369,8 +368,7 @@ int run(int argc, char** argv) {
         runOneFrame(o, o.job, o.reportPath);
         return 0;
     } catch (const Cancelled&) {
-        std::fprintf(stderr, "obscura: stopped by %s; nothing written\n", stopSignalName());
-        return 128 + stopSignal();
+        endByStopSignal("nothing written");
     } catch (const UsageError& e) {
         std::fprintf(stderr, "obscura: %s\n", printableLine(e.what()).c_str());
         return 2;

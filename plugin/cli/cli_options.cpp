@@ -318,7 +318,7 @@ std::vector<Flag> makeFlags() {
              if (!isDeviceName(v)) throw UsageError("--device expects " + deviceNameList() + ", got '" + v + "'");
              o.job.settings.device = v;
          }},
-        {"--threads", "N", "CPU threads (default 0 = all cores)",
+        {"--threads", "N", "CPU threads (default 0 = all cores; at most the cores, shared by runs in one process)",
          [](Options& o, const std::string& v) { o.job.settings.threads = (int)toSetting("--threads", v); }},
         {"--max-pixels", "N", "refuse an input or environment map with a window above N pixels, before allocating "
                                "(default 268435456 = 16384 x 16384)",

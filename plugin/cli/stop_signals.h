@@ -1,9 +1,12 @@
 // Ctrl-C, and the SIGTERM a farm's scheduler sends when a job is cancelled or out of time: the
 // run stops between the operator's tiles (base/cancel.h) and between frames, writes nothing
-// more, leaves no temporary file, and exits 128 + the signal's number. A second signal ends the
-// process at once, as it would without this.
+// more and leaves no temporary file, then ends by that signal, so that a shell loop or a
+// scheduler sees the signal (status 130, 143). A second signal ends the process at once, as it
+// would without this; a signal the parent set to be ignored stays ignored.
 #pragma once
 #include "base/cancel.h"
+
+#include <csignal>
 
 namespace obscura::cli {
 
@@ -17,11 +20,10 @@ public:
 
 private:
     CancelScope scope_;
+    struct sigaction before_[2];  // SIGINT's and SIGTERM's actions as they were
 };
 
-// The signal that asked the run to stop (SIGINT, SIGTERM), 0 when none did.
-int stopSignal();
-// "SIGINT", "SIGTERM".
-const char* stopSignalName();
+// After Cancelled: prints "obscura: stopped by SIG...; `what`" and ends the process by that signal.
+[[noreturn]] void endByStopSignal(const char* what);
 
 } // namespace obscura::cli

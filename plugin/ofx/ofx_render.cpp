@@ -93,10 +93,8 @@ OperatorInputs operatorInputs(const Params& p, const FrameMap& f, const PixRect&
 }
 
 // Reads Depth, Normal unless the normals come from the depth (and for the bounce Source) over `occ.data` and runs the operator on
-// them, with the frame's radius cap so every tile computes what the whole frame does. False
-// when the host aborted the render while the inputs were read or the operator ran.
-bool occlude(OfxImageEffectHandle effect, const Instance& in, OfxTime t, const Params& p, const FrameMap& f,
-             Occlusion& occ) {
+// them, with the frame's radius cap so every tile computes what the whole frame does.
+void readAndOcclude(const Instance& in, OfxTime t, const Params& p, const FrameMap& f, Occlusion& occ) {
     const OfxRectD region = f.toCanonical(occ.data);
     ClipImage depth, normal, radiance;
     fetchInput(depth, in.depth, t, region, "Depth");
@@ -117,15 +115,22 @@ bool occlude(OfxImageEffectHandle effect, const Instance& in, OfxTime t, const P
         radiancePlane = toDisplayPlane(radiance, occ.data, f, 3, 0.0f);
     }
     const std::shared_ptr<const Image> environment = environmentOf(in, p);
-    if (gEffect->abort(effect)) return false;
+    throwIfCancelled();
 
     Settings s = p.settings;
     s.maxRadiusPixels = radiusCap(p, f);  // the same for every tile
-    // The host's abort is asked between the operator's tiles too: a long frame stops when the
-    // user moves on, not when it ends.
-    const CancelScope hostAbort([effect] { return gEffect->abort(effect) != 0; });
+    occ.result = runOperator(operatorInputs(p, f, occ.data, depthPlane, normalPlane, radiancePlane, environment.get()), s);
+}
+
+// readAndOcclude, asking the host's abort after the inputs are read and between the operator's
+// tiles (at most every 10 ms: the specification's guide says a host's abort may be costly), so a
+// long frame stops when the user moves on. False when the host aborted.
+bool occlude(OfxImageEffectHandle effect, const Instance& in, OfxTime t, const Params& p, const FrameMap& f,
+             Occlusion& occ) {
+    const CancelScope hostAbort(
+        askedAtMostEvery(std::chrono::milliseconds(10), [effect] { return gEffect->abort(effect) != 0; }));
     try {
-        occ.result = runOperator(operatorInputs(p, f, occ.data, depthPlane, normalPlane, radiancePlane, environment.get()), s);
+        readAndOcclude(in, t, p, f, occ);
     } catch (const Cancelled&) {
         return false;
     }

@@ -145,10 +145,10 @@ py::array computeAo(const py::object& depthObj, const py::object& normalObj, con
         in.deepLayers = deepArg(deep, in);
     }
     OperatorOutputs out;
+    const CtrlCStops interrupt;  // with the GIL held
     {
         // depthObj / normalObj stay referenced by the caller's frame for the whole call.
         py::gil_scoped_release release;
-        const CancelScope interrupt(pythonSignalPending());
         out = runOperator(in, settings);
     }
     return imageToArray(std::move(out.ao), true);
@@ -198,9 +198,9 @@ py::dict computeSsdo(const py::object& depthObj, const py::object& normalObj, co
     if (!x.environment.is_none()) env = planeArg(x.environment, "environment", 3);
 
     OperatorOutputs out;
+    const CtrlCStops interrupt;  // with the GIL held
     {
         py::gil_scoped_release release;
-        const CancelScope interrupt(pythonSignalPending());
         Image environment;
         if (env.valid()) {  // the prefilter wants an owned image: one copy of the (small) map
             environment = ownedRgb(env);
@@ -240,9 +240,9 @@ py::dict computeGi(const py::object& depthObj, const py::object& normalObj, cons
         in.deepColour = layeredArg(deep.colour, "deep_colour", 3, "RGB colours", in.deepLayers.channels / 2, in);
     }
     OperatorOutputs out;
+    const CtrlCStops interrupt;  // with the GIL held
     {
         py::gil_scoped_release release;
-        const CancelScope interrupt(pythonSignalPending());
         out = runOperator(in, settings);
     }
     py::dict d;

@@ -167,9 +167,9 @@ py::dict readPassesPy(const py::object& path, const FileArgs& f) {
 // process(): the job's files checked against one another, then run; the report as a dict.
 py::object processPy(const FrameJob& job, const std::string& reportPath) {
     std::string json;
+    const CtrlCStops interrupt;  // with the GIL held
     {
         py::gil_scoped_release release;
-        const CancelScope interrupt(pythonSignalPending());
         checkFrameFiles({{&job, reportPath}}, Spelling::Key);
         if (!reportPath.empty()) requireOutputDirectory(reportPath);
         const FrameReport report = runFrameJob(job);

@@ -555,4 +555,3 @@ def test_compute_ao_deep_argument_checks():
         obscura.compute_ao(depth, normal, camera=cam, normals="camera", deep=deep, method="ssao")
     with pytest.raises(ValueError, match="deep_layers"):
         obscura.compute_ao(depth, normal, camera=cam, normals="camera", deep=deep, deep_layers=0)
-
