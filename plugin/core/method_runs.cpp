@@ -1,6 +1,7 @@
 #include "core/method_runs.h"
 
 #include "core/environment.h"
+#include "core/light_inputs.h"
 #include "base/error.h"
 #include "core/backend.h"
 #include "cpu/big_buffer.h"
@@ -9,6 +10,7 @@
 #include "cpu/parallel.h"
 
 #include <algorithm>
+#include <string>
 #include <utility>
 
 namespace obscura {
@@ -54,6 +56,16 @@ void runHbaoGi(const MethodRun& r) {
     r.out.indirect = Image(w, h, 3, 0.0f);
     r.backend.hbaoGi(r.params, in.depth, in.normal, deep, ConstPlane(words), ConstPlane(facing), r.out.ao.view(),
                      r.out.indirect.view(), resolvedBlur(r.settings), r.out.stats);
+}
+// `plane` with no NaN, infinity or negative value (core/light_inputs.h), copied only where it
+// holds one; a note says how many pixels held a NaN or an infinity.
+ConstPlane physicalLight(ConstPlane plane, Image& storage, const char* what, OperatorStats& st) {
+    long long nonFinite = 0;
+    const ConstPlane clean = physical(plane, storage, nonFinite);
+    if (nonFinite > 0)
+        st.notes.push_back(std::string(what) + ": " + std::to_string(nonFinite) +
+                           " pixel(s) hold NaN or infinite values; they count as 0 (black)");
+    return clean;
 }
 } // namespace
 
@@ -107,11 +119,17 @@ void runSsdoMethod(const MethodRun& r) {
     if (in.radiance.valid()) checkPlane(in.radiance, 3, in.dataWindow, "bounce source");
     if (in.albedo.valid()) checkPlane(in.albedo, 3, in.dataWindow, "albedo");
     OperatorStats& st = out.stats;
+    Image ownRadiance, ownAlbedo, ownMap;
+    const ConstPlane radiance = physicalLight(in.radiance, ownRadiance, "the bounce source", st);
+    const ConstPlane albedo = physicalLight(in.albedo, ownAlbedo, "the albedo", st);
     auto t0 = Clock::now();
     Image level;
     if (in.environment && !in.environment->empty()) {
         if (in.environment->channels < 3) throw Error("the environment map needs 3 channels");
-        level = prefilterLatLong(*in.environment, std::max(1, s.ssdoSamples / (s.interleave * s.interleave)));
+        const bool clean = physicalLight(in.environment->view(), ownMap, "the environment map", st).data ==
+                           in.environment->pixels.data();
+        level = prefilterLatLong(clean ? *in.environment : ownMap,
+                                 std::max(1, s.ssdoSamples / (s.interleave * s.interleave)));
         p.envWidth = level.width;
         p.envHeight = level.height;
         st.timings.push_back({"environment", secondsSince(t0)});
@@ -123,7 +141,7 @@ void runSsdoMethod(const MethodRun& r) {
     Image& indirect = p.bounce ? out.indirect : unusedIndirect;
     const ConstPlane environment = level.empty() ? ConstPlane{} : ConstPlane(level.view());
     // The interleaved subsets are gathered back by a blur as wide as the block (or --blur).
-    r.backend.ssdo(p, {in.depth, in.normal, in.radiance, in.albedo, environment}, out.directional.view(),
+    r.backend.ssdo(p, {in.depth, in.normal, radiance, albedo, environment}, out.directional.view(),
                    indirect.view(), out.ao.view(), resolvedBlur(s), st);
 }
 

@@ -7,6 +7,7 @@
 
 #include "base/error.h"
 #include "core/hbao_plan.h"
+#include "core/light_inputs.h"
 #include "core/methods.h"
 #include "io/colour.h"
 #include "io/deep_file.h"
@@ -478,6 +479,13 @@ void addSsdoInputs(const FrameJob& job, FramePasses& p, Settings& settings, Oper
             if (!img->empty()) cm.toWorkingSpace(*img, space.name);
         report.plan.push_back("colour: " + space.name + " (" + space.source + ") -> " + cm.workingSpace());
         report.inputColourSpace = space.name;
+        // The light, relit and --times-albedo read them: a NaN or an infinity is black there
+        // (core/light_inputs.h), and said so here, by the layer's role.
+        for (auto [img, role] : {std::pair{&p.radiance, "the bounce source"}, {&p.albedo, "the albedo"},
+                                 {&p.directDiffuse, "the direct diffuse layer"}})
+            if (const long long bad = img->empty() ? 0 : zeroUnphysical(img->view()))
+                report.warnings.push_back(std::string(role) + ": " + std::to_string(bad) +
+                                          " pixel(s) hold NaN or infinite values; they count as 0 (black)");
     }
     if (!p.radiance.empty()) in.radiance = p.radiance.view();
     if (reads.senderAlbedo && !p.albedo.empty()) in.albedo = p.albedo.view();

@@ -17,6 +17,13 @@ namespace obscura::python {
 
 namespace {
 
+// What the operator noted (a device that fell back, a source's NaN pixels), as RuntimeWarnings:
+// the arrays' functions return arrays, not a report.
+void warnOfNotes(const OperatorStats& stats) {
+    for (const std::string& note : stats.notes)
+        if (PyErr_WarnEx(PyExc_RuntimeWarning, note.c_str(), 1) != 0) throw py::error_already_set();
+}
+
 const char* kComputeAoDoc = R"doc(Ambient occlusion of in-memory passes: a float32 array (H, W), 1 = unoccluded.
 
 depth: float32 (H, W), planar camera depth (or distance to the eye with depth_kind='radial').
@@ -151,6 +158,7 @@ py::array computeAo(const py::object& depthObj, const py::object& normalObj, con
         py::gil_scoped_release release;
         out = runOperator(in, settings);
     }
+    warnOfNotes(out.stats);
     return imageToArray(std::move(out.ao), true);
 }
 
@@ -208,6 +216,7 @@ py::dict computeSsdo(const py::object& depthObj, const py::object& normalObj, co
         }
         out = runOperator(in, settings);
     }
+    warnOfNotes(out.stats);
     py::dict d;
     d["do"] = imageToArray(std::move(out.directional), false);
     d["gi"] = out.indirect.empty() ? py::object(py::none()) : py::object(imageToArray(std::move(out.indirect), false));
@@ -245,6 +254,7 @@ py::dict computeGi(const py::object& depthObj, const py::object& normalObj, cons
         py::gil_scoped_release release;
         out = runOperator(in, settings);
     }
+    warnOfNotes(out.stats);
     py::dict d;
     d["gi"] = imageToArray(std::move(out.indirect), false);
     d["ao"] = imageToArray(std::move(out.ao), true);

@@ -1,0 +1,47 @@
+#include "core/light_inputs.h"
+
+#include <cmath>
+
+namespace obscura {
+
+namespace {
+
+bool physicalValue(float v) { return v >= 0.0f && std::isfinite(v); }
+
+bool allPhysical(ConstPlane plane) {
+    for (int y = 0; y < plane.height; ++y)
+        for (int x = 0; x < plane.width; ++x)
+            for (int c = 0; c < plane.channels; ++c)
+                if (!physicalValue(plane.at(x, y)[c])) return false;
+    return true;
+}
+
+} // namespace
+
+long long zeroUnphysical(MutablePlane plane) {
+    long long nonFinite = 0;
+    for (int y = 0; plane.valid() && y < plane.height; ++y)
+        for (int x = 0; x < plane.width; ++x) {
+            bool counted = false;
+            for (int c = 0; c < plane.channels; ++c) {
+                float& v = plane.at(x, y)[c];
+                if (physicalValue(v)) continue;
+                if (!std::isfinite(v) && !counted) ++nonFinite, counted = true;
+                v = 0.0f;
+            }
+        }
+    return nonFinite;
+}
+
+ConstPlane physical(ConstPlane plane, Image& storage, long long& nonFinite) {
+    nonFinite = 0;
+    if (!plane.valid() || allPhysical(plane)) return plane;
+    storage = Image(plane.width, plane.height, plane.channels);
+    for (int y = 0; y < plane.height; ++y)
+        for (int x = 0; x < plane.width; ++x)
+            for (int c = 0; c < plane.channels; ++c) storage.at(x, y)[c] = plane.at(x, y)[c];
+    nonFinite = zeroUnphysical(storage.view());
+    return storage.view();
+}
+
+} // namespace obscura
