@@ -280,7 +280,8 @@ std::vector<Flag> makeFlags() {
          [](Options& o, const std::string& v) {
              const std::vector<double> c = toNumbers("--sky", v, 3);
              for (int i = 0; i < 3; ++i) {
-                 if (c[i] < 0) throw UsageError("--sky radiance must not be negative, got '" + v + "'");
+                 if (!(c[i] >= 0 && c[i] <= kMaxLight))
+                     throw UsageError("--sky radiance must be between 0 and 1e9, got '" + v + "'");
                  o.job.settings.skyRadiance[i] = (float)c[i];
              }
          }},
@@ -289,7 +290,9 @@ std::vector<Flag> makeFlags() {
              const std::vector<double> c = toNumbers("--light", v, 6);
              if (o.job.settings.lights.size() == 4) throw UsageError("--light: at most 4 directional lights");
              if (c[0] == 0 && c[1] == 0 && c[2] == 0) throw UsageError("--light: the direction must not be 0,0,0");
-             if (c[3] < 0 || c[4] < 0 || c[5] < 0) throw UsageError("--light: the irradiance must not be negative, got '" + v + "'");
+             for (int i = 3; i < 6; ++i)
+                 if (!(c[i] >= 0 && c[i] <= kMaxLight))
+                     throw UsageError("--light: the irradiance must be between 0 and 1e9, got '" + v + "'");
              Settings::DirectionalLight l{};
              for (int i = 0; i < 3; ++i) l.direction[i] = (float)c[i], l.irradiance[i] = (float)c[i + 3];
              o.job.settings.lights.push_back(l);

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <string>
 
 namespace obscura {
@@ -43,6 +44,13 @@ void checkSettings(const Settings& s) {
     }
     if (s.lights.size() > 4)
         throw Error("at most 4 directional lights");
+    // Light past 1e9 overflows float in the sums over samples (1e38 gave NaN everywhere).
+    auto lightProblem = [](const float rgb[3]) {
+        return !std::all_of(rgb, rgb + 3, [](float v) { return v >= 0.0f && v <= kMaxLight; });
+    };
+    if (lightProblem(s.skyRadiance)) throw Error("--sky radiance must be between 0 and 1e9");
+    for (const auto& l : s.lights)
+        if (lightProblem(l.irradiance)) throw Error("--light irradiance must be between 0 and 1e9");
     if (!(std::isfinite(s.radius) && s.radius > 0.0f))
         throw Error("--radius must be a positive finite number of world units");
     if ((s.blur < 0 && s.blur != kBlurAuto) || s.blur > 64)
@@ -186,6 +194,12 @@ OperatorOutputs runOperator(const OperatorInputs& given, const Settings& s) {
     checkSettings(s);
     if (given.dataWindow.empty())
         throw Error("the data window is empty (0 pixels)");
+    // Pixel positions are floats on the devices: past 2^24 they no longer tell pixels apart.
+    for (const Box2i& w : {given.dataWindow, given.displayWindow})
+        for (int v : {w.x0, w.y0, w.x1, w.y1})
+            if (std::abs((long long)v) > (1 << 24))
+                throw Error("the data or display window reaches pixel " + std::to_string(v) +
+                            ", beyond 16777216 from the origin, where float pixel positions no longer tell pixels apart");
     checkPlane(given.depth, 1, given.dataWindow, "depth");
     const bool fromDepth = given.normalSpace == NormalSpace::Depth;
     if (!fromDepth) checkPlane(given.normal, 3, given.dataWindow, "normal");

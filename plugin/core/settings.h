@@ -25,6 +25,10 @@ constexpr int kBorderOpen = 0, kBorderClamp = 1, kBorderTangent = 2;
 // Settings::blur: the method's own default, resolvedBlur().
 constexpr int kBlurAuto = -1;
 
+// The most sky radiance or light irradiance a component may have: beyond it the sums over a
+// pixel's samples overflow float (1e38 gave NaN everywhere). --env-intensity has the same bound.
+inline constexpr float kMaxLight = 1e9f;
+
 struct Settings {
     std::string method = "hbao";
     float radius = 1.0f;        // world units
@@ -42,7 +46,7 @@ struct Settings {
     int ssdoSamples = 64;           // N, the sample set shared by an interleaving block
     int interleave = 2;             // M: an M x M block splits the set (N / M^2 samples per pixel)
     bool bounce = false;            // also compute one indirect bounce (GI)
-    float skyRadiance[3] = {1.0f, 1.0f, 1.0f};  // constant sky when there is no environment map
+    float skyRadiance[3] = {1.0f, 1.0f, 1.0f};  // constant sky when there is no environment map (<= kMaxLight)
     float envRotationDeg = 0.0f;    // turns the environment about the up axis
     float envIntensity = 1.0f;
     bool zUp = false;               // world up is +Z (Blender) rather than +Y, for the environment

@@ -11,6 +11,7 @@
 #include <OpenEXR/ImfTileDescription.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 
 namespace obscura {
@@ -208,6 +209,25 @@ void warnOfLostLevels(const FrameJob& job, const ExrInfo& input, bool copyChunks
                                       "level 0 only, beside the new layers (--write append keeps every level)");
     }
 }
+
+// Half float's largest value is 65504: light above it (a strong --light, sky or map) would be
+// written as +inf, which no compositing operation survives. It is written as 65504, and the run
+// says which layers were clipped.
+void clipToHalf(std::vector<NewChannel>& add, FrameReport& report) {
+    constexpr float kHalfMax = 65504.0f;
+    std::map<std::string, long long> clipped;  // layer: values clipped
+    for (NewChannel& c : add) {
+        if (c.type != Imf::HALF) continue;
+        for (float& v : c.plane.pixels)
+            if (std::abs(v) > kHalfMax) {  // an infinity too (the light's NaNs are gone by now)
+                v = std::copysign(kHalfMax, v);
+                ++clipped[c.name.substr(0, c.name.rfind('.'))];
+            }
+    }
+    for (const auto& [layer, values] : clipped)
+        report.warnings.push_back(layer + ": " + std::to_string(values) + " value(s) above half float's largest (65504) "
+                                  "are written as 65504; --out-type float keeps them");
+}
 } // namespace
 
 void writeFrameOutputs(const FrameJob& job, std::vector<ViewResult>& views, FrameReport& report,
@@ -270,6 +290,7 @@ void writeFrameOutputs(const FrameJob& job, std::vector<ViewResult>& views, Fram
         report.written.push_back(c.name);
         report.writtenViews.push_back(partView.count(c.part) ? partView[c.part] : "");
     }
+    clipToHalf(add, report);
     warnOfEarlierLayers(job, first.info, add, report);
     warnOfLostLevels(job, first.info, target.copyChunks, add, report);
     if (copy)  // deep elements: the flattened image is the copy's input

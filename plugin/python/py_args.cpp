@@ -3,6 +3,7 @@
 
 #include "base/error.h"
 #include "core/methods.h"
+#include "core/settings.h"
 #include "core/settings_schema.h"
 #include "io/camera_sources.h"
 
@@ -94,14 +95,15 @@ std::vector<double> numbersArg(const py::handle& obj, const char* what, size_t c
     return v;
 }
 
-std::array<float, 3> tripleArg(const py::handle& obj, const char* what, bool nonNegative) {
+std::array<float, 3> tripleArg(const py::handle& obj, const char* what, bool light) {
     if (!py::isinstance<py::sequence>(obj) || py::isinstance<py::str>(obj) || py::len(obj) != 3)
         valueError(std::string(what) + " must be 3 numbers, got " + typeName(obj));
     py::sequence seq = py::reinterpret_borrow<py::sequence>(obj);
     std::array<float, 3> v{};
     for (int i = 0; i < 3; ++i) {
         const double d = floatArg(seq[i], what);
-        if (nonNegative && d < 0) valueError(std::string(what) + " must not be negative, got " + std::to_string(d));
+        if (light && !(d >= 0 && d <= kMaxLight))
+            valueError(std::string(what) + " must be between 0 and 1e9, got " + std::to_string(d));
         v[i] = (float)d;
     }
     return v;

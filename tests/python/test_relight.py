@@ -42,7 +42,7 @@ def test_process_ssdo_relit_writes_layers_and_plan(tmp):
     (dict(interleave=9), "interleave must be between 1 and 8"),
     (dict(samples=8, interleave=3), "at least interleave**2 samples"),
     (dict(sky=(1, 2)), "sky must be 3 numbers"),
-    (dict(sky=(1, -1, 0)), "sky must not be negative"),
+    (dict(sky=(1, -1, 0)), "sky must be between 0 and 1e9"),
     (dict(lights=[((0, 1, 0),)]), "each light must be"),
     (dict(lights=[((0, 0, 0), (1, 1, 1))]), "must not be (0, 0, 0)"),
     (dict(lights=[((0, 1, 0), (1, 1, 1))] * 5), "at most 4"),
