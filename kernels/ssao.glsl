@@ -6,7 +6,11 @@
 // weighting. Each point is projected into the depth buffer; it is occluded when the surface
 // seen there lies in front of it and within R of the pixel (the range check, which keeps a
 // distant foreground object from darkening what it hides). AO is the unoccluded fraction; in
-// the sphere, where a flat wall hides half the points, twice that, clamped to 1.
+// the sphere, where a flat wall hides the points below its tangent plane, the unoccluded weight
+// over the weight of the points above it (Crytek's twice the fraction where the halves weigh
+// alike; with linear falloff's weights, or an odd N, they do not), clamped to 1. Where R spans
+// no whole pixel, AO is 1, as HBAO's: every point meets the pixel's own texel, whose depth cannot
+// tell its side.
 //
 // In the hemisphere, "in front" is judged by height above the pixel's tangent plane rather
 // than by depth along the ray: for nearby points the two agree (the eye is above the plane),
@@ -80,6 +84,14 @@ lfloat ssaoLanes(lint x, lint y) {
     rc.cornerToOffset = lvec2(0.5f - rc.centre.x, 0.5f - rc.centre.y);
     rc.n = viewNormal(gatherNormal(x, y, rc.computing), viewVector(rc.ray));
     rc.position = positionOnRay(rc.ray, rc.depth);
+    lfloat radiusPixels = lfloat(P.radius * max(P.fx, P.fy));
+    if (P.orthographic == 0) {
+        radiusPixels *= 1.0f / max(-rc.position.z, 1e-30f);
+    }
+    rc.computing = rc.computing && radiusPixels >= 1.0f;
+    if (!anyLane(rc.computing)) {
+        return lfloat(1.0f);
+    }
     vec2 origin = vec2(bufferOrigin());
 
     lvec3 b1;
@@ -100,6 +112,8 @@ lfloat ssaoLanes(lint x, lint y) {
 
     lfloat occlusion = lfloat(0.0f);
     lfloat weights = lfloat(0.0f);
+    lfloat weightsAbove = lfloat(0.0f);  // the sphere: of the points above the tangent plane,
+    lfloat weightsOpen = lfloat(0.0f);   // ... and of the open ones (summed alike: a plane gives 1 exactly)
     for (int i = 0; i < P.ssaoSamples; ++i) {
         lfloat z = ssaoElevation(i, jitter, invN);
         lfloat s = sqrt(max(1.0f - z * z, 0.0f));
@@ -117,12 +131,15 @@ lfloat ssaoLanes(lint x, lint y) {
         sinA = sinA * cosStep + cosA * sinStep;
         cosA = nextCos;
 
-        occlusion += select(ssaoOccludes(rc, D, origin, radius2, maxReach2), weight, 0.0f);
+        lbool occluded = ssaoOccludes(rc, D, origin, radius2, maxReach2);
+        occlusion += select(occluded, weight, 0.0f);
         weights += weight;
+        weightsAbove += select(z > 0.0f, weight, 0.0f);
+        weightsOpen += select(occluded, 0.0f, weight);
     }
     lfloat open = 1.0f - occlusion / weights;
     if (P.ssaoHemisphere == 0) {
-        open = 2.0f * open;
+        open = weightsOpen / max(weightsAbove, 1e-30f);
     }
     return select(rc.computing, clamp(open, 0.0f, 1.0f), 1.0f);
 }

@@ -249,6 +249,28 @@ TEST_P(Stiff, SsaoPlanesAndCorner) {
         }
 }
 
+// SSAO's sphere form on a plane facing the camera hides the points below the plane and no
+// others, so AO is exactly 1 whatever the points' weights (linear falloff) or number (odd N:
+// the halves differ by a point); and where R spans less than a pixel (1e-30: R^2 underflows), 1.
+TEST_P(Stiff, SsaoSphereKeepsAFacingPlane) {
+    const int W = 96, H = 64;
+    Camera cam = lookAtPerspective(dvec3(0, 0, 5), dvec3(0), 40.0 * M_PI / 180, W, H);
+    SceneBuffers sb = renderScene({planeRect(dvec3(0), dvec3(1, 0, 0), dvec3(0, 1, 0), 1e3)}, cam, W, H);
+    Settings s;
+    s.device = GetParam();
+    s.method = "ssao";
+    s.ssaoHemisphere = false;
+    for (Falloff f : {Falloff::None, Falloff::Linear})
+        for (int n : {15, 16})
+            for (float R : {0.5f, 2.0f, 1e-30f}) {
+                s.falloff = f;
+                s.ssaoSamples = n;
+                s.radius = R;
+                EXPECT_GE(checkedMin(runOperator(sb.inputs(), s).ao), 1.0f)
+                    << (f == Falloff::Linear ? "linear" : "none") << ", N " << n << ", R " << R;
+            }
+}
+
 // Every method of the method table, on every device it runs on: the nine-decade plane stays
 // unoccluded (ssao in its hemisphere form; ssdo's AO counts samples the pixel grid can hide,
 // so it is held to the range only), and the corner at extreme radii stays finite in [0, 1].
