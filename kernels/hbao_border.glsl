@@ -1,15 +1,30 @@
 // HBAO past the buffer's edge (kernels/hbao.glsl, docs/hbao.md "The frame's border"), where
 // P.hbaoBorder is HBAO_BORDER_CLAMP or HBAO_BORDER_TANGENT (HBAO_BORDER_OPEN sees open sky). The
 // continued surface is, at each texel past the edge, the nearest edge texel's tangent plane met
-// by the texel's ray (where it meets it in front of the eye; else, and for clamp, the edge
-// texel's depth). On one plane the angle seen from the receiver changes monotonically along a
-// slice, and the part within R is one segment, so its highest point within R is one of that
-// segment's ends: a lane that leaves the buffer stops marching and takes the ends of the chord
-// from the edge texel where it left (its own surface point) to the continued surface at its last
-// step, clipped to the ball of radius R. Where the chord lies in the far end's plane (the edge
-// continues one plane) it is that plane, every angle between its ends covered; else its ends are
-// two samples. Edge texels come through the backend's gatherEdgeDepth and gatherEdgeTexel (depth
-// and normal; the CPU tables them per frame).
+// by the texel's ray (where it meets it in front of the eye; past the plane's horizon, the plane
+// towards it; else, and for clamp, the edge texel's depth). On one plane the angle seen from the
+// receiver changes monotonically along a slice, and the part within R is one segment, so its
+// highest point within R is one of that segment's ends: a lane that leaves the buffer stops
+// marching and takes the ends of the chord from the edge texel where it left (its own surface
+// point) to the continued surface at its last step, clipped to the ball of radius R. Where the
+// chord lies in the far end's plane (the edge continues one plane) it is that plane, every angle
+// between its ends covered; else its ends are two samples. Edge texels come through the
+// backend's gatherEdgeDepth and gatherEdgeTexel (depth and normal; the CPU tables them per frame).
+
+// The plane through edge point e (normal m) along the image line from the edge texel's ray
+// `fromRay` to `toRay`, which passes above the plane's horizon (a floor seen from less than R
+// above it): the plane runs to infinity before toRay, in the direction of the ray where the
+// line crosses the horizon. Its far end is taken that way from e, past the ball of radius R
+// (clipToBall keeps what lies within), as an offset from the receiver.
+lvec3 towardsHorizon(lvec3 fromRay, lvec3 toRay, lvec3 m, lvec3 e, IN(HbaoReceiver) r) {
+    lfloat f0 = dot(fromRay, m); // < 0: the edge texel's ray meets the plane in front
+    lfloat f1 = dot(toRay, m);   // >= 0: this one does not
+    lfloat t = clamp(f0 / min(f0 - f1, lfloat(-1e-30f)), 0.0f, 1.0f);
+    lvec3 crossing = normalize(fromRay + (toRay - fromRay) * t);
+    lvec3 receiver = positionOnRay(r.ray, r.depth);
+    lvec3 fromReceiver = e - receiver;
+    return fromReceiver + crossing * (sqrt(dot(fromReceiver, fromReceiver)) + 2.0f * P.radius);
+}
 
 // The continued surface at display corner `corner` past the edge, as an offset from the receiver;
 // `valid` where the nearest edge texel is a surface, m its view-space normal (tangent only).
@@ -23,18 +38,28 @@ lvec3 continuedOffset(lvec2 corner, lbool use, IN(HbaoReceiver) r, OUT(lbool) va
     valid = use && isSurfaceDepth(edgeDepth);
     lfloat d = edgeDepth;
     m = lvec3(lfloat(0.0f), lfloat(0.0f), lfloat(0.0f));
+    lbool pastHorizon = lfloat(0.0f) > 0.0f; // false in every lane
+    lvec3 edgeRay = viewRay(lvec2(edgeCorner.x + 0.5f, edgeCorner.y + 0.5f));
+    lvec3 sampleRay = viewRay(lvec2(corner.x + 0.5f, corner.y + 0.5f));
+    lvec3 e = positionOnRay(edgeRay, edgeDepth);
     if (P.hbaoBorder == HBAO_BORDER_TANGENT) {
         m = select(valid, mat3(P.normalToView) * lvec3(edge.y, edge.z, edge.w), m);
-        lvec3 e = positionOnRay(viewRay(lvec2(edgeCorner.x + 0.5f, edgeCorner.y + 0.5f)), edgeDepth);
-        lvec3 sampleRay = viewRay(lvec2(corner.x + 0.5f, corner.y + 0.5f));
         // Planar depth -z; radial depth (perspective only) is t |ray| for the point ray t.
         lfloat planeDepth = -rayMeetsPlane(sampleRay, m, e).z;
         if (P.orthographic == 0 && P.radialDepth != 0) {
             planeDepth *= sqrt(dot(sampleRay, sampleRay));
         }
-        d = select(valid && isSurfaceDepth(planeDepth), planeDepth, edgeDepth);
+        lbool meets = valid && isSurfaceDepth(planeDepth);
+        d = select(meets, planeDepth, edgeDepth);
+        if (P.orthographic == 0) {
+            pastHorizon = valid && !meets && dot(sampleRay, m) >= 0.0f && dot(edgeRay, m) < 0.0f;
+        }
     }
-    return viewOffset(r.ray, r.depth, imageOffset(corner + r.cornerToOffset), select(valid, d, r.depth));
+    lvec3 X = viewOffset(r.ray, r.depth, imageOffset(corner + r.cornerToOffset), select(valid, d, r.depth));
+    if (anyLane(pastHorizon)) {
+        X = select(pastHorizon, towardsHorizon(edgeRay, sampleRay, m, e, r), X);
+    }
+    return X;
 }
 
 // The chord of a lane that left the buffer at display corner `exitCorner` and whose last step is

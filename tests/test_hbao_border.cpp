@@ -5,6 +5,7 @@
 #include "cpu/lane_cpu.h"
 #include "io/frame_job.h"
 #include "support/cli_runner.h"
+#include "support/gl_devices.h"
 #include "support/reference_runs.h"
 #include "support/scenes.h"
 
@@ -47,6 +48,31 @@ TEST(HbaoBorder, TangentKeepsPlanesExactAtTheEdge) {
                                                   << " w=" << toString(w);
                 }
             }
+}
+
+// A floor seen from 0.4 above it with R = 1, its horizon 10 degrees above the frame: marches
+// from the top rows end above that horizon, where no ray meets the plane. The plane runs to
+// infinity before them and, continued towards its horizon, still occludes nothing (it was
+// taken at the edge texel's depth there, a wall that darkened the top rows to 0.79).
+TEST(HbaoBorder, AFloorContinuedTowardsItsHorizonStaysOpen) {
+    const int W = 160, H = 90;
+    const double hfov = 40.0 * M_PI / 180;
+    const double f = 0.5 * W / std::tan(0.5 * hfov);
+    const double pitch = std::atan(0.5 * H / f) + 10.0 * M_PI / 180;
+    const dvec3 eye(0, 0.4, 0);
+    const Camera cam = lookAtPerspective(eye, eye + dvec3(0, -std::sin(pitch), -std::cos(pitch)), hfov, W, H);
+    SceneBuffers sb = renderScene({planeRect(dvec3(0), dvec3(1, 0, 0), dvec3(0, 0, -1), 1e4)}, cam, W, H);
+    std::vector<std::string> devices{"cpu"};
+    for (const std::string& d : glDevicesUnderTest()) devices.push_back(d);
+    for (const std::string& device : devices)
+        for (Falloff falloff : {Falloff::None, Falloff::Linear}) {
+            Settings st = borderSettings(kBorderTangent);
+            st.falloff = falloff;
+            st.device = device;
+            const OperatorOutputs out = runOperator(sb.inputs(), st);
+            const float minAo = *std::min_element(out.ao.pixels.begin(), out.ao.pixels.end());
+            EXPECT_GE(minAo, 1.0f - 2e-4f) << device << (falloff == Falloff::Linear ? " linear" : " none");
+        }
 }
 
 // A frame whose buffer stops at the display window's edge, against the same frame with the
