@@ -3,6 +3,7 @@
 // and a property that a numerical weakness would break.
 #include "core/methods.h"
 #include "core/operator.h"
+#include "support/expect_error.h"
 #include "support/gl_devices.h"
 #include "support/scenes.h"
 
@@ -392,5 +393,27 @@ TEST_P(Stiff, HbaoDeepBounceStaysFiniteAndBounded) {
                 for (float v : out.indirect.pixels)
                     EXPECT_TRUE(v >= 0.0f && v <= most) << v << (open ? " plane" : " corner") << " R=" << R << " T=" << T;
             }
+        }
+}
+
+// Pixel positions are floats on both devices: a window past pixel 2^24 from the origin (where
+// float no longer tells pixels apart) is refused with a line, not computed wrong (discs read a
+// plane at 1e8 as 0.625); a plane in a window far inside it stays open.
+TEST(StiffWindows, FarWindowsAreRefusedNearOnesCompute) {
+    const int W = 32, H = 24;
+    SceneBuffers sb = tiltedPlaneView(45.0, 10.0, false, W, H);
+    for (const char* method : {"hbao", "discs"})
+        for (int offset : {1 << 20, 100000000}) {
+            Settings s = hbaoSettings(Weighting::Cosine, Falloff::None, 3.0f);
+            s.method = method;
+            OperatorInputs in = sb.inputs();
+            in.dataWindow = Box2i{offset, offset, offset + W, offset + H};
+            in.displayWindow = in.dataWindow;
+            in.camera.cx += offset;
+            in.camera.cy += offset;
+            if (offset > (1 << 24))
+                expectError([&] { runOperator(in, s); }, {"beyond 16777216", "100000000"});
+            else
+                EXPECT_GE(checkedMin(runOperator(in, s).ao), 1.0f - 2e-4f) << method << " at " << offset;
         }
 }
