@@ -11,14 +11,16 @@
 // between its ends covered; else its ends are two samples. Edge texels come through the
 // backend's gatherEdgeDepth and gatherEdgeTexel (depth and normal; the CPU tables them per frame).
 
-// The plane through edge point e (normal m) along the image line from the edge texel's ray
-// `fromRay` to `toRay`, which passes above the plane's horizon (a floor seen from less than R
-// above it): the plane runs to infinity before toRay, in the direction of the ray where the
-// line crosses the horizon. Its far end is taken that way from e, past the ball of radius R
-// (clipToBall keeps what lies within), as an offset from the receiver.
-lvec3 towardsHorizon(lvec3 fromRay, lvec3 toRay, lvec3 m, lvec3 e, IN(HbaoReceiver) r) {
-    lfloat f0 = dot(fromRay, m); // < 0: the edge texel's ray meets the plane in front
-    lfloat f1 = dot(toRay, m);   // >= 0: this one does not
+// The plane through edge point e (normal m, facing the eye) along the slice's image line to
+// `toRay`, which passes above the plane's horizon (a floor seen from less than R above it): the
+// plane runs to infinity before toRay, in the direction of the ray where the line crosses the
+// horizon. The line starts at the receiver's ray where that meets the plane in front (the
+// slice's own line), else at the edge texel's. The far end is taken that way from e, past the
+// ball of radius R (clipToBall keeps what lies within), as an offset from the receiver.
+lvec3 towardsHorizon(lvec3 edgeRay, lvec3 toRay, lvec3 m, lvec3 e, IN(HbaoReceiver) r) {
+    lvec3 fromRay = select(dot(r.ray, m) < 0.0f, r.ray, edgeRay);
+    lfloat f0 = dot(fromRay, m); // < 0: meets the plane in front
+    lfloat f1 = dot(toRay, m);   // >= 0: does not
     lfloat t = clamp(f0 / min(f0 - f1, lfloat(-1e-30f)), 0.0f, 1.0f);
     lvec3 crossing = normalize(fromRay + (toRay - fromRay) * t);
     lvec3 receiver = positionOnRay(r.ray, r.depth);
@@ -39,6 +41,7 @@ lvec3 continuedOffset(lvec2 corner, lbool use, IN(HbaoReceiver) r, OUT(lbool) va
     lfloat d = edgeDepth;
     m = lvec3(lfloat(0.0f), lfloat(0.0f), lfloat(0.0f));
     lbool pastHorizon = lfloat(0.0f) > 0.0f; // false in every lane
+    lvec3 facing = m;
     lvec3 edgeRay = viewRay(lvec2(edgeCorner.x + 0.5f, edgeCorner.y + 0.5f));
     lvec3 sampleRay = viewRay(lvec2(corner.x + 0.5f, corner.y + 0.5f));
     lvec3 e = positionOnRay(edgeRay, edgeDepth);
@@ -51,13 +54,15 @@ lvec3 continuedOffset(lvec2 corner, lbool use, IN(HbaoReceiver) r, OUT(lbool) va
         }
         lbool meets = valid && isSurfaceDepth(planeDepth);
         d = select(meets, planeDepth, edgeDepth);
+        // The normal as the eye sees the plane (a pass may hold a back face's).
+        facing = select(dot(m, e) > 0.0f, -m, m);
         if (P.orthographic == 0) {
-            pastHorizon = valid && !meets && dot(sampleRay, m) >= 0.0f && dot(edgeRay, m) < 0.0f;
+            pastHorizon = valid && !meets && dot(sampleRay, facing) >= 0.0f && dot(edgeRay, facing) < 0.0f;
         }
     }
     lvec3 X = viewOffset(r.ray, r.depth, imageOffset(corner + r.cornerToOffset), select(valid, d, r.depth));
     if (anyLane(pastHorizon)) {
-        X = select(pastHorizon, towardsHorizon(edgeRay, sampleRay, m, e, r), X);
+        X = select(pastHorizon, towardsHorizon(edgeRay, sampleRay, facing, e, r), X);
     }
     return X;
 }

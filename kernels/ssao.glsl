@@ -139,7 +139,8 @@ lfloat ssaoLanes(lint x, lint y) {
     }
     lfloat open = 1.0f - occlusion / weights;
     if (P.ssaoHemisphere == 0) {
-        open = weightsOpen / max(weightsAbove, 1e-30f);
+        // No point above the tangent plane (N = 1, say): nothing to judge by.
+        open = select(weightsAbove > 0.0f, weightsOpen / max(weightsAbove, 1e-30f), lfloat(1.0f));
     }
     return select(rc.computing, clamp(open, 0.0f, 1.0f), 1.0f);
 }

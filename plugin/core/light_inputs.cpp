@@ -1,12 +1,15 @@
 #include "core/light_inputs.h"
 
+#include "core/settings.h"
+
 #include <cmath>
 
 namespace obscura {
 
 namespace {
 
-bool physicalValue(float v) { return v >= 0.0f && std::isfinite(v); }
+bool physicalValue(float v) { return v >= 0.0f && v <= kMaxLight; }  // NaN fails both
+bool brokenValue(float v) { return !(v <= kMaxLight); }                // NaN, +inf, beyond: said
 
 bool allPhysical(ConstPlane plane) {
     for (int y = 0; y < plane.height; ++y)
@@ -26,7 +29,7 @@ long long zeroUnphysical(MutablePlane plane) {
             for (int c = 0; c < plane.channels; ++c) {
                 float& v = plane.at(x, y)[c];
                 if (physicalValue(v)) continue;
-                if (!std::isfinite(v) && !counted) ++nonFinite, counted = true;
+                if ((brokenValue(v) || std::isinf(v)) && !counted) ++nonFinite, counted = true;
                 v = 0.0f;
             }
         }
@@ -42,6 +45,11 @@ ConstPlane physical(ConstPlane plane, Image& storage, long long& nonFinite) {
             for (int c = 0; c < plane.channels; ++c) storage.at(x, y)[c] = plane.at(x, y)[c];
     nonFinite = zeroUnphysical(storage.view());
     return storage.view();
+}
+
+std::string unphysicalNote(const std::string& what, long long pixels) {
+    return what + ": " + std::to_string(pixels) + " pixel(s) hold NaN, infinite or huge (above 1e9) values; they count as 0 "
+                                                   "(black)";
 }
 
 } // namespace obscura

@@ -16,6 +16,17 @@
 namespace obscura {
 
 namespace {
+// `plane` with no NaN, infinity, huge or negative value (core/light_inputs.h), copied only where
+// it holds one; a note says how many pixels held one of the first three. `checked`: the host
+// already saw to it (OperatorInputs::lightChecked).
+ConstPlane physicalLight(ConstPlane plane, Image& storage, const char* what, bool checked, OperatorStats& st) {
+    if (checked) return plane;
+    long long nonFinite = 0;
+    const ConstPlane clean = physical(plane, storage, nonFinite);
+    if (nonFinite > 0) st.notes.push_back(unphysicalNote(what, nonFinite));
+    return clean;
+}
+
 // HBAO with --bounce: the indirect light from the same march (kernels/hbao_gi.glsl), from the
 // bounce source times the albedo where one is given (SSDO's senders), packed once here. With deep
 // layers, a word per texel and layer: the visible layer's bounce source, then each hidden layer's
@@ -28,9 +39,13 @@ void runHbaoGi(const MethodRun& r) {
     checkPlane(in.radiance, 3, in.dataWindow, "bounce source");
     const bool albedo = r.params.senderAlbedo != 0 && in.albedo.valid();
     if (albedo) checkPlane(in.albedo, 3, in.dataWindow, "albedo");
+    Image ownRadiance, ownAlbedo, ownDeepColour;
+    const ConstPlane radiance = physicalLight(in.radiance, ownRadiance, "the bounce source", in.lightChecked, r.out.stats);
+    const ConstPlane senderAlbedo = physicalLight(in.albedo, ownAlbedo, "the albedo", in.lightChecked, r.out.stats);
+    const ConstPlane deepColour = physicalLight(in.deepColour, ownDeepColour, "the deep colour", false, r.out.stats);
     const ConstPlane deep = r.params.deepLayers > 0 ? in.deepLayers : ConstPlane{};
     const int layers = std::max(r.params.deepLayers, 1);
-    const int coloured = deep.valid() && in.deepColour.valid() ? std::min(layers, in.deepColour.channels / 3) : 1;
+    const int coloured = deep.valid() && deepColour.valid() ? std::min(layers, deepColour.channels / 3) : 1;
     const int w = in.dataWindow.width(), h = in.dataWindow.height();
     const Clock::time_point t0 = Clock::now();
     // Scratch kept for the next frame (cpu/big_buffer.h): fresh pages cost as much as the packing.
@@ -43,12 +58,12 @@ void runHbaoGi(const MethodRun& r) {
     const MutablePlane facing = faces ? MutablePlane{scratch.get() + texels * layers, w, h, 1, 1, w} : MutablePlane{};
     // Bands of rows on every thread: one pass over the colour and normal planes, as costly as a
     // copy of them.
-    const auto pack = cpu::cpuKernelsFor({in.radiance, in.albedo, in.deepColour, in.normal}).packSourceTile;
+    const auto pack = cpu::cpuKernelsFor({radiance, senderAlbedo, deepColour, in.normal}).packSourceTile;
     cpu::parallelForTiles(Box2i{0, 0, w, h}, w, 16, r.threads, [&](const Box2i& band) {
-        pack(in.radiance, albedo ? in.albedo : ConstPlane{}, faces ? in.normal : ConstPlane{}, r.params, words, 0, facing,
+        pack(radiance, albedo ? senderAlbedo : ConstPlane{}, faces ? in.normal : ConstPlane{}, r.params, words, 0, facing,
              band);
         for (int k = 1; k < coloured; ++k) {
-            const ConstPlane layer{in.deepColour.data + 3 * k, w, h, 3, in.deepColour.xStride, in.deepColour.yStride};
+            const ConstPlane layer{deepColour.data + 3 * k, w, h, 3, deepColour.xStride, deepColour.yStride};
             pack(layer, ConstPlane{}, ConstPlane{}, r.params, words, k, MutablePlane{}, band);
         }
     });
@@ -56,16 +71,6 @@ void runHbaoGi(const MethodRun& r) {
     r.out.indirect = Image(w, h, 3, 0.0f);
     r.backend.hbaoGi(r.params, in.depth, in.normal, deep, ConstPlane(words), ConstPlane(facing), r.out.ao.view(),
                      r.out.indirect.view(), resolvedBlur(r.settings), r.out.stats);
-}
-// `plane` with no NaN, infinity or negative value (core/light_inputs.h), copied only where it
-// holds one; a note says how many pixels held a NaN or an infinity.
-ConstPlane physicalLight(ConstPlane plane, Image& storage, const char* what, OperatorStats& st) {
-    long long nonFinite = 0;
-    const ConstPlane clean = physical(plane, storage, nonFinite);
-    if (nonFinite > 0)
-        st.notes.push_back(std::string(what) + ": " + std::to_string(nonFinite) +
-                           " pixel(s) hold NaN or infinite values; they count as 0 (black)");
-    return clean;
 }
 } // namespace
 
@@ -120,13 +125,13 @@ void runSsdoMethod(const MethodRun& r) {
     if (in.albedo.valid()) checkPlane(in.albedo, 3, in.dataWindow, "albedo");
     OperatorStats& st = out.stats;
     Image ownRadiance, ownAlbedo, ownMap;
-    const ConstPlane radiance = physicalLight(in.radiance, ownRadiance, "the bounce source", st);
-    const ConstPlane albedo = physicalLight(in.albedo, ownAlbedo, "the albedo", st);
+    const ConstPlane radiance = physicalLight(in.radiance, ownRadiance, "the bounce source", in.lightChecked, st);
+    const ConstPlane albedo = physicalLight(in.albedo, ownAlbedo, "the albedo", in.lightChecked, st);
     auto t0 = Clock::now();
     Image level;
     if (in.environment && !in.environment->empty()) {
         if (in.environment->channels < 3) throw Error("the environment map needs 3 channels");
-        const bool clean = physicalLight(in.environment->view(), ownMap, "the environment map", st).data ==
+        const bool clean = physicalLight(in.environment->view(), ownMap, "the environment map", false, st).data ==
                            in.environment->pixels.data();
         level = prefilterLatLong(clean ? *in.environment : ownMap,
                                  std::max(1, s.ssdoSamples / (s.interleave * s.interleave)));

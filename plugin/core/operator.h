@@ -34,6 +34,10 @@ struct OperatorInputs {
     ConstPlane radiance;            // bounce source, 3 channels (needed for GI)
     ConstPlane albedo;              // 3 channels, optional: multiplies the bounce source
     const Image* environment = nullptr;  // lat-long RGB radiance; nullptr: the settings' sky colour
+    // The host already set the radiance's and the albedo's NaN, infinite, huge and negative values
+    // to 0 and said so (plugin/io does): the methods skip their own pass over them
+    // (core/light_inputs.h).
+    bool lightChecked = false;
 };
 
 struct StageTiming {

@@ -484,8 +484,8 @@ void addSsdoInputs(const FrameJob& job, FramePasses& p, Settings& settings, Oper
         for (auto [img, role] : {std::pair{&p.radiance, "the bounce source"}, {&p.albedo, "the albedo"},
                                  {&p.directDiffuse, "the direct diffuse layer"}})
             if (const long long bad = img->empty() ? 0 : zeroUnphysical(img->view()))
-                report.warnings.push_back(std::string(role) + ": " + std::to_string(bad) +
-                                          " pixel(s) hold NaN or infinite values; they count as 0 (black)");
+                report.warnings.push_back(unphysicalNote(role, bad));
+        in.lightChecked = true;
     }
     if (!p.radiance.empty()) in.radiance = p.radiance.view();
     if (reads.senderAlbedo && !p.albedo.empty()) in.albedo = p.albedo.view();

@@ -234,7 +234,13 @@ void describeSsdo(ParamDef& d) {
                    1, 8, kGroupSsdo);
     OfxPropertySetHandle sky = d.define(kOfxParamTypeRGB, kParamSkyColour, "Sky Colour",
                                         "Constant sky radiance when there is no environment map (--sky)", kGroupSsdo);
-    for (int c = 0; c < 3; ++c) gProp->propSetDouble(sky, kOfxParamPropDefault, c, 1.0);
+    for (int c = 0; c < 3; ++c) {
+        gProp->propSetDouble(sky, kOfxParamPropDefault, c, 1.0);
+        gProp->propSetDouble(sky, kOfxParamPropMin, c, 0.0);
+        gProp->propSetDouble(sky, kOfxParamPropMax, c, kMaxLight);
+        gProp->propSetDouble(sky, kOfxParamPropDisplayMin, c, 0.0);
+        gProp->propSetDouble(sky, kOfxParamPropDisplayMax, c, 4.0);
+    }
     OfxPropertySetHandle env =
         d.define(kOfxParamTypeString, kParamEnvMap, "Environment Map",
                  "Lat-long radiance map, any format OpenImageIO reads, converted from its colour space to the "

@@ -6,6 +6,7 @@
 #include "core/devices.h"
 #include "core/methods.h"
 
+#include <algorithm>
 #include <iterator>
 #include <mutex>
 #include <string>
@@ -128,6 +129,7 @@ Params readParams(const Instance& in, OfxTime t) {
     s.ssdoSamples = intAt(in.ssdoSamples, t);
     s.interleave = intAt(in.interleave, t);
     rgbAt(in.skyColour, t, s.skyRadiance);
+    for (float& c : s.skyRadiance) c = std::clamp(c, 0.0f, kMaxLight);  // a colour picker allows any
     s.envRotationDeg = (float)doubleAt(in.envRotation, t);
     s.envIntensity = (float)doubleAt(in.envIntensity, t);
     s.zUp = choiceAt(in.upAxis, t, (int)std::size(kUpAxes)) == 1;

@@ -44,7 +44,7 @@ def test_a_broken_bounce_source_stays_black_where_it_is(tmp, value, method):
     src, out = room_with(tmp, "ViewLayer.DiffDir.R", value), tmp / "out.exr"
     r = run(src, "-o", out, "--method", method, "--bounce", "--out-type", "float", *(FAST if method == "ssdo" else []))
     assert r.returncode == 0, r.stderr
-    assert "the bounce source: 200 pixel(s) hold NaN or infinite values; they count as 0 (black)" in r.stderr
+    assert "the bounce source: 200 pixel(s) hold NaN, infinite or huge (above 1e9) values; they count as 0 (black)" in r.stderr
     for layer in (["obscura.DO"] if method == "ssdo" else []) + ["obscura.GI", "obscura.relit"]:
         assert np.isfinite(rgb(out, layer)).all(), layer
 
@@ -65,7 +65,7 @@ def test_a_map_with_broken_texels_lights_as_the_rest_of_it(tmp):
         r = run(ROOM, "-o", out, "--method", "ssdo", "--env", path, "--out-type", "float", *FAST)
         assert r.returncode == 0, r.stderr
         dos.append(rgb(out, "obscura.DO"))
-    assert "the environment map: 2 pixel(s) hold NaN or infinite values" in r.stderr
+    assert "the environment map: 2 pixel(s) hold NaN, infinite or huge (above 1e9) values" in r.stderr
     assert np.isfinite(dos[1]).all()
     assert 0.5 * dos[0].mean() < dos[1].mean() <= dos[0].mean()  # two black texels of 128
 
@@ -94,3 +94,16 @@ def test_compute_ssdo_warns_of_a_broken_source_and_stays_finite():
                                  display_window=p["display_window"], up="z", bounce=True, radiance=radiance,
                                  samples=16)
     assert np.isfinite(r["do"]).all() and np.isfinite(r["gi"]).all()
+
+
+@pytest.mark.parametrize("value", [np.nan, 3e38])
+def test_compute_gi_warns_of_a_broken_or_huge_source_and_stays_finite(value):
+    """hbao's bounce from arrays: the same warning as SSDO's, and no value beyond float in its sums."""
+    p = obscura.read_passes(ROOM)
+    radiance = np.ascontiguousarray(obscura.read_layer(ROOM, "ViewLayer.DiffDir")[..., :3])
+    radiance[40:50, 60:80] = value
+    with pytest.warns(RuntimeWarning, match="the bounce source: 200 pixel"):
+        r = obscura.compute_gi(p["depth"], p["normal"], camera=p["camera"], normals=p["normals"],
+                               depth_kind=p["depth_kind"], sky_depth=p["sky_depth"], data_window=p["data_window"],
+                               display_window=p["display_window"], radiance=radiance)
+    assert np.isfinite(r["gi"]).all() and np.isfinite(r["ao"]).all()
