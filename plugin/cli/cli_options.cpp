@@ -280,7 +280,7 @@ std::vector<Flag> makeFlags() {
          [](Options& o, const std::string& v) {
              const std::vector<double> c = toNumbers("--sky", v, 3);
              for (int i = 0; i < 3; ++i) {
-                 if (!(c[i] >= 0 && c[i] <= kMaxLight))
+                 if (!withinLight(c[i]))
                      throw UsageError("--sky radiance must be between 0 and 1e9, got '" + v + "'");
                  o.job.settings.skyRadiance[i] = (float)c[i];
              }
@@ -291,7 +291,7 @@ std::vector<Flag> makeFlags() {
              if (o.job.settings.lights.size() == 4) throw UsageError("--light: at most 4 directional lights");
              if (c[0] == 0 && c[1] == 0 && c[2] == 0) throw UsageError("--light: the direction must not be 0,0,0");
              for (int i = 3; i < 6; ++i)
-                 if (!(c[i] >= 0 && c[i] <= kMaxLight))
+                 if (!withinLight(c[i]))
                      throw UsageError("--light: the irradiance must be between 0 and 1e9, got '" + v + "'");
              Settings::DirectionalLight l{};
              for (int i = 0; i < 3; ++i) l.direction[i] = (float)c[i], l.irradiance[i] = (float)c[i + 3];

@@ -8,14 +8,14 @@ namespace obscura {
 
 namespace {
 
-bool physicalValue(float v) { return v >= 0.0f && v <= kMaxLight; }  // NaN fails both
-bool brokenValue(float v) { return !(v <= kMaxLight); }                // NaN, +inf, beyond: said
+// Values the run speaks of; a merely negative one is mended without a word.
+bool brokenValue(float v) { return std::isnan(v) || std::isinf(v) || v > kMaxLight; }
 
 bool allPhysical(ConstPlane plane) {
     for (int y = 0; y < plane.height; ++y)
         for (int x = 0; x < plane.width; ++x)
             for (int c = 0; c < plane.channels; ++c)
-                if (!physicalValue(plane.at(x, y)[c])) return false;
+                if (!withinLight(plane.at(x, y)[c])) return false;
     return true;
 }
 
@@ -28,8 +28,8 @@ long long zeroUnphysical(MutablePlane plane) {
             bool counted = false;
             for (int c = 0; c < plane.channels; ++c) {
                 float& v = plane.at(x, y)[c];
-                if (physicalValue(v)) continue;
-                if ((brokenValue(v) || std::isinf(v)) && !counted) ++nonFinite, counted = true;
+                if (withinLight(v)) continue;
+                if (brokenValue(v) && !counted) ++nonFinite, counted = true;
                 v = 0.0f;
             }
         }

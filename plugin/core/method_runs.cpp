@@ -131,9 +131,8 @@ void runSsdoMethod(const MethodRun& r) {
     Image level;
     if (in.environment && !in.environment->empty()) {
         if (in.environment->channels < 3) throw Error("the environment map needs 3 channels");
-        const bool clean = physicalLight(in.environment->view(), ownMap, "the environment map", false, st).data ==
-                           in.environment->pixels.data();
-        level = prefilterLatLong(clean ? *in.environment : ownMap,
+        physicalLight(in.environment->view(), ownMap, "the environment map", false, st);  // a copy where it mends
+        level = prefilterLatLong(ownMap.empty() ? *in.environment : ownMap,
                                  std::max(1, s.ssdoSamples / (s.interleave * s.interleave)));
         p.envWidth = level.width;
         p.envHeight = level.height;

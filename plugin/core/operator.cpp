@@ -46,7 +46,7 @@ void checkSettings(const Settings& s) {
         throw Error("at most 4 directional lights");
     // Light past 1e9 overflows float in the sums over samples (1e38 gave NaN everywhere).
     auto lightProblem = [](const float rgb[3]) {
-        return !std::all_of(rgb, rgb + 3, [](float v) { return v >= 0.0f && v <= kMaxLight; });
+        return !std::all_of(rgb, rgb + 3, [](float v) { return withinLight(v); });
     };
     if (methodOutputs(s.method, "do")) {  // the methods that light with them
         if (lightProblem(s.skyRadiance)) throw Error("--sky radiance must be between 0 and 1e9");

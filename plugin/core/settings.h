@@ -28,6 +28,8 @@ constexpr int kBlurAuto = -1;
 // The most sky radiance or light irradiance a component may have: beyond it the sums over a
 // pixel's samples overflow float (1e38 gave NaN everywhere). --env-intensity has the same bound.
 inline constexpr float kMaxLight = 1e9f;
+// Whether `v` is such a component (NaN is not): the one test every host and the operator make.
+inline bool withinLight(double v) { return v >= 0.0 && v <= kMaxLight; }
 
 struct Settings {
     std::string method = "hbao";

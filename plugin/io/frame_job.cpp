@@ -479,8 +479,8 @@ void addSsdoInputs(const FrameJob& job, FramePasses& p, Settings& settings, Oper
             if (!img->empty()) cm.toWorkingSpace(*img, space.name);
         report.plan.push_back("colour: " + space.name + " (" + space.source + ") -> " + cm.workingSpace());
         report.inputColourSpace = space.name;
-        // The light, relit and --times-albedo read them: a NaN or an infinity is black there
-        // (core/light_inputs.h), and said so here, by the layer's role.
+        // The light, relit and --times-albedo read them: a NaN, an infinity or a huge value is black
+        // there (core/light_inputs.h), and said so here, by the layer's role.
         for (auto [img, role] : {std::pair{&p.radiance, "the bounce source"}, {&p.albedo, "the albedo"},
                                  {&p.directDiffuse, "the direct diffuse layer"}})
             if (const long long bad = img->empty() ? 0 : zeroUnphysical(img->view()))

@@ -102,7 +102,7 @@ std::array<float, 3> tripleArg(const py::handle& obj, const char* what, bool lig
     std::array<float, 3> v{};
     for (int i = 0; i < 3; ++i) {
         const double d = floatArg(seq[i], what);
-        if (light && !(d >= 0 && d <= kMaxLight))
+        if (light && !withinLight(d))
             valueError(std::string(what) + " must be between 0 and 1e9, got " + std::to_string(d));
         v[i] = (float)d;
     }

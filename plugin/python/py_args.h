@@ -57,7 +57,7 @@ inline const std::vector<std::string> kUpWords = {"y", "z"};
 bool upArg(const py::handle& obj);
 // `count` numbers (a tuple or list), unchecked: the caller checks them against core's table.
 std::vector<double> numbersArg(const py::handle& obj, const char* what, size_t count);
-// 3 numbers (a colour: nonNegative).
+// 3 numbers (`light`: a radiance or irradiance, each withinLight).
 std::array<float, 3> tripleArg(const py::handle& obj, const char* what, bool light);
 
 // 16 numbers row-major (4x4 nested or flat), OpenGL convention; checked to be an affine,

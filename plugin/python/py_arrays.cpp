@@ -17,11 +17,20 @@ namespace obscura::python {
 
 namespace {
 
-// What the operator noted (a device that fell back, a source's NaN pixels), as RuntimeWarnings:
-// the arrays' functions return arrays, not a report.
-void warnOfNotes(const OperatorStats& stats) {
-    for (const std::string& note : stats.notes)
+// The operator on in-memory passes, called with the GIL held: released while it runs (the
+// arrays `in` views stay referenced by the caller's frame), stopped by Ctrl-C, and what it noted
+// (a device that fell back, a source's NaN pixels) raised as RuntimeWarnings, since the arrays'
+// functions return arrays, not a report.
+OperatorOutputs runOnArrays(const OperatorInputs& in, const Settings& settings) {
+    OperatorOutputs out;
+    const CtrlCStops interrupt;
+    {
+        py::gil_scoped_release release;
+        out = runOperator(in, settings);
+    }
+    for (const std::string& note : out.stats.notes)
         if (PyErr_WarnEx(PyExc_RuntimeWarning, note.c_str(), 1) != 0) throw py::error_already_set();
+    return out;
 }
 
 const char* kComputeAoDoc = R"doc(Ambient occlusion of in-memory passes: a float32 array (H, W), 1 = unoccluded.
@@ -151,15 +160,7 @@ py::array computeAo(const py::object& depthObj, const py::object& normalObj, con
         if (!methodReads(settings.method, "deep")) valueError("deep layers are used by method='" + methodNames("', '", "deep") + "' only");
         in.deepLayers = deepArg(deep, in);
     }
-    OperatorOutputs out;
-    const CtrlCStops interrupt;  // with the GIL held
-    {
-        // depthObj / normalObj stay referenced by the caller's frame for the whole call.
-        py::gil_scoped_release release;
-        out = runOperator(in, settings);
-    }
-    warnOfNotes(out.stats);
-    return imageToArray(std::move(out.ao), true);
+    return imageToArray(runOnArrays(in, settings).ao, true);
 }
 
 // compute_ssdo: DO (and GI) irradiance and AO of in-memory passes, lit by a lat-long array or
@@ -205,18 +206,12 @@ py::dict computeSsdo(const py::object& depthObj, const py::object& normalObj, co
     ConstPlane env;
     if (!x.environment.is_none()) env = planeArg(x.environment, "environment", 3);
 
-    OperatorOutputs out;
-    const CtrlCStops interrupt;  // with the GIL held
-    {
-        py::gil_scoped_release release;
-        Image environment;
-        if (env.valid()) {  // the prefilter wants an owned image: one copy of the (small) map
-            environment = ownedRgb(env);
-            in.environment = &environment;
-        }
-        out = runOperator(in, settings);
+    Image environment;
+    if (env.valid()) {  // the prefilter wants an owned image: one copy of the (small) map
+        environment = ownedRgb(env);
+        in.environment = &environment;
     }
-    warnOfNotes(out.stats);
+    OperatorOutputs out = runOnArrays(in, settings);
     py::dict d;
     d["do"] = imageToArray(std::move(out.directional), false);
     d["gi"] = out.indirect.empty() ? py::object(py::none()) : py::object(imageToArray(std::move(out.indirect), false));
@@ -248,13 +243,7 @@ py::dict computeGi(const py::object& depthObj, const py::object& normalObj, cons
         if (deep.deep.is_none()) valueError("deep_colour needs deep=: the surfaces it colours");
         in.deepColour = layeredArg(deep.colour, "deep_colour", 3, "RGB colours", in.deepLayers.channels / 2, in);
     }
-    OperatorOutputs out;
-    const CtrlCStops interrupt;  // with the GIL held
-    {
-        py::gil_scoped_release release;
-        out = runOperator(in, settings);
-    }
-    warnOfNotes(out.stats);
+    OperatorOutputs out = runOnArrays(in, settings);
     py::dict d;
     d["gi"] = imageToArray(std::move(out.indirect), false);
     d["ao"] = imageToArray(std::move(out.ao), true);
