@@ -447,6 +447,23 @@ TEST(CameraSources, SidecarAndFinding) {
     EXPECT_THROW(cameraFromSidecar(dir + "/missing.json", {0, 0, 320, 240}, 1.0), Error);
 }
 
+// A sidecar that gives only an ortho_width is orthographic without saying "projection"; one that
+// gives both lenses and no projection stays perspective, as before.
+TEST(CameraSources, ASidecarsLensSaysItsProjection) {
+    const std::filesystem::path dir = obscura::test::testDir("sidecar_lens");
+    const std::string rows = R"("camera_to_world": [[1,0,0,0],[0,1,0,0],[0,0,1,5],[0,0,0,1]])";
+    const std::string ortho = (dir / "ortho.json").string(), both = (dir / "both.json").string();
+    std::ofstream(ortho) << "{" << rows << R"(, "ortho_width": 8})";
+    std::ofstream(both) << "{" << rows << R"(, "ortho_width": 8, "horizontal_fov_rad": 0.9})";
+    const Camera o = cameraFromSidecar(ortho, {0, 0, 320, 240}, 1.0);
+    EXPECT_EQ(o.projection, Projection::Orthographic);
+    EXPECT_DOUBLE_EQ(o.orthoWidth(320), 8.0);
+    EXPECT_DOUBLE_EQ(o.cameraToWorld[3][2], 5.0);
+    const Camera p = cameraFromSidecar(both, {0, 0, 320, 240}, 1.0);
+    EXPECT_EQ(p.projection, Projection::Perspective);
+    EXPECT_NEAR(p.horizontalFovRad(320), 0.9, 1e-12);
+}
+
 // A report written as NAME.json beside NAME.exr (--report shot.json) sits where a sidecar would:
 // the next run on NAME.exr does not take it for its camera.
 TEST(CameraSources, AReportBesideTheInputIsNoSidecar) {

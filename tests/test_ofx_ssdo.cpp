@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -489,3 +490,38 @@ TEST(OfxSsdo, EnvironmentMapFromFileMatchesOperator) {
 }
 
 } // namespace
+
+// A Source clip with NaN pixels: the bounce takes them as 0, so GI stays finite, and the node says
+// so with a persistent warning (not a failure: the frame is written), until a render whose Source
+// is clean. Outputs that read no Source say nothing.
+TEST(OfxSsdo, NanInTheSourceWarnsOnTheNodeUntilItIsClean) {
+    const Config c = cfg("perspective");
+    const Scene s = makeScene(c);
+    const HostImage albedo = albedoClipOf(s);
+    HostImage source = s.beautyClip;
+    Loaded l = instantiateSsdo(s.depthClip, s.normalClip, source, albedo);
+    ASSERT_TRUE(l.inst);
+    applyConfig(*l.inst, c, s);
+    applySsdo(*l.inst, SsdoOptions{});
+    const std::string warning = "OfxMessageWarning: obscura: the Source clip held NaN, infinite or huge (above 1e9) "
+                                "values; the light takes them as 0 (black)";
+    for (int y = 10; y < 20; ++y)
+        for (int x = 10; x < 20; ++x) source.at(source.bounds.x1 + x, source.bounds.y1 + y)[1] = NAN;
+    std::vector<std::string> problems;
+    ASSERT_EQ(l.inst->setInt("output", kOutDo), kOfxStatOK);
+    l.inst->renderFrame(0, 0, 1, problems);
+    EXPECT_EQ(l.host->persistentMessage(), "") << "DO reads no Source";
+    ASSERT_EQ(l.inst->setInt("output", kOutGi), kOfxStatOK);
+    const HostImage gi = l.inst->renderFrame(17, 11, 3, problems);
+    EXPECT_EQ(l.host->persistentMessage(), warning);
+    long long nonFinite = 0;
+    for (float v : gi.pixels) nonFinite += std::isfinite(v) ? 0 : 1;
+    EXPECT_EQ(nonFinite, 0);
+    std::copy(s.beautyClip.pixels.begin(), s.beautyClip.pixels.end(), source.pixels.begin());
+    l.inst->renderFrame(17, 11, 3, problems);
+    EXPECT_EQ(l.host->persistentMessage(), "");
+    EXPECT_EQ(joined(problems), "");
+    // Posted once when it appeared and cleared once, however many tiles met it.
+    const std::vector<std::string> posted = l.host->messages();
+    EXPECT_EQ(std::count(posted.begin(), posted.end(), "persistent " + warning), 1) << joined(posted);
+}

@@ -12,6 +12,8 @@ Camera Camera::perspectiveFromFov(double horizontalFovRad, int displayWidth, int
     c.fy = c.fx * pixelAspect;
     c.cx = 0.5 * displayWidth;
     c.cy = 0.5 * displayHeight;
+    c.displayWidth = displayWidth;
+    c.displayHeight = displayHeight;
     return c;
 }
 
@@ -23,6 +25,8 @@ Camera Camera::perspectiveFromFilmBack(double focal, double aperture, int displa
     c.fy = c.fx * pixelAspect;
     c.cx = 0.5 * displayWidth;
     c.cy = 0.5 * displayHeight;
+    c.displayWidth = displayWidth;
+    c.displayHeight = displayHeight;
     return c;
 }
 
@@ -33,6 +37,8 @@ Camera Camera::orthographic(double width, int displayWidth, int displayHeight, d
     c.fy = c.fx * pixelAspect;
     c.cx = 0.5 * displayWidth;
     c.cy = 0.5 * displayHeight;
+    c.displayWidth = displayWidth;
+    c.displayHeight = displayHeight;
     return c;
 }
 

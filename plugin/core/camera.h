@@ -20,6 +20,9 @@ struct Camera {
     bool hasPose = false;            // false: only intrinsics are known
     std::string source;              // where it came from, for --inspect / --report
     double fitResidualPx = -1;       // RMS reprojection error of a fit, -1 if not fitted
+    // The display window's size the camera was made for (its principal point at the centre), so a
+    // host can refuse one made for another frame; 0: not known (intrinsics given as they are).
+    int displayWidth = 0, displayHeight = 0;
 
     bool valid() const { return fx > 0 && fy > 0; }
 

@@ -23,7 +23,10 @@ ConstPlane physicalLight(ConstPlane plane, Image& storage, const char* what, boo
     if (checked) return plane;
     long long nonFinite = 0;
     const ConstPlane clean = physical(plane, storage, nonFinite);
-    if (nonFinite > 0) st.notes.push_back(unphysicalNote(what, nonFinite));
+    if (nonFinite > 0) {
+        st.notes.push_back(unphysicalNote(what, nonFinite));
+        st.unphysicalLight.push_back(what);
+    }
     return clean;
 }
 

@@ -53,6 +53,9 @@ struct OperatorStats {
     bool normalsFromDepth = false;    // the normals were reconstructed from the depth
     std::string device;               // "cpu (N threads)", "gl-osmesa: llvmpipe ..., OpenGL 4.5 ..."
     std::vector<std::string> notes;   // e.g. why --device auto fell back to the CPU
+    // The light inputs that held NaN, infinite or huge values, taken as 0 ("the bounce source"):
+    // named as in the notes, for a host that words its own message (the OpenFX node).
+    std::vector<std::string> unphysicalLight;
     std::vector<StageTiming> timings;
 };
 

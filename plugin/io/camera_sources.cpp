@@ -222,7 +222,8 @@ Camera cameraFromSidecar(const std::string& path, Box2i display, double pixelAsp
         if (!flat[i]->is_number()) throw FileError(path, rowsMessage);
         rows[i] = flat[i]->get<double>();
     }
-    std::string projection = "persp";
+    // Without "projection", the lens it gives says which: an ortho_width alone is orthographic.
+    std::string projection = j.contains("ortho_width") && !j.contains("horizontal_fov_rad") ? "ortho" : "persp";
     if (j.contains("projection")) {
         if (!j["projection"].is_string()) throw FileError(path, where + ": \"projection\" must be \"persp\" or \"ortho\"");
         projection = j["projection"].get<std::string>();

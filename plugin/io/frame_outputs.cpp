@@ -212,8 +212,9 @@ void warnOfLostLevels(const FrameJob& job, const ExrInfo& input, bool copyChunks
 
 // Half float's largest value is 65504: light above it (a strong --light, sky or map) would be
 // written as +inf, which no compositing operation survives. It is written as 65504, and the run
-// says which layers were clipped.
-void clipToHalf(std::vector<NewChannel>& add, FrameReport& report) {
+// says which layers were clipped, with the view of a part of its own (`partView`: the layers'
+// names repeat in each).
+void clipToHalf(std::vector<NewChannel>& add, const std::map<int, std::string>& partView, FrameReport& report) {
     constexpr float kHalfMax = 65504.0f;
     std::map<std::string, long long> clipped;  // layer: values clipped
     for (NewChannel& c : add) {
@@ -221,7 +222,9 @@ void clipToHalf(std::vector<NewChannel>& add, FrameReport& report) {
         for (float& v : c.plane.pixels)
             if (std::abs(v) > kHalfMax) {  // an infinity too (the light's NaNs are gone by now)
                 v = std::copysign(kHalfMax, v);
-                ++clipped[c.name.substr(0, c.name.rfind('.'))];
+                const auto view = partView.find(c.part);
+                ++clipped[c.name.substr(0, c.name.rfind('.')) +
+                          (view == partView.end() ? "" : " (view " + view->second + ")")];
             }
     }
     for (const auto& [layer, values] : clipped)
@@ -290,7 +293,7 @@ void writeFrameOutputs(const FrameJob& job, std::vector<ViewResult>& views, Fram
         report.written.push_back(c.name);
         report.writtenViews.push_back(partView.count(c.part) ? partView[c.part] : "");
     }
-    clipToHalf(add, report);
+    clipToHalf(add, partView, report);
     warnOfEarlierLayers(job, first.info, add, report);
     warnOfLostLevels(job, first.info, target.copyChunks, add, report);
     if (copy)  // deep elements: the flattened image is the copy's input

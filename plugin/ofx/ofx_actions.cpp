@@ -20,6 +20,63 @@ namespace obscura::ofx {
 
 namespace {
 
+// Tells the host the instance's message as it is now (its error, else its warning, else none),
+// again if another thread changed it meanwhile, so the node ends showing the last decision. The
+// host is called with no lock held: a host may show a message on its UI thread and wait for it.
+void publishMessage(OfxImageEffectHandle effect, Instance& in) {
+    for (;;) {
+        std::string error, warning;
+        unsigned long version = 0;
+        {
+            std::lock_guard<std::mutex> lock(in.messageMutex);
+            error = in.shownError;
+            warning = in.shownWarning;
+            version = in.messageVersion;
+        }
+        if (!error.empty()) postMessage(effect, kOfxMessageError, error);
+        else if (!warning.empty()) postMessage(effect, kOfxMessageWarning, warning);
+        else clearPersistentMessage(effect);
+        std::lock_guard<std::mutex> lock(in.messageMutex);
+        if (in.messageVersion == version) return;
+    }
+}
+
+// Sets what the instance shows and tells the host when it changed: a message is shown once however
+// many tiles and actions meet it.
+void setShown(OfxImageEffectHandle effect, Instance& in, const std::string& error, const std::string& warning) {
+    {
+        std::lock_guard<std::mutex> lock(in.messageMutex);
+        if (in.shownError == error && in.shownWarning == warning) return;
+        in.shownError = error;
+        in.shownWarning = warning;
+        ++in.messageVersion;
+    }
+    publishMessage(effect, in);
+}
+
+// An instance's error is kept until a render succeeds; a descriptor's (no instance yet) is shown
+// each time.
+void showError(OfxImageEffectHandle effect, const std::string& text) {
+    Instance* in = findInstance(effect);
+    if (!in) return postMessage(effect, kOfxMessageError, text);
+    std::string warning;
+    {
+        std::lock_guard<std::mutex> lock(in->messageMutex);
+        warning = in->shownWarning;
+    }
+    setShown(effect, *in, text, warning);
+}
+
+// A render that finished clears the error and shows its warning, if any; one the host aborted
+// leaves the node's message as it was.
+OfxStatus render(OfxImageEffectHandle effect, OfxPropertySetHandle inArgs) {
+    std::optional<std::string> warning;
+    const OfxStatus status = onRender(effect, inArgs, warning);
+    if (status != kOfxStatOK || !warning) return status;
+    if (Instance* in = findInstance(effect)) setShown(effect, *in, "", *warning);
+    return status;
+}
+
 // Each action by name; kOfxStatReplyDefault for those the plugin leaves to the host.
 OfxStatus dispatch(const char* action, OfxImageEffectHandle effect, OfxPropertySetHandle inArgs,
                    OfxPropertySetHandle outArgs) {
@@ -38,56 +95,11 @@ OfxStatus dispatch(const char* action, OfxImageEffectHandle effect, OfxPropertyS
     if (!std::strcmp(action, kOfxImageEffectActionGetClipPreferences)) return onGetClipPreferences(effect, outArgs);
     if (!std::strcmp(action, kOfxImageEffectActionGetOutputColourspace)) return onGetOutputColourspace(effect, outArgs);
     if (!std::strcmp(action, kOfxImageEffectActionIsIdentity)) return onIsIdentity(effect, inArgs, outArgs);
-    if (!std::strcmp(action, kOfxImageEffectActionRender)) return onRender(effect, inArgs);
+    if (!std::strcmp(action, kOfxImageEffectActionRender)) return render(effect, inArgs);
     if (!std::strcmp(action, kOfxImageEffectActionBeginSequenceRender) ||
         !std::strcmp(action, kOfxImageEffectActionEndSequenceRender))
         return kOfxStatOK;
     return kOfxStatReplyDefault;
-}
-
-// Tells the host the instance's error state as it is now, again if another thread changed it
-// meanwhile, so the node ends showing the last decision. The host is called with no lock held:
-// a host may show a message on its UI thread and wait for it.
-void publishError(OfxImageEffectHandle effect, Instance& in) {
-    for (;;) {
-        std::string text;
-        unsigned long version = 0;
-        {
-            std::lock_guard<std::mutex> lock(in.errorMutex);
-            text = in.shownError;
-            version = in.errorVersion;
-        }
-        if (text.empty()) clearPersistentError(effect);
-        else postError(effect, text);
-        std::lock_guard<std::mutex> lock(in.errorMutex);
-        if (in.errorVersion == version) return;
-    }
-}
-
-// An instance's error is shown once however many tiles and actions meet it, and kept until a
-// render succeeds; a descriptor's (no instance yet) each time.
-void showError(OfxImageEffectHandle effect, const std::string& text) {
-    Instance* in = findInstance(effect);
-    if (!in) return postError(effect, text);
-    {
-        std::lock_guard<std::mutex> lock(in->errorMutex);
-        if (in->shownError == text) return;
-        in->shownError = text;
-        ++in->errorVersion;
-    }
-    publishError(effect, *in);
-}
-
-void renderSucceeded(OfxImageEffectHandle effect) {
-    Instance* in = findInstance(effect);
-    if (!in) return;
-    {
-        std::lock_guard<std::mutex> lock(in->errorMutex);
-        if (in->shownError.empty()) return;
-        in->shownError.clear();
-        ++in->errorVersion;
-    }
-    publishError(effect, *in);
 }
 
 // Nothing escapes to the host: a failed suite call answers its status, an error is shown
@@ -95,9 +107,7 @@ void renderSucceeded(OfxImageEffectHandle effect) {
 OfxStatus mainEntry(const char* action, const void* handle, OfxPropertySetHandle inArgs, OfxPropertySetHandle outArgs) {
     OfxImageEffectHandle effect = (OfxImageEffectHandle)handle;
     try {
-        const OfxStatus status = dispatch(action, effect, inArgs, outArgs);
-        if (status == kOfxStatOK && !std::strcmp(action, kOfxImageEffectActionRender)) renderSucceeded(effect);
-        return status;
+        return dispatch(action, effect, inArgs, outArgs);
     } catch (const OfxFailure& e) {
         return e.status == kOfxStatOK ? kOfxStatFailed : e.status;
     } catch (const std::bad_alloc&) {

@@ -3,6 +3,9 @@
 #pragma once
 #include "ofx_api.h"
 
+#include <optional>
+#include <string>
+
 namespace obscura::ofx {
 
 // ofx_describe.cpp: the plugin, then its clips and parameters in the General context.
@@ -25,7 +28,8 @@ OfxStatus onGetClipPreferences(OfxImageEffectHandle effect, OfxPropertySetHandle
 OfxStatus onGetOutputColourspace(OfxImageEffectHandle effect, OfxPropertySetHandle outArgs);
 OfxStatus onIsIdentity(OfxImageEffectHandle effect, OfxPropertySetHandle inArgs, OfxPropertySetHandle outArgs);
 
-// ofx_render.cpp: one render window.
-OfxStatus onRender(OfxImageEffectHandle effect, OfxPropertySetHandle inArgs);
+// ofx_render.cpp: one render window; `warning`: what the node should show after it ("" for
+// nothing, e.g. that the Source clip held NaN values; unset where the host aborted the render).
+OfxStatus onRender(OfxImageEffectHandle effect, OfxPropertySetHandle inArgs, std::optional<std::string>& warning);
 
 } // namespace obscura::ofx

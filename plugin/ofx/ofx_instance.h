@@ -1,5 +1,5 @@
 // One instance of the node: its clip and parameter handles, found once at creation, its own
-// environment map cache and the error it last showed (the only mutable state, each behind its
+// environment map cache and the message it last showed (the only mutable state, each behind its
 // mutex; never shared between instances).
 #pragma once
 #include "ofx_api.h"
@@ -25,9 +25,10 @@ struct Instance {
                    envRotation = nullptr, envIntensity = nullptr, upAxis = nullptr, timesAlbedo = nullptr;
     std::vector<OfxParamHandle> methodParams;  // one per allMethodParams(), in its order
     mutable EnvironmentCache environment;
-    std::mutex errorMutex;
+    std::mutex messageMutex;
     std::string shownError;      // the error the node should show (ofx_actions.cpp), "" for none
-    unsigned long errorVersion = 0;  // bumped at each change of shownError: the host is told outside the lock
+    std::string shownWarning;    // the last render's warning, shown where there is no error
+    unsigned long messageVersion = 0;  // bumped at each change of either: the host is told outside the lock
 };
 
 // The instance the host holds for `effect` (its instance data); throws for none.

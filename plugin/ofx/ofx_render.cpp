@@ -23,6 +23,7 @@
 #include <array>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -137,9 +138,23 @@ bool occlude(OfxImageEffectHandle effect, const Instance& in, OfxTime t, const P
     return true;
 }
 
+// What the node shows after a render whose light inputs held NaN, infinite or huge values (the
+// operator took them as 0): the inputs by their names on the node, without the CLI's counts, which
+// would be one tile's.
+std::string lightWarning(const OperatorStats& st) {
+    std::string inputs;
+    for (size_t i = 0; i < st.unphysicalLight.size(); ++i) {
+        const std::string& what = st.unphysicalLight[i];
+        inputs += (i == 0 ? "" : i + 1 == st.unphysicalLight.size() ? " and " : ", ") +
+                  (what == "the bounce source" ? std::string("the ") + kClipSource + " clip" : what);
+    }
+    if (inputs.empty()) return "";
+    return "obscura: " + inputs + " held NaN, infinite or huge (above 1e9) values; the light takes them as 0 (black)";
+}
+
 } // namespace
 
-OfxStatus onRender(OfxImageEffectHandle effect, OfxPropertySetHandle inArgs) {
+OfxStatus onRender(OfxImageEffectHandle effect, OfxPropertySetHandle inArgs, std::optional<std::string>& warning) {
     const Instance& in = *instanceOf(effect);
     const OfxTime t = getDouble(inArgs, kOfxPropTime, 0);
     const PixRect window = renderWindow(inArgs);
@@ -158,7 +173,7 @@ OfxStatus onRender(OfxImageEffectHandle effect, OfxPropertySetHandle inArgs) {
     Occlusion occ;
     occ.data = dataRegionFor(window, p, f);
     occ.computed = computes(p) && !occ.data.empty();
-    if (occ.computed && !occlude(effect, in, t, p, f, occ)) return kOfxStatOK;
+    if (occ.computed && !occlude(effect, in, t, p, f, occ)) return kOfxStatOK;  // aborted: nothing to say
 
     // What the output composites with, under the window.
     ClipImage source, albedo;
@@ -167,6 +182,7 @@ OfxStatus onRender(OfxImageEffectHandle effect, OfxPropertySetHandle inArgs) {
     if (needsAlbedo(p)) fetchInput(albedo, in.albedo, t, underWindow, "Albedo");
 
     writeOutput(p, f, occ, out, source, albedo, window);
+    warning = lightWarning(occ.result.stats);
     return kOfxStatOK;
 }
 

@@ -62,13 +62,12 @@ bool connected(OfxImageClipHandle clip) {
     return clip && getInt(clipProps(clip), kOfxImageClipPropConnected, 0) != 0;
 }
 
-void postError(OfxImageEffectHandle effect, const std::string& text) {
-    if (gMessageV2 && gMessageV2->setPersistentMessage(effect, kOfxMessageError, "", "%s", text.c_str()) == kOfxStatOK)
-        return;
-    if (gMessage) gMessage->message(effect, kOfxMessageError, nullptr, "%s", text.c_str());
+void postMessage(OfxImageEffectHandle effect, const char* type, const std::string& text) {
+    if (gMessageV2 && gMessageV2->setPersistentMessage(effect, type, "", "%s", text.c_str()) == kOfxStatOK) return;
+    if (gMessage) gMessage->message(effect, type, nullptr, "%s", text.c_str());
 }
 
-void clearPersistentError(OfxImageEffectHandle effect) {
+void clearPersistentMessage(OfxImageEffectHandle effect) {
     if (gMessageV2) gMessageV2->clearPersistentMessage(effect);
 }
 

@@ -38,11 +38,12 @@ void setStrings(OfxPropertySetHandle p, const char* name, std::initializer_list<
 OfxPropertySetHandle effectProps(OfxImageEffectHandle effect);
 OfxPropertySetHandle clipProps(OfxImageClipHandle clip);
 bool connected(OfxImageClipHandle clip);
-// An action's failure as the user sees it: a persistent error on the node where the host has
-// version 2 of the message suite, else a transient message.
-void postError(OfxImageEffectHandle effect, const std::string& text);
-// The node's persistent error cleared (version 2 of the message suite; else nothing to clear).
-void clearPersistentError(OfxImageEffectHandle effect);
+// What the user should see on the node (an action's failure: kOfxMessageError; a render that
+// mended its inputs: kOfxMessageWarning): a persistent message where the host has version 2 of
+// the message suite, else a transient one.
+void postMessage(OfxImageEffectHandle effect, const char* type, const std::string& text);
+// The node's persistent message cleared (version 2 of the message suite; else nothing to clear).
+void clearPersistentMessage(OfxImageEffectHandle effect);
 
 // OFX 1.5 colour management: the host offers a style on its own properties, the plugin
 // declares the one it supports at describe (Basic: it only names basic spaces, ofx_raw and

@@ -122,6 +122,12 @@ OperatorInputs viewInputs(const py::object& depthObj, const py::object& normalOb
     if (!v.skyDepth.is_none()) settings.skyDepth = (float)numberArg(v.skyDepth, "sky_depth");
     in.camera = cameraArg(v.camera);
     if (!in.camera.valid()) valueError("the camera has no valid projection (focal length or orthographic width)");
+    const int w = in.displayWindow.width(), h = in.displayWindow.height();
+    if (in.camera.displayWidth > 0 && (in.camera.displayWidth != w || in.camera.displayHeight != h))
+        valueError("the camera was made for a " + std::to_string(in.camera.displayWidth) + "x" +
+                   std::to_string(in.camera.displayHeight) + " display window but the display window is " +
+                   std::to_string(w) + "x" + std::to_string(h) +
+                   " (W x H): make the Camera with the frame's size, or pass display_window=");
     if (in.normalSpace == NormalSpace::World && !in.camera.hasPose)
         valueError("normals='world' needs the camera's pose: give the Camera a camera_to_world matrix, "
                    "or pass camera-space normals with normals='camera'");

@@ -330,6 +330,17 @@ def test_camera_checks(scene):
         obscura.Camera.perspective(40, 96, 64, camera_to_world=np.zeros((4, 4)))
     with pytest.raises(ValueError, match="width and height"):
         obscura.Camera.orthographic(2.0, 0, 64)
+    # A camera made for another frame (its principal point elsewhere) is refused, on every array
+    # function; one made for the display window given beside an overscan is taken.
+    other = obscura.Camera.perspective(FOV_DEG, 960, 640)
+    for f in (obscura.compute_ao, obscura.compute_ssdo):
+        with pytest.raises(ValueError, match="camera was made for a 960x640 display window but the display "
+                                             "window is 96x64"):
+            f(depth, n_cam, camera=other, normals="camera")
+    inner = obscura.Camera.perspective(FOV_DEG, 90, 60)
+    c = obscura.compute_ao(depth, n_cam, camera=inner, normals="camera", data_window=(-3, -2, 93, 62),
+                           display_window=(0, 0, 90, 60))
+    assert c.shape == depth.shape and np.isfinite(c).all()
 
 
 def test_camera_properties():

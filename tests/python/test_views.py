@@ -131,3 +131,19 @@ def test_inspect_answers_with_a_command_that_runs(tmp, by_part):
     out = info["command_args"][info["command_args"].index("-o") + 1]
     for view, name in ao_places(by_part):
         assert read_in_view(out, view, name) is not None
+
+
+@pytest.mark.parametrize("by_part", [False, True])
+def test_light_clipped_to_half_float_is_said_per_view(tmp, by_part):
+    """A light past half float's largest value is written as 65504, and the warning names each
+    view's layer: in a part per view the layers' names repeat, so the view is said beside them."""
+    src = tmp / "plate.exr"
+    write_plate(src, by_part)
+    out = tmp / "lit.exr"
+    r = subprocess.run([CLI, str(src), "-o", str(out), "--fov-deg", "40", "--method", "ssdo", "--samples", "16",
+                        "--device", "cpu", "--light", "0,0,1,1e5,1e5,1e5"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    layers = ["obscura.DO (view left)", "obscura.DO (view right)"] if by_part else \
+        ["obscura.DO.left", "obscura.DO.right"]
+    for layer in layers:
+        assert f"{layer}: " in r.stderr and "written as 65504" in r.stderr, r.stderr
