@@ -354,6 +354,18 @@ TEST_F(UsageFixture, BadNumber) {
                        {"--radius"});
 }
 
+// An output layer's name OpenEXR would cut (a view's channels then share one name) or that has an
+// empty part is refused before anything is read.
+TEST_F(UsageFixture, AnOutputLayerNameOpenExrCannotHoldIsRefused) {
+    expectCleanFailure(cli(cat({in, "-o", out.string(), "--out-layer", "ao=" + std::string(300, 'a')}, cameraFlags(scene))),
+                       2, out, {"--out-layer ao: the name is 300 characters long; at most 200"});
+    for (const std::string name : {"a..b", ".lead", "trail."})
+        expectCleanFailure(cli(cat({in, "-o", out.string(), "--out-layer", "do=" + name}, cameraFlags(scene))), 2, out,
+                           {"--out-layer do: the name '" + name + "' has an empty part"});
+    const CliResult r = cli(cat({in, "-o", out.string(), "--out-layer", "ao=" + std::string(200, 'a')}, cameraFlags(scene)));
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+}
+
 TEST_F(UsageFixture, BadFramesListIsACommandLineError) {
     const std::string pattern = (dir / "in.####.exr").string(), outs = (dir / "out.####.exr").string();
     expectCleanFailure(cli({pattern, "-o", outs, "--frames", "5-1"}), 2, out, {"--frames", "'5-1' is an empty range"});

@@ -303,6 +303,47 @@ TEST(Views, ALayerOneViewLacksIsRefusedNamingTheView) {
     EXPECT_EQ(inspect.out.find("depth: (not found)"), std::string::npos) << inspect.out;
 }
 
+// A part that prefixes its other views ("right.depth.Z") and leaves the default view's layers as
+// they are ("depth.Z", of no view by OpenEXR's rule): the default view holds them, so both eyes
+// get their AO, each equal to its own mono run's.
+TEST(Views, ThePrefixedFormLeavesTheDefaultViewItsLayers) {
+    const fs::path dir = obscura::test::testDir("views_prefixed");
+    const std::string in = (dir / "prefixed.exr").string(), out = (dir / "prefixed_ao.exr").string();
+    FixturePart p = platePart("");
+    for (int v = 0; v < 2; ++v)
+        for (FixtureChannel c : plateChannels(v, v == 0 ? "" : "right.")) {
+            if (c.name.back() == 'Z') c.name.insert(c.name.size() - 1, "depth.");
+            p.channels.push_back(c);
+        }
+    p.editHeader = [](Imf::Header& h) { Imf::addMultiView(h, Imf::StringVector(kViews.begin(), kViews.end())); };
+    writeFixture(in, {p});
+    const CliResult r = run(in, out);
+    ASSERT_EQ(r.exitCode, 0) << outcome(r);
+    EXPECT_EQ(r.err.find("no depth of its own"), std::string::npos) << r.err;
+    expectInputKept(in, out);
+    expectViewsAo(dir, out, aoPlaces(false), {0, 1});
+}
+
+// A view whose own channels hold no depth gets no AO, and the run says so while the others get
+// theirs (three views, the middle one with colour only).
+TEST(Views, AViewWithoutADepthIsSaid) {
+    const fs::path dir = obscura::test::testDir("views_center");
+    const std::string in = (dir / "three.exr").string(), out = (dir / "three_ao.exr").string();
+    FixturePart p = platePart("");
+    p.channels = plateChannels(0, "");
+    for (FixtureChannel& c : plateChannels(1, "right.")) p.channels.push_back(c);
+    for (FixtureChannel& c : plateChannels(0, "center."))
+        if (c.name != "center.Z") p.channels.push_back(c);
+    p.editHeader = [](Imf::Header& h) { Imf::addMultiView(h, Imf::StringVector{"left", "right", "center"}); };
+    writeFixture(in, {p});
+    const CliResult r = runObscura({in, "-o", out, "--fov-deg", "40", "--device", "cpu", "--threads", "2"});
+    ASSERT_EQ(r.exitCode, 0) << outcome(r);
+    EXPECT_NE(r.err.find("warning: view 'center' has no depth of its own and gets no AO; its layers: (top level) (R,G,B,A) half"),
+              std::string::npos) << r.err;
+    EXPECT_GE(channelIn(out, "", "obscura.AO.right.Y").size(), 1u);
+    EXPECT_TRUE(channelIn(out, "", "obscura.AO.center.Y").empty());
+}
+
 // A depth under a name no preset knows: --inspect says so and its command takes it.
 TEST(Inspect, TakesADepthUnderAnUnknownName) {
     const fs::path dir = obscura::test::testDir("views");

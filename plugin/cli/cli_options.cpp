@@ -258,6 +258,8 @@ std::vector<Flag> makeFlags() {
          "channels NAME.R/G/B); naming gi or relit also asks for it",
          [](Options& o, const std::string& v) {
              auto [role, name] = splitAssignment("--out-layer", v);
+             const std::string problem = outLayerProblem(name);
+             if (!problem.empty()) throw UsageError("--out-layer " + role + ": the name " + problem);
              o.outputs.push_back(role);
              if (role == "ao") o.job.aoLayer = name;
              else if (role == "do") o.job.doLayer = name;

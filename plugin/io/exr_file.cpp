@@ -177,7 +177,11 @@ bool isLossy(Imf::Compression c) {
 
 Imf::Compression losslessFor(Imf::Compression c) { return isLossy(c) ? Imf::ZIP_COMPRESSION : c; }
 
-bool layersGoInPlace(const ExrPart& p) { return !isLossy(p.header.compression()); }
+bool layersGoInPlace(const ExrPart& p) {
+    const Imf::Header& h = p.header;
+    const bool levels = h.hasTileDescription() && h.tileDescription().mode != Imf::ONE_LEVEL;
+    return !isLossy(h.compression()) && !levels;
+}
 
 std::string compressionName(Imf::Compression c) {
     static const char* const names[] = {"none", "rle", "zips", "zip", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab"};

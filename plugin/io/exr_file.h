@@ -102,7 +102,9 @@ struct ExrPixels {
 };
 
 // Whether a copy writes new layers into part `p` itself: only where its codec is lossless, for
-// AO, DO and GI are data (elsewhere they go to a part of their own).
+// AO, DO and GI are data, and where it has one level, for a part the layers go into is encoded
+// again at level 0 only (elsewhere they go to a part of their own, and the part is copied chunk
+// for chunk, every level kept).
 bool layersGoInPlace(const ExrPart& p);
 
 // Number of samples of a channel along x / y over a part's data window.

@@ -179,6 +179,17 @@ void requestBounce(FrameJob& job) {
     job.writeRelit = true;
 }
 
+std::string outLayerProblem(const std::string& name) {
+    if (name.empty()) return "is empty";
+    if (name.front() == '.' || name.back() == '.' || name.find("..") != std::string::npos)
+        return "'" + name + "' has an empty part: a layer name is words between dots";
+    constexpr size_t kMost = 200;
+    if (name.size() > kMost)
+        return "is " + std::to_string(name.size()) + " characters long; at most " + std::to_string(kMost) +
+               " leaves a view and a channel room in OpenEXR's 255";
+    return "";
+}
+
 bool readsColour(const FrameJob& job) {
     const std::string& method = job.settings.method;
     return methodOutputs(method, "do") || (methodOutputs(method, "gi") && (job.writeIndirect || job.writeRelit));
@@ -616,6 +627,17 @@ void mergeViewReport(const std::string& view, FrameReport& from, FrameReport& in
     into.nonUnitNormalPixels += from.nonUnitNormalPixels;
 }
 
+// A view of the file left out because its own channels hold no depth (nor position) is said, with
+// what it holds, while the others get their AO: a stereo plate with one eye unprocessed would
+// otherwise look done. A file none of whose views has a depth runs as one image, unsaid.
+void warnOfViewsWithoutDepth(const FrameJob& job, const ExrInfo& info, FrameReport& report) {
+    if (!job.views.empty() || report.views.empty()) return;
+    for (const std::string& v : fileViews(info))
+        if (std::find(report.views.begin(), report.views.end(), v) == report.views.end())
+            report.warnings.push_back("view '" + v + "' has no depth of its own and gets no AO; its layers: " +
+                                      joinedLayers(viewOfFile(info, v).info));
+}
+
 // A flat input with no deep file: the per-element AO, an output it cannot have, is refused
 // before anything is written; the deep layers, a setting with no effect, are said to be unread.
 void checkDeepSettingsRead(const FrameJob& job, FrameReport& report) {
@@ -645,6 +667,7 @@ FrameReport runJob(const FrameJob& job) {
         if (job.write != WriteMode::Append) requireFlatParts(*headers);
         checkDeepSettingsRead(job, report);
         report.views = viewsToProcess(job, *headers);
+        warnOfViewsWithoutDepth(job, *headers, report);
         bool copyChunks = true, tablesChecked = false;
         const std::vector<int> copied = job.write == WriteMode::Copy
                                             ? copiedRawParts(job, *headers, report.views, copyChunks, tablesChecked)

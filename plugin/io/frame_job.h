@@ -133,6 +133,10 @@ std::string normalsSourceLine(const FrameJob& job, const LayerPlan& plan);
 // bounce is for; relit needs an albedo pass. Naming an output (--out-layer gi=NAME) asks for that
 // layer alone.
 void requestBounce(FrameJob& job);
+// What is wrong with `name` as an output layer's name, "" for nothing: it must be dot-separated
+// words (no empty one: "a..b", ".x") of at most 200 characters, so that with a view and a
+// channel its channels' names stay within OpenEXR's 255 (it cuts longer ones, merging views).
+std::string outLayerProblem(const std::string& name);
 // Whether the job reads colour passes and writes light: ssdo always, hbao with the bounce.
 bool readsColour(const FrameJob& job);
 // Whether the job's deep layers need their colour: a method that reads them lights with a bounce.

@@ -189,7 +189,7 @@ void warnOfEarlierLayers(const FrameJob& job, const ExrInfo& input, const std::v
         }
     if (clashes == 0) return;
     report.warnings.push_back("the input already holds " + names + (clashes > 3 ? ", ..." : "") +
-                              (kept ? "; the output holds both, the new ones in a part of their own"
+                              (kept ? "; the output holds both, in different parts"
                                     : "; the output's new layers replace them") +
                               " (--out-layer ao=NAME, gi=NAME, ... names the new layers apart)");
 }

@@ -76,6 +76,22 @@ std::string FileView::fileName(int part, const std::string& n) const {
     return it == names.end() ? n : it->second;
 }
 
+namespace {
+// Whether a part names its views as a prefix ("right.depth.Z") and never as OpenEXR does
+// ("depth.right.Z"): a writer that prefixes the other views leaves the default view's channels
+// as they are ("depth.Z"), which OpenEXR's rule gives no view.
+bool prefixesViews(const ExrPart& part, const std::vector<std::string>& views) {
+    bool prefixed = false;
+    for (const ExrChannel& ch : part.channels) {
+        const std::vector<std::string> c = components(ch.name);
+        if (c.size() < 3) continue;  // "right.Z" is both forms
+        if (contains(views, c[c.size() - 2])) return false;
+        prefixed = prefixed || contains(views, c[0]);
+    }
+    return prefixed;
+}
+} // namespace
+
 FileView viewOfFile(const ExrInfo& info, const std::string& view) {
     const std::vector<std::string> views = fileViews(info);
     FileView out;
@@ -99,6 +115,14 @@ FileView viewOfFile(const ExrInfo& info, const std::string& view) {
             out.fileNames[p][renamed.name] = ch.name;
             kept.push_back(renamed);
         }
+        // The default view of a part that prefixes the others also holds the channels of no view,
+        // after its own (which win a name both have).
+        if (whole.empty() && !views.empty() && view == views[0] && prefixesViews(info.parts[p], views))
+            for (const ExrChannel& ch : info.parts[p].channels)
+                if (channelView(ch.name, views).empty() && !out.fileNames[p].count(ch.name)) {
+                    out.fileNames[p][ch.name] = ch.name;
+                    kept.push_back(ch);
+                }
         std::sort(kept.begin(), kept.end(), [](const ExrChannel& a, const ExrChannel& b) { return a.name < b.name; });
         part.channels = std::move(kept);
     }

@@ -2,7 +2,8 @@
 // attribute lists the views, the first being the default view. In one part a channel belongs to
 // a view by its name, layer.view.channel ("depth.right.Z", "right.Z"), and a name without a dot
 // to the default view ("Z"); a name whose first component is a view ("right.depth.Z") is read as
-// that view's too, as some writers prefix the view. In a multipart file a part belongs to a view
+// that view's too, as some writers prefix the view, and in a part that names its views so, the
+// channels of no view ("depth.Z") are the default view's. In a multipart file a part belongs to a view
 // by its `view` attribute, and its channels carry no view in their names.
 #pragma once
 #include "io/exr_file.h"

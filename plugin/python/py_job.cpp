@@ -22,7 +22,8 @@ void applyOutLayer(const py::object& outLayer, FrameJob& job) {
         for (auto item : py::reinterpret_borrow<py::dict>(outLayer)) {
             const std::string role = strArg(item.first, "out_layer role");
             const std::string name = strArg(item.second, "out_layer name");
-            if (name.empty()) valueError("out_layer['" + role + "'] must not be empty");
+            const std::string problem = outLayerProblem(name);
+            if (!problem.empty()) valueError("out_layer['" + role + "']: the name " + problem);
             if (role == "ao") {
                 job.aoLayer = name;
                 continue;
@@ -37,8 +38,9 @@ void applyOutLayer(const py::object& outLayer, FrameJob& job) {
         }
     } else {
         job.aoLayer = strArg(outLayer, "out_layer");
+        const std::string problem = outLayerProblem(job.aoLayer);
+        if (!problem.empty()) valueError("out_layer: the name " + problem);
     }
-    if (job.aoLayer.empty()) valueError("out_layer must not be empty");
 }
 
 void applyJobSsdo(const JobSsdoArgs& js, FrameJob& job) {

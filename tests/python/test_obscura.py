@@ -508,7 +508,9 @@ def test_process_bad_keywords_raise_value_error(tmp):
                           (dict(out_type="double"), "out_type must be one of"), (dict(fov_deg=0), "fov_deg"),
                           (dict(fov_deg=40, ortho_width=2), "not both"), (dict(bad_pixels="ignore"), "bad_pixels"),
                           (dict(out_layer={"bogus": "x"}), "unknown output"),
-                          (dict(out_layer={"do": "x"}), "written by method='ssdo' only"), (dict(camera_to_world=[1, 2]), "4x4")]:
+                          (dict(out_layer={"do": "x"}), "written by method='ssdo' only"), (dict(camera_to_world=[1, 2]), "4x4"),
+                          (dict(out_layer="a" * 300), "300 characters long"), (dict(out_layer="a..b"), "empty part"),
+                          (dict(out_layer={"ao": ".x"}), "empty part"), (dict(out_layer=""), "is empty")]:
         with pytest.raises(ValueError, match=match):
             obscura.process(ROOM, tmp / "o.exr", **kwargs)
     assert not (tmp / "o.exr").exists()
