@@ -2,6 +2,7 @@
 #include "core/camera.h"
 #include "core/operator.h"
 #include "io/camera_sources.h"
+#include "io/exr_file.h"
 #include "support/cli_fixtures.h"
 #include "support/exr_fixtures.h"
 #include "support/read_back.h"
@@ -267,10 +268,27 @@ TEST(CliSamples, SaysWhenTheInputHoldsTheNewLayers) {
     const CliResult append = cli({first, "-o", (dir / "both.exr").string(), "--write", "append"});
     EXPECT_NE(append.err.find("the output holds both, in different parts"), std::string::npos)
         << append.err;
-    // Copied again, the appended file's earlier AO stays in its own part beside the new one.
+    // Copied again, the appended file's AO in the depth's part is replaced there and the one in
+    // its own part stays beside it; run in place again and again (a farm's re-run), the file
+    // keeps its parts and its two AOs.
     fs::copy_file(kData + "/room.json", dir / "both.json");
     const CliResult again = cli({(dir / "both.exr").string(), "-o", (dir / "third.exr").string()});
     EXPECT_NE(again.err.find("the output holds both"), std::string::npos) << again.err;
+    auto shape = [](const std::string& path) {  // parts, and the parts holding an AO
+        const ExrInfo info = readExrInfo(path);
+        int aos = 0;
+        for (const ExrPart& part : info.parts) aos += part.findChannel("obscura.AO.Y") >= 0 ? 1 : 0;
+        return std::pair<size_t, int>{info.parts.size(), aos};
+    };
+    const std::string both = (dir / "both.exr").string();
+    const std::pair<size_t, int> before = shape(both);
+    EXPECT_EQ(before.second, 2);
+    EXPECT_EQ(shape((dir / "third.exr").string()), before);
+    for (int run = 0; run < 2; ++run) {
+        const CliResult inPlace = cli({both, "-o", both, "--in-place", "--quiet"});
+        ASSERT_EQ(inPlace.exitCode, 0) << inPlace.err;
+        EXPECT_EQ(shape(both), before) << "run " << run << " in place added a part or an AO";
+    }
     const CliResult apart = cli({first, "-o", (dir / "apart.exr").string(), "--out-layer", "ao=second"});
     EXPECT_EQ(apart.err.find("already holds"), std::string::npos) << apart.err;
     // A setting only deep input reads, on a flat file: said to be unread.

@@ -211,6 +211,22 @@ TEST_P(Layouts, EveryMethodAndOutputWritesAndKeepsTheInput) {
         expectInputKept(in, out);
         expectSharedAttributesAgree(out);
         expectNewLayers(out, colourLayers);
+        // Run again in place (a farm's re-run), the layers replace the earlier run's where they
+        // are: no part is added, one part holds the AO (a lossy or mip-mapped depth part gained a
+        // part each run).
+        for (int again = 0; again < 2; ++again) {
+            std::vector<std::string> rerun = args;
+            rerun[0] = out;
+            rerun.insert(rerun.end(), {"--in-place", "--quiet"});
+            const obscura::test::CliResult r2 = obscura::test::runProgram(OBSCURA_CLI_PATH, rerun);
+            ASSERT_EQ(r2.exitCode, 0) << r2.err;
+            const ExrInfo after = readExrInfo(out);
+            EXPECT_EQ(after.parts.size(), output.parts.size()) << "run " << again << " in place added a part";
+            int aoParts = 0;
+            for (const ExrPart& part : after.parts) aoParts += part.findChannel("obscura.AO.Y") >= 0 ? 1 : 0;
+            EXPECT_EQ(aoParts, 1);
+        }
+        expectNewLayers(out, colourLayers);
     }
 }
 

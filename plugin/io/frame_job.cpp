@@ -551,16 +551,35 @@ void warnOfTheDepth(const FramePasses& p, FrameReport& report) {
         report.warnings.push_back("the depth is read as a distance, though it looks like " + s.hint);
 }
 
-// The parts of the input a copy writes new layers into: each processed view's depth part (its
-// position part without a depth), where the layers go in place (frame_outputs.cpp). Those are
-// decoded whole; of the others only the passes read, and they are copied chunk for chunk.
+} // namespace
+
+int copyLayersPart(const FrameJob& job, const ExrInfo& info, int depthPart, const std::string& view) {
+    // The AO's name in this view: a part of the view's own holds it as it is (so does an earlier
+    // run's part for that view, which carries its view attribute), else the view is in the name.
+    const std::string ownView = partView(info.parts.at(depthPart));
+    std::string ao = aoChannelName(job.aoLayer);
+    const std::vector<std::string> views = fileViews(info);
+    const auto at = std::find(views.begin(), views.end(), view);
+    if (!view.empty() && ownView.empty() && at != views.end()) ao = nameInView(ao, views, (size_t)(at - views.begin()));
+    for (size_t p = 0; p < info.parts.size(); ++p) {
+        const ExrPart& part = info.parts[p];
+        if (partView(part) == ownView && part.findChannel(ao) >= 0 && layersGoInPlace(part)) return (int)p;
+    }
+    return layersGoInPlace(info.parts[depthPart]) ? depthPart : -1;
+}
+
+namespace {
+
+// The parts of the input a copy writes new layers into (copyLayersPart, for each processed
+// view's depth part, or its position part without a depth). Those are decoded whole; of the
+// others only the passes read, and they are copied chunk for chunk.
 std::vector<int> partsTakingLayers(const FrameJob& job, const ExrInfo& info, const std::vector<std::string>& views) {
     std::vector<int> parts;
     for (const std::string& view : views.empty() ? std::vector<std::string>{""} : views) {
         const LayerPlan plan = planViewLayers(job, info, view);
         const LayerBinding* b = plan.find(Role::Depth) ? plan.find(Role::Depth) : plan.find(Role::Position);
-        if (b && layersGoInPlace(info.parts[b->part]) && std::find(parts.begin(), parts.end(), b->part) == parts.end())
-            parts.push_back(b->part);
+        const int into = b ? copyLayersPart(job, info, b->part, view) : -1;
+        if (into >= 0 && std::find(parts.begin(), parts.end(), into) == parts.end()) parts.push_back(into);
     }
     return parts;
 }

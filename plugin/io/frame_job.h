@@ -207,5 +207,10 @@ std::string frameFailureJson(const FrameJob& job, int frame, const std::string& 
 std::string describeWrite(const FrameJob& job, const ExrInfo& info, int part, bool flattened = false);
 // "<layer>.Y", or the name itself when it already ends in a single-letter channel.
 std::string aoChannelName(const std::string& layer);
+// The input part a copy writes a view's new layers into: the part an earlier run left them in,
+// under the names this run writes, so that a run again (--in-place on a farm) replaces them
+// rather than adding a part each time; else the depth's part `depthPart`; -1 where neither can
+// take them (a lossy or mip-mapped part, layersGoInPlace): they get a part of their own.
+int copyLayersPart(const FrameJob& job, const ExrInfo& info, int depthPart, const std::string& view);
 
 } // namespace obscura

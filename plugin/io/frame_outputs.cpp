@@ -96,12 +96,16 @@ std::string viewedName(const FramePasses& p, const std::string& name) {
     return nameInView(name, p.fileViews, (size_t)(at - p.fileViews.begin()));
 }
 
-// The part of `target` a view's layers go to: the depth's own part in a copy (unless its codec
-// is lossy), else a part of their own, one for the views by channel names and one per view of
-// a part of its own, which carries that part's `view` attribute (layersOnlyFile keeps it).
+// The part of `target` a view's layers go to: in a copy, the input's part copyLayersPart names
+// (an earlier run's, or the depth's own), else a part of their own, one for the views by channel
+// names and one per view of a part of its own, which carries that part's `view` attribute
+// (layersOnlyFile keeps it).
 int destinationPart(const FrameJob& job, const FramePasses& p, ExrPixels& target, std::map<std::string, int>& own) {
     const bool copy = job.write == WriteMode::Copy;
-    if (copy && layersGoInPlace(p.info.parts[p.part])) return p.part;
+    if (copy) {
+        const int into = copyLayersPart(job, p.info, p.part, p.view);
+        if (into >= 0) return into;
+    }
     const std::string key = namedInView(p) ? "" : p.view;
     if (const auto it = own.find(key); it != own.end()) return it->second;
     int part = 0;
@@ -130,6 +134,19 @@ std::string viewPartNames(const FrameJob& job, const ExrInfo& info) {
     return names;
 }
 
+// The first view processed whose depth is in `part` ("" for a file without views), as the
+// copy's destination is decided per view.
+std::string viewOfPart(const FrameJob& job, const ExrInfo& info, int part) {
+    const std::string own = partView(info.parts.at(part));
+    if (!own.empty()) return own;
+    try {
+        const std::vector<std::string> views = viewsToProcess(job, info);
+        return views.empty() ? "" : views.front();
+    } catch (const Error&) {
+        return "";
+    }
+}
+
 } // namespace
 
 std::string describeWrite(const FrameJob& job, const ExrInfo& info, int part, bool flattened) {
@@ -144,7 +161,11 @@ std::string describeWrite(const FrameJob& job, const ExrInfo& info, int part, bo
     if (job.write == WriteMode::Append)
         return "append: the input's parts copied as compressed chunks, the new layers in " + ownPart + ", " + codec;
     const std::string copied = flattened ? "copy: the flattened image plus the new layers" : "copy: the input plus the new layers";
-    if (out != in) return copied + " in " + ownPart + ", " + codec;
+    const int into = flattened ? part : copyLayersPart(job, info, part, viewOfPart(job, info, part));
+    if (into < 0) return copied + " in " + ownPart + ", " + codec;
+    if (into != part)
+        return copied + " in part '" + info.parts[into].name + "', in place of an earlier run's, " +
+               compressionName(info.parts[into].header.compression());
     return copied + std::string(own.empty() ? "" : ", each view's in its part") + ", " + codec;
 }
 
