@@ -561,9 +561,11 @@ int copyLayersPart(const FrameJob& job, const ExrInfo& info, int depthPart, cons
     const std::vector<std::string> views = fileViews(info);
     const auto at = std::find(views.begin(), views.end(), view);
     if (!view.empty() && ownView.empty() && at != views.end()) ao = nameInView(ao, views, (size_t)(at - views.begin()));
+    const Box2i data = info.parts[depthPart].dataWindow;  // the new layers' pixels
     for (size_t p = 0; p < info.parts.size(); ++p) {
         const ExrPart& part = info.parts[p];
-        if (partView(part) == ownView && part.findChannel(ao) >= 0 && layersGoInPlace(part)) return (int)p;
+        if (partView(part) == ownView && part.dataWindow == data && part.findChannel(ao) >= 0 && layersGoInPlace(part))
+            return (int)p;
     }
     return layersGoInPlace(info.parts[depthPart]) ? depthPart : -1;
 }
