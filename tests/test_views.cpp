@@ -324,6 +324,30 @@ TEST(Views, ThePrefixedFormLeavesTheDefaultViewItsLayers) {
     expectViewsAo(dir, out, aoPlaces(false), {0, 1});
 }
 
+// Run again on its own output (a part per view, appended: each view's AO in a part of its own,
+// obscura.left and obscura.right), a copy replaces each view's AO in the part that holds it: the
+// warning names each view once, and no part is added.
+TEST(Views, ARunAgainReplacesEachViewsAo) {
+    const fs::path dir = obscura::test::testDir("views_again");
+    const std::string in = (dir / "plate.exr").string(), first = (dir / "first.exr").string();
+    writeViewsByPart(in);
+    ASSERT_EQ(run(in, first, {"--write", "append"}).exitCode, 0);
+    const std::string again = (dir / "again.exr").string();
+    const CliResult r = runObscura({first, "-o", again, "--fov-deg", "40", "--device", "cpu", "--radius", "0.5"});
+    ASSERT_EQ(r.exitCode, 0) << outcome(r);
+    EXPECT_NE(r.err.find("the input already holds obscura.AO.Y (view left), obscura.AO.Y (view right); the output's "
+                         "new layers replace them"),
+              std::string::npos) << r.err;
+    const ExrInfo a = readExrInfo(first), b = readExrInfo(again);
+    EXPECT_EQ(b.parts.size(), a.parts.size());
+    for (const std::string& view : kViews) {
+        int parts = 0;
+        for (const ExrPart& part : b.parts) parts += viewOf(part.header) == view && part.findChannel("obscura.AO.Y") >= 0;
+        EXPECT_EQ(parts, 1) << view;
+        EXPECT_NE(channelIn(again, view, "obscura.AO.Y"), channelIn(first, view, "obscura.AO.Y")) << "R 0.5 is not R 1";
+    }
+}
+
 // A view whose own channels hold no depth gets no AO, and the run says so while the others get
 // theirs (three views, the middle one with colour only).
 TEST(Views, AViewWithoutADepthIsSaid) {

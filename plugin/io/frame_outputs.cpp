@@ -197,19 +197,28 @@ namespace {
 // append always does. Either is what was asked, but not what a user re-running on an output
 // expects without a word.
 void warnOfEarlierLayers(const FrameJob& job, const ExrInfo& input, const std::vector<NewChannel>& add,
-                         FrameReport& report) {
+                         const std::map<int, std::string>& partViews, FrameReport& report) {
     if (job.write == WriteMode::New) return;
-    std::string names;
-    int clashes = 0;
+    std::vector<std::string> held;  // each once, with its part's view where views have parts (names repeat)
     bool kept = false;  // some earlier channel stays beside its new namesake
-    for (const NewChannel& c : add)
+    for (const NewChannel& c : add) {
+        // Where views have parts, a name clashes within its view only.
+        const auto own = partViews.find(c.part);
+        const std::string into = own != partViews.end()                ? own->second
+                                 : c.part < (int)input.parts.size() ? partView(input.parts[c.part])
+                                                                     : "";
         for (size_t part = 0; part < input.parts.size(); ++part) {
-            if (input.parts[part].findChannel(c.name) < 0) continue;
-            if (clashes++ < 3) names += (names.empty() ? "" : ", ") + c.name;
+            const std::string view = partView(input.parts[part]);
+            if (view != into || input.parts[part].findChannel(c.name) < 0) continue;
+            const std::string label = c.name + (view.empty() ? "" : " (view " + view + ")");
+            if (std::find(held.begin(), held.end(), label) == held.end()) held.push_back(label);
             kept = kept || job.write == WriteMode::Append || (int)part != c.part;
         }
-    if (clashes == 0) return;
-    report.warnings.push_back("the input already holds " + names + (clashes > 3 ? ", ..." : "") +
+    }
+    if (held.empty()) return;
+    std::string names;
+    for (size_t i = 0; i < std::min<size_t>(3, held.size()); ++i) names += (i ? ", " : "") + held[i];
+    report.warnings.push_back("the input already holds " + names + (held.size() > 3 ? ", ..." : "") +
                               (kept ? "; the output holds both, in different parts"
                                     : "; the output's new layers replace them") +
                               " (--out-layer ao=NAME, gi=NAME, ... names the new layers apart)");
@@ -315,7 +324,7 @@ void writeFrameOutputs(const FrameJob& job, std::vector<ViewResult>& views, Fram
         report.writtenViews.push_back(partView.count(c.part) ? partView[c.part] : "");
     }
     clipToHalf(add, partView, report);
-    warnOfEarlierLayers(job, first.info, add, report);
+    warnOfEarlierLayers(job, first.info, add, partView, report);
     warnOfLostLevels(job, first.info, target.copyChunks, add, report);
     if (copy)  // deep elements: the flattened image is the copy's input
         for (NewChannel& c : views.front().passes.carried) add.push_back({firstPart, c.name, std::move(c.plane), c.type});
