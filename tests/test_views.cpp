@@ -322,6 +322,13 @@ TEST(Views, ThePrefixedFormLeavesTheDefaultViewItsLayers) {
     EXPECT_EQ(r.err.find("no depth of its own"), std::string::npos) << r.err;
     expectInputKept(in, out);
     expectViewsAo(dir, out, aoPlaces(false), {0, 1});
+    // Run again on that output, which now also names layers OpenEXR's way (obscura.AO.left.Y):
+    // the default view still holds its layers.
+    const std::string again = (dir / "again.exr").string();
+    const CliResult r2 = run(out, again);
+    ASSERT_EQ(r2.exitCode, 0) << outcome(r2);
+    EXPECT_EQ(r2.err.find("no depth of its own"), std::string::npos) << r2.err;
+    expectViewsAo(dir, again, aoPlaces(false), {0, 1});
 }
 
 // Run again on its own output (a part per view, appended: each view's AO in a part of its own,

@@ -77,18 +77,17 @@ std::string FileView::fileName(int part, const std::string& n) const {
 }
 
 namespace {
-// Whether a part names its views as a prefix ("right.depth.Z") and never as OpenEXR does
-// ("depth.right.Z"): a writer that prefixes the other views leaves the default view's channels
-// as they are ("depth.Z"), which OpenEXR's rule gives no view.
+// Whether a part names a view's layers with the view as a prefix ("right.depth.Z"): a writer that
+// prefixes the other views leaves the default view's channels as they are ("depth.Z"), which
+// OpenEXR's rule gives no view. (Layers named OpenEXR's way beside them, such as an earlier run's
+// "obscura.AO.left.Y", do not change that.)
 bool prefixesViews(const ExrPart& part, const std::vector<std::string>& views) {
-    bool prefixed = false;
     for (const ExrChannel& ch : part.channels) {
         const std::vector<std::string> c = components(ch.name);
-        if (c.size() < 3) continue;  // "right.Z" is both forms
-        if (contains(views, c[c.size() - 2])) return false;
-        prefixed = prefixed || contains(views, c[0]);
+        // "right.Z" is both forms; "right.depth.Z" the prefix's alone.
+        if (c.size() >= 3 && contains(views, c[0]) && !contains(views, c[c.size() - 2])) return true;
     }
-    return prefixed;
+    return false;
 }
 } // namespace
 
