@@ -24,6 +24,9 @@ def _env_path(name, default):
 CLI = os.environ.get("OBSCURA_CLI", str(ROOT / "build" / "plugin" / "obscura"))
 SAMPLES = _env_path("OBSCURA_TEST_DATA_DIR", ROOT / "tests" / "data")
 EXAMPLES = _env_path("OBSCURA_EXAMPLES_DIR", ROOT / "examples")
+# An AddressSanitizer build (the runtime preloaded, see plugin/python/CMakeLists.txt): its shadow
+# memory changes a process's page faults, and valgrind cannot run an instrumented program.
+SANITIZED = "libasan" in os.environ.get("LD_PRELOAD", "")
 
 
 @pytest.fixture

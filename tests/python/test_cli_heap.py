@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import CLI, synthetic_scene, write_exr
+from conftest import CLI, SANITIZED, synthetic_scene, write_exr
 
 
 def faults_of(args, env):
@@ -26,6 +26,7 @@ def thp_available():
 
 
 @pytest.mark.skipif(not thp_available(), reason="transparent huge pages are off on this machine")
+@pytest.mark.skipif(SANITIZED, reason="ASan's shadow memory takes page faults of its own")
 def test_huge_pages_cut_a_frames_page_faults(tmp):
     depth, normal = synthetic_scene(1024, 576)
     write_exr(tmp / "frame.exr", depth, normal, sidecar=True)
@@ -60,6 +61,7 @@ def test_what_the_cli_starts_sees_the_users_environment(tmp, user):
 
 
 @pytest.mark.skipif(shutil.which("valgrind") is None, reason="valgrind is not installed")
+@pytest.mark.skipif(SANITIZED, reason="valgrind cannot run a program built with AddressSanitizer")
 def test_valgrind_checks_obscura_itself(tmp):
     """Under valgrind the CLI does not start itself again (that would run valgrind's own program,
     or leave obscura unchecked): the run is valgrind's, and it works."""
