@@ -12,6 +12,7 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <chrono>
 #include <filesystem>
@@ -233,6 +234,52 @@ TEST(NothingOverwritten, DistinctPathsRun) {
     EXPECT_EQ(d.exitCode, 0) << describe(d);
     EXPECT_TRUE(fs::is_regular_file(w("sub/o2.json")));
     EXPECT_TRUE(fs::is_regular_file(w("sub/o2.png")));
+}
+
+mode_t modeOf(const std::string& path) {
+    struct stat st {};
+    ::stat(path.c_str(), &st);
+    return st.st_mode & 07777;
+}
+
+// An earlier output replaced as the user keeps it: through its symlink (the link stays, the file
+// it leads to is replaced) and with its permission bits (a private file stays private).
+TEST(NothingOverwritten, AnEarlierOutputIsReplacedThroughItsLinkWithItsMode) {
+    const Workspace w(freshDir());
+    fs::create_directory(w("renders"));
+    fs::copy_file(w("earlier.exr"), w("renders/ao.exr"));
+    ::chmod(w("renders/ao.exr").c_str(), 0600);
+    fs::create_symlink("renders/ao.exr", w("ao.exr"));
+    const CliResult r = cli({w("in.exr"), "-o", w("ao.exr"), "--preview", w("ao.png"), "--quiet"});
+    ASSERT_EQ(r.exitCode, 0) << describe(r);
+    EXPECT_TRUE(fs::is_symlink(w("ao.exr")));
+    EXPECT_NE(slurp(w("renders/ao.exr")), slurp(w("earlier.exr")));
+    EXPECT_EQ(modeOf(w("renders/ao.exr")), 0600u);
+    // --in-place keeps the input's mode too.
+    ::chmod(w("in.exr").c_str(), 0640);
+    const CliResult in = cli({w("in.exr"), "-o", w("in.exr"), "--in-place", "--quiet"});
+    ASSERT_EQ(in.exitCode, 0) << describe(in);
+    EXPECT_EQ(modeOf(w("in.exr")), 0640u);
+    for (const auto& e : fs::recursive_directory_iterator(w.dir))
+        EXPECT_EQ(e.path().filename().string().find(".tmp-"), std::string::npos) << e.path();
+}
+
+// A read-only earlier output (-o, --report or --preview; even for root, who may write it) is a
+// file the user protected: one line naming it, exit 1, and nothing written.
+TEST(NothingOverwritten, AReadOnlyEarlierOutputIsKept) {
+    for (const char* role : {"-o", "--report", "--preview"}) {
+        SCOPED_TRACE(role);
+        const Workspace w(freshDir());
+        const std::string kept = std::string(role) == "-o" ? "out.exr" : std::string(role) == "--report" ? "out.json" : "out.png";
+        std::ofstream(w(kept)) << "an earlier run's";
+        ::chmod(w(kept).c_str(), 0444);
+        const auto before = snapshot(w.dir);
+        const CliResult r = cli({w("in.exr"), "-o", w("out.exr"), "--report", w("out.json"), "--preview", w("out.png")});
+        EXPECT_EQ(r.exitCode, 1) << describe(r);
+        EXPECT_NE(r.err.find(kept + "': is read-only"), std::string::npos) << describe(r);
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << describe(r);
+        EXPECT_EQ(snapshot(w.dir), before);
+    }
 }
 
 TEST(Resume, OneFrameSkipsAFinishedOutputAndClearsADeadWritersTemp) {

@@ -59,7 +59,7 @@ void printSummary(const Options& o, const FrameReport& r) {
 }
 
 void runOneFrame(const Options& o, const FrameJob& job, const std::string& reportPath) {
-    if (!reportPath.empty()) requireOutputDirectory(reportPath);
+    if (!reportPath.empty()) requireWritableDestination(reportPath);
     const FrameReport report = runFrameJob(job);
     if (report.reference) {
         const ErrorMetrics& m = *report.reference;

@@ -5,10 +5,14 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <sys/stat.h>
+
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
+#include <cctype>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -18,30 +22,67 @@ namespace obscura {
 namespace fs = std::filesystem;
 
 void requireOutputDirectory(const std::string& path) {
-    const fs::path dir = fs::path(path).parent_path();
+    const fs::path dir = fs::path(writeTarget(path)).parent_path();
     std::error_code ec;
     if (!dir.empty() && !fs::is_directory(dir, ec))
         throw FileError(path, "cannot write: directory '" + dir.string() + "' does not exist");
 }
 
-void writeTextFileAtomically(const std::string& path, const std::string& text) {
-    const std::string tmp = path + ".tmp-" + std::to_string(::getpid());
-    auto fail = [&] {
+void requireWritableDestination(const std::string& path) {
+    requireOutputDirectory(path);
+    const std::string target = writeTarget(path);
+    // No write bit at all counts as read-only for root too, who may write anything (as rm asks).
+    struct stat st {};
+    if (::stat(target.c_str(), &st) == 0 &&
+        (::access(target.c_str(), W_OK) != 0 || (st.st_mode & (S_IWUSR | S_IWGRP | S_IWOTH)) == 0))
+        throw FileError(path, "is read-only, so it is kept; make it writable to let obscura replace it");
+}
+
+std::string writeTarget(const std::string& path) {
+    fs::path p(path);
+    std::error_code ec;
+    // A chain of links, each relative to the directory holding it; 40 as the kernel's own limit.
+    for (int hops = 0; hops < 40 && fs::is_symlink(fs::symlink_status(p, ec)); ++hops) {
+        const fs::path next = fs::read_symlink(p, ec);
+        if (ec) break;
+        p = next.is_absolute() ? next : p.parent_path() / next;
+    }
+    return p.string();
+}
+
+std::string atomicTempPath(const std::string& target, const std::string& suffix) {
+    static std::atomic<unsigned long> calls{0};
+    return target + ".tmp-" + std::to_string((long)::getpid()) + "-" + std::to_string(++calls) + suffix;
+}
+
+void commitAtomicWrite(const std::string& tmp, const std::string& target, const std::string& path) {
+    struct stat before {};
+    if (::stat(target.c_str(), &before) == 0) ::chmod(tmp.c_str(), before.st_mode & 07777);
+    if (std::rename(tmp.c_str(), target.c_str()) != 0) {
         const int err = errno;
         std::remove(tmp.c_str());
-        return FileError(path, std::string("cannot write: ") + std::strerror(err));
-    };
+        throw FileError(path, std::string("cannot write: rename failed: ") + std::strerror(err));
+    }
+}
+
+void writeTextFileAtomically(const std::string& path, const std::string& text) {
+    requireWritableDestination(path);
+    const std::string target = writeTarget(path);
+    const std::string tmp = atomicTempPath(target);
     {
         std::ofstream f(tmp, std::ios::binary);
         f << text << "\n";
-        if (!f.good()) throw fail();
+        if (!f.good()) {
+            const int err = errno;
+            std::remove(tmp.c_str());
+            throw FileError(path, std::string("cannot write: ") + std::strerror(err));
+        }
     }
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) throw fail();
+    commitAtomicWrite(tmp, target, path);
 }
 
 std::vector<std::string> atomicWriteTemps(const std::string& path) {
-    namespace fs = std::filesystem;
-    const fs::path p(path);
+    const fs::path p(writeTarget(path));
     const fs::path dir = p.parent_path().empty() ? fs::path(".") : p.parent_path();
     const std::string prefix = p.filename().string() + ".tmp-";
     std::vector<std::string> found;
@@ -49,7 +90,8 @@ std::vector<std::string> atomicWriteTemps(const std::string& path) {
     for (const auto& entry : fs::directory_iterator(dir, ec)) {
         const std::string name = entry.path().filename().string();
         if (name.size() > prefix.size() && name.compare(0, prefix.size(), prefix) == 0 &&
-            name.find_first_not_of("0123456789", prefix.size()) == std::string::npos)
+            std::isdigit((unsigned char)name[prefix.size()]) &&
+            name.find_first_not_of("0123456789-", prefix.size()) == std::string::npos)
             found.push_back((p.parent_path() / name).string());
     }
     std::sort(found.begin(), found.end());
@@ -59,10 +101,12 @@ std::vector<std::string> atomicWriteTemps(const std::string& path) {
 int removeStaleTemps(const std::string& path) {
     int removed = 0;
     for (const std::string& tmp : atomicWriteTemps(path)) {
-        const long pid = std::atol(tmp.c_str() + tmp.rfind('-') + 1);
-        // kill(pid, 0) probes without signalling: ESRCH means no such process here.
-        if (pid > 0 && pid != (long)::getpid() && ::kill((pid_t)pid, 0) == 0) continue;
-        if (pid > 0 && pid != (long)::getpid() && errno != ESRCH) continue;
+        const long pid = std::atol(tmp.c_str() + tmp.rfind(".tmp-") + 5);  // atol stops at "-<n>"
+        // kill(pid, 0) probes without signalling: ESRCH means no such process here. This
+        // process's own temp files are another thread's writes in flight.
+        if (pid == (long)::getpid()) continue;
+        if (pid > 0 && ::kill((pid_t)pid, 0) == 0) continue;
+        if (pid > 0 && errno != ESRCH) continue;
         if (std::remove(tmp.c_str()) == 0) ++removed;
     }
     return removed;

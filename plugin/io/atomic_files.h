@@ -1,5 +1,7 @@
 // Writes that leave either the old file or the whole new one: a temp file beside the target,
-// then a rename; and the temp files a killed writer left, found and cleared.
+// then a rename; and the temp files a killed writer left, found and cleared. A path that is a
+// symlink is written through (the file it leads to is replaced, the link kept), an earlier file's
+// permission bits are kept, and a file the user may not write is refused, not replaced.
 #pragma once
 #include <string>
 #include <vector>
@@ -8,12 +10,26 @@ namespace obscura {
 
 // Writes text + newline to path through a temp file and a rename; throws obscura::Error.
 void writeTextFileAtomically(const std::string& path, const std::string& text);
-// The temp files "<path>.tmp-<pid>" of atomic writes to `path` (outputs, reports).
+
+// The file a write to `path` replaces: path itself, or the file its symlinks lead to (which
+// need not exist yet).
+std::string writeTarget(const std::string& path);
+// The temp file for one write of `target` (a writeTarget): beside it, unique to the call,
+// "<target>.tmp-<pid>-<n>" + suffix, so threads and processes writing one path never share one.
+std::string atomicTempPath(const std::string& target, const std::string& suffix = "");
+// Moves the finished temp file over `target`, with an earlier target's permission bits; on
+// failure removes tmp and throws FileError naming `path` (what the user asked to write).
+void commitAtomicWrite(const std::string& tmp, const std::string& target, const std::string& path);
+
+// The temp files "<path>.tmp-<pid>[-<n>]" of atomic writes to `path` (outputs, reports).
 std::vector<std::string> atomicWriteTemps(const std::string& path);
 // Removes those whose writer is no longer running on this host (a killed or crashed run), so a
 // retried frame leaves no half-written file; a live writer's temp file is kept. Returns how many.
 int removeStaleTemps(const std::string& path);
-// Throws obscura::Error when the directory `path` would be written into does not exist.
+// Throws FileError when the directory `path` would be written into does not exist.
 void requireOutputDirectory(const std::string& path);
+// Throws FileError when `path` cannot be written: its directory does not exist, or a file
+// already there (an earlier output) is one the user may not write (read-only: kept, as cp would).
+void requireWritableDestination(const std::string& path);
 
 } // namespace obscura

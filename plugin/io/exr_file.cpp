@@ -1,5 +1,7 @@
 #include "io/exr_file.h"
 
+#include "io/atomic_files.h"
+
 #include "base/error.h"
 #include "io/exr_chunk_table.h"
 
@@ -555,13 +557,10 @@ void writeFileAtomically(const std::string& outPath, const std::string& inputPat
                          const std::function<void(const std::string& tmp)>& write) {
     if (!allowOverwriteInput && samePath(outPath, inputPath))
         throw FileError(inputPath, "refusing to overwrite the input (use --in-place)");
-    fs::path dir = fs::path(outPath).parent_path();
-    if (dir.empty()) dir = ".";
-    if (!fs::is_directory(dir))
-        throw FileError(outPath, "cannot write: directory '" + dir.string() + "' does not exist");
-
+    requireWritableDestination(outPath);
     ensureExrThreads();
-    const std::string tmp = outPath + ".tmp-" + std::to_string((long)::getpid());
+    const std::string target = writeTarget(outPath);
+    const std::string tmp = atomicTempPath(target);
     try {
         write(tmp);  // the file is closed when this returns
     } catch (const Error&) {
@@ -571,11 +570,7 @@ void writeFileAtomically(const std::string& outPath, const std::string& inputPat
         std::remove(tmp.c_str());
         throw FileError(outPath, "cannot write: " + exrErrorDetail(e));
     }
-    if (std::rename(tmp.c_str(), outPath.c_str()) != 0) {
-        int err = errno;
-        std::remove(tmp.c_str());
-        throw FileError(outPath, std::string("cannot write: rename failed: ") + std::strerror(err));
-    }
+    commitAtomicWrite(tmp, target, outPath);
 }
 
 void writeExrWithNewChannels(const std::string& outPath, const ExrPixels& in,

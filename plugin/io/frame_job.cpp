@@ -453,8 +453,8 @@ void checkDestinations(const FrameJob& job) {
         throw FileError(job.input, "refusing to overwrite the input (use --in-place)");
     if (job.inPlace && job.write == WriteMode::New)
         throw Error("--write new cannot replace the input in place: the output holds only the new layers");
-    requireOutputDirectory(job.output);
-    if (!job.previewPath.empty()) requireOutputDirectory(job.previewPath);
+    requireWritableDestination(job.output);
+    if (!job.previewPath.empty()) requireWritableDestination(job.previewPath);
 }
 
 // The camera and the conventions (flags over the preset), then the pixels checked against them.

@@ -2,14 +2,14 @@
 
 #include "base/error.h"
 #include "core/settings_schema.h"
+#include "io/atomic_files.h"
 #include "io/png_file.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <filesystem>
+#include <cstdio>
 #include <limits>
-#include <system_error>
 #include <vector>
 
 namespace obscura {
@@ -22,25 +22,16 @@ std::uint8_t quantise(float v) { return static_cast<std::uint8_t>(std::lround(v 
 // The file part shared by both writers: 8-bit bytes -> PNG, temp file + rename.
 void writePngBytes(const std::string& path, const std::string& what, int width, int height,
                    int channels, const std::vector<std::uint8_t>& bytes, const std::string& colourSpaceTag) {
-    namespace fs = std::filesystem;
-    const fs::path target(path);
-    const fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
-    std::error_code ec;
-    if (!fs::is_directory(dir, ec)) throw FileError(path, what + "directory " + dir.string() + " does not exist");
-
+    requireWritableDestination(path);
+    const std::string target = writeTarget(path);
     // The temp name keeps the .png extension so nothing guesses another format.
-    const fs::path tmp = dir / ("." + target.filename().string() + ".tmp.png");
-    const std::string failed = writePngFile(tmp.string(), width, height, channels, bytes.data(), colourSpaceTag);
+    const std::string tmp = atomicTempPath(target, ".png");
+    const std::string failed = writePngFile(tmp, width, height, channels, bytes.data(), colourSpaceTag);
     if (!failed.empty()) {
-        fs::remove(tmp, ec);
+        std::remove(tmp.c_str());
         throw FileError(path, what + failed);
     }
-    fs::rename(tmp, target, ec);
-    if (ec) {
-        const std::string msg = ec.message();
-        fs::remove(tmp, ec);
-        throw FileError(path, what + msg);
-    }
+    commitAtomicWrite(tmp, target, path);
 }
 
 void requireImage(const Image& img, const std::string& path, const std::string& what) {

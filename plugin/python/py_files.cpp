@@ -171,7 +171,7 @@ py::object processPy(const FrameJob& job, const std::string& reportPath) {
     {
         py::gil_scoped_release release;
         checkFrameFiles({{&job, reportPath}}, Spelling::Key);
-        if (!reportPath.empty()) requireOutputDirectory(reportPath);
+        if (!reportPath.empty()) requireWritableDestination(reportPath);
         const FrameReport report = runFrameJob(job);
         json = frameReportJson(job, report);
         if (!reportPath.empty()) writeTextFileAtomically(reportPath, json);

@@ -461,6 +461,29 @@ def test_file_errors_leave_nothing_behind(tmp):
     assert sorted(p.name for p in tmp.iterdir()) == ["text.exr"]
 
 
+def test_threads_writing_one_output_each_write_it_whole(tmp):
+    """Every call writes through a temp file of its own, so threads writing one path (the GIL is
+    released) never rename or remove each other's: each call succeeds and the last one's file is
+    whole."""
+    calls = [dict(radius=r, directions=4, steps=4) for r in (0.25, 0.5, 1.0, 2.0)]
+    errors = []
+
+    def run(kw):
+        try:
+            obscura.process(ROOM, tmp / "out.exr", **kw)
+        except Exception as e:  # noqa: BLE001 - every failure is the finding
+            errors.append(e)
+
+    threads = [threading.Thread(target=run, args=(kw,)) for kw in calls]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert errors == []
+    assert obscura.read_layer(tmp / "out.exr", "obscura.AO.Y").shape == (320, 320)
+    assert sorted(p.name for p in tmp.iterdir()) == ["out.exr"]
+
+
 def test_file_errors_are_the_clis_line(tmp):
     """obscura.Error carries the CLI's line without its 'obscura: ' prefix: 'FILE': what, with the
     flags it names spelled as keywords."""
