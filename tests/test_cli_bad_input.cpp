@@ -9,6 +9,8 @@
 #include <OpenEXR/ImfMultiPartInputFile.h>
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -128,6 +130,9 @@ TEST(CliBadInput, EveryFailureNamesTheFileAtFault) {
     const std::string json = (dir / "broken.json").string();
     std::ofstream(json) << "{\"camera_to_world\": 3}";
     const std::string noDir = (dir / "no_such_dir").string();
+    // A pipe no one writes: opening it would block the run for good.
+    const std::string pipe = (dir / "pipe.exr").string();
+    ASSERT_EQ(::mkfifo(pipe.c_str(), 0600), 0);
     const std::vector<std::string> cam = cameraFlags(s);
     struct Case {
         std::vector<std::string> args;
@@ -137,6 +142,7 @@ TEST(CliBadInput, EveryFailureNamesTheFileAtFault) {
         {{missing, "-o", out}, missing, "cannot open: no such file"},
         {{dir.string(), "-o", out}, dir.string(), "cannot open: it is a directory"},
         {{notExr, "-o", out}, notExr, "not an OpenEXR file"},
+        {{pipe, "-o", out}, pipe, "not a regular file"},
         {cat({cut, "-o", out}, cam), cut, "truncated or corrupt"},
         {cat({in, "-o", noDir + "/o.exr"}, cam), noDir + "/o.exr", "cannot write: directory"},
         {cat({in, "-o", out, "--report", noDir + "/r.json"}, cam), noDir + "/r.json", "cannot write: directory"},
@@ -266,6 +272,25 @@ TEST(CliBadInput, NonUnitNormalsAreNormalised) {
     EXPECT_LT(minAo, 0.9f);
 }
 
+// Normals of a length float cannot square (1e-30, 1e30) are neither called zero nor taken: the
+// line says their length, and --bad-pixels skip runs with AO in [0, 1].
+TEST(CliBadInput, NormalsOfAnExtremeLengthAreSaidAndSkipped) {
+    const fs::path dir = testDir();
+    for (const float scale : {1e-30f, 1e30f}) {
+        SCOPED_TRACE(scale);
+        BrokenFrame f;
+        for (float& v : f.planes.normal.pixels) v *= scale;
+        const std::string in = writeGeneric(dir, "scaled.exr", f.planes);
+        const fs::path out = dir / "scaled_ao.exr";
+        expectCleanFailure(cli(cat({in, "-o", out.string()}, cameraFlags(f.scene))), 1, out,
+                           {"scaled.exr", "of a length outside 1e-6 to 1e19"});
+        const CliResult r = cli(cat({in, "-o", out.string(), "--bad-pixels", "skip", "--out-type", "float"}, cameraFlags(f.scene)));
+        expectSuccess(r, out);
+        for (const float ao : aoValues(out.string())) ASSERT_TRUE(ao >= 0.0f && ao <= 1.0f) << ao;
+        fs::remove(out);
+    }
+}
+
 TEST(CliBadInput, OneByOneFrameWorks) {
     const fs::path dir = testDir();
     const fs::path in = dir / "one.exr", out = dir / "out.exr";
@@ -352,6 +377,19 @@ TEST_F(UsageFixture, BadNumber) {
                        {"--directions"});
     expectCleanFailure(cli(cat({in, "-o", out.string(), "--radius", "nan"}, cameraFlags(scene))), 2, out,
                        {"--radius"});
+}
+
+// A value out of range is said as given (179.9999 is not "180"), with the range that holds; a
+// sample count that leaves pixels of SSDO's interleave block without a sample is the request's
+// fault, not the input's.
+TEST_F(UsageFixture, AnOutOfRangeValueIsSaidWithItsRange) {
+    expectCleanFailure(cli({in, "-o", out.string(), "--fov-deg", "179.9999"}), 2, out,
+                       {"--fov-deg must be above 0 and at most 179.999, got 179.9999"});
+    expectCleanFailure(cli(cat({in, "-o", out.string(), "--thickness", "1e38"}, cameraFlags(scene))), 2, out,
+                       {"--thickness must be between 0 and 1e+30, or auto, or inf"});
+    const CliResult r = cli(cat({in, "-o", out.string(), "--method", "ssdo", "--samples", "2"}, cameraFlags(scene)));
+    expectCleanFailure(r, 2, out, {"--samples 2 leaves pixels of the 2 x 2 --interleave block", "at least 4"});
+    EXPECT_EQ(r.err.find("in.exr"), std::string::npos) << r.err;
 }
 
 // An output layer's name OpenEXR would cut (a view's channels then share one name) or that has an

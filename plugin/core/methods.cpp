@@ -236,8 +236,7 @@ std::string checkParam(const MethodParam& p, double v, bool named) {
     for (const NamedValue& n : p.named)
         if (named && v == n.value) return "";
     char range[96];
-    if (p.max >= 1e30) std::snprintf(range, sizeof range, " must be %g or more", p.min);
-    else std::snprintf(range, sizeof range, " must be between %g and %g", p.min, p.max);
+    std::snprintf(range, sizeof range, " must be between %g and %g", p.min, p.max);
     std::string words;
     for (const NamedValue& n : p.named) words += std::string(", or ") + n.word;
     return std::string(p.flag) + range + words;

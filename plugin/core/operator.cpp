@@ -35,8 +35,13 @@ namespace {
 void checkSettings(const Settings& s) {
     if (!findMethod(s.method))
         throw Error("unknown method '" + s.method + "' (available: " + methodNames() + ")");
-    if (s.interleave < 1 || s.interleave > 8 || s.interleave * s.interleave > s.ssdoSamples)
-        throw Error("--interleave must be between 1 and 8, with at least one sample per pixel");
+    if (s.interleave < 1 || s.interleave > 8) throw UsageError("--interleave must be between 1 and 8");
+    if (s.interleave * s.interleave > s.ssdoSamples) {
+        const std::string m = std::to_string(s.interleave);
+        throw UsageError("--samples " + std::to_string(s.ssdoSamples) + " leaves pixels of the " + m + " x " + m +
+                         " --interleave block without a sample: give --samples at least " +
+                         std::to_string(s.interleave * s.interleave) + ", or a smaller --interleave");
+    }
     for (const MethodParam* p : allMethodParams()) {
         const double v = p->intField ? (double)(s.*(p->intField)) : p->floatField ? (double)(s.*(p->floatField)) : 0.0;
         const std::string problem = checkParam(*p, v, true);

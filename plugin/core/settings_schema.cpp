@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <sstream>
 
 namespace obscura {
@@ -39,7 +40,8 @@ std::string numberProblem(const NumberSetting& s, double v, Spelling spelling) {
     if (whole && (s.minExcluded ? v > s.min : v >= s.min) && v <= s.max) return "";
     std::ostringstream m;
     m << (spelling == Spelling::Flag ? s.flag : s.key) << " must be " << (s.integer ? "a whole number " : "")
-      << (s.minExcluded ? "above " : "at least ") << s.min << " and at most " << s.max << ", got " << v;
+      << (s.minExcluded ? "above " : "at least ") << s.min << " and at most " << s.max << ", got "
+      << std::setprecision(10) << v;  // 179.9999 is not 180
     return m.str();
 }
 

@@ -134,6 +134,11 @@ Image toFloatPlane(const ExrPart& part, const ExrChannel& ch, const char* raw, I
 } // namespace
 
 void checkExrMagic(const std::string& path) {
+    // Before opening: opening a pipe with no writer blocks, where no stop check can reach.
+    std::error_code ec;
+    const fs::file_status st = fs::status(path, ec);
+    if (fs::exists(st) && !fs::is_regular_file(st) && !fs::is_directory(st))
+        throw FileError(path, "cannot open: not a regular file (a pipe, socket or device); give an EXR file on disk");
     std::ifstream f(path, std::ios::binary);
     if (!f) {
         int err = errno;

@@ -71,6 +71,10 @@ bool cameraFullyGiven(const FrameJob& job) {
 
 bool isSurface(float d, float sky) { return d > 0.0f && d < sky; }
 
+// The squared lengths a normal may have: the kernels normalise in float, whose squares hold
+// lengths from about 1e-19 to 1e19; 1e-6 keeps a normal that is rounding noise out.
+constexpr double kMinNormalLength2 = 1e-12, kMaxNormalLength2 = 1e38;
+
 std::string pixelText(const Box2i& data, size_t index, int width) {
     return std::to_string(data.x0 + (int)(index % width)) + "," + std::to_string(data.y0 + (int)(index / width));
 }
@@ -88,10 +92,11 @@ void validatePixels(const FrameJob& job, const FramePasses& p, float sky, FrameR
         }
         if (!isSurface(d, sky) || p.normalsFromDepth) continue;
         ++surface;
+        // In double: a float's square under- or overflows where its length is 1e-23 or 2e19.
         const float* nv = &p.normal.pixels[i * 3];
-        const float len2 = nv[0] * nv[0] + nv[1] * nv[1] + nv[2] * nv[2];
-        if (!(len2 > 1e-12f && std::isfinite(len2))) {
-            if (len2 == 0.0f) ++zeroNormal;
+        const double len2 = (double)nv[0] * nv[0] + (double)nv[1] * nv[1] + (double)nv[2] * nv[2];
+        if (!(len2 > kMinNormalLength2 && len2 < kMaxNormalLength2)) {
+            if (len2 == 0.0) ++zeroNormal;
             if (badNormal++ == 0) firstBadNormal = i;
         } else if (std::abs(std::sqrt(len2) - 1.0f) > 0.01f) {
             ++report.nonUnitNormalPixels;
@@ -110,7 +115,7 @@ void validatePixels(const FrameJob& job, const FramePasses& p, float sky, FrameR
                     pixelText(p.data, firstBadDepth, p.depth.width) + "; use --bad-pixels skip to treat them as holes");
     if (badNormal)
         throw FileError(path, "" + std::to_string(badNormal) +
-                    " surface pixel(s) have a zero or non-finite normal, first at " +
+                    " surface pixel(s) have a normal that is zero, not finite, or of a length outside 1e-6 to 1e19, first at " +
                     pixelText(p.data, firstBadNormal, p.depth.width) + "; use --bad-pixels skip to accept them");
 }
 

@@ -187,6 +187,8 @@ auto blameInput(const std::string& input, F&& f) -> decltype(f()) {
         return f();
     } catch (const FileError&) {
         throw;
+    } catch (const UsageError&) {
+        throw;  // the request's, not the file's
     } catch (const Cancelled&) {
         throw;  // the host stopped the run: nothing failed
     } catch (const std::bad_alloc&) {

@@ -265,7 +265,7 @@ def test_messages_say_what_is_expected(scene):
     (dict(sky_depth=0.0), "sky_depth must be above 0"),
     (dict(data_window=(0, 0, 10, 10)), "data_window is 10x10"),
     (dict(data_window=(0, 0, 1)), "data_window must be"),
-    (dict(method="rtao", thickness=-1.0), "thickness must be 0 or more"),
+    (dict(method="rtao", thickness=-1.0), "thickness must be between 0 and 1e\+30"),
     (dict(method="rtao", rtao_grid=0), "rtao_grid must be between 1 and 64"),
     (dict(method="ssao", ssao_samples=0), "ssao_samples must be between 1 and 1024"),
 ])
