@@ -20,8 +20,18 @@ std::string typeName(const py::handle& obj) { return py::str(py::type::handle_of
 
 std::string pathArg(const py::handle& obj, const char* what) {
     if (obj.is_none()) valueError(std::string(what) + " must be a path, got None");
-    py::object p = py::module_::import("os").attr("fsdecode")(py::module_::import("os").attr("fspath")(obj));
-    std::string s = p.cast<std::string>();
+    // The file system's bytes (os.fsencode): a str, bytes or os.PathLike, whatever its encoding.
+    const py::module_ os = py::module_::import("os");
+    const py::bytes raw = os.attr("fsencode")(os.attr("fspath")(obj));
+    // Reports, notes and errors carry paths as str: a name that is not UTF-8 could not be said.
+    const py::object text = py::reinterpret_steal<py::object>(
+        PyUnicode_DecodeUTF8(PyBytes_AsString(raw.ptr()), PyBytes_Size(raw.ptr()), "strict"));
+    if (!text) {
+        PyErr_Clear();
+        valueError(std::string(what) + " " + std::string(py::repr(raw)) +
+                   " is not UTF-8; obscura's reports name files as text: rename it");
+    }
+    std::string s = raw.cast<std::string>();
     if (s.empty()) valueError(std::string(what) + " must not be empty");
     return s;
 }
@@ -33,7 +43,7 @@ std::string strArg(const py::handle& obj, const char* what) {
 }
 
 double floatArg(const py::handle& obj, const char* what) {
-    if (py::isinstance<py::str>(obj) || obj.is_none())
+    if (py::isinstance<py::str>(obj) || py::isinstance<py::bool_>(obj) || obj.is_none())
         throw py::type_error(std::string(what) + " must be a number, got " + typeName(obj));
     const double v = py::float_(py::reinterpret_borrow<py::object>(obj)).cast<double>();
     if (!std::isfinite(v)) valueError(std::string(what) + " must be finite, got " + std::to_string(v));
@@ -47,9 +57,18 @@ long long intArg(const py::handle& obj, const char* what) {
     PyObject* index = PyNumber_Index(obj.ptr());
     if (!index) throw py::error_already_set();
     py::int_ i = py::reinterpret_steal<py::int_>(index);
-    const long long v = PyLong_AsLongLong(i.ptr());
+    int overflow = 0;
+    const long long v = PyLong_AsLongLongAndOverflow(i.ptr(), &overflow);
+    if (overflow) valueError(std::string(what) + " is out of range, got " + std::string(py::str(i)));
     if (v == -1 && PyErr_Occurred()) throw py::error_already_set();
     return v;
+}
+
+bool boolArg(const py::handle& obj, const char* what) {
+    // numpy's bool is not Python's: both are taken, and nothing else ('no' is truthy).
+    if (py::isinstance<py::bool_>(obj)) return obj.cast<bool>();
+    if (py::isinstance(obj, py::module_::import("numpy").attr("bool_"))) return PyObject_IsTrue(obj.ptr()) == 1;
+    throw py::type_error(std::string(what) + " must be True or False, got " + typeName(obj));
 }
 
 int intInRange(const py::handle& obj, const char* what, long long lo, long long hi) {
@@ -173,8 +192,8 @@ ConstPlane planeArg(const py::handle& obj, const char* what, int channels) {
     const bool aligned = reinterpret_cast<std::uintptr_t>(data) % alignof(float) == 0;
     const py::ssize_t f = (py::ssize_t)sizeof(float);
     if (!aligned || a.strides(0) % f || a.strides(1) % f)
-        valueError(std::string(what) + " is not aligned to whole float32 elements; pass numpy.ascontiguousarray(" +
-                   what + ")");
+        valueError(std::string(what) + " is not aligned to whole float32 elements; pass " + what +
+                   ".copy() (numpy aligns a copy)");
     if (channels > 1 && a.strides(2) != f)
         valueError(std::string(what) + "'s " + std::to_string(channels) +
                    " components must be adjacent in memory (strides[2] == 4 bytes, got " +

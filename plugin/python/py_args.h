@@ -27,11 +27,13 @@ std::string typeName(const py::handle& obj);
 // A str or os.PathLike, not empty.
 std::string pathArg(const py::handle& obj, const char* what);
 std::string strArg(const py::handle& obj, const char* what);
-// A finite number (not a str, not None).
+// A finite number (not a str, bool or None).
 double floatArg(const py::handle& obj, const char* what);
-// An int (or an object with __index__), not a bool, float or str.
+// An int (or an object with __index__), not a bool, float or str; ValueError past long long.
 long long intArg(const py::handle& obj, const char* what);
 int intInRange(const py::handle& obj, const char* what, long long lo, long long hi);
+// True or False (Python's or numpy's bool), not any truthy object.
+bool boolArg(const py::handle& obj, const char* what);
 
 // A shared numeric setting (core/settings_schema.h), checked against core's range.
 double numberArg(const py::handle& obj, const char* key);

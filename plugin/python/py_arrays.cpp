@@ -49,8 +49,9 @@ nearest first, the visible one first; front inf past a ray's last; back == front
 span is unknown (docs/deep.md). deep_layers=K caps how many are used.
 
 camera: obscura.Camera, required. data_window: (x0, y0, x1, y1) the arrays cover in display-window
-pixels (default (0, 0, W, H); larger than the display window for overscan). display_window:
-the frame's (x0, y0, x1, y1), default (0, 0, W, H).
+pixels (default: W x H from display_window's corner; larger than the display window for overscan). display_window:
+the frame's (x0, y0, x1, y1), default (0, 0, W, H). Both may be an EXR header's absolute windows:
+the camera's pixels count from display_window's corner.
 Settings (defaults as the CLI): radius=1.0 world units, directions=8, steps=8,
 weighting='uniform'|'cosine', falloff='linear'|'none', blur=1 px (the 'medium' preset's), quality=None ('low',
 'medium', 'high', 'ultra'; explicit directions/steps/blur override it), method='hbao'
@@ -112,12 +113,18 @@ OperatorInputs viewInputs(const py::object& depthObj, const py::object& normalOb
     if (in.normalSpace != NormalSpace::Depth) in.normal = planeArg(normalObj, "normal", 3);
     if (in.normal.valid()) sameSizeAsDepth(in.normal, "normal", in.depth);
     const Box2i full{0, 0, in.depth.width, in.depth.height};
-    in.dataWindow = v.dataWindow.is_none() ? full : boxArg(v.dataWindow, "data_window");
+    in.displayWindow = v.displayWindow.is_none() ? full : boxArg(v.displayWindow, "display_window");
+    // Windows as an EXR header gives them: the camera's pixels count from the display window's
+    // corner, so both move by its origin (data inside display at (10, 10) is data at (0, 0)).
+    const int ox = in.displayWindow.x0, oy = in.displayWindow.y0;
+    in.dataWindow = v.dataWindow.is_none() ? Box2i{ox, oy, ox + in.depth.width, oy + in.depth.height}
+                                           : boxArg(v.dataWindow, "data_window");
     if (in.dataWindow.width() != in.depth.width || in.dataWindow.height() != in.depth.height)
         valueError("data_window is " + std::to_string(in.dataWindow.width()) + "x" +
                    std::to_string(in.dataWindow.height()) + " (W x H) but the arrays are " +
                    std::to_string(in.depth.width) + "x" + std::to_string(in.depth.height));
-    in.displayWindow = v.displayWindow.is_none() ? full : boxArg(v.displayWindow, "display_window");
+    in.dataWindow = Box2i{in.dataWindow.x0 - ox, in.dataWindow.y0 - oy, in.dataWindow.x1 - ox, in.dataWindow.y1 - oy};
+    in.displayWindow = Box2i{0, 0, in.displayWindow.width(), in.displayWindow.height()};
     if (!v.depthKind.is_none()) in.depthKind = enumArg<DepthKind>(v.depthKind, "depth_kind", "'planar' or 'radial'");
     if (!v.skyDepth.is_none()) settings.skyDepth = (float)numberArg(v.skyDepth, "sky_depth");
     in.camera = cameraArg(v.camera);
@@ -202,7 +209,7 @@ py::dict computeSsdo(const py::object& depthObj, const py::object& normalObj, co
                      const SettingArgs& sa, const SsdoArgs& ssdoArgs, const SsdoArrayArgs& x) {
     Settings settings = settingsFrom(sa, "ssdo");
     applySsdo(ssdoArgs, settings);
-    settings.bounce = !x.bounce.is_none() && py::bool_(x.bounce);
+    settings.bounce = !x.bounce.is_none() && boolArg(x.bounce, "bounce");
     if (!x.up.is_none()) settings.zUp = upArg(x.up);
     OperatorInputs in = viewInputs(depthObj, normalObj, v, settings);
     bounceSource(x.radiance, x.albedo, in);

@@ -33,9 +33,7 @@ py::dict readDeepPy(const py::object& path, const py::object& layersObj, const p
                     const py::object& windowObj, const py::object& maxPixels) {
     const std::string file = pathArg(path, "path");
     const int maxLayers = layersObj.is_none() ? Settings().deepLayers : methodIntArg(layersObj, "deep_layers");
-    if (!colourObj.is_none() && !py::isinstance<py::bool_>(colourObj))
-        throw py::type_error("colour must be a bool, got " + typeName(colourObj));
-    const bool colour = !colourObj.is_none() && py::bool_(colourObj);
+    const bool colour = !colourObj.is_none() && boolArg(colourObj, "colour");
     const bool ownWindow = windowObj.is_none();
     const Box2i window = ownWindow ? Box2i{} : boxArg(windowObj, "data_window");
     const long long limit = maxPixelsArg(maxPixels);

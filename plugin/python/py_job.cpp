@@ -44,7 +44,7 @@ void applyOutLayer(const py::object& outLayer, FrameJob& job) {
 }
 
 void applyJobSsdo(const JobSsdoArgs& js, FrameJob& job) {
-    if (!js.bounce.is_none() && py::bool_(js.bounce)) requestBounce(job);
+    if (!js.bounce.is_none() && boolArg(js.bounce, "bounce")) requestBounce(job);
     if (!js.bounceSource.is_none()) {
         job.bounceSource = strArg(js.bounceSource, "bounce_source");
         if (job.bounceSource.empty())
@@ -54,8 +54,8 @@ void applyJobSsdo(const JobSsdoArgs& js, FrameJob& job) {
     if (!js.envColorspace.is_none()) job.envColourSpace = strArg(js.envColorspace, "env_colorspace");
     if (!js.colorspace.is_none()) job.colourSpace = strArg(js.colorspace, "colorspace");
     if (!js.up.is_none()) job.zUp = upArg(js.up);
-    if (!js.timesAlbedo.is_none() && py::bool_(js.timesAlbedo)) job.timesAlbedo = true;
-    if (!js.relitDirect.is_none() && py::bool_(js.relitDirect)) job.relitWithDirect = true;
+    if (!js.timesAlbedo.is_none() && boolArg(js.timesAlbedo, "times_albedo")) job.timesAlbedo = true;
+    if (!js.relitDirect.is_none() && boolArg(js.relitDirect, "relit_direct")) job.relitWithDirect = true;
 }
 
 void applyOutputs(const OutputArgs& o, FrameJob& job) {
@@ -69,11 +69,11 @@ void applyOutputs(const OutputArgs& o, FrameJob& job) {
         if (job.previewPath.empty()) valueError("preview_exposure needs preview=PATH");
         job.previewExposure = (float)numberArg(o.previewExposure, "preview_exposure");
     }
-    if (!o.inPlace.is_none()) job.inPlace = py::bool_(o.inPlace);
+    if (!o.inPlace.is_none()) job.inPlace = boolArg(o.inPlace, "in_place");
     if (!o.write.is_none()) parse(choiceArg(o.write, "write", {"copy", "new", "append"}), job.write);
     if (job.write == WriteMode::New && job.inPlace)
         valueError("write='new' and in_place=True do not go together: the output holds only the new layers");
-    if (!o.perElementAo.is_none()) job.perElementAo = py::bool_(o.perElementAo);
+    if (!o.perElementAo.is_none()) job.perElementAo = boolArg(o.perElementAo, "per_element_ao");
     const std::string problem = perElementAoProblem(job, Spelling::Key);
     if (!problem.empty()) valueError(problem);
 }

@@ -26,8 +26,7 @@ void applyMethodParam(const std::string& key, const py::handle& value, Settings&
             valueError(key + checkParam(*p, std::nan("")).substr(std::string(p->flag).size()) + ", got '" +
                        value.cast<std::string>() + "'");
         if (p->boolField) {
-            if (!py::isinstance<py::bool_>(value)) throw py::type_error(key + " must be a bool, got " + typeName(value));
-            s.*(p->boolField) = value.cast<bool>();
+            s.*(p->boolField) = boolArg(value, p->key);
         } else if (p->intField) {
             s.*(p->intField) = named ? (int)named->value : intInRange(value, p->key, (long long)p->min, (long long)p->max);
         } else {

@@ -106,7 +106,7 @@ def test_deep_arguments_are_checked(pair):
         obscura.compute_gi(p["depth"], p["normal"], deep=d["deep"], deep_colour=d["colour"][1:], **kw)
     with pytest.raises(ValueError, match="deep_layers"):
         obscura.read_deep(deep, deep_layers=0)
-    with pytest.raises(TypeError, match="colour must be a bool"):
+    with pytest.raises(TypeError, match="colour must be True or False"):
         obscura.read_deep(deep, colour="yes")
     with pytest.raises(obscura.Error, match="flat.exr"):
         obscura.read_deep(flat)

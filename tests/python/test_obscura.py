@@ -265,7 +265,7 @@ def test_messages_say_what_is_expected(scene):
     (dict(sky_depth=0.0), "sky_depth must be above 0"),
     (dict(data_window=(0, 0, 10, 10)), "data_window is 10x10"),
     (dict(data_window=(0, 0, 1)), "data_window must be"),
-    (dict(method="rtao", thickness=-1.0), "thickness must be between 0 and 1e\+30"),
+    (dict(method="rtao", thickness=-1.0), r"thickness must be between 0 and 1e\+30"),
     (dict(method="rtao", rtao_grid=0), "rtao_grid must be between 1 and 64"),
     (dict(method="ssao", ssao_samples=0), "ssao_samples must be between 1 and 1024"),
 ])
@@ -292,11 +292,11 @@ def test_method_keywords_come_from_the_method_table(scene, tmp):
     for word in ["auto", "inf"]:
         report = obscura.process(ROOM, tmp / "hbao.exr", thickness=word, quality="low", out_type="float")
         assert report["settings"]["thickness"] == word
-    with pytest.raises(ValueError, match="thickness must be 0 or more, or auto, or inf"):
+    with pytest.raises(ValueError, match=r"thickness must be between 0 and 1e\+30, or auto, or inf"):
         obscura.compute_ao(depth, normal, camera=cam, thickness="thick")
     with pytest.raises(TypeError, match="unexpected keyword argument 'thicknes'"):
         obscura.compute_ao(depth, normal, camera=cam, method="rtao", thicknes=0.1)
-    with pytest.raises(TypeError, match="ssao_hemisphere must be a bool"):
+    with pytest.raises(TypeError, match="ssao_hemisphere must be True or False, got int"):
         obscura.compute_ao(depth, normal, camera=cam, method="ssao", ssao_hemisphere=1)
 
 
@@ -328,7 +328,7 @@ def test_camera_checks(scene):
         obscura.Camera.perspective(40, 96, 64, camera_to_world=np.eye(3))
     with pytest.raises(ValueError, match="camera_to_world"):
         obscura.Camera.perspective(40, 96, 64, camera_to_world=np.zeros((4, 4)))
-    with pytest.raises(ValueError, match="width and height"):
+    with pytest.raises(ValueError, match="width must be between 1 and"):
         obscura.Camera.orthographic(2.0, 0, 64)
     # A camera made for another frame (its principal point elsewhere) is refused, on every array
     # function; one made for the display window given beside an overscan is taken.
@@ -341,6 +341,63 @@ def test_camera_checks(scene):
     c = obscura.compute_ao(depth, n_cam, camera=inner, normals="camera", data_window=(-3, -2, 93, 62),
                            display_window=(0, 0, 90, 60))
     assert c.shape == depth.shape and np.isfinite(c).all()
+
+
+def test_windows_may_be_an_exr_headers(scene):
+    """display_window and data_window in a header's absolute pixels: the camera counts from the
+    display window's corner, so moving both by one offset is the same frame, and moving the display
+    window alone moves the image against the camera."""
+    depth, normal, _ = scene
+    cam = camera()
+    at_zero = obscura.compute_ao(depth, normal, camera=cam)
+    moved = obscura.compute_ao(depth, normal, camera=cam, display_window=(10, 20, 106, 84), data_window=(10, 20, 106, 84))
+    assert np.array_equal(at_zero, moved)
+    defaulted = obscura.compute_ao(depth, normal, camera=cam, display_window=(10, 20, 106, 84))
+    assert np.array_equal(at_zero, defaulted)  # the arrays cover the display window by default
+    shifted = obscura.compute_ao(depth, normal, camera=cam, display_window=(10, 20, 106, 84), data_window=(0, 0, 96, 64))
+    assert not np.array_equal(at_zero, shifted)
+
+
+def test_camera_pickles_copies_and_compares(tmp):
+    """Dask and multiprocessing send read_passes() dicts, camera included, by pickle."""
+    import copy
+    import pickle
+    posed = camera()
+    for cam in (posed, obscura.Camera.orthographic(3.0, 96, 64), obscura.read_passes(ROOM)["camera"],
+                obscura.Camera(100.0, cx=48.0, cy=32.0, orthographic=True)):
+        back = pickle.loads(pickle.dumps(cam))
+        assert back == cam and copy.deepcopy(cam) == cam
+        assert (back.projection, back.fx, back.fy, back.cx, back.cy, back.source, back.display_size) == \
+            (cam.projection, cam.fx, cam.fy, cam.cx, cam.cy, cam.source, cam.display_size)
+        assert (back.camera_to_world is None) == (cam.camera_to_world is None)
+    assert obscura.Camera.perspective(FOV_DEG, 96, 64) != posed
+    assert posed != "a camera"
+    assert "display=96x64" in repr(posed) and "camera_to_world=[" in repr(posed)
+    passes = pickle.loads(pickle.dumps(obscura.read_passes(ROOM)))
+    assert passes["camera"] == obscura.read_passes(ROOM)["camera"]
+
+
+def test_arguments_are_taken_as_they_are_meant(scene, tmp):
+    """A truthy word is not True, True is not 1.0, an int past 64 bits is a ValueError, and a
+    camera's bad argument is one line naming it; a path that is not UTF-8 is said, not cast."""
+    depth, normal, _ = scene
+    cam = camera()
+    with pytest.raises(TypeError, match="bounce must be True or False, got str"):
+        obscura.compute_ssdo(depth, normal, camera=cam, bounce="no")
+    obscura.compute_ssdo(depth, normal, camera=cam, bounce=np.bool_(False), samples=16)
+    with pytest.raises(TypeError, match="radius must be a number, got bool"):
+        obscura.compute_ao(depth, normal, camera=cam, radius=True)
+    with pytest.raises(ValueError, match="directions is out of range"):
+        obscura.compute_ao(depth, normal, camera=cam, directions=2**70)
+    for call, match in [(lambda: obscura.Camera.perspective(50, 64.0, 64), "width must be an int, got float"),
+                        (lambda: obscura.Camera.film_back("35", 36, 64, 64), "focal_mm must be a number, got str"),
+                        (lambda: obscura.Camera(10.0, cx=1, cy=1, orthographic="yes"), "orthographic must be True or False"),
+                        (lambda: cam.horizontal_fov_deg(0), "width must be between 1 and")]:
+        with pytest.raises((TypeError, ValueError), match=match) as e:
+            call()
+        assert "\n" not in str(e.value)
+    with pytest.raises(ValueError, match="is not UTF-8"):
+        obscura.read_passes(bytes(tmp) + b"/caf\xe9.exr")
 
 
 def test_camera_properties():
