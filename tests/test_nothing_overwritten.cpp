@@ -282,6 +282,22 @@ TEST(NothingOverwritten, AReadOnlyEarlierOutputIsKept) {
     }
 }
 
+// A run that fails after its output is written (here its report: a name within a few characters
+// of the file system's limit leaves its temp file no room) leaves nothing, not the output alone.
+TEST(NothingOverwritten, AFailureAfterTheOutputLeavesNothing) {
+    const Workspace w(freshDir());
+    const std::string report = w(std::string(250, 'r') + ".json");
+    for (const bool earlier : {false, true}) {
+        SCOPED_TRACE(earlier ? "over an earlier output" : "a new output");
+        if (earlier) fs::copy_file(w("earlier.exr"), w("out.exr"));
+        const auto before = snapshot(w.dir);
+        const CliResult r = cli({w("in.exr"), "-o", w("out.exr"), "--preview", w("out.png"), "--report", report});
+        EXPECT_EQ(r.exitCode, 1) << describe(r);
+        EXPECT_NE(r.err.find(std::string(250, 'r')), std::string::npos) << describe(r);
+        EXPECT_EQ(snapshot(w.dir), before);
+    }
+}
+
 TEST(Resume, OneFrameSkipsAFinishedOutputAndClearsADeadWritersTemp) {
     const Workspace w(freshDir());
     const CliResult first = cli({w("in.exr"), "-o", w("out.exr"), "--report", w("out.json"), "--quiet"});

@@ -4,6 +4,7 @@
 
 #include "base/error.h"
 #include "core/methods.h"
+#include "io/atomic_files.h"
 #include "io/frame_job.h"
 #include "io/inspect.h"
 #include "io/views.h"
@@ -60,6 +61,7 @@ void printSummary(const Options& o, const FrameReport& r) {
 
 void runOneFrame(const Options& o, const FrameJob& job, const std::string& reportPath) {
     if (!reportPath.empty()) requireWritableDestination(reportPath);
+    WriteBatch files;  // the output, preview and report land together or not at all
     const FrameReport report = runFrameJob(job);
     if (report.reference) {
         const ErrorMetrics& m = *report.reference;
@@ -67,6 +69,7 @@ void runOneFrame(const Options& o, const FrameJob& job, const std::string& repor
                     job.referenceLayer.c_str(), m.mae, m.rmse, m.psnr, m.p99, m.pixels);
     }
     if (!reportPath.empty()) writeTextFileAtomically(reportPath, frameReportJson(job, report));
+    files.commit();
     if (!o.quiet && !isFramePattern(o.job.input)) printSummary(o, report);
 }
 

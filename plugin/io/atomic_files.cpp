@@ -55,7 +55,10 @@ std::string atomicTempPath(const std::string& target, const std::string& suffix)
     return target + ".tmp-" + std::to_string((long)::getpid()) + "-" + std::to_string(++calls) + suffix;
 }
 
-void commitAtomicWrite(const std::string& tmp, const std::string& target, const std::string& path) {
+namespace {
+thread_local WriteBatch* tCurrentBatch = nullptr;
+
+void renameOver(const std::string& tmp, const std::string& target, const std::string& path) {
     struct stat before {};
     if (::stat(target.c_str(), &before) == 0) ::chmod(tmp.c_str(), before.st_mode & 07777);
     if (std::rename(tmp.c_str(), target.c_str()) != 0) {
@@ -63,6 +66,41 @@ void commitAtomicWrite(const std::string& tmp, const std::string& target, const 
         std::remove(tmp.c_str());
         throw FileError(path, std::string("cannot write: rename failed: ") + std::strerror(err));
     }
+}
+} // namespace
+
+WriteBatch::WriteBatch() : outer_(tCurrentBatch) { tCurrentBatch = this; }
+
+WriteBatch::~WriteBatch() {
+    tCurrentBatch = outer_;
+    for (const Staged& s : staged_) std::remove(s.tmp.c_str());
+}
+
+WriteBatch* WriteBatch::current() { return tCurrentBatch; }
+
+void WriteBatch::stage(const std::string& tmp, const std::string& target, const std::string& path) {
+    staged_.push_back({tmp, target, path});
+}
+
+void WriteBatch::commit() {
+    std::vector<Staged> staged;
+    staged.swap(staged_);
+    for (size_t i = 0; i < staged.size(); ++i) {
+        try {
+            renameOver(staged[i].tmp, staged[i].target, staged[i].path);
+        } catch (const Error&) {
+            for (size_t j = i + 1; j < staged.size(); ++j) std::remove(staged[j].tmp.c_str());
+            throw;
+        }
+    }
+}
+
+void commitAtomicWrite(const std::string& tmp, const std::string& target, const std::string& path) {
+    if (WriteBatch* batch = WriteBatch::current()) {
+        batch->stage(tmp, target, path);
+        return;
+    }
+    renameOver(tmp, target, path);
 }
 
 void writeTextFileAtomically(const std::string& path, const std::string& text) {

@@ -17,9 +17,32 @@ std::string writeTarget(const std::string& path);
 // The temp file for one write of `target` (a writeTarget): beside it, unique to the call,
 // "<target>.tmp-<pid>-<n>" + suffix, so threads and processes writing one path never share one.
 std::string atomicTempPath(const std::string& target, const std::string& suffix = "");
-// Moves the finished temp file over `target`, with an earlier target's permission bits; on
-// failure removes tmp and throws FileError naming `path` (what the user asked to write).
+// Moves the finished temp file over `target`, with an earlier target's permission bits (or
+// stages it in the thread's WriteBatch); on failure removes tmp and throws FileError naming
+// `path` (what the user asked to write).
 void commitAtomicWrite(const std::string& tmp, const std::string& target, const std::string& path);
+
+// A run's files written as one: while a batch lives, the writes its thread commits stay temp
+// files, and commit() renames them all, so a run that fails after writing its output (its report
+// or preview could not be written) leaves nothing. Without commit() the temp files are removed.
+class WriteBatch {
+public:
+    WriteBatch();
+    ~WriteBatch();
+    WriteBatch(const WriteBatch&) = delete;
+    WriteBatch& operator=(const WriteBatch&) = delete;
+    void commit();
+    // The batch commitAtomicWrite stages into on this thread, or null.
+    static WriteBatch* current();
+    void stage(const std::string& tmp, const std::string& target, const std::string& path);
+
+private:
+    struct Staged {
+        std::string tmp, target, path;
+    };
+    std::vector<Staged> staged_;
+    WriteBatch* outer_;
+};
 
 // The temp files "<path>.tmp-<pid>[-<n>]" of atomic writes to `path` (outputs, reports).
 std::vector<std::string> atomicWriteTemps(const std::string& path);

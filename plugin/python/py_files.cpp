@@ -2,6 +2,7 @@
 // reader (io/exr_file.h) from Python, with keywords named like the CLI's flags (py_job.h).
 // The GIL is released while files are read or written.
 #include "base/error.h"
+#include "io/atomic_files.h"
 #include "io/frame_job.h"
 #include "io/inspect.h"
 #include "io/layers.h"
@@ -172,9 +173,11 @@ py::object processPy(const FrameJob& job, const std::string& reportPath) {
         py::gil_scoped_release release;
         checkFrameFiles({{&job, reportPath}}, Spelling::Key);
         if (!reportPath.empty()) requireWritableDestination(reportPath);
+        WriteBatch files;  // the output, preview and report land together or not at all
         const FrameReport report = runFrameJob(job);
         json = frameReportJson(job, report);
         if (!reportPath.empty()) writeTextFileAtomically(reportPath, json);
+        files.commit();
     }
     return py::module_::import("json").attr("loads")(json);
 }
