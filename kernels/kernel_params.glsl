@@ -85,6 +85,11 @@ CONST_GLOBAL int HBAO_DEEP = 3;
 CONST_GLOBAL float BLUR_REACH = 0.25f;
 // SSDO's GI is blurred SSDO_GI_BLUR_SCALE times as wide as its DO and AO.
 CONST_GLOBAL int SSDO_GI_BLUR_SCALE = 3;
+// SSDO's N samples are N / SSDO_STEPS directions of SSDO_STEPS points: SSDO_STEPS - 1 stratified
+// ones give DO its linear falloff (a point at a uniform distance finds a surface at distance t
+// with probability 1 - t / r_max). Each pixel of the M x M interleave block takes one direction
+// at least, so N runs as max(N / SSDO_STEPS, M^2) directions (the host says when that differs).
+CONST_GLOBAL int SSDO_STEPS = 4;
 
 // KernelParams::hbaoBorder: past the buffer's edge open sky, the edge texel's depth, or its
 // tangent plane continued (core/hbao_plan.h, HbaoBorder).

@@ -20,10 +20,8 @@
 // lint y, lbool use), and lvec3 gatherNormal, gatherRadiance, gatherAlbedo, and gatherEnv
 // (texel (x, y) of the prefiltered environment level) with the same arguments.
 
-// N counts SSDO_STEPS points per direction: SSDO_STEPS - 1 stratified ones give DO its linear
-// falloff (a point at a uniform distance finds a surface at distance t with probability
-// 1 - t / r_max). The bounce's march adds SSDO_MARCH_POINTS + 1 of its own (not counted in N).
-CONST_GLOBAL int SSDO_STEPS = 4;
+// N counts SSDO_STEPS points per direction (kernel_params.glsl). The bounce's march adds
+// SSDO_MARCH_POINTS + 1 of its own (not counted in N).
 // The geometric marches, the bounce's along each direction and a directional light's: this many
 // points from about a pixel to r_max, then one at r_max, so that a surface near the receiver (a
 // contact shadow, a small sender) is met as surely as a far one. 8: marchRatio takes its root by

@@ -3,6 +3,7 @@
 #include "core/environment.h"
 #include "core/light_inputs.h"
 #include "base/error.h"
+#include "base/kernel_params.h"
 #include "core/backend.h"
 #include "cpu/big_buffer.h"
 #include "cpu/discs_cpu.h"
@@ -127,6 +128,13 @@ void runSsdoMethod(const MethodRun& r) {
     if (in.radiance.valid()) checkPlane(in.radiance, 3, in.dataWindow, "bounce source");
     if (in.albedo.valid()) checkPlane(in.albedo, 3, in.dataWindow, "albedo");
     OperatorStats& st = out.stats;
+    const int blockPixels = s.interleave * s.interleave;
+    const int runs = std::max(s.ssdoSamples / glsl::SSDO_STEPS, blockPixels) * glsl::SSDO_STEPS;
+    if (runs != s.ssdoSamples)
+        st.notes.push_back("--samples " + std::to_string(s.ssdoSamples) + " runs as " + std::to_string(runs) + " (" +
+                           std::to_string(glsl::SSDO_STEPS) + " samples a direction, and a direction at least for "
+                           "each pixel of the " + std::to_string(s.interleave) + " x " + std::to_string(s.interleave) +
+                           " --interleave block)");
     Image ownRadiance, ownAlbedo, ownMap;
     const ConstPlane radiance = physicalLight(in.radiance, ownRadiance, "the bounce source", in.lightChecked, st);
     const ConstPlane albedo = physicalLight(in.albedo, ownAlbedo, "the albedo", in.lightChecked, st);

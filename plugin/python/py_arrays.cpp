@@ -5,6 +5,7 @@
 #include "core/operator.h"
 #include "python/call_args.h"
 #include "python/py_args.h"
+#include "python/py_spelling.h"
 #include "python/py_bind.h"
 #include "python/py_interrupt.h"
 #include "python/py_settings.h"
@@ -29,7 +30,7 @@ OperatorOutputs runOnArrays(const OperatorInputs& in, const Settings& settings) 
         out = runOperator(in, settings);
     }
     for (const std::string& note : out.stats.notes)
-        if (PyErr_WarnEx(PyExc_RuntimeWarning, note.c_str(), 1) != 0) throw py::error_already_set();
+        if (PyErr_WarnEx(PyExc_RuntimeWarning, keywordSpelling(note).c_str(), 1) != 0) throw py::error_already_set();
     return out;
 }
 

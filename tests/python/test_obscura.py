@@ -400,6 +400,22 @@ def test_arguments_are_taken_as_they_are_meant(scene, tmp):
         obscura.read_passes(bytes(tmp) + b"/caf\xe9.exr")
 
 
+def test_ssdo_says_the_sample_count_it_runs(scene):
+    """SSDO's N samples are N / 4 directions, one at least per pixel of the interleave block: a
+    count that runs as another is said, and runs exactly as that one."""
+    import warnings
+    depth, normal, _ = scene
+    cam = camera()
+    with pytest.warns(RuntimeWarning, match=r"samples=8 runs as 16 \(4 samples a direction"):
+        eight = obscura.compute_ssdo(depth, normal, camera=cam, samples=8)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        sixteen = obscura.compute_ssdo(depth, normal, camera=cam, samples=16)
+    assert np.array_equal(eight["do"], sixteen["do"])
+    with pytest.warns(RuntimeWarning, match="samples=18 runs as 16"):
+        obscura.compute_ssdo(depth, normal, camera=cam, samples=18, interleave=1)
+
+
 def test_camera_properties():
     m = pose_matrix()
     c = obscura.Camera.perspective(60.0, 200, 100, camera_to_world=m)
