@@ -258,6 +258,11 @@ INSTANTIATE_TEST_SUITE_P(Configs, OfxMatchesCli,
                                                Config c = cfg("rtao_thickness_grid");
                                                c.method = 3, c.thickness = 0.1, c.rtaoGrid = 2, c.cosine = true;
                                                return c;
+                                           }(),
+                                           [] {  // a hierarchy over the whole frame: every tile reads it all
+                                               Config c = cfg("discs_whole_frame_hierarchy");
+                                               c.method = 4, c.overscan = 3, c.maxScreenRadius = 10;
+                                               return c;
                                            }()),
                          [](const ::testing::TestParamInfo<Config>& i) { return i.param.name; });
 

@@ -155,7 +155,7 @@ std::vector<MethodInfo> makeTable() {
                               &Settings::discsSum)},
                  // Nodes visited per pass: about seven levels of (4k + 2)^2 for a typical reach.
                  [](const Settings& s) { return 7 * (4 * s.discsWindow + 2) * (4 * s.discsWindow + 2) * s.discsPasses; },
-                 nullptr, &runDiscsMethod});
+                 nullptr, &runDiscsMethod, /*blurWithinReach=*/false, /*readsWholeFrame=*/true});
     return t;
 }
 

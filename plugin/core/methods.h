@@ -65,6 +65,9 @@ struct MethodInfo {
     // where R spans a few pixels, a blur of pixels alone averages over most of R. Off where the
     // blur's work is the method's noise (docs/notes/2026-11-29-blur-reach.md).
     bool blurWithinReach = false;
+    // Its value at a pixel depends on the whole frame (discs build their hierarchy over all of
+    // it), so a host rendering tiles gives every tile the whole frame, not a window and an apron.
+    bool readsWholeFrame = false;
 };
 
 const std::vector<MethodInfo>& methods();

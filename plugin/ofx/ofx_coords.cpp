@@ -78,6 +78,8 @@ PixRect dataRegion(const PixRect& window, int apron, const FrameMap& f) { return
 
 PixRect dataRegionFor(const PixRect& window, const Params& p, const FrameMap& f) {
     if (!computes(p)) return {};
+    const MethodInfo* m = findMethod(p.settings.method);
+    if (m && m->readsWholeFrame) return f.rod;
     return dataRegion(window, apronPixels(p, makeCamera(p, f), radiusCap(p, f)), f);
 }
 

@@ -71,7 +71,7 @@ struct Config {
     bool cosine = false, noFalloff = false;
     int blur = 0;
     double maxScreenRadius = 256;   // the plugin's cap (0 = automatic, the CLI's rule)
-    int method = 0;                 // index into the Method choice: 0 hbao, 1 ssdo (the CLI's run), 2 ssao, 3 rtao
+    int method = 0;                 // index into the Method choice: 0 hbao, 1 ssdo (the CLI's run), 2 ssao, 3 rtao, 4 discs
     int ssaoSamples = 16;
     double thickness = -1;          // hbao's and rtao's; -1: auto (the number OFX stores for it)
     int rtaoGrid = 1;
@@ -199,6 +199,7 @@ inline std::vector<float> runCli(const Config& c, const Scene& s, const std::fil
     if (c.method == 2) args.insert(args.end(), {"--method", "ssao", "--ssao-samples", std::to_string(c.ssaoSamples)});
     if (c.method == 3)
         args.insert(args.end(), {"--method", "rtao", "--rtao-grid", std::to_string(c.rtaoGrid)});
+    if (c.method == 4) args.insert(args.end(), {"--method", "discs"});
     if (c.method != 1 && c.method != 2)
         args.insert(args.end(), {"--thickness", c.thickness < 0 ? "auto" : num(c.thickness)});
     if (c.stored == "normalized")
