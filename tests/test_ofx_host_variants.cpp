@@ -99,6 +99,36 @@ TEST(OfxHostVariants, ClipParNotProjectPar) {
     EXPECT_LE(maxAbsDiff(expected, got), 0.0f);
 }
 
+// A Depth clip whose region of definition the host flags infinite (a generator's, ofxCore.h's
+// kOfxFlagInfiniteMin / Max) is read over the project's frame: the same pixels as its finite
+// region gives, at any pixel aspect and with the automatic cap (the flags overflowed pixel
+// coordinates: a black frame at PAR 0.9, a 1-pixel cap at 0).
+TEST(OfxHostVariants, AnInfiniteDepthRegionIsTheProjectsFrame) {
+    for (const double par : {1.0, 0.9}) {
+        for (const double cap : {256.0, 0.0}) {
+            SCOPED_TRACE("par " + std::to_string(par) + ", cap " + std::to_string(cap));
+            Config c;
+            c.maxScreenRadius = cap;
+            const Scene s = makeScene(c);
+            Loaded finite = instantiateIn(s, project(kW, kH, par), {"Depth", "Normal"});
+            Loaded infinite = instantiateIn(s, project(kW, kH, par), {"Depth", "Normal"});
+            ASSERT_TRUE(finite.inst && infinite.inst);
+            infinite.inst->effect().clip("Depth")->props.setInt("HostInfiniteRoD", {1});
+            applyConfig(*finite.inst, c, s);
+            applyConfig(*infinite.inst, c, s);
+            OfxRectD a{}, b{};
+            ASSERT_EQ(finite.inst->regionOfDefinition(a), kOfxStatOK);
+            ASSERT_EQ(infinite.inst->regionOfDefinition(b), kOfxStatOK);
+            EXPECT_EQ(std::vector<double>({a.x1, a.y1, a.x2, a.y2}), std::vector<double>({b.x1, b.y1, b.x2, b.y2}));
+            std::vector<std::string> p1, p2;
+            const HostImage expected = finite.inst->renderFrame(0, 0, 1, p1);
+            const HostImage got = infinite.inst->renderFrame(24, 16, 2, p2);
+            EXPECT_EQ(joined(p1) + joined(p2), "");
+            EXPECT_LE(maxAbsDiff(expected, got), 0.0f);
+        }
+    }
+}
+
 // A failure is one error on the node however many tiles and actions meet it, persistent where the
 // host has version 2 of the message suite, and cleared by the next render that succeeds.
 TEST(OfxHostVariants, AnErrorIsShownOnceAndClearedByASuccess) {

@@ -9,6 +9,7 @@
 #ifndef OBSCURA_OFX_API_H
 #define OBSCURA_OFX_API_H
 
+#include <limits.h>
 #include <stddef.h>
 
 #ifdef __cplusplus
@@ -34,6 +35,9 @@ typedef struct OfxPointI { int x, y; } OfxPointI;
 // Rectangles: (x1, y1) inclusive bottom-left, (x2, y2) exclusive top-right.
 typedef struct OfxRectI { int x1, y1, x2, y2; } OfxRectI;
 typedef struct OfxRectD { double x1, y1, x2, y2; } OfxRectD;
+// An infinite region's sides (ofxCore.h).
+#define kOfxFlagInfiniteMax INT_MAX
+#define kOfxFlagInfiniteMin INT_MIN
 
 // The host's side of the handshake: its property set and the suite fetcher.
 typedef struct OfxHost {

@@ -15,6 +15,24 @@
 
 namespace obscura::ofx {
 
+// The Depth clip's region of definition as the plugin reads it: a side the host flags infinite
+// (kOfxFlagInfiniteMin / Max, a generator's; anything past 2^30 pixels alike) is the project's
+// frame, the display window the camera's field of view spans.
+OfxRectD depthRegion(const Instance& in, OfxTime t) {
+    OfxRectD r{0, 0, 0, 0};
+    check(gEffect->clipGetRegionOfDefinition(in.depth, t, &r));
+    OfxPropertySetHandle props = effectProps(in.effect);
+    double offset[2] = {0, 0}, extent[2] = {0, 0};
+    gProp->propGetDoubleN(props, kOfxImageEffectPropProjectOffset, 2, offset);  // optional: 0, 0
+    gProp->propGetDoubleN(props, kOfxImageEffectPropProjectExtent, 2, extent);
+    const double infinite = double(1 << 30);
+    if (!(r.x1 > -infinite)) r.x1 = offset[0];
+    if (!(r.y1 > -infinite)) r.y1 = offset[1];
+    if (!(r.x2 < infinite)) r.x2 = offset[0] + extent[0];
+    if (!(r.y2 < infinite)) r.y2 = offset[1] + extent[1];
+    return r;
+}
+
 FrameMap frameMap(const Instance& in, OfxTime t, OfxPropertySetHandle actionArgs) {
     FrameMap f;
     OfxPropertySetHandle props = effectProps(in.effect);
@@ -32,9 +50,7 @@ FrameMap frameMap(const Instance& in, OfxTime t, OfxPropertySetHandle actionArgs
         throw Error("the host gives no project extent (the display window the camera's field of view spans)");
     f.displayW = (int)std::lround(extent[0] * f.sx / f.par);
     f.displayH = (int)std::lround(extent[1] * f.sy);
-    OfxRectD rod{0, 0, 0, 0};
-    check(gEffect->clipGetRegionOfDefinition(in.depth, t, &rod));
-    f.rod = f.toPixels(rod);
+    f.rod = f.toPixels(depthRegion(in, t));
     return f;
 }
 
@@ -91,8 +107,7 @@ OfxStatus onGetRegionOfDefinition(OfxImageEffectHandle effect, OfxPropertySetHan
                                   OfxPropertySetHandle outArgs) {
     const Instance& in = *instanceOf(effect);
     if (!connected(in.depth)) return kOfxStatReplyDefault;
-    OfxRectD rod{0, 0, 0, 0};
-    check(gEffect->clipGetRegionOfDefinition(in.depth, getDouble(inArgs, kOfxPropTime, 0), &rod));
+    const OfxRectD rod = depthRegion(in, getDouble(inArgs, kOfxPropTime, 0));
     // The AO exists where the depth does (the data window, overscan included).
     check(gProp->propSetDoubleN(outArgs, kOfxImageEffectPropRegionOfDefinition, 4, &rod.x1));
     return kOfxStatOK;

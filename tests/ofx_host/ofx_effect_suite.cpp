@@ -74,6 +74,10 @@ OfxStatus clipGetRegionOfDefinition(OfxImageClipHandle h, OfxTime, OfxRectD* out
         return kOfxStatOK;
     }
     *out = clipRod(*c);
+    // A generator's input (a test sets HostInfiniteRoD): infinite, as ofxCore.h flags it.
+    if (c->props.integer("HostInfiniteRoD") == 1)
+        *out = {(double)kOfxFlagInfiniteMin, (double)kOfxFlagInfiniteMin, (double)kOfxFlagInfiniteMax,
+                (double)kOfxFlagInfiniteMax};
     return kOfxStatOK;
 }
 
