@@ -129,6 +129,24 @@ TEST(OfxHostVariants, AnInfiniteDepthRegionIsTheProjectsFrame) {
     }
 }
 
+// A host call that fails inside an action (here the Depth clip's region, answered ErrUnknown)
+// makes the action answer Failed, a status ofxImageEffect.h allows it, with a message on the node;
+// the host's own status went back as the action's, silently.
+TEST(OfxHostVariants, AFailingHostCallIsAFailedActionWithAMessage) {
+    Config c;
+    const Scene s = makeScene(c);
+    Loaded l = instantiate(s);
+    ASSERT_TRUE(l.inst);
+    applyConfig(*l.inst, c, s);
+    l.inst->effect().clip("Depth")->props.setInt("HostRoDStatus", {kOfxStatErrUnknown});
+    std::map<std::string, OfxRectD> rois;
+    EXPECT_EQ(l.inst->regionsOfInterest({0, 0, 16, 16}, rois), kOfxStatFailed);
+    const std::vector<std::string> shown = l.host->messages();
+    ASSERT_FALSE(shown.empty());
+    EXPECT_NE(shown.back().find("the host answered status " + std::to_string(kOfxStatErrUnknown)), std::string::npos)
+        << shown.back();
+}
+
 // A failure is one error on the node however many tiles and actions meet it, persistent where the
 // host has version 2 of the message suite, and cleared by the next render that succeeds.
 TEST(OfxHostVariants, AnErrorIsShownOnceAndClearedByASuccess) {

@@ -58,7 +58,7 @@ void setShown(OfxImageEffectHandle effect, Instance& in, const std::string& erro
 // each time.
 void showError(OfxImageEffectHandle effect, const std::string& text) {
     Instance* in = findInstance(effect);
-    if (!in) return postMessage(effect, kOfxMessageError, text);
+    if (!in) return postTransientMessage(effect, kOfxMessageError, text);
     std::string warning;
     {
         std::lock_guard<std::mutex> lock(in->messageMutex);
@@ -109,7 +109,13 @@ OfxStatus mainEntry(const char* action, const void* handle, OfxPropertySetHandle
     try {
         return dispatch(action, effect, inArgs, outArgs);
     } catch (const OfxFailure& e) {
-        return e.status == kOfxStatOK ? kOfxStatFailed : e.status;
+        // An action answers only the statuses ofxImageEffect.h lists for it: a host suite's own
+        // (ErrBadHandle, ErrUnknown, ...) becomes Failed, with the message Failed asks for.
+        if (e.status == kOfxStatErrMemory || e.status == kOfxStatErrFatal) return e.status;
+        if (effect && std::strcmp(action, kOfxActionDescribe) != 0)
+            showError(effect, "obscura: the host answered status " + std::to_string(e.status) + " to a call of " +
+                                  action + "; the node could not run");
+        return kOfxStatFailed;
     } catch (const std::bad_alloc&) {
         return kOfxStatErrMemory;
     } catch (const std::exception& e) {

@@ -64,6 +64,10 @@ bool connected(OfxImageClipHandle clip) {
 
 void postMessage(OfxImageEffectHandle effect, const char* type, const std::string& text) {
     if (gMessageV2 && gMessageV2->setPersistentMessage(effect, type, "", "%s", text.c_str()) == kOfxStatOK) return;
+    postTransientMessage(effect, type, text);
+}
+
+void postTransientMessage(OfxImageEffectHandle effect, const char* type, const std::string& text) {
     if (gMessage) gMessage->message(effect, type, nullptr, "%s", text.c_str());
 }
 

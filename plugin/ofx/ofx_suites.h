@@ -42,6 +42,9 @@ bool connected(OfxImageClipHandle clip);
 // mended its inputs: kOfxMessageWarning): a persistent message where the host has version 2 of
 // the message suite, else a transient one.
 void postMessage(OfxImageEffectHandle effect, const char* type, const std::string& text);
+// The message suite's one-off message: what a descriptor (no instance yet) may be told, where
+// setPersistentMessage takes an instance only.
+void postTransientMessage(OfxImageEffectHandle effect, const char* type, const std::string& text);
 // The node's persistent message cleared (version 2 of the message suite; else nothing to clear).
 void clearPersistentMessage(OfxImageEffectHandle effect);
 

@@ -73,6 +73,7 @@ OfxStatus clipGetRegionOfDefinition(OfxImageClipHandle h, OfxTime, OfxRectD* out
         *out = {rod[0], rod[1], rod[2], rod[3]};
         return kOfxStatOK;
     }
+    if (const int failing = c->props.integer("HostRoDStatus")) return failing;  // a test's failing host
     *out = clipRod(*c);
     // A generator's input (a test sets HostInfiniteRoD): infinite, as ofxCore.h flags it.
     if (c->props.integer("HostInfiniteRoD") == 1)
