@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <cstddef>
+#include <climits>
 #include <fstream>
 #include <regex>
 #include <set>
@@ -239,6 +240,8 @@ const IntConstant kInts[] = {
     I(kOfxStatReplyNo, 13),
     I(kOfxStatReplyDefault, 14),
     I(kOfxImageEffectPluginApiVersion, 1),
+    I(kOfxFlagInfiniteMax, INT_MAX),
+    I(kOfxFlagInfiniteMin, INT_MIN),
 };
 
 #undef S
