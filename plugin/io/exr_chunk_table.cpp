@@ -72,8 +72,10 @@ std::vector<ChunkKey> tileChunks(const Imf::TileDescription& td, int w, int h, s
     for (int ly = 0; ly < levelsY; ++ly)
         for (int lx = 0; lx < levelsX; ++lx) {
             if (td.mode != Imf::RIPMAP_LEVELS && lx != ly) continue;
-            const int nx = (levelSize(w, lx, r) + (int)td.xSize - 1) / (int)td.xSize;
-            const int ny = (levelSize(h, ly, r) + (int)td.ySize - 1) / (int)td.ySize;
+            // In 64 bits: a header may give a tile size up to 2^31 - 1 (a fuzzer's did).
+            const long long tileW = std::max<long long>(td.xSize, 1), tileH = std::max<long long>(td.ySize, 1);
+            const int nx = (int)((levelSize(w, lx, r) + tileW - 1) / tileW);
+            const int ny = (int)((levelSize(h, ly, r) + tileH - 1) / tileH);
             for (int ty = 0; ty < ny && keys.size() <= limit; ++ty)
                 for (int tx = 0; tx < nx && keys.size() <= limit; ++tx) keys.push_back({tx, ty, lx, ly});
         }
