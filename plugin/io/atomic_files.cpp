@@ -21,22 +21,27 @@ namespace obscura {
 
 namespace fs = std::filesystem;
 
-void requireOutputDirectory(const std::string& path) {
-    const fs::path dir = fs::path(writeTarget(path)).parent_path();
+namespace {
+void requireDirectoryOf(const std::string& path, const std::string& target) {
+    const fs::path dir = fs::path(target).parent_path();
     std::error_code ec;
     if (!dir.empty() && !fs::is_directory(dir, ec))
         throw FileError(path, "cannot write: directory '" + dir.string() + "' does not exist");
 }
 
-void requireWritableDestination(const std::string& path) {
-    requireOutputDirectory(path);
-    const std::string target = writeTarget(path);
+void requireWritable(const std::string& path, const std::string& target) {
+    requireDirectoryOf(path, target);
     // No write bit at all counts as read-only for root too, who may write anything (as rm asks).
     struct stat st {};
     if (::stat(target.c_str(), &st) == 0 &&
         (::access(target.c_str(), W_OK) != 0 || (st.st_mode & (S_IWUSR | S_IWGRP | S_IWOTH)) == 0))
         throw FileError(path, "is read-only, so it is kept; make it writable to let obscura replace it");
 }
+} // namespace
+
+void requireOutputDirectory(const std::string& path) { requireDirectoryOf(path, writeTarget(path)); }
+
+void requireWritableDestination(const std::string& path) { requireWritable(path, writeTarget(path)); }
 
 std::string writeTarget(const std::string& path) {
     fs::path p(path);
@@ -48,11 +53,6 @@ std::string writeTarget(const std::string& path) {
         p = next.is_absolute() ? next : p.parent_path() / next;
     }
     return p.string();
-}
-
-std::string atomicTempPath(const std::string& target, const std::string& suffix) {
-    static std::atomic<unsigned long> calls{0};
-    return target + ".tmp-" + std::to_string((long)::getpid()) + "-" + std::to_string(++calls) + suffix;
 }
 
 namespace {
@@ -95,28 +95,29 @@ void WriteBatch::commit() {
     }
 }
 
-void commitAtomicWrite(const std::string& tmp, const std::string& target, const std::string& path) {
-    if (WriteBatch* batch = WriteBatch::current()) {
-        batch->stage(tmp, target, path);
-        return;
+void writeAtomically(const std::string& path, const std::function<void(const std::string& tmp)>& write,
+                     const std::string& tempSuffix) {
+    static std::atomic<unsigned long> calls{0};
+    const std::string target = writeTarget(path);
+    requireWritable(path, target);
+    const std::string tmp = target + ".tmp-" + std::to_string((long)::getpid()) + "-" + std::to_string(++calls) + tempSuffix;
+    try {
+        write(tmp);  // the file is closed when this returns
+    } catch (...) {
+        std::remove(tmp.c_str());
+        throw;
     }
+    if (WriteBatch* batch = WriteBatch::current()) return batch->stage(tmp, target, path);
     renameOver(tmp, target, path);
 }
 
 void writeTextFileAtomically(const std::string& path, const std::string& text) {
-    requireWritableDestination(path);
-    const std::string target = writeTarget(path);
-    const std::string tmp = atomicTempPath(target);
-    {
+    writeAtomically(path, [&](const std::string& tmp) {
         std::ofstream f(tmp, std::ios::binary);
         f << text << "\n";
-        if (!f.good()) {
-            const int err = errno;
-            std::remove(tmp.c_str());
-            throw FileError(path, std::string("cannot write: ") + std::strerror(err));
-        }
-    }
-    commitAtomicWrite(tmp, target, path);
+        f.close();
+        if (!f.good()) throw FileError(path, std::string("cannot write: ") + std::strerror(errno));
+    });
 }
 
 std::vector<std::string> atomicWriteTemps(const std::string& path) {

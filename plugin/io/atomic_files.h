@@ -3,24 +3,25 @@
 // symlink is written through (the file it leads to is replaced, the link kept), an earlier file's
 // permission bits are kept, and a file the user may not write is refused, not replaced.
 #pragma once
+#include <functional>
 #include <string>
 #include <vector>
 
 namespace obscura {
 
-// Writes text + newline to path through a temp file and a rename; throws obscura::Error.
+// Writes `path` through write(tmp), a temp file beside the file it replaces (writeTarget), then a
+// rename (or a stage in the thread's WriteBatch), keeping an earlier file's permission bits. The
+// temp file, "<target>.tmp-<pid>-<n>" + tempSuffix, is unique to the call, so threads and
+// processes writing one path never share one; write's exception removes it and passes on.
+// Refuses what requireWritableDestination refuses.
+void writeAtomically(const std::string& path, const std::function<void(const std::string& tmp)>& write,
+                     const std::string& tempSuffix = "");
+// Writes text + newline to path so; throws obscura::Error.
 void writeTextFileAtomically(const std::string& path, const std::string& text);
 
 // The file a write to `path` replaces: path itself, or the file its symlinks lead to (which
 // need not exist yet).
 std::string writeTarget(const std::string& path);
-// The temp file for one write of `target` (a writeTarget): beside it, unique to the call,
-// "<target>.tmp-<pid>-<n>" + suffix, so threads and processes writing one path never share one.
-std::string atomicTempPath(const std::string& target, const std::string& suffix = "");
-// Moves the finished temp file over `target`, with an earlier target's permission bits (or
-// stages it in the thread's WriteBatch); on failure removes tmp and throws FileError naming
-// `path` (what the user asked to write).
-void commitAtomicWrite(const std::string& tmp, const std::string& target, const std::string& path);
 
 // A run's files written as one: while a batch lives, the writes its thread commits stay temp
 // files, and commit() renames them all, so a run that fails after writing its output (its report
@@ -32,7 +33,7 @@ public:
     WriteBatch(const WriteBatch&) = delete;
     WriteBatch& operator=(const WriteBatch&) = delete;
     void commit();
-    // The batch commitAtomicWrite stages into on this thread, or null.
+    // The batch writeAtomically stages into on this thread, or null.
     static WriteBatch* current();
     void stage(const std::string& tmp, const std::string& target, const std::string& path);
 

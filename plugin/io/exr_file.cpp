@@ -1,8 +1,7 @@
 #include "io/exr_file.h"
 
-#include "io/atomic_files.h"
-
 #include "base/error.h"
+#include "io/atomic_files.h"
 #include "io/exr_chunk_table.h"
 
 #include <OpenEXR/ImfChannelList.h>
@@ -562,20 +561,16 @@ void writeFileAtomically(const std::string& outPath, const std::string& inputPat
                          const std::function<void(const std::string& tmp)>& write) {
     if (!allowOverwriteInput && samePath(outPath, inputPath))
         throw FileError(inputPath, "refusing to overwrite the input (use --in-place)");
-    requireWritableDestination(outPath);
     ensureExrThreads();
-    const std::string target = writeTarget(outPath);
-    const std::string tmp = atomicTempPath(target);
-    try {
-        write(tmp);  // the file is closed when this returns
-    } catch (const Error&) {
-        std::remove(tmp.c_str());
-        throw;
-    } catch (const std::exception& e) {
-        std::remove(tmp.c_str());
-        throw FileError(outPath, "cannot write: " + exrErrorDetail(e));
-    }
-    commitAtomicWrite(tmp, target, outPath);
+    writeAtomically(outPath, [&](const std::string& tmp) {
+        try {
+            write(tmp);
+        } catch (const Error&) {
+            throw;
+        } catch (const std::exception& e) {
+            throw FileError(outPath, "cannot write: " + exrErrorDetail(e));
+        }
+    });
 }
 
 void writeExrWithNewChannels(const std::string& outPath, const ExrPixels& in,

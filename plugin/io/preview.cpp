@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
 #include <limits>
 #include <vector>
 
@@ -22,16 +21,11 @@ std::uint8_t quantise(float v) { return static_cast<std::uint8_t>(std::lround(v 
 // The file part shared by both writers: 8-bit bytes -> PNG, temp file + rename.
 void writePngBytes(const std::string& path, const std::string& what, int width, int height,
                    int channels, const std::vector<std::uint8_t>& bytes, const std::string& colourSpaceTag) {
-    requireWritableDestination(path);
-    const std::string target = writeTarget(path);
     // The temp name keeps the .png extension so nothing guesses another format.
-    const std::string tmp = atomicTempPath(target, ".png");
-    const std::string failed = writePngFile(tmp, width, height, channels, bytes.data(), colourSpaceTag);
-    if (!failed.empty()) {
-        std::remove(tmp.c_str());
-        throw FileError(path, what + failed);
-    }
-    commitAtomicWrite(tmp, target, path);
+    writeAtomically(path, [&](const std::string& tmp) {
+        const std::string failed = writePngFile(tmp, width, height, channels, bytes.data(), colourSpaceTag);
+        if (!failed.empty()) throw FileError(path, what + failed);
+    }, ".png");
 }
 
 void requireImage(const Image& img, const std::string& path, const std::string& what) {
