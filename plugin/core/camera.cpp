@@ -4,42 +4,34 @@
 
 namespace obscura {
 
-Camera Camera::perspectiveFromFov(double horizontalFovRad, int displayWidth, int displayHeight,
-                                  double pixelAspect) {
+// A camera of `fx` pixels per unit (per unit of depth, in perspective) across, centred on a
+// displayWidth x displayHeight display window whose pixels are `pixelAspect` wide per unit high.
+static Camera centred(Projection projection, double fx, int displayWidth, int displayHeight,
+                      double pixelAspect) {
     Camera c;
-    c.projection = Projection::Perspective;
-    c.fx = 0.5 * displayWidth / std::tan(0.5 * horizontalFovRad);
-    c.fy = c.fx * pixelAspect;
+    c.projection = projection;
+    c.fx = fx;
+    c.fy = fx * pixelAspect;
     c.cx = 0.5 * displayWidth;
     c.cy = 0.5 * displayHeight;
     c.displayWidth = displayWidth;
     c.displayHeight = displayHeight;
     return c;
+}
+
+Camera Camera::perspectiveFromFov(double horizontalFovRad, int displayWidth, int displayHeight,
+                                  double pixelAspect) {
+    return centred(Projection::Perspective, 0.5 * displayWidth / std::tan(0.5 * horizontalFovRad), displayWidth,
+                   displayHeight, pixelAspect);
 }
 
 Camera Camera::perspectiveFromFilmBack(double focal, double aperture, int displayWidth, int displayHeight,
                                       double pixelAspect) {
-    Camera c;
-    c.projection = Projection::Perspective;
-    c.fx = displayWidth * focal / aperture;
-    c.fy = c.fx * pixelAspect;
-    c.cx = 0.5 * displayWidth;
-    c.cy = 0.5 * displayHeight;
-    c.displayWidth = displayWidth;
-    c.displayHeight = displayHeight;
-    return c;
+    return centred(Projection::Perspective, displayWidth * focal / aperture, displayWidth, displayHeight, pixelAspect);
 }
 
 Camera Camera::orthographic(double width, int displayWidth, int displayHeight, double pixelAspect) {
-    Camera c;
-    c.projection = Projection::Orthographic;
-    c.fx = displayWidth / width;
-    c.fy = c.fx * pixelAspect;
-    c.cx = 0.5 * displayWidth;
-    c.cy = 0.5 * displayHeight;
-    c.displayWidth = displayWidth;
-    c.displayHeight = displayHeight;
-    return c;
+    return centred(Projection::Orthographic, displayWidth / width, displayWidth, displayHeight, pixelAspect);
 }
 
 double Camera::horizontalFovRad(int displayWidth) const {
