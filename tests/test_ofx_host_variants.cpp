@@ -22,6 +22,18 @@ namespace {
 
 constexpr int kOutBeautyTimesAo = 1, kOutDo = 2, kOutGi = 3;
 
+// Two instances of one scene, set up alike, render the same pixels and post no message: `a` as one
+// tile on this thread, `b` in tileW x tileH tiles on two threads.
+void expectSameRender(Instance& a, Instance& b, const Config& c, const Scene& s, int tileW, int tileH) {
+    applyConfig(a, c, s);
+    applyConfig(b, c, s);
+    std::vector<std::string> pa, pb;
+    const HostImage expected = a.renderFrame(0, 0, 1, pa);
+    const HostImage got = b.renderFrame(tileW, tileH, 2, pb);
+    EXPECT_EQ(joined(pa) + joined(pb), "");
+    EXPECT_LE(maxAbsDiff(expected, got), 0.0f);
+}
+
 bool enabled(Instance& inst, const char* param) {
     return inst.effect().params.find(param)->props.integer(kOfxParamPropEnabled, 0, 1) != 0;
 }
@@ -90,13 +102,7 @@ TEST(OfxHostVariants, ClipParNotProjectPar) {
     anamorphic.projectPar = 1.0;
     Loaded square = instantiateIn(s, anamorphic, {"Depth", "Normal"});
     ASSERT_TRUE(same.inst && square.inst);
-    applyConfig(*same.inst, c, s);
-    applyConfig(*square.inst, c, s);
-    std::vector<std::string> p1, p2;
-    const HostImage expected = same.inst->renderFrame(20, 16, 2, p1);
-    const HostImage got = square.inst->renderFrame(20, 16, 2, p2);
-    EXPECT_EQ(joined(p1) + joined(p2), "");
-    EXPECT_LE(maxAbsDiff(expected, got), 0.0f);
+    expectSameRender(*same.inst, *square.inst, c, s, 20, 16);
 }
 
 // A Depth clip whose region of definition the host flags infinite (a generator's, ofxCore.h's
@@ -114,17 +120,11 @@ TEST(OfxHostVariants, AnInfiniteDepthRegionIsTheProjectsFrame) {
             Loaded infinite = instantiateIn(s, project(kW, kH, par), {"Depth", "Normal"});
             ASSERT_TRUE(finite.inst && infinite.inst);
             infinite.inst->effect().clip("Depth")->props.setInt("HostInfiniteRoD", {1});
-            applyConfig(*finite.inst, c, s);
-            applyConfig(*infinite.inst, c, s);
+            expectSameRender(*finite.inst, *infinite.inst, c, s, 24, 16);
             OfxRectD a{}, b{};
             ASSERT_EQ(finite.inst->regionOfDefinition(a), kOfxStatOK);
             ASSERT_EQ(infinite.inst->regionOfDefinition(b), kOfxStatOK);
             EXPECT_EQ(std::vector<double>({a.x1, a.y1, a.x2, a.y2}), std::vector<double>({b.x1, b.y1, b.x2, b.y2}));
-            std::vector<std::string> p1, p2;
-            const HostImage expected = finite.inst->renderFrame(0, 0, 1, p1);
-            const HostImage got = infinite.inst->renderFrame(24, 16, 2, p2);
-            EXPECT_EQ(joined(p1) + joined(p2), "");
-            EXPECT_LE(maxAbsDiff(expected, got), 0.0f);
         }
     }
 }
