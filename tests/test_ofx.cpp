@@ -375,6 +375,51 @@ TEST(OfxHostBehaviour, BeautyTimesAoAndIdentityWhenOff) {
         for (int x = white.bounds.x1; x < white.bounds.x2; ++x) ASSERT_EQ(white.at(x, y)[0], 1.0f);
 }
 
+// A Source larger than Depth (a plate with more overscan than its depth pass): Beauty x AO's
+// region of definition is both clips', and the beauty outside the depth passes unchanged; the AO's
+// stays Depth's.
+TEST(OfxHostBehaviour, BeautyTimesAoKeepsALargerSource) {
+    const Config c;
+    const Scene s = makeScene(c);
+    Loaded l = instantiate(s, true);
+    ASSERT_TRUE(l.inst);
+    applyConfig(*l.inst, c, s);
+    ASSERT_EQ(l.inst->setInt("output", 1), kOfxStatOK);
+    std::vector<std::string> problems;
+    const HostImage lit = l.inst->renderFrame(0, 0, 1, problems);
+
+    Scene wide = s;
+    const OfxRectI d = s.beautyClip.bounds;
+    wide.beautyClip = HostImage({d.x1 - 8, d.y1 - 5, d.x2 + 7, d.y2 + 6}, 4);
+    for (int y = wide.beautyClip.bounds.y1; y < wide.beautyClip.bounds.y2; ++y)
+        for (int x = wide.beautyClip.bounds.x1; x < wide.beautyClip.bounds.x2; ++x) {
+            const bool inDepth = x >= d.x1 && x < d.x2 && y >= d.y1 && y < d.y2;
+            const float outside[4] = {0.25f + 0.001f * x, 0.5f, 0.125f + 0.001f * y, 0.75f};
+            std::copy_n(inDepth ? s.beautyClip.at(x, y) : outside, 4, wide.beautyClip.at(x, y));
+        }
+    Loaded w = instantiateIn(wide, project(kW, kH), {"Depth", "Normal", "Source"});
+    ASSERT_TRUE(w.inst);
+    applyConfig(*w.inst, c, s);
+    ASSERT_EQ(w.inst->setInt("output", 1), kOfxStatOK);
+    OfxRectD rod{};
+    ASSERT_EQ(w.inst->regionOfDefinition(rod), kOfxStatOK);
+    EXPECT_EQ(std::vector<double>({rod.x1, rod.y1, rod.x2, rod.y2}),
+              std::vector<double>({d.x1 - 8.0, d.y1 - 5.0, d.x2 + 7.0, d.y2 + 6.0}));
+    const HostImage wideLit = w.inst->renderFrame(24, 16, 2, problems);
+    EXPECT_EQ(joined(problems), "");
+    ASSERT_EQ(wideLit.bounds.x1, d.x1 - 8);
+    for (int y = wideLit.bounds.y1; y < wideLit.bounds.y2; ++y)
+        for (int x = wideLit.bounds.x1; x < wideLit.bounds.x2; ++x) {
+            const bool inDepth = x >= d.x1 && x < d.x2 && y >= d.y1 && y < d.y2;
+            const float* expected = inDepth ? lit.at(x, y) : wide.beautyClip.at(x, y);
+            for (int ch = 0; ch < 4; ++ch) ASSERT_EQ(wideLit.at(x, y)[ch], expected[ch]) << x << "," << y;
+        }
+    ASSERT_EQ(w.inst->setInt("output", 0), kOfxStatOK);
+    ASSERT_EQ(w.inst->regionOfDefinition(rod), kOfxStatOK);
+    EXPECT_EQ(std::vector<double>({rod.x1, rod.y1, rod.x2, rod.y2}),
+              std::vector<double>({double(d.x1), double(d.y1), double(d.x2), double(d.y2)}));
+}
+
 // Two instances with different settings, rendering at the same time, each get their own result.
 TEST(OfxHostBehaviour, InstancesShareNoState) {
     Config c1, c2;

@@ -1,6 +1,7 @@
 // The frame of a render and the regions it reads (ofx_coords.h), and the region actions: the
-// output's region of definition (the Depth clip's) and each clip's region of interest for a
-// render window (the window and its apron, or nothing for a clip the chosen output does not read).
+// output's region of definition (the Depth clip's; with Source's for Beauty x AO) and each clip's
+// region of interest for a render window (the window and its apron, or nothing for a clip the
+// chosen output does not read).
 #include "ofx_coords.h"
 
 #include "ofx_actions.h"
@@ -11,16 +12,17 @@
 #include "base/error.h"
 #include "core/methods.h"
 
+#include <algorithm>
 #include <string>
 
 namespace obscura::ofx {
 
-// The Depth clip's region of definition as the plugin reads it: a side the host flags infinite
+// A clip's region of definition as the plugin reads it: a side the host flags infinite
 // (kOfxFlagInfiniteMin / Max, a generator's; anything past 2^30 pixels alike) is the project's
 // frame, the display window the camera's field of view spans.
-OfxRectD depthRegion(const Instance& in, OfxTime t) {
+static OfxRectD finiteRegion(const Instance& in, OfxImageClipHandle clip, OfxTime t) {
     OfxRectD r{0, 0, 0, 0};
-    check(gEffect->clipGetRegionOfDefinition(in.depth, t, &r));
+    check(gEffect->clipGetRegionOfDefinition(clip, t, &r));
     OfxPropertySetHandle props = effectProps(in.effect);
     double offset[2] = {0, 0}, extent[2] = {0, 0};
     gProp->propGetDoubleN(props, kOfxImageEffectPropProjectOffset, 2, offset);  // optional: 0, 0
@@ -32,6 +34,8 @@ OfxRectD depthRegion(const Instance& in, OfxTime t) {
     if (!(r.y2 < infinite)) r.y2 = offset[1] + extent[1];
     return r;
 }
+
+static OfxRectD depthRegion(const Instance& in, OfxTime t) { return finiteRegion(in, in.depth, t); }
 
 FrameMap frameMap(const Instance& in, OfxTime t, OfxPropertySetHandle actionArgs) {
     FrameMap f;
@@ -107,8 +111,15 @@ OfxStatus onGetRegionOfDefinition(OfxImageEffectHandle effect, OfxPropertySetHan
                                   OfxPropertySetHandle outArgs) {
     const Instance& in = *instanceOf(effect);
     if (!connected(in.depth)) return kOfxStatReplyDefault;
-    const OfxRectD rod = depthRegion(in, getDouble(inArgs, kOfxPropTime, 0));
-    // The AO exists where the depth does (the data window, overscan included).
+    const OfxTime t = getDouble(inArgs, kOfxPropTime, 0);
+    // The AO and the light exist where the depth does (the data window, overscan included).
+    OfxRectD rod = depthRegion(in, t);
+    // Beauty x AO passes the beauty where there is no depth: all of a larger Source is kept.
+    if (readParams(in, t).output == OutputKind::BeautyTimesAo && connected(in.source)) {
+        const OfxRectD source = finiteRegion(in, in.source, t);
+        rod = {std::min(rod.x1, source.x1), std::min(rod.y1, source.y1), std::max(rod.x2, source.x2),
+               std::max(rod.y2, source.y2)};
+    }
     check(gProp->propSetDoubleN(outArgs, kOfxImageEffectPropRegionOfDefinition, 4, &rod.x1));
     return kOfxStatOK;
 }
