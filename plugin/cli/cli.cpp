@@ -9,6 +9,7 @@
 #include "io/inspect.h"
 #include "io/views.h"
 #include "io/sequence.h"
+#include "io/exr_chunk_table.h"
 #include "io/write_guard.h"
 
 #include <OpenEXR/ImfStringAttribute.h>
@@ -149,40 +150,54 @@ FileError frameFailure(const FrameJob& job, int frame, const std::string& what) 
     return FileError(job.input, "frame " + std::to_string(frame) + ": " + withoutFilePrefix(what, job.input));
 }
 
-// A frame sequence, with a progress line and --resume; stops at the first failing frame, or with
-// --keep-going runs every frame and fails at the end, naming the frames that failed.
-int runSequence(const Options& o) {
+// A sequence's frames, each frame's job and report, checked as a run checks them before its first
+// frame: a pattern for every per-frame file, no file written twice or over one read (every
+// frame's), and the directories written into there.
+struct SequenceFrames {
+    std::vector<int> frames;
+    std::vector<FrameJob> jobs;
+    std::vector<std::string> reports;
+};
+
+SequenceFrames planSequence(const Options& o) {
     if (!isFramePattern(o.job.output)) throw UsageError("the input is a sequence: -o needs a pattern too (e.g. out.####.exr)");
     requirePerFrame("--report", o.reportPath, "out.####.json");
     requirePerFrame("--preview", o.job.previewPath, "out.####.png");
-    std::vector<int> frames;
+    SequenceFrames s;
     try {
         // With --flat the deep file is the input: its frames are the sequence's.
-        frames = o.frames.empty() ? existingFrames(o.job.deepInput.empty() ? o.job.input : o.job.deepInput)
-                                  : parseFrames(o.frames);
+        s.frames = o.frames.empty() ? existingFrames(o.job.deepInput.empty() ? o.job.input : o.job.deepInput)
+                                    : parseFrames(o.frames);
     } catch (const FileError&) {
         throw;
     } catch (const Error& e) {  // a --frames list that does not parse: the command line
         throw UsageError(e.what());
     }
-    if (frames.empty()) throw FileError(o.job.input, "no frames match");
-    std::vector<FrameJob> jobs(frames.size(), o.job);
+    if (s.frames.empty()) throw FileError(o.job.input, "no frames match");
     std::vector<FrameFiles> files;
-    for (size_t i = 0; i < frames.size(); ++i) {
-        FrameJob& job = jobs[i];
-        job = sequenceFrame(o.job, frames[i]);
-        files.push_back({&job, framePath(o.reportPath, frames[i])});
+    for (int frame : s.frames) {
+        s.jobs.push_back(sequenceFrame(o.job, frame));
+        s.reports.push_back(framePath(o.reportPath, frame));
     }
+    for (size_t i = 0; i < s.frames.size(); ++i) files.push_back({&s.jobs[i], s.reports[i]});
     checkFrameFiles(files, Spelling::Flag);  // every frame's files, before the first is written
-    for (const std::string& written : {jobs.front().output, files.front().report, jobs.front().previewPath})
+    for (const std::string& written : {s.jobs.front().output, s.reports.front(), s.jobs.front().previewPath})
         if (!written.empty()) requireOutputDirectory(written);  // before the first frame is computed
+    return s;
+}
+
+// A frame sequence, with a progress line and --resume; stops at the first failing frame, or with
+// --keep-going runs every frame and fails at the end, naming the frames that failed.
+int runSequence(const Options& o) {
+    const SequenceFrames plan = planSequence(o);
+    const std::vector<int>& frames = plan.frames;
     const bool tty = ::isatty(2);
     const auto start = std::chrono::steady_clock::now();
     int done = 0, skipped = 0;
     std::vector<int> failed;
     for (size_t i = 0; i < frames.size(); ++i) {
-        const FrameJob& job = jobs[i];
-        const std::string& reportPath = files[i].report;
+        const FrameJob& job = plan.jobs[i];
+        const std::string& reportPath = plan.reports[i];
         if (resumeSkips(o, job, reportPath)) {
             ++skipped;
         } else {
@@ -217,6 +232,8 @@ int runSequence(const Options& o) {
                      frames.size(), skipped, perFrame, perFrame * left, tty ? "" : "\n");
     }
     if (tty && !o.quiet) std::fputc('\n', stderr);
+    endIfStopped(failed.empty() ? "every frame was written first"
+                                : ("frame(s) that failed: " + frameSpec(failed)).c_str());
     if (!failed.empty())
         throw FileError(o.job.input, std::to_string(failed.size()) + " of " + std::to_string(frames.size()) +
                                          " frame(s) failed (--keep-going): " + frameSpec(failed));
@@ -252,6 +269,7 @@ std::optional<ExrInfo> completeOutput(const std::string& path, const std::string
     if (!std::filesystem::exists(path, ec)) return std::nullopt;
     try {
         ExrInfo info = readExrInfo(path, kDefaultMaxPixels, true);  // append keeps deep parts
+        checkChunkTables(path, info);  // every chunk there: not a file cut short after obscura wrote it
         const std::vector<std::string> views = fileViews(info);
         for (const ExrPart& part : info.parts)
             if (holdsAo(part, aoChannel, views)) return info;
@@ -320,8 +338,12 @@ RunPlan planRun(const std::vector<std::string>& args) {
     std::vector<std::string> copy = args;
     std::vector<char*> argv{const_cast<char*>("obscura")};
     for (std::string& a : copy) argv.push_back(a.data());
-    const Options o = parseArgs((int)argv.size(), argv.data());
+    Options o = parseArgs((int)argv.size(), argv.data());
+    if (o.job.output.empty()) throw UsageError("no output: give -o OUTPUT.####.exr");
+    o.job.previewPath = besideOutput(o.job.previewPath, o.job.output, ".png");
+    o.reportPath = besideOutput(o.reportPath, o.job.output, ".json");
     RunPlan plan;
+    if (isFramePattern(o.job.input)) plan.frameList = planSequence(o).frames;
     plan.input = o.job.input;
     plan.output = o.job.output;
     plan.frames = o.frames;
@@ -369,6 +391,7 @@ int run(int argc, char** argv) {
             return 0;
         }
         runOneFrame(o, o.job, o.reportPath);
+        endIfStopped("the frame was written whole first");
         return 0;
     } catch (const Cancelled&) {
         endByStopSignal("nothing written");

@@ -19,9 +19,12 @@ int run(int argc, char** argv);
 using obscura::UsageError;
 
 // What a normal run's command line (without the program name) asks for: the parts a host
-// planning runs elsewhere needs (obscura farm). Throws UsageError as `run` would.
+// planning runs elsewhere needs (obscura farm). A sequence's files are checked as its run checks
+// them before the first frame (the frames' paths, and the directories written into): throws
+// UsageError or FileError as `run` would.
 struct RunPlan {
-    std::string input, output, frames, report, aoChannel;
+    std::string input, output, frames, report, aoChannel;  // report: a pattern, or "" for none
+    std::vector<int> frameList;          // a sequence's frames (--frames, else every input found)
     std::vector<std::string> readFiles;  // what every frame reads beside its input: --camera, --env
     int threads = 0;
     bool resume = false;
@@ -31,7 +34,8 @@ RunPlan planRun(const std::vector<std::string>& args);
 // A sequence's job (its paths frame patterns) for one frame.
 FrameJob sequenceFrame(const FrameJob& sequence, int frame);
 
-// A frame's output is complete: it reads back as an EXR holding the AO channel. Its headers, for
+// A frame's output is complete: it reads back as an EXR holding the AO channel, with every chunk
+// its tables name inside the file (a copy cut short is not complete). Its headers, for
 // staleOutputReason, else nullopt.
 std::optional<ExrInfo> completeOutput(const std::string& path, const std::string& aoChannel);
 // Why a complete output (its headers `output`, as completeOutput read them) is stale, or "" when it is not: a file it was computed from (the input,

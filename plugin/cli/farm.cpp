@@ -4,6 +4,7 @@
 #include "cli.h"
 #include "cli/cli_options.h"
 
+#include "io/atomic_files.h"
 #include "io/frame_job.h"
 #include "io/sequence.h"
 
@@ -12,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -34,9 +36,11 @@ const char* const kFarmHelp =
     "usage: obscura farm slurm INPUT.####.exr -o OUTPUT.####.exr [obscura flags] [farm flags]\n"
     "       obscura farm summary DIR [--json]\n\n"
     "slurm: an sbatch array job over the frames (--frames, or every input frame found), one task per\n"
-    "chunk; each task runs obscura on its frames with --resume and --report (default: the output\n"
-    "pattern with .json), so a retried or resubmitted task skips finished frames. Writes\n"
-    "DIR/obscura_farm.sbatch and DIR/obscura_farm.json next to the outputs, then submits.\n"
+    "chunk; each task runs obscura on its frames with --resume, --keep-going and --report (default:\n"
+    "the output pattern with .json), so a retried or resubmitted task skips finished frames. The\n"
+    "tasks' files are checked first, as a run checks them. Submits, then writes DIR/obscura_farm.sbatch\n"
+    "and DIR/obscura_farm.json next to the outputs (the tasks' logs: DIR/obscura_farm_logs/); one\n"
+    "job per directory.\n"
     "  --chunk N          frames per task (10)\n"
     "  --dry-run          print the script; write and submit nothing\n"
     "  --job-name NAME    Slurm job name (obscura)\n"
@@ -58,6 +62,33 @@ std::string selfPath() {
     const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
     if (ec) throw Error("cannot find the obscura executable's path (/proc/self/exe)");
     return exe.string();
+}
+
+// The directory the job is submitted from as the user's shell names it ($PWD, when it is this
+// directory): a project reached through a link is named by the link, which the nodes mount as
+// the submitting host does, not by where the link leads.
+std::string submitDirectory() {
+    const fs::path here = fs::current_path();
+    std::error_code ec;
+    if (const char* pwd = std::getenv("PWD"); pwd && fs::path(pwd).is_absolute() && fs::equivalent(pwd, here, ec))
+        return fs::path(pwd).lexically_normal().string();
+    return here.string();
+}
+
+// The tasks' log files: Slurm's file pattern (%A the job, %a the task), the directory's own '%'
+// doubled so that Slurm reads it as itself.
+std::string logPattern(const std::string& dir) {
+    std::string escaped;
+    for (char c : dir) escaped += c == '%' ? std::string("%%") : std::string(1, c);
+    return escaped + "/" + kLogs + "/%A_%a.log";
+}
+
+// A path as an #SBATCH value: sbatch splits a directive's line at blanks and takes quotes as
+// quotes, so the path goes in double quotes; one holding a double quote or a line break cannot.
+std::string sbatchPath(const std::string& path) {
+    if (path.find_first_of("\"\n\r") != std::string::npos)
+        throw FileError(path, "a path holding a double quote or a line break cannot be given to sbatch");
+    return "\"" + path + "\"";
 }
 
 struct SlurmJob {
@@ -113,8 +144,12 @@ SlurmJob parseSlurm(int argc, char** argv) {
     job.dir = fs::path(output).parent_path().string();
     job.report = job.plan.report.empty() ? fs::path(output).replace_extension(".json").string()
                                          : absolutePath(job.plan.report);
-    job.frames = job.plan.frames.empty() ? existingFrames(job.plan.input) : parseFrames(job.plan.frames);
-    if (job.frames.empty()) throw FileError(job.plan.input, "no frames match (give --frames)");
+    job.frames = job.plan.frameList;
+    if (job.plan.report.empty()) {  // the tasks' command line, with the report they are given, checked
+        std::vector<std::string> task = job.runArgs;
+        task.insert(task.end(), {"--report", job.report});
+        job.frames = planRun(task).frameList;
+    }
     job.chunks = chunkFrames(job.frames, job.chunk);
     return job;
 }
@@ -128,8 +163,9 @@ std::string slurmScript(const SlurmJob& job) {
       << "# task skips the frames already complete; outputs and reports are written atomically.\n"
       << "#SBATCH --job-name=" << job.jobName << "\n"
       << "#SBATCH --array=0-" << job.chunks.size() - 1 << "\n"
-      << "#SBATCH --chdir=" << fs::current_path().string() << "\n"
-      << "#SBATCH --output=" << job.dir << "/" << kLogs << "/%A_%a.log\n"
+      << "#SBATCH --chdir=" << sbatchPath(submitDirectory()) << "\n"
+      << "#SBATCH --output=" << sbatchPath(logPattern(job.dir)) << "\n"
+      << "#SBATCH --open-mode=append\n"  // a requeued task's log follows its first attempt's
       << "#SBATCH --ntasks=1\n"
       << "#SBATCH --requeue\n";
     if (job.plan.threads > 0) s << "#SBATCH --cpus-per-task=" << job.plan.threads << "\n";
@@ -149,7 +185,7 @@ json manifest(const SlurmJob& job) {
     return {{"obscura", OBSCURA_VERSION_STRING}, {"engine", "slurm"},
             {"input", absolutePath(job.plan.input)}, {"output", absolutePath(job.plan.output)},
             {"report", job.report}, {"ao_channel", job.plan.aoChannel}, {"frames", job.frames},
-            {"chunks", chunks}, {"args", job.runArgs}, {"cwd", fs::current_path().string()}};
+            {"chunks", chunks}, {"args", job.runArgs}, {"cwd", submitDirectory()}};
 }
 
 // Runs `command` through the shell, returning its exit status and its stdout.
@@ -179,28 +215,48 @@ void warnOfMissingInputs(const SlurmJob& job) {
             std::fprintf(stderr, "obscura: warning: '%s' does not exist; every task reads it\n", file.c_str());
 }
 
+// One job per directory: its manifest, script and logs are named for the directory, so a second
+// job's (another output pattern) would replace the first's and its summary would judge the wrong
+// frames. The same output pattern is the same job submitted again.
+void refuseAnotherJobsDirectory(const SlurmJob& job) {
+    const fs::path path = fs::path(job.dir) / kManifest;
+    std::ifstream f(path);
+    const json m = f ? json::parse(f, nullptr, false) : json();
+    const std::string output = absolutePath(job.plan.output);
+    if (m.is_object() && m.contains("output") && m["output"].is_string() && m["output"] != output)
+        throw FileError(path.string(), "holds the job for " + m["output"].get<std::string>() +
+                                           " (its summary and script); give " + job.plan.output +
+                                           " a directory of its own");
+}
+
 int runSlurm(int argc, char** argv) {
     const SlurmJob job = parseSlurm(argc, argv);
     const std::string script = slurmScript(job);
-    requireOutputDirectory(job.plan.output);  // as the submission would, so that a dry run tells
+    refuseAnotherJobsDirectory(job);
     warnOfMissingInputs(job);
     if (job.dryRun) {
         std::fputs(script.c_str(), stdout);
         return 0;
     }
-    fs::create_directories(fs::path(job.dir) / kLogs);
+    const fs::path logs = fs::path(job.dir) / kLogs;
+    std::error_code ec;
+    fs::create_directories(logs, ec);  // before sbatch: a task may start at once
+    if (ec) throw FileError(logs.string(), "cannot create the tasks' log directory: " + ec.message());
+    // The script and the manifest replace an earlier submission's only once sbatch has taken the
+    // job: a refused one leaves the job that ran described as it was.
+    WriteBatch files;
     const std::string scriptPath = (fs::path(job.dir) / kScript).string();
     writeTextFileAtomically(scriptPath, script);
-    json m = manifest(job);
-    writeTextFileAtomically((fs::path(job.dir) / kManifest).string(), m.dump(2));
     std::string out;
-    const int rc = capture("sbatch --parsable " + shellQuote(scriptPath) + " 2>&1", out);
+    const int rc = capture("sbatch --parsable " + shellQuote(files.staged(scriptPath)) + " 2>&1", out);
     while (!out.empty() && (out.back() == '\n' || out.back() == ' ')) out.pop_back();
     if (rc == 127) throw Error("sbatch not found (install slurm-client, or use --dry-run to print the script)");
     if (rc != 0) throw Error("sbatch failed: " + out.substr(out.find_last_of('\n') + 1));
     const std::string jobId = out.substr(out.find_last_of('\n') + 1);
+    json m = manifest(job);
     m["job_id"] = jobId.substr(0, jobId.find(';'));
     writeTextFileAtomically((fs::path(job.dir) / kManifest).string(), m.dump(2));
+    files.commit();
     std::printf("submitted job %s: %zu frame(s) in %zu task(s); obscura farm summary %s\n",
                 m["job_id"].get<std::string>().c_str(), job.frames.size(), job.chunks.size(), job.dir.c_str());
     return 0;
@@ -220,8 +276,12 @@ struct Range {
 // line. Its paths are relative to the manifest's "cwd", as the tasks' (--chdir) and as the
 // recipe each output records them: compare from there (SubmittedDirectory).
 std::optional<FrameJob> submittedJob(const json& m) {
-    if (!m.contains("args") || !m.contains("cwd")) return std::nullopt;
-    std::vector<std::string> args = m["args"].get<std::vector<std::string>>();
+    if (!m.contains("args") || !m.contains("cwd") || !m["args"].is_array()) return std::nullopt;
+    std::vector<std::string> args;
+    for (const json& a : m["args"]) {
+        if (!a.is_string()) return std::nullopt;
+        args.push_back(a.get<std::string>());
+    }
     std::vector<char*> argv{const_cast<char*>("obscura")};
     for (std::string& a : args) argv.push_back(a.data());
     try {
@@ -246,14 +306,49 @@ struct SubmittedDirectory {
     }
 };
 
-json summarise(const std::string& dir) {
-    const fs::path path = fs::absolute(fs::path(dir) / kManifest);
+// A manifest's frames and paths: written by `farm slurm`, or by hand for another engine (farm.md),
+// whose relative paths are relative to its "cwd" when it gives one, else to its own directory.
+struct Manifest {
+    json raw;
+    std::vector<int> frames;
+    std::string output, report, channel;
+};
+
+Manifest readManifest(const fs::path& path) {
     std::ifstream f(path);
     if (!f) throw FileError(path.string(), "cannot read (obscura farm slurm writes it)");
-    const json m = json::parse(f, nullptr, false);
-    if (!m.is_object() || !m.contains("frames") || !m.contains("output") || !m.contains("report"))
-        throw FileError(path.string(), "not an obscura farm manifest");
-    const std::string output = m["output"], report = m["report"], channel = m.value("ao_channel", "obscura.AO.Y");
+    Manifest m;
+    m.raw = json::parse(f, nullptr, false);
+    const json& r = m.raw;
+    if (!r.is_object() || !r.contains("frames") || !r.contains("output") || !r.contains("report"))
+        throw FileError(path.string(), "not an obscura farm manifest (it needs \"frames\", \"output\" and \"report\")");
+    const auto must = [&](bool ok, const std::string& what) {
+        if (!ok) throw FileError(path.string(), what);
+    };
+    const json& frames = r["frames"];
+    must(frames.is_string() || (frames.is_array() && std::all_of(frames.begin(), frames.end(),
+                                                                   [](const json& v) { return v.is_number_integer(); })),
+         "\"frames\" must be a list of frame numbers, or a --frames text such as \"1001-1100\"");
+    try {
+        m.frames = frames.is_string() ? parseFrames(frames.get<std::string>()) : frames.get<std::vector<int>>();
+    } catch (const Error& e) {
+        throw FileError(path.string(), "\"frames\": " + std::string(e.what()));
+    }
+    for (const char* key : {"output", "report", "ao_channel", "cwd"})
+        must(!r.contains(key) || r[key].is_string(), std::string("\"") + key + "\" must be a string");
+    const fs::path base = r.contains("cwd") ? fs::path(r["cwd"].get<std::string>()) : fs::absolute(path).parent_path();
+    const auto resolved = [&](const std::string& p) { return (base / p).lexically_normal().string(); };
+    m.output = resolved(r["output"]);
+    m.report = resolved(r["report"]);
+    m.channel = r.value("ao_channel", "obscura.AO.Y");
+    return m;
+}
+
+json summarise(const std::string& dir) {
+    const fs::path path = fs::absolute(fs::path(dir) / kManifest);
+    const Manifest manifest = readManifest(path);
+    const json& m = manifest.raw;
+    const std::string &output = manifest.output, &report = manifest.report, &channel = manifest.channel;
     json done = json::array(), missing = json::array(), failed = json::object(), temps = json::array();
     json stale = json::object();
     const SubmittedDirectory from(m);  // the manifest's paths are absolute; the job's, from here
@@ -261,7 +356,7 @@ json summarise(const std::string& dir) {
     Range seconds;
     std::map<std::string, Range> error;
     std::string referenceLayer;
-    for (int frame : m["frames"].get<std::vector<int>>()) {
+    for (int frame : manifest.frames) {
         const std::string out = framePath(output, frame), rep = framePath(report, frame);
         for (const std::string& p : atomicWriteTemps(out)) temps.push_back(p);
         for (const std::string& p : atomicWriteTemps(rep)) temps.push_back(p);
@@ -290,7 +385,7 @@ json summarise(const std::string& dir) {
             missing.push_back(frame);
         }
     }
-    json s = {{"manifest", path.string()}, {"frames", m["frames"].size()}, {"done", done}, {"failed", failed},
+    json s = {{"manifest", path.string()}, {"frames", manifest.frames.size()}, {"done", done}, {"failed", failed},
               {"missing", missing}, {"stale", stale}, {"temp_files", temps}, {"seconds_per_frame", seconds.toJson()}};
     if (m.contains("job_id")) s["job_id"] = m["job_id"];
     if (!error.empty()) {

@@ -36,6 +36,10 @@ StopSignals::~StopSignals() {
     for (int i = 0; i < 2; ++i) sigaction(kSignals[i], &before_[i], nullptr);
 }
 
+void endIfStopped(const char* what) {
+    if (gStop.load() != 0) endByStopSignal(what);
+}
+
 void endByStopSignal(const char* what) {
     const int signal = gStop.load() ? gStop.load() : SIGINT;
     std::fprintf(stderr, "obscura: stopped by %s; %s\n", signal == SIGTERM ? "SIGTERM" : "SIGINT", what);

@@ -25,5 +25,8 @@ private:
 
 // After Cancelled: prints "obscura: stopped by SIG...; `what`" and ends the process by that signal.
 [[noreturn]] void endByStopSignal(const char* what);
+// The same when a signal came after the last point the run looked (a stop during the last write,
+// which finishes whole): the caller of a one-frame run sees the signal it sent, not success.
+void endIfStopped(const char* what);
 
 } // namespace obscura::cli

@@ -82,6 +82,12 @@ void WriteBatch::stage(const std::string& tmp, const std::string& target, const 
     staged_.push_back({tmp, target, path});
 }
 
+std::string WriteBatch::staged(const std::string& path) const {
+    for (const Staged& s : staged_)
+        if (s.path == path) return s.tmp;
+    return "";
+}
+
 void WriteBatch::commit() {
     std::vector<Staged> staged;
     staged.swap(staged_);

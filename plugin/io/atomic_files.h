@@ -36,6 +36,9 @@ public:
     // The batch writeAtomically stages into on this thread, or null.
     static WriteBatch* current();
     void stage(const std::string& tmp, const std::string& target, const std::string& path);
+    // The temp file a write to `path` staged here (what a program handed the file before the
+    // commit reads), or "" when none did.
+    std::string staged(const std::string& path) const;
 
 private:
     struct Staged {

@@ -42,7 +42,9 @@ def test_dry_run_script_chunks_and_writes_nothing(sequence):
     assert "#SBATCH --array=0-2" in lines  # 7 frames, 3 per task
     assert "chunks=(1-3 4-6 7)" in lines
     assert "#SBATCH --cpus-per-task=1" in lines and "#SBATCH --partition=render" in lines
-    assert f"#SBATCH --chdir={sequence}" in lines
+    assert f'#SBATCH --chdir="{sequence}"' in lines
+    assert f'#SBATCH --output="{sequence}/out/obscura_farm_logs/%A_%a.log"' in lines
+    assert "#SBATCH --open-mode=append" in lines  # a requeued task's log keeps its first attempt's
     command = lines[-1]
     assert command.startswith(f"exec '{os.path.realpath(CLI)}' 'shot.####.exr' '-o' 'out/ao.####.exr'")
     assert command.endswith(f"--frames \"${{chunks[$SLURM_ARRAY_TASK_ID]}}\" --resume --keep-going --report "
@@ -120,7 +122,9 @@ def test_tasks_resume_and_summary(sequence):
     assert proc.returncode == 0, proc.stderr
     assert "submitted job 4242: 7 frame(s) in 4 task(s)" in proc.stdout
     out = sequence / "out"
-    assert (sequence / "sbatch.args").read_text().split() == ["--parsable", str(out / "obscura_farm.sbatch")]
+    # sbatch reads the script before it is renamed into place: a refused job replaces nothing.
+    submitted = (sequence / "sbatch.args").read_text().split()
+    assert submitted[0] == "--parsable" and submitted[1].startswith(str(out / "obscura_farm.sbatch.tmp-"))
     manifest = json.loads((out / "obscura_farm.json").read_text())
     assert manifest["frames"] == list(range(1, 8)) and manifest["chunks"] == ["1-2", "3-4", "5-6", "7"]
     assert manifest["job_id"] == "4242" and (out / "obscura_farm_logs").is_dir()
@@ -250,3 +254,117 @@ def test_summary_reads_the_jobs_paths_from_where_it_was_submitted(sequence):
         assert proc.returncode == 0, proc.stderr
     summary = json.loads(farm("summary", sequence / "out", "--json").stdout)
     assert summary["done"] == [1, 2] and summary["stale"] == {}
+
+
+def failing_sbatch(tmp):
+    """A stand-in for sbatch that refuses every job, as a bad partition makes the real one."""
+    bin_dir = tmp / "badbin"
+    bin_dir.mkdir()
+    (bin_dir / "sbatch").write_text("#!/bin/sh\necho 'sbatch: error: Invalid partition name specified' >&2\nexit 1\n")
+    (bin_dir / "sbatch").chmod(0o755)
+    return dict(os.environ, PATH=f"{bin_dir}:{os.environ['PATH']}")
+
+
+def test_a_refused_submission_leaves_the_job_that_ran_as_it_was(sequence):
+    args = ["slurm", "shot.####.exr", "-o", "out/ao.####.exr", "--frames", "1-2", "--chunk", "1"]
+    assert farm(*args, env=fake_sbatch(sequence), cwd=sequence).returncode == 0
+    out = sequence / "out"
+    before = {name: (out / name).read_bytes() for name in ("obscura_farm.json", "obscura_farm.sbatch")}
+    refused = farm(*args, "--radius", "0.25", env=failing_sbatch(sequence), cwd=sequence)
+    assert refused.returncode == 1
+    assert refused.stderr.strip() == "obscura: sbatch failed: sbatch: error: Invalid partition name specified"
+    assert {name: (out / name).read_bytes() for name in before} == before
+    assert not any(".tmp-" in p.name for p in out.iterdir())
+
+
+def test_one_job_per_directory(sequence):
+    """A second job (another output pattern) into the directory of a first is refused: its
+    manifest and script would replace the first's, and the summary would judge the wrong frames.
+    The first job submitted again is the same job."""
+    env = fake_sbatch(sequence)
+    first = ["slurm", "shot.####.exr", "-o", "out/ao.####.exr", "--frames", "1-2"]
+    assert farm(*first, env=env, cwd=sequence).returncode == 0
+    other = farm("slurm", "shot.####.exr", "-o", "out/other.####.exr", "--frames", "1-2", "--dry-run", env=env,
+                 cwd=sequence)
+    assert other.returncode == 1 and other.stdout == ""
+    assert other.stderr.strip() == (f"obscura: '{sequence}/out/obscura_farm.json': holds the job for "
+                                    f"{sequence}/out/ao.####.exr (its summary and script); give "
+                                    "out/other.####.exr a directory of its own")
+    assert farm(*first, "--radius", "0.25", env=env, cwd=sequence).returncode == 0
+
+
+def test_odd_paths_reach_sbatch_quoted(tmp):
+    """A blank, a quote or a '%' in the directory: the #SBATCH values are quoted, and '%' is
+    doubled in the log pattern, where Slurm reads %x as the job's name."""
+    odd = tmp / "My Show's 100%x"
+    odd.mkdir()
+    depth, normal = synthetic_scene(48, 32, 1)
+    write_exr(odd / "shot.0001.exr", depth, normal, sidecar=True)
+    (odd / "out").mkdir()
+    proc = farm("slurm", "shot.####.exr", "-o", "out/ao.####.exr", "--dry-run", cwd=odd)
+    assert proc.returncode == 0, proc.stderr
+    lines = proc.stdout.splitlines()
+    assert f'#SBATCH --chdir="{odd}"' in lines
+    assert f'#SBATCH --output="{tmp}/My Show\'s 100%%x/out/obscura_farm_logs/%A_%a.log"' in lines
+
+
+def test_submission_checks_the_tasks_files_as_a_run_does(sequence):
+    """What would fail every task is refused before the job is submitted: a --report or --preview
+    directory that does not exist, a report over the camera sidecar (--in-place's default report),
+    a frame listed twice. A bad --frames is a bad command line."""
+    base = ["slurm", "shot.####.exr", "-o", "out/ao.####.exr", "--dry-run"]
+    cases = [
+        (["--report", "reports/ao.####.json"], 1, "'reports/ao.0001.json': cannot write: directory 'reports' does not exist"),
+        (["--preview", "previews/ao.####.png"], 1, "'previews/ao.0001.png': cannot write: directory 'previews' does not exist"),
+        (["--frames", "1,2,1"], 2, "is written for two frames"),
+        (["--frames", "abc"], 2, "--frames"),
+    ]
+    for extra, status, words in cases:
+        proc = farm(*base, *extra, cwd=sequence)
+        assert proc.returncode == status and words in proc.stderr and proc.stdout == "", (extra, proc.stderr)
+    in_place = farm("slurm", "shot.####.exr", "-o", "shot.####.exr", "--in-place", "--dry-run", cwd=sequence)
+    assert in_place.returncode == 2 and "is the same file as the camera sidecar" in in_place.stderr, in_place.stderr
+    # A directory for --report, as a run takes it: the report pattern in it.
+    (sequence / "reports").mkdir()
+    into_dir = farm(*base, "--report", "reports/", cwd=sequence)
+    assert into_dir.returncode == 0, into_dir.stderr
+    assert into_dir.stdout.splitlines()[-1].endswith(f"--report '{sequence}/reports/ao.####.json'")
+    assert os.listdir(sequence / "out") == []
+
+
+def test_summary_reads_a_hand_written_manifest(sequence, tmp):
+    """Another engine's job (farm.md): relative paths are the manifest's directory's, "frames" may
+    be a --frames text, and a manifest of the wrong shape is one line naming it."""
+    for f in (1, 2):
+        done = subprocess.run([CLI, f"shot.{f:04d}.exr", "-o", f"out/ao.{f:04d}.exr", "--report", f"out/ao.{f:04d}.json"],
+                              capture_output=True, text=True, cwd=sequence, timeout=300)
+        assert done.returncode == 0, done.stderr
+    manifest = sequence / "out" / "obscura_farm.json"
+    manifest.write_text(json.dumps({"frames": "1-3", "output": "ao.####.exr", "report": "ao.####.json"}))
+    elsewhere = tmp / "elsewhere"
+    elsewhere.mkdir()
+    s = farm("summary", manifest.parent, "--json", cwd=elsewhere)
+    assert s.returncode == 1, s.stderr
+    summary = json.loads(s.stdout)
+    assert summary["done"] == [1, 2] and summary["missing"] == [3]
+    manifest.write_text(json.dumps({"frames": [1, 2], "output": 5, "report": "ao.####.json"}))
+    bad = farm("summary", manifest.parent)
+    assert bad.returncode == 1 and bad.stderr.strip() == f"obscura: '{manifest}': \"output\" must be a string"
+
+
+def test_an_output_cut_short_is_not_done(sequence):
+    """An output whose chunks are cut off (a copy interrupted) is neither done in the summary nor
+    skipped by --resume: it reads back as a header, but not as an image."""
+    env = fake_sbatch(sequence)
+    assert farm("slurm", "shot.####.exr", "-o", "out/ao.####.exr", "--frames", "1-2", env=env,
+                cwd=sequence).returncode == 0
+    script = (sequence / "out" / "obscura_farm.sbatch").read_text()
+    for task, proc in run_tasks(script, 1, sequence):
+        assert proc.returncode == 0, proc.stderr
+    cut = sequence / "out" / "ao.0002.exr"
+    cut.write_bytes(cut.read_bytes()[: cut.stat().st_size // 2])
+    summary = json.loads(farm("summary", sequence / "out", "--json").stdout)
+    assert summary["done"] == [1] and summary["missing"] == [2]
+    for task, proc in run_tasks(script, 1, sequence):
+        assert proc.returncode == 0, proc.stderr
+    assert json.loads(farm("summary", sequence / "out", "--json").stdout)["done"] == [1, 2]

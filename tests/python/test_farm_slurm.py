@@ -1,6 +1,7 @@
 """`obscura farm slurm` on a real one-node Slurm cluster started on 127.0.0.1 for the test:
 a 3-task array job over 6 frames, one task's obscura killed mid-frame, the job resubmitted;
-every output ends complete and bit-identical to one process doing all 6 frames."""
+every output ends complete and bit-identical to one process doing all 6 frames (in a directory
+whose name holds a blank, a quote and a '%')."""
 import json
 import os
 import shutil
@@ -42,6 +43,10 @@ def submit(cluster, cwd):
 
 
 def test_killed_task_resubmitted(tmp):
+    # A show's directory as people name them: a blank, a quote, and a '%' Slurm's log pattern
+    # would read as the job's name (%x) unless the script doubles it.
+    tmp = tmp / "My Show's 100%x"
+    tmp.mkdir()
     for f in FRAMES:
         depth, normal = synthetic_scene(200, 150, f)
         write_exr(tmp / f"shot.{f:04d}.exr", depth, normal, sidecar=True)

@@ -94,3 +94,26 @@ def test_an_ignored_sigint_stays_ignored(tmp):
     _, err = proc.communicate(timeout=120)
     assert proc.returncode == 0, err
     assert out.exists()
+
+
+def test_a_signal_during_the_write_ends_by_it_after_a_whole_file(tmp):
+    """SIGTERM while the output's temp file is there (the frame's files are being written): the
+    write finishes, the files are whole, then the process ends by the signal, so a wrapper running
+    one frame at a time sees it, not success."""
+    import OpenImageIO as oiio
+    src, out = long_frame(tmp), tmp / "long_ao.exr"
+    light = ["--directions", "2", "--steps", "2", "--threads", "1", "--out-type", "float"]
+    proc = subprocess.Popen([CLI, str(src), "-o", str(out), "--report", str(tmp / "r.json"), *light],
+                            stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 60
+    while proc.poll() is None and time.monotonic() < deadline:
+        if any(p.name.startswith("long_ao.exr.tmp-") for p in tmp.iterdir()):
+            proc.send_signal(signal.SIGTERM)
+            break
+        time.sleep(0.0002)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == -signal.SIGTERM, err
+    assert err.strip().splitlines()[-1] == "obscura: stopped by SIGTERM; the frame was written whole first", err
+    written = oiio.ImageBuf(str(out))
+    assert written.read() and written.spec().width == W, written.geterror()
+    assert (tmp / "r.json").exists() and not any(".tmp-" in p.name for p in tmp.iterdir())
