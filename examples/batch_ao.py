@@ -14,9 +14,12 @@ steps, weighting, falloff, blur, quality, fov_deg, camera_to_world, preset, out_
 Outputs: OUT/<variant>/<input file name>, a copy of each frame with the AO layer, and next
 to it <name>.json, the frame's report. OUT/batch.json records the variants and the frames
 (contact_sheet.py reads it). --resume skips a frame whose output and report exist, are newer
-than the input and were made with the same settings (outputs are written atomically, so an
-existing file is a complete one). Progress goes to stderr; the exit status is 1 if any frame
-failed (the others are still done).
+than every file it was computed from (the input, its camera sidecar, an env= map), were made
+with the same settings, and whose report's stamps of those files (path, size, mtime) are equal to
+theirs now, so an input rolled back to an older version is computed again (outputs are written
+atomically, so an existing file is a complete one). Two frames that would write one output (the
+frame number in a directory name: 'sh###/beauty.exr') are refused before anything is written.
+Progress goes to stderr; the exit status is 1 if any frame failed (the others are still done).
 
 Each variant has a `kind` ("ao"): a renderer registered in RENDERERS turns (input frame,
 output frame, settings) into a report. Relighting variants (environment maps, rotations)
@@ -130,6 +133,10 @@ class Variant:
     settings: dict = field(default_factory=dict)
     kind: str = "ao"
 
+    def __post_init__(self):
+        # As run_dask makes them, so a local run and a Dask run record the same settings.
+        self.settings = farm.absolute_paths(self.settings)
+
     def to_json(self):
         return {"name": self.name, "kind": self.kind, "settings": farm.recorded(self.settings)}
 
@@ -142,8 +149,7 @@ def build_variants(variant_specs, radii, common):
     variants = []
     for spec in variant_specs or []:
         name, _, rest = spec.partition(":")
-        if not re.fullmatch(r"[A-Za-z0-9_.+-]+", name):
-            raise ValueError(f"variant name '{name}' must be letters, digits, '_', '.', '+' or '-'")
+        farm.check_variant_name(name)
         settings = dict(common)
         settings.update(parse_assignments(rest))
         kind = settings.pop("kind", "ao")
@@ -188,13 +194,10 @@ class Task:
     report: str
 
 
-def output_paths(out_dir, variant, src):
-    return farm.output_paths(out_dir, variant.name, src)
-
-
 def is_complete(task):
-    """The output and its report exist, are newer than the input, and match the settings
-    (obscura.farm's rule, so local and Dask runs resume each other's work)."""
+    """obscura.farm's rule (so local and Dask runs resume each other's work): the output and its
+    report exist, are newer than the files the frame reads, match the settings, and the report's
+    stamps of those files equal theirs now."""
     return farm.is_complete(task.src, task.out, task.report, task.variant.to_json())
 
 
@@ -203,9 +206,10 @@ def run_task(task):
     t0 = time.perf_counter()
     farm.remove_stale_temps(task.out)
     farm.remove_stale_temps(task.report)
+    inputs = farm.stamps(farm.files_read(task.src, task.variant.settings))  # as they are before reading
     report = RENDERERS[task.variant.kind](task.src, task.out, task.variant.settings, task.report)
-    # Record the variant in the report, so --resume can tell a stale output from a complete one.
-    farm.write_report(task.report, report, task.variant.to_json())
+    # Record the variant and the inputs' stamps, so --resume can tell a stale output from a complete one.
+    farm.write_report(task.report, report, task.variant.to_json(), inputs)
     return time.perf_counter() - t0, report.get("warnings", [])
 
 
@@ -267,20 +271,21 @@ def main(argv=None):
     if args.jobs < 1:
         ap.error("--jobs must be at least 1")
 
-    return run_batch("batch_ao", args.pattern, frames, variants, args.out_dir, resume=args.resume, jobs=args.jobs,
-                     dry_run=args.dry_run, quiet=args.quiet)
+    try:
+        return run_batch("batch_ao", args.pattern, frames, variants, args.out_dir, resume=args.resume,
+                         jobs=args.jobs, dry_run=args.dry_run, quiet=args.quiet)
+    except ValueError as e:  # frames that would write one output: refused before writing
+        ap.error(str(e))
 
 
 def run_batch(tool, pattern, frames, variants, out_dir, resume=False, jobs=1, dry_run=False, quiet=False):
     """Every (variant, frame): skips complete outputs with `resume`, prints progress with an ETA
-    to stderr, writes OUT/batch.json. Returns the exit status: 1 if any frame failed, else 0.
+    to stderr, writes OUT/batch.json. Returns the exit status: 1 if any frame failed, else 0; raises
+    ValueError, writing nothing, where two frames would write one output.
     Shared by batch_relight.py (and any other batch over registered RENDERERS)."""
-    tasks = []
-    for v in variants:
-        for frame in frames:
-            src = frame_path(pattern, frame)
-            out, report = output_paths(out_dir, v, src)
-            tasks.append(Task(v, frame, src, out, report))
+    srcs = {frame: frame_path(pattern, frame) for frame in frames}
+    paths = farm.plan_outputs(out_dir, [v.name for v in variants], list(srcs.values()))
+    tasks = [Task(v, frame, src, *paths[v.name, src]) for v in variants for frame, src in srcs.items()]
     todo = [t for t in tasks if not (resume and is_complete(t))]
     skipped = len(tasks) - len(todo)
     log = (lambda *a: None) if quiet else (lambda msg: print(msg, file=sys.stderr, flush=True))

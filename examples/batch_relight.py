@@ -22,7 +22,8 @@ Each setup writes OUT/<setup>/<input file name> with Relit.R/G/B (albedo x (DO +
 bounce=True, out_layer={'relit': ...}), and the frame's report next to it. OUT/batch.json lists
 the setups (contact_sheet.py OUT --frame N shows them side by side). Progress with an ETA goes
 to stderr; --resume skips frames already complete for that setup (batch_ao.py's rule: output
-and report newer than the input, made with the same settings); failed frames are listed at the
+and report newer than the files the frame reads, the input, its camera sidecar and the map, made
+with the same settings and from those files as they are now); failed frames are listed at the
 end and the exit status is 1.
 
 --scheduler ADDRESS runs the same tasks on a Dask cluster (obscura.farm.run_dask; Debian's
@@ -109,9 +110,10 @@ def run_on_dask(address, pattern, frames, setups, out_dir, resume, quiet):
     import obscura.farm
     from distributed import Client
 
+    paths = [batch_ao.frame_path(pattern, f) for f in frames]
+    obscura.farm.plan_outputs(out_dir, [s.name for s in setups], paths)  # refused before the manifest is written
     os.makedirs(out_dir, exist_ok=True)
     batch_ao.write_manifest(out_dir, pattern, frames, setups)
-    paths = [batch_ao.frame_path(pattern, f) for f in frames]
     with Client(address, timeout=60) as client:
         result = obscura.farm.run_dask(client, paths, setups, out_dir=out_dir, resume=resume, progress=not quiet)
     for name, src, err in result["failed"]:
@@ -150,10 +152,13 @@ def main(argv=None):
         ap.error(f"no frames match '{args.pattern}' (give --frames)")
     if args.jobs < 1:
         ap.error("--jobs must be at least 1")
-    if args.scheduler and not args.dry_run:
-        return run_on_dask(args.scheduler, args.pattern, frames, setups, args.out_dir, args.resume, args.quiet)
-    return batch_ao.run_batch("batch_relight", args.pattern, frames, setups, args.out_dir, resume=args.resume,
-                              jobs=args.jobs, dry_run=args.dry_run, quiet=args.quiet)
+    try:
+        if args.scheduler and not args.dry_run:
+            return run_on_dask(args.scheduler, args.pattern, frames, setups, args.out_dir, args.resume, args.quiet)
+        return batch_ao.run_batch("batch_relight", args.pattern, frames, setups, args.out_dir, resume=args.resume,
+                                  jobs=args.jobs, dry_run=args.dry_run, quiet=args.quiet)
+    except ValueError as e:  # frames that would write one output, a setting run_dask refuses: nothing written
+        ap.error(str(e))
 
 
 if __name__ == "__main__":

@@ -105,6 +105,24 @@ def test_batch_reports_failures(sequence):
     assert proc.returncode == 1 and "weighting must be" in proc.stderr
 
 
+def test_batch_refuses_two_frames_with_one_output(tmp):
+    """The frame number in a directory name: sh010/beauty.exr and sh020/beauty.exr would write one
+    output, the second over the first. Refused before anything is written; so is a variant named
+    '..' (its directory is OUT's parent)."""
+    for shot in (1, 2):
+        depth, normal = synthetic_scene(64, 48, shot)
+        (tmp / f"sh0{shot}0").mkdir()
+        write_exr(tmp / f"sh0{shot}0" / "beauty.exr", depth, normal, sidecar=True)
+    out = tmp / "out"
+    proc = run("batch_ao.py", tmp / "sh0#0" / "beauty.exr", "-o", out, "--frames", "1-2")
+    assert proc.returncode == 2
+    assert (f"'{tmp}/sh010/beauty.exr' and '{tmp}/sh020/beauty.exr' are both written to "
+            f"'{out}/default/beauty.exr'; nothing written") in proc.stderr, proc.stderr
+    proc = run("batch_ao.py", tmp / "sh0#0" / "beauty.exr", "-o", out, "--frames", "1", "--variant", "..:radius=1")
+    assert proc.returncode == 2 and "variant name '..' must be" in proc.stderr, proc.stderr
+    assert sorted(os.listdir(tmp)) == ["sh010", "sh020"]
+
+
 def test_batch_prints_each_warning_once(sequence):
     proc = run("batch_ao.py", str(sequence / "shot.####.exr"), "-o", sequence / "w", "--frames", "1-3",
                "--set", "deep_layers=2")

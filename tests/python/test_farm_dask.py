@@ -1,9 +1,11 @@
 """obscura.farm.run_dask on a real Dask cluster started on 127.0.0.1 for the test (a scheduler
 and 2 single-threaded workers): 6 frames x 2 variants, one worker killed during the run; every
 output ends complete and bit-identical to one process computing them in turn. The write mode
-(write='append') reaches the workers."""
+(write='append') reaches the workers, and so do relative file settings. Without a cluster: what
+run_dask refuses on the client before writing anything, and the resume rule (is_complete)."""
 import json
 import os
+import re
 import shutil
 import signal
 import threading
@@ -13,7 +15,7 @@ import pytest
 
 import obscura
 from obscura import farm
-from conftest import synthetic_scene, write_exr
+from conftest import FOV_DEG, pose_matrix, synthetic_scene, write_exr
 from farm_engines import DaskCluster, EngineUnavailable, wait_for
 
 VARIANTS = {"near": {"radius": 0.5}, "far": {"radius": 1.5, "weighting": "cosine"}}
@@ -158,3 +160,132 @@ def test_bad_settings_are_refused_before_any_task(tmp):
                                    ({"cos": {"weighting": "cos"}}, ValueError, "variant cos: weighting must be")):
         with pytest.raises(error, match=words):
             obscura.farm.run_dask(None, [str(tmp / "shot.1001.exr")], variants, out_dir=str(tmp / "out"))
+
+
+def write_frame(path, frame=1, sidecar=True):
+    depth, normal = synthetic_scene(48, 32, frame)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    write_exr(path, depth, normal, sidecar=sidecar)
+    return str(path)
+
+
+def write_env(path):
+    """A tiny lat-long map, for method='ssdo' with env=."""
+    import OpenImageIO as oiio
+    out = oiio.ImageOutput.create(str(path))
+    assert out.open(str(path), oiio.ImageSpec(16, 8, 3, oiio.FLOAT)), oiio.geterror()
+    assert out.write_image(np.full((8, 16, 3), 0.5, np.float32)), out.geterror()
+    out.close()
+
+
+def test_relative_file_settings_reach_the_workers(tmp, monkeypatch):
+    """camera= and env= relative to the client's directory: a worker, elsewhere, opens them there."""
+    shots = tmp / "shots"
+    for f in (1, 2):
+        write_frame(shots / f"shot.{f:04d}.exr", f, sidecar=False)
+    (shots / "cam.json").write_text(json.dumps({"projection": "persp", "horizontal_fov_rad": float(np.radians(FOV_DEG)),
+                                                "camera_to_world": pose_matrix().tolist()}))
+    write_env(shots / "env.exr")
+    try:
+        cluster = DaskCluster(tmp / "dask", workers=1).__enter__()  # its worker's directory is this one
+    except EngineUnavailable as e:
+        pytest.skip(f"Dask cannot run here: {e}")
+    from distributed import Client
+    monkeypatch.chdir(shots)
+    variants = {"v": {"camera": "cam.json", "method": "ssdo", "env": "env.exr"}}
+    try:
+        with Client(cluster.address, timeout=60) as client:
+            result = farm.run_dask(client, ["shot.0001.exr", "shot.0002.exr"], variants, out_dir="out",
+                                   progress=False, threads=1)
+            again = farm.run_dask(client, ["shot.0001.exr", "shot.0002.exr"], variants, out_dir="out",
+                                  progress=False, threads=1)
+    finally:
+        cluster.__exit__(None, None, None)
+    assert result["failed"] == [] and result["done"] == 2, result
+    assert again["skipped"] == 2 and again["done"] == 0, again
+    report = json.loads((shots / "out" / "v" / "shot.0001.json").read_text())
+    assert report["batch_variant"]["settings"]["env"] == str(shots / "env.exr")
+    assert [i["path"] for i in report["batch_inputs"]] == [str(shots / n) for n in ("shot.0001.exr", "cam.json",
+                                                                                      "env.exr")]
+
+
+def test_two_frames_with_one_output_are_refused(tmp):
+    """sh010/beauty.0001.exr and sh020/beauty.0001.exr would both write OUT/v/beauty.0001.exr, the
+    second finding the first's output complete; so would one frame listed twice. Refused on the
+    client, before any directory is made."""
+    a, b = write_frame(tmp / "sh010" / "beauty.0001.exr"), write_frame(tmp / "sh020" / "beauty.0001.exr")
+    out = tmp / "out"
+    with pytest.raises(ValueError) as e:
+        farm.run_dask(None, [a, b], {"v": {}}, out_dir=str(out))
+    assert str(e.value) == f"'{a}' and '{b}' are both written to '{out / 'v' / 'beauty.0001.exr'}'; nothing written"
+    with pytest.raises(ValueError, match=f"'{re.escape(a)}' is listed twice .*; nothing written"):
+        farm.run_dask(None, [a, a], {"v": {}}, out_dir=str(out))
+    assert not out.exists()
+
+
+def test_variant_names_and_settings_are_checked_before_any_directory(tmp):
+    """A variant's name is its directory under OUT: a path in it is refused, and so is '.' or '..'.
+    Every variant is checked before any directory is made."""
+    src = str(tmp / "shot.1001.exr")
+    out = tmp / "a" / "out"
+    for name in ("../../escape", "", ".", "..", "a/b"):
+        with pytest.raises(ValueError, match=f"variant name {re.escape(repr(name))} must be"):
+            farm.run_dask(None, [src], {name: {}}, out_dir=str(out))
+    with pytest.raises(TypeError, match="variant bad: .*raduis"):
+        farm.run_dask(None, [src], {"good": {}, "bad": {"raduis": 0.5}}, out_dir=str(out))
+    assert os.listdir(tmp) == []
+
+
+def test_resume_compares_every_file_a_task_reads(tmp):
+    """A task is stale once a file it reads is newer than its output: the input's camera sidecar
+    re-exported, a camera= file, an env= map repainted (the CLI's --resume rule)."""
+    cases = {"sidecar": ({}, "shot.0001.json"), "camera": ({"camera": "cam.json"}, "cam.json"),
+             "env": ({"method": "ssdo", "env": "env.exr"}, "env.exr")}
+    for name, (settings, changed) in cases.items():
+        src = write_frame(tmp / name / "shot.0001.exr")
+        shutil.copy(tmp / name / "shot.0001.json", tmp / name / "cam.json")
+        write_env(tmp / name / "env.exr")
+        settings = {k: str(tmp / name / v) if k in ("camera", "env") else v for k, v in settings.items()}
+        out, report = farm.output_paths(str(tmp / name / "out"), "v", src)
+        os.makedirs(os.path.dirname(out))
+        record = {"name": "v", "kind": "ao", "settings": farm.recorded(settings)}
+        farm.render(src, out, report, settings, record)
+        assert farm.is_complete(src, out, report, record), name
+        later = os.stat(out).st_mtime + 10
+        os.utime(tmp / name / changed, (later, later))
+        assert not farm.is_complete(src, out, report, record), name
+
+
+def test_resume_sees_an_input_rolled_back(tmp):
+    """An input rolled back to an older render (a link re-pointed, a copy keeping its mtime) is not
+    newer than the output, but it is not what the output was computed from: the report's stamps
+    (path, size, mtime) tell. A report without stamps is not complete."""
+    earlier, later = write_frame(tmp / "v1" / "shot.0001.exr", 1), write_frame(tmp / "v2" / "shot.0001.exr", 2)
+    old = os.stat(later).st_mtime - 100
+    os.utime(earlier, (old, old))
+    shutil.copy(tmp / "v2" / "shot.0001.json", tmp / "shot.0001.json")
+    src = tmp / "shot.0001.exr"
+    out, report = farm.output_paths(str(tmp / "out"), "v", str(src))
+    os.makedirs(os.path.dirname(out))
+    record = {"name": "v", "kind": "ao", "settings": {}}
+
+    def rolled_back(now, then):
+        """Computed from the input as now() makes it, then then() replaces it: complete?"""
+        now()
+        farm.render(str(src), out, report, {}, record)
+        assert farm.is_complete(str(src), out, report, record)
+        src.unlink()
+        then()
+        complete = farm.is_complete(str(src), out, report, record)
+        src.unlink()
+        return complete
+
+    assert not rolled_back(lambda: src.symlink_to(later), lambda: src.symlink_to(earlier))
+    assert not rolled_back(lambda: shutil.copy2(later, src), lambda: shutil.copy2(earlier, src))  # cp -p
+    shutil.copy2(later, src)
+    with open(report) as f:
+        older = {k: v for k, v in json.load(f).items() if k != "batch_inputs"}
+    farm.render(str(src), out, report, {}, record)
+    with open(report, "w") as f:
+        json.dump(older, f)
+    assert not farm.is_complete(str(src), out, report, record)

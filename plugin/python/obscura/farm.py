@@ -7,9 +7,13 @@
                                    out_dir="out", weighting="cosine")
 
 A task writes OUT/<variant>/<input file name> and its report OUT/<variant>/<name>.json, which
-records the variant. A task is complete when its output and report exist, are newer than the
-input and the report records the same variant (its settings as recorded() gives them: threads
-and device aside); with resume those are skipped, on the client
+records the variant and a stamp (resolved path, size, mtime) of each file the task reads: the
+input, its camera sidecar and the environment map (files_read). Two frames with one file name
+are refused before anything is written: they would write one output. A task is complete when its
+output and report exist, are newer than every file it reads, and the report records the same
+variant (its settings as recorded() gives them: threads and device aside) and the same stamps as
+the files have now, so a file rolled back to an older version counts as changed; with resume those
+are skipped, on the client
 and again on the worker (a task re-run after its worker died may find its work done). Outputs
 and reports are written to a temp file and renamed; a task starting a frame first removes the
 temp files a killed run left (those whose writer process is gone). examples/batch_ao.py uses
@@ -19,13 +23,19 @@ obscura.process releases the GIL while it computes, so a worker's threads run fr
 """
 import json
 import os
+import re
 import sys
 import threading
 import time
 
 from . import _obscura
 
-__all__ = ["run_dask", "output_paths", "is_complete", "write_report", "remove_stale_temps", "render"]
+__all__ = ["run_dask", "output_paths", "plan_outputs", "files_read", "stamps", "is_complete", "write_report",
+           "remove_stale_temps", "render"]
+
+# process() keywords naming a file it reads: made absolute on the client (a worker's cwd is its
+# own), and compared by resume as the input is.
+PATH_SETTINGS = ("camera", "env")
 
 
 def output_paths(out_dir, variant_name, src):
@@ -34,22 +44,90 @@ def output_paths(out_dir, variant_name, src):
     return out, os.path.splitext(out)[0] + ".json"
 
 
-def is_complete(src, out, report, record):
-    """The output and its report exist, are newer than the input, and the report holds `record`."""
+def check_variant_name(name):
+    """A variant's name is its output directory: one plain name, never a path out of OUT."""
+    if not isinstance(name, str) or not re.fullmatch(r"[A-Za-z0-9_.+-]+", name) or name in (".", ".."):
+        raise ValueError(f"variant name {name!r} must be letters, digits, '_', '.', '+' or '-' (not '.' or '..')")
+
+
+def plan_outputs(out_dir, names, frames):
+    """{(variant name, input): (output, report)}, or ValueError, before anything is written, for a
+    name that is not a plain directory name or two inputs with one output (frames with one file
+    name in two directories, or one frame listed twice): the second task would find the first's
+    output complete and skip, and the run would report success."""
+    paths, written = {}, {}
+    for name in names:
+        check_variant_name(name)
+        for src in frames:
+            out, report = output_paths(out_dir, name, src)
+            if out in written:
+                raise ValueError(f"'{written[out]}' and '{src}' are both written to '{out}'; nothing written"
+                                 if written[out] != src else f"'{src}' is listed twice (its output '{out}'); "
+                                 "nothing written")
+            written[out] = src
+            paths[name, src] = out, report
+    return paths
+
+
+def absolute_paths(settings):
+    """The settings with their file paths (PATH_SETTINGS) absolute, as a worker elsewhere needs them."""
+    return {k: os.path.abspath(v) if k in PATH_SETTINGS and isinstance(v, (str, os.PathLike)) else v
+            for k, v in settings.items()}
+
+
+def _is_sidecar(path):
+    """process()'s test for NAME.json beside the input: a file, and not an obscura report."""
     try:
-        src_time = os.path.getmtime(src)
-        if os.path.getmtime(out) < src_time or os.path.getmtime(report) < src_time:
+        with open(path) as f:
+            j = json.load(f)
+    except ValueError:
+        return True
+    except OSError:
+        return False
+    return not (isinstance(j, dict) and {"timings_s", "settings", "recipe"} <= j.keys())
+
+
+def files_read(src, settings):
+    """The files a task reads that exist, as the CLI's --resume lists them: the input, the camera
+    sidecar (camera=, else NAME.json or NAME.exr.json beside the input, as process() finds it) and
+    the environment map (env=)."""
+    camera = settings.get("camera")
+    if camera is None:
+        camera = next((c for c in (os.path.splitext(src)[0] + ".json", src + ".json") if _is_sidecar(c)), None)
+    return [os.fspath(f) for f in (src, camera, settings.get("env")) if f is not None and os.path.isfile(f)]
+
+
+def stamps(files):
+    """Each file's resolved path, size and mtime: what the report records and resume compares for
+    equality, as a newer-than test misses an input rolled back to an older version (a link
+    re-pointed to an earlier render, a copy keeping its older mtime)."""
+    result = []
+    for f in files:
+        st = os.stat(f)
+        result.append({"path": os.path.realpath(f), "size": st.st_size, "mtime_ns": st.st_mtime_ns})
+    return result
+
+
+def is_complete(src, out, report, record):
+    """The output and its report exist, are newer than every file the task reads (files_read of
+    the record's settings), and the report holds `record` and those files' stamps as they are now.
+    A report without stamps (an older obscura's) is not complete."""
+    try:
+        files = files_read(src, record.get("settings", {}))
+        written = min(os.stat(out).st_mtime_ns, os.stat(report).st_mtime_ns)
+        if any(os.stat(f).st_mtime_ns > written for f in files):
             return False
         with open(report) as f:
-            recorded = json.load(f).get("batch_variant")
-    except (OSError, ValueError):
+            held = json.load(f)
+        return held.get("batch_variant") == record and held.get("batch_inputs") == stamps(files)
+    except (OSError, ValueError, AttributeError):
         return False
-    return recorded == record
 
 
-def write_report(path, report, record):
-    """The frame's report with the variant recorded, written atomically (resume reads it)."""
-    report = dict(report, batch_variant=record)
+def write_report(path, report, record, inputs):
+    """The frame's report with the variant and the stamps of the files read (`inputs`, taken
+    before computing) recorded, written atomically (resume reads it)."""
+    report = dict(report, batch_variant=record, batch_inputs=inputs)
     tmp = f"{path}.tmp-{os.getpid()}-{threading.get_ident()}"
     with open(tmp, "w") as f:
         json.dump(report, f, indent=2)
@@ -91,8 +169,9 @@ def render(src, out, report, settings, record):
     t0 = time.perf_counter()
     remove_stale_temps(out)
     remove_stale_temps(report)
+    inputs = stamps(files_read(src, settings))  # before reading: a file changed meanwhile leaves the task stale
     result = _obscura.process(src, out, report=report, **settings)
-    write_report(report, result, record)
+    write_report(report, result, record, inputs)
     return time.perf_counter() - t0
 
 
@@ -121,12 +200,15 @@ def recorded(settings):
 
 
 def _variants(variants, common):
-    """[(name, settings, record)] from {name: settings} or objects with .name, .settings (.kind)."""
+    """[(name, settings, record)] from {name: settings} or objects with .name, .settings (.kind);
+    file paths in the settings made absolute."""
     items = variants.items() if isinstance(variants, dict) else [(v.name, v) for v in variants]
     result = []
     for name, v in items:
+        check_variant_name(name)
         settings = dict(common)
         settings.update(v if isinstance(v, dict) else v.settings)
+        settings = absolute_paths(settings)
         kind = "ao" if isinstance(v, dict) else getattr(v, "kind", "ao")
         result.append((name, settings, {"name": name, "kind": kind, "settings": recorded(settings)}))
     names = [n for n, _, _ in result]
@@ -152,8 +234,10 @@ def run_dask(client, frames, variants, *, out_dir, resume=True, progress=True, r
     """Maps frames x variants onto a distributed.Client; each task is one obscura.process call.
 
     frames: input file paths. variants: {name: settings} (or objects with .name and .settings);
-    the keyword settings apply to every variant (obscura.process keywords). Outputs go to
-    OUT/<variant>/<file name>, reports next to them. With resume, complete tasks are skipped.
+    the keyword settings apply to every variant (obscura.process keywords; relative file paths
+    are taken from the client's directory). Outputs go to OUT/<variant>/<file name>, reports next
+    to them: variant names and frames that would write outside OUT or one output twice are
+    refused before anything is written. With resume, complete tasks are skipped.
     A task lost with its worker is run again elsewhere by the scheduler; a failing one is
     retried `retries` times. Progress lines go to stderr. Returns a dict: 'done', 'skipped'
     (counts), 'failed' (a list of (variant, input, error)) and 'seconds' (wall time).
@@ -166,12 +250,14 @@ def run_dask(client, frames, variants, *, out_dir, resume=True, progress=True, r
     frames = [os.path.abspath(f) for f in frames]
     out_dir = os.path.abspath(out_dir)
     plan = _variants(variants, settings)
+    paths = plan_outputs(out_dir, [name for name, _, _ in plan], frames)
+    for name, merged, _ in plan:  # every variant checked before any directory is made
+        check_settings(name, merged, os.path.join(out_dir, name))
     tasks, skipped = [], 0
     for name, merged, record in plan:
         os.makedirs(os.path.join(out_dir, name), exist_ok=True)
-        check_settings(name, merged, os.path.join(out_dir, name))
         for src in frames:
-            out, report = output_paths(out_dir, name, src)
+            out, report = paths[name, src]
             if resume and is_complete(src, out, report, record):
                 skipped += 1
                 continue
