@@ -353,6 +353,33 @@ TEST(Resume, RecomputesAFrameWrittenWithOtherSettings) {
     }
 }
 
+// An input rolled back to an older render (its link pointed at an earlier version, or a copy that
+// kept its older time): no file is newer than the output, but the output records another file.
+TEST(Resume, RecomputesAFrameWhoseInputWasRolledBack) {
+    const Workspace w(freshDir());
+    fs::copy_file(w("in.exr"), w("v1.exr"));
+    fs::copy_file(w("in.exr"), w("v2.exr"));
+    fs::copy_file(w("in.json"), w("cur.json"));
+    fs::create_symlink("v2.exr", w("cur.exr"));
+    ASSERT_EQ(cli({w("cur.exr"), "-o", w("out.exr"), "--quiet"}).exitCode, 0);
+    const fs::file_time_type written = fs::last_write_time(w("out.exr"));
+    fs::last_write_time(w("v1.exr"), written - std::chrono::seconds(100));
+    fs::remove(w("cur.exr"));
+    fs::create_symlink("v1.exr", w("cur.exr"));
+    const CliResult linked = cli({w("cur.exr"), "-o", w("out.exr"), "--resume"});
+    EXPECT_NE(linked.err.find("out.exr was computed from another version of " + w("cur.exr") + "; computed again"),
+              std::string::npos) << describe(linked);
+    // The same file, copied over with the time it had (cp -p): its size or time is not the output's.
+    fs::remove(w("cur.exr"));
+    fs::copy_file(w("v2.exr"), w("cur.exr"));
+    fs::last_write_time(w("cur.exr"), written - std::chrono::seconds(50));
+    const CliResult copied = cli({w("cur.exr"), "-o", w("out.exr"), "--resume"});
+    EXPECT_NE(copied.err.find("was computed from another version of " + w("cur.exr")), std::string::npos)
+        << describe(copied);
+    const CliResult now = cli({w("cur.exr"), "-o", w("out.exr"), "--resume"});
+    EXPECT_NE(now.err.find("skipped"), std::string::npos) << describe(now);
+}
+
 // An input that holds an earlier run's AO in a part of its own (append): --resume reads the
 // settings of the part this output's run wrote, not of the first part holding an AO.
 TEST(Resume, ReadsThePartThisOutputsRunWrote) {

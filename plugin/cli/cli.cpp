@@ -299,22 +299,22 @@ nlohmann::json recordedByThisOutput(const FrameJob& job, const ExrInfo& info) {
                                : nullptr;
         if (!said) continue;
         const nlohmann::json report = nlohmann::json::parse(said->value(), nullptr, false);
-        if (report.is_object() && report.value("output", "") == job.output) found = comparedPart(report);
+        if (report.is_object() && report.value("output", "") == job.output && !comparedPart(report).is_null())
+            found = report;
     }
     return found;
 }
 
-// The files a frame is computed from that exist: the input, deep inputs, the camera sidecar, the
-// environment map.
-std::vector<std::string> filesReadBy(const FrameJob& job) {
-    std::vector<std::string> files = {job.input, job.deepInput, job.camera.sidecarPath, job.envPath};
-    files.insert(files.end(), job.deepElements.begin(), job.deepElements.end());
-    if (job.camera.sidecarPath.empty()) files.push_back(findSidecar(job.input));
-    std::error_code ec;
-    files.erase(std::remove_if(files.begin(), files.end(),
-                               [&](const std::string& f) { return f.empty() || !std::filesystem::exists(f, ec); }),
-                files.end());
-    return files;
+// A file the output records reading that is another version now: moved to another file through
+// its links, or of another size or time (earlier too: a render rolled back). "" when none is.
+std::string changedSource(const nlohmann::json& recordedSources, const FrameJob& job) {
+    for (const FileStamp& now : stampsOf(filesReadBy(job)))
+        for (const nlohmann::json& then : recordedSources)
+            if (then.value("file", "") == now.path &&
+                (then.value("resolved", "") != now.resolved || then.value("size", -1LL) != now.size ||
+                 then.value("mtime_ns", -1LL) != now.mtimeNs))
+                return now.path;
+    return "";
 }
 } // namespace
 
@@ -327,8 +327,12 @@ std::string staleOutputReason(const FrameJob& job, const ExrInfo& output) {
         if (fs::last_write_time(f, ec) > written && !ec) return "is older than " + f;
     try {
         const nlohmann::json then = recordedByThisOutput(job, output);
-        if (!then.is_null() && then != comparedPart(nlohmann::json::parse(frameReportJson(job, FrameReport{}))))
+        if (then.is_null()) return "";
+        if (comparedPart(then) != comparedPart(nlohmann::json::parse(frameReportJson(job, FrameReport{}))))
             return "was written with other settings";
+        if (then.contains("sources"))
+            if (const std::string changed = changedSource(then["sources"], job); !changed.empty())
+                return "was computed from another version of " + changed;
     } catch (const nlohmann::json::exception&) {  // a header attribute of another shape: cannot tell
     }
     return "";

@@ -679,6 +679,7 @@ FrameReport runJob(const FrameJob& job) {
     setExrThreads(job.settings.threads);
     setColourThreads(job.settings.threads);
     FrameReport report;
+    report.sources = stampsOf(filesReadBy(job));  // before reading: a file changed meanwhile leaves the frame stale
     std::vector<ViewResult> results;
     std::vector<NewChannel> elementAo;
     // The input's headers, read once for the frame (each read opens and checks the file).

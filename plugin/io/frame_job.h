@@ -12,6 +12,7 @@
 #include "io/depth_encoding.h"
 #include "io/exr_file.h"
 #include "io/layers.h"
+#include "io/source_files.h"
 
 #include <array>
 #include <map>
@@ -116,6 +117,7 @@ struct FrameReport {
     int deepElements = 0;                 // deep elements merged (0: none, or --flat)
     int deepLayers = 0;
     long long deepEmptyPixels = 0, deepDroppedSamples = 0, deepUnsortedPixels = 0, deepTruncatedPixels = 0;
+    std::vector<FileStamp> sources;       // the files read, as they were when the frame began (--resume)
     std::vector<StageTiming> stages;      // read, camera, compute, write (append: copy, append), preview
     std::optional<ErrorMetrics> reference;
     std::vector<std::string> warnings;

@@ -311,9 +311,11 @@ void writeFrameOutputs(const FrameJob& job, std::vector<ViewResult>& views, Fram
         tags[firstPart].second.push_back(c.name);
         add.push_back(std::move(c));
     }
+    FrameReport recorded;  // what --resume compares: the settings, the recipe and the files read
+    recorded.sources = report.sources;
     for (const auto& [part, names] : tags) {
         attrs.push_back({part, "obscura/version", OBSCURA_VERSION_STRING});
-        attrs.push_back({part, "obscura/settings", frameReportJson(job, FrameReport{})});
+        attrs.push_back({part, "obscura/settings", frameReportJson(job, recorded)});
         std::string note;
         for (StringAttribute& a : cm.tagOutputPart(part, space, names.first, names.second, &note)) attrs.push_back(std::move(a));
         if (!note.empty() && std::find(report.plan.begin(), report.plan.end(), note) == report.plan.end())

@@ -70,6 +70,11 @@ std::string frameReportJson(const FrameJob& job, const FrameReport& r) {
     j["input"] = job.input;
     j["output"] = job.output;
     j["recipe"] = recipeJson(job);
+    if (!r.sources.empty()) {
+        j["sources"] = json::array();
+        for (const FileStamp& f : r.sources)
+            j["sources"].push_back({{"file", f.path}, {"resolved", f.resolved}, {"size", f.size}, {"mtime_ns", f.mtimeNs}});
+    }
     // What the method reads: its own parameters follow, from the method table.
     j["settings"] = {{"method", s.method}, {"radius", s.radius}, {"blur", resolvedBlur(s)},
                      {"threads", s.threads}, {"device", s.device}};

@@ -1,0 +1,24 @@
+// The files a frame is computed from, and their stamps: what --resume compares with what an
+// output records, so that a file rendered again, or rolled back to an older version (a link
+// pointed at an earlier render, a copy that kept its older time), computes the frame again.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace obscura {
+
+struct FrameJob;
+
+// One file as a run read it: its path as given, the file its links lead to, its size and
+// modification time.
+struct FileStamp {
+    std::string path, resolved;
+    long long size = 0, mtimeNs = 0;
+};
+
+// The files a frame is computed from that exist: the input (unless it is replaced in place),
+// deep inputs, the camera sidecar, the environment map.
+std::vector<std::string> filesReadBy(const FrameJob& job);
+std::vector<FileStamp> stampsOf(const std::vector<std::string>& files);
+
+} // namespace obscura
