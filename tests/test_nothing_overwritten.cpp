@@ -380,6 +380,22 @@ TEST(Resume, RecomputesAFrameWhoseInputWasRolledBack) {
     EXPECT_NE(now.err.find("skipped"), std::string::npos) << describe(now);
 }
 
+// A project moved with its files' times (mv, cp -a) and run again from where it is now, with the
+// paths spelled as before (relative): the outputs are of the same versions, and are skipped.
+TEST(Resume, AProjectMovedWithItsTimesIsSkipped) {
+    const Workspace w(freshDir());
+    const fs::path before = fs::current_path();
+    fs::current_path(w.dir);
+    ASSERT_EQ(cli({"in.exr", "-o", "out.exr", "--quiet"}).exitCode, 0);
+    const fs::path moved = w.dir.string() + "_moved";
+    fs::rename(w.dir, moved);
+    fs::current_path(moved);
+    const CliResult there = cli({"in.exr", "-o", "out.exr", "--resume"});
+    fs::current_path(before);
+    fs::rename(moved, w.dir);
+    EXPECT_NE(there.err.find("out.exr is complete; skipped"), std::string::npos) << describe(there);
+}
+
 // An input that holds an earlier run's AO in a part of its own (append): --resume reads the
 // settings of the part this output's run wrote, not of the first part holding an AO.
 TEST(Resume, ReadsThePartThisOutputsRunWrote) {

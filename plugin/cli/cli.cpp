@@ -305,14 +305,13 @@ nlohmann::json recordedByThisOutput(const FrameJob& job, const ExrInfo& info) {
     return found;
 }
 
-// A file the output records reading that is another version now: moved to another file through
-// its links, or of another size or time (earlier too: a render rolled back). "" when none is.
+// A file the output records reading (by its absolute path) that is another version now: of another
+// size or time, earlier too (a render rolled back). "" when none is.
 std::string changedSource(const nlohmann::json& recordedSources, const FrameJob& job) {
     for (const FileStamp& now : stampsOf(filesReadBy(job)))
         for (const nlohmann::json& then : recordedSources)
             if (then.value("file", "") == now.path &&
-                (then.value("resolved", "") != now.resolved || then.value("size", -1LL) != now.size ||
-                 then.value("mtime_ns", -1LL) != now.mtimeNs))
+                (then.value("size", -1LL) != now.size || then.value("mtime_ns", -1LL) != now.mtimeNs))
                 return now.path;
     return "";
 }

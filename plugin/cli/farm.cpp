@@ -12,6 +12,7 @@
 #include <sys/wait.h>
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <cstdlib>
 #include <cstdio>
@@ -55,7 +56,6 @@ std::string shellQuote(const std::string& s) {
     return q + "'";
 }
 
-std::string absolutePath(const std::string& p) { return fs::absolute(p).lexically_normal().string(); }
 
 std::string selfPath() {
     std::error_code ec;
@@ -65,19 +65,28 @@ std::string selfPath() {
 }
 
 // The directory the job is submitted from as the user's shell names it ($PWD, when it is this
-// directory): a project reached through a link is named by the link, which the nodes mount as
-// the submitting host does, not by where the link leads.
+// directory and a plain absolute path): a project reached through a link is named by the link,
+// which the nodes mount as the submitting host does, not by where the link leads.
 std::string submitDirectory() {
     const fs::path here = fs::current_path();
     std::error_code ec;
-    if (const char* pwd = std::getenv("PWD"); pwd && fs::path(pwd).is_absolute() && fs::equivalent(pwd, here, ec))
-        return fs::path(pwd).lexically_normal().string();
+    const char* pwd = std::getenv("PWD");
+    if (pwd && fs::path(pwd).is_absolute() && fs::path(pwd) == fs::path(pwd).lexically_normal() &&
+        fs::equivalent(pwd, here, ec))
+        return pwd;
     return here.string();
 }
 
+// A path of the job (outputs, reports, logs) from the submitting directory, as it names it.
+std::string absolutePath(const std::string& p) {
+    return (fs::path(p).is_absolute() ? fs::path(p) : fs::path(submitDirectory()) / p).lexically_normal().string();
+}
+
 // The tasks' log files: Slurm's file pattern (%A the job, %a the task), the directory's own '%'
-// doubled so that Slurm reads it as itself.
+// doubled so that Slurm reads it as itself (a '\\' would stop Slurm reading the pattern at all).
 std::string logPattern(const std::string& dir) {
+    if (dir.find('\\') != std::string::npos)
+        throw FileError(dir, "a directory holding a backslash cannot take Slurm's log files: write the outputs elsewhere");
     std::string escaped;
     for (char c : dir) escaped += c == '%' ? std::string("%%") : std::string(1, c);
     return escaped + "/" + kLogs + "/%A_%a.log";
@@ -215,18 +224,62 @@ void warnOfMissingInputs(const SlurmJob& job) {
             std::fprintf(stderr, "obscura: warning: '%s' does not exist; every task reads it\n", file.c_str());
 }
 
+// A manifest's frames and paths: written by `farm slurm`, or by hand for another engine (farm.md),
+// whose relative paths are relative to its "cwd" when it gives one, else to its own directory.
+struct Manifest {
+    json raw;
+    std::vector<int> frames;
+    std::string output, report, channel;
+};
+
+Manifest readManifest(const fs::path& path) {
+    std::ifstream f(path);
+    if (!f) throw FileError(path.string(), "cannot read (obscura farm slurm writes it)");
+    Manifest m;
+    m.raw = json::parse(f, nullptr, false);
+    const json& r = m.raw;
+    if (!r.is_object() || !r.contains("frames") || !r.contains("output") || !r.contains("report"))
+        throw FileError(path.string(), "not an obscura farm manifest (it needs \"frames\", \"output\" and \"report\")");
+    const auto must = [&](bool ok, const std::string& what) {
+        if (!ok) throw FileError(path.string(), what);
+    };
+    const json& frames = r["frames"];
+    const auto isFrame = [](const json& v) {
+        return v.is_number_integer() && v.get<long long>() >= INT_MIN && v.get<long long>() <= INT_MAX;
+    };
+    must(frames.is_string() || (frames.is_array() && std::all_of(frames.begin(), frames.end(), isFrame)),
+         "\"frames\" must be a list of frame numbers, or a --frames text such as \"1001-1100\"");
+    try {
+        m.frames = frames.is_string() ? parseFrames(frames.get<std::string>()) : frames.get<std::vector<int>>();
+    } catch (const Error& e) {
+        throw FileError(path.string(), "\"frames\": " + std::string(e.what()));
+    }
+    for (const char* key : {"output", "report", "ao_channel", "cwd"})
+        must(!r.contains(key) || r[key].is_string(), std::string("\"") + key + "\" must be a string");
+    const fs::path base = r.contains("cwd") ? fs::path(r["cwd"].get<std::string>()) : fs::absolute(path).parent_path();
+    const auto resolved = [&](const std::string& p) { return (base / p).lexically_normal().string(); };
+    m.output = resolved(r["output"]);
+    m.report = resolved(r["report"]);
+    m.channel = r.value("ao_channel", "obscura.AO.Y");
+    must(isFramePattern(m.output) && isFramePattern(m.report),
+         "\"output\" and \"report\" must be frame patterns (out.####.exr, out.####.json)");
+    return m;
+}
+
 // One job per directory: its manifest, script and logs are named for the directory, so a second
 // job's (another output pattern) would replace the first's and its summary would judge the wrong
-// frames. The same output pattern is the same job submitted again.
+// frames. The same outputs, however spelled (#### or %04d, through a link), are the same job
+// submitted again; a manifest that does not read is not replaced either.
 void refuseAnotherJobsDirectory(const SlurmJob& job) {
     const fs::path path = fs::path(job.dir) / kManifest;
-    std::ifstream f(path);
-    const json m = f ? json::parse(f, nullptr, false) : json();
-    const std::string output = absolutePath(job.plan.output);
-    if (m.is_object() && m.contains("output") && m["output"].is_string() && m["output"] != output)
-        throw FileError(path.string(), "holds the job for " + m["output"].get<std::string>() +
-                                           " (its summary and script); give " + job.plan.output +
-                                           " a directory of its own");
+    std::error_code ec;
+    if (!fs::exists(path, ec)) return;
+    const Manifest m = readManifest(path);
+    const int frame = job.frames.front();
+    if (fs::weakly_canonical(framePath(m.output, frame), ec) !=
+        fs::weakly_canonical(framePath(absolutePath(job.plan.output), frame), ec))
+        throw FileError(path.string(), "holds the job for " + m.output + " (its summary and script); give " +
+                                           job.plan.output + " a directory of its own");
 }
 
 int runSlurm(int argc, char** argv) {
@@ -238,25 +291,33 @@ int runSlurm(int argc, char** argv) {
         std::fputs(script.c_str(), stdout);
         return 0;
     }
+    const std::string scriptPath = (fs::path(job.dir) / kScript).string(),
+                      manifestPath = (fs::path(job.dir) / kManifest).string();
+    for (const std::string& p : {scriptPath, manifestPath}) requireWritableDestination(p);  // before the job exists
     const fs::path logs = fs::path(job.dir) / kLogs;
     std::error_code ec;
-    fs::create_directories(logs, ec);  // before sbatch: a task may start at once
+    const bool madeLogs = fs::create_directories(logs, ec);  // before sbatch: a task may start at once
     if (ec) throw FileError(logs.string(), "cannot create the tasks' log directory: " + ec.message());
     // The script and the manifest replace an earlier submission's only once sbatch has taken the
     // job: a refused one leaves the job that ran described as it was.
     WriteBatch files;
-    const std::string scriptPath = (fs::path(job.dir) / kScript).string();
     writeTextFileAtomically(scriptPath, script);
     std::string out;
     const int rc = capture("sbatch --parsable " + shellQuote(files.staged(scriptPath)) + " 2>&1", out);
     while (!out.empty() && (out.back() == '\n' || out.back() == ' ')) out.pop_back();
+    if (rc != 0 && madeLogs) fs::remove(logs, ec);  // empty: no task of a refused job ran
     if (rc == 127) throw Error("sbatch not found (install slurm-client, or use --dry-run to print the script)");
     if (rc != 0) throw Error("sbatch failed: " + out.substr(out.find_last_of('\n') + 1));
     const std::string jobId = out.substr(out.find_last_of('\n') + 1);
     json m = manifest(job);
     m["job_id"] = jobId.substr(0, jobId.find(';'));
-    writeTextFileAtomically((fs::path(job.dir) / kManifest).string(), m.dump(2));
-    files.commit();
+    try {
+        writeTextFileAtomically(manifestPath, m.dump(2));
+        files.commit();
+    } catch (const Error& e) {  // a full disk, now: the job runs all the same
+        throw Error("job " + m["job_id"].get<std::string>() + " is submitted, but its script and manifest are not "
+                    "written (" + e.what() + "): do not submit it again; obscura farm summary needs the manifest");
+    }
     std::printf("submitted job %s: %zu frame(s) in %zu task(s); obscura farm summary %s\n",
                 m["job_id"].get<std::string>().c_str(), job.frames.size(), job.chunks.size(), job.dir.c_str());
     return 0;
@@ -305,44 +366,6 @@ struct SubmittedDirectory {
         if (moved) fs::current_path(before, ec);
     }
 };
-
-// A manifest's frames and paths: written by `farm slurm`, or by hand for another engine (farm.md),
-// whose relative paths are relative to its "cwd" when it gives one, else to its own directory.
-struct Manifest {
-    json raw;
-    std::vector<int> frames;
-    std::string output, report, channel;
-};
-
-Manifest readManifest(const fs::path& path) {
-    std::ifstream f(path);
-    if (!f) throw FileError(path.string(), "cannot read (obscura farm slurm writes it)");
-    Manifest m;
-    m.raw = json::parse(f, nullptr, false);
-    const json& r = m.raw;
-    if (!r.is_object() || !r.contains("frames") || !r.contains("output") || !r.contains("report"))
-        throw FileError(path.string(), "not an obscura farm manifest (it needs \"frames\", \"output\" and \"report\")");
-    const auto must = [&](bool ok, const std::string& what) {
-        if (!ok) throw FileError(path.string(), what);
-    };
-    const json& frames = r["frames"];
-    must(frames.is_string() || (frames.is_array() && std::all_of(frames.begin(), frames.end(),
-                                                                   [](const json& v) { return v.is_number_integer(); })),
-         "\"frames\" must be a list of frame numbers, or a --frames text such as \"1001-1100\"");
-    try {
-        m.frames = frames.is_string() ? parseFrames(frames.get<std::string>()) : frames.get<std::vector<int>>();
-    } catch (const Error& e) {
-        throw FileError(path.string(), "\"frames\": " + std::string(e.what()));
-    }
-    for (const char* key : {"output", "report", "ao_channel", "cwd"})
-        must(!r.contains(key) || r[key].is_string(), std::string("\"") + key + "\" must be a string");
-    const fs::path base = r.contains("cwd") ? fs::path(r["cwd"].get<std::string>()) : fs::absolute(path).parent_path();
-    const auto resolved = [&](const std::string& p) { return (base / p).lexically_normal().string(); };
-    m.output = resolved(r["output"]);
-    m.report = resolved(r["report"]);
-    m.channel = r.value("ao_channel", "obscura.AO.Y");
-    return m;
-}
 
 json summarise(const std::string& dir) {
     const fs::path path = fs::absolute(fs::path(dir) / kManifest);

@@ -73,7 +73,7 @@ std::string frameReportJson(const FrameJob& job, const FrameReport& r) {
     if (!r.sources.empty()) {
         j["sources"] = json::array();
         for (const FileStamp& f : r.sources)
-            j["sources"].push_back({{"file", f.path}, {"resolved", f.resolved}, {"size", f.size}, {"mtime_ns", f.mtimeNs}});
+            j["sources"].push_back({{"file", f.path}, {"size", f.size}, {"mtime_ns", f.mtimeNs}});
     }
     // What the method reads: its own parameters follow, from the method table.
     j["settings"] = {{"method", s.method}, {"radius", s.radius}, {"blur", resolvedBlur(s)},

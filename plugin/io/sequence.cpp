@@ -78,7 +78,11 @@ std::vector<int> parseFrames(const std::string& spec) {
         const int first = toInt(range.substr(0, dash), spec);
         const int last = dash == std::string::npos ? first : toInt(range.substr(dash + 1), spec);
         if (step < 1 || last < first) throw Error("--frames: '" + item + "' is an empty range");
-        for (int f = first; f <= last; f += step) frames.push_back(f);
+        // A bound on the list, so that a typo (1-2000000000) is an error, not the whole memory.
+        constexpr long long kMostFrames = 10000000;
+        if ((long long)frames.size() + ((long long)last - first) / step + 1 > kMostFrames)
+            throw Error("--frames: '" + spec + "' is more than 10,000,000 frames");
+        for (long long f = first; f <= last; f += step) frames.push_back((int)f);
     }
     if (frames.empty()) throw Error("--frames: no frames in '" + spec + "'");
     return frames;

@@ -10,13 +10,15 @@
 namespace obscura {
 
 std::vector<std::string> filesReadBy(const FrameJob& job) {
-    // In place, the input is what the run writes: not a source to compare the output with.
-    std::vector<std::string> files = {job.inPlace ? "" : job.input, job.deepInput, job.camera.sidecarPath, job.envPath};
+    std::vector<std::string> files = {job.input, job.deepInput, job.camera.sidecarPath, job.envPath};
     files.insert(files.end(), job.deepElements.begin(), job.deepElements.end());
     if (job.camera.sidecarPath.empty()) files.push_back(findSidecar(job.input));
     std::error_code ec;
+    // In place, the input (a deep element's too) is what the run writes: not a source of the output.
     files.erase(std::remove_if(files.begin(), files.end(),
-                               [&](const std::string& f) { return f.empty() || !std::filesystem::exists(f, ec); }),
+                               [&](const std::string& f) {
+                                   return f.empty() || (job.inPlace && f == job.input) || !std::filesystem::exists(f, ec);
+                               }),
                 files.end());
     std::sort(files.begin(), files.end());  // deep elements: the input is the first of them too
     files.erase(std::unique(files.begin(), files.end()), files.end());
@@ -28,9 +30,7 @@ std::vector<FileStamp> stampsOf(const std::vector<std::string>& files) {
     for (const std::string& f : files) {
         struct stat st {};
         if (::stat(f.c_str(), &st) != 0) continue;
-        std::error_code ec;
-        const std::filesystem::path resolved = std::filesystem::canonical(f, ec);
-        stamps.push_back({f, ec ? f : resolved.string(), (long long)st.st_size,
+        stamps.push_back({std::filesystem::absolute(f).lexically_normal().string(), (long long)st.st_size,
                           (long long)st.st_mtim.tv_sec * 1000000000LL + st.st_mtim.tv_nsec});
     }
     return stamps;

@@ -9,15 +9,17 @@ namespace obscura {
 
 struct FrameJob;
 
-// One file as a run read it: its path as given, the file its links lead to, its size and
-// modification time.
+// One file as a run read it: its absolute path, its size and modification time. A file is the
+// same version while its size and time are (a project moved or copied with its times keeps
+// them; another render, even an older one, has its own); where its links lead is not compared,
+// as hosts mounting one project under other names resolve them differently.
 struct FileStamp {
-    std::string path, resolved;
+    std::string path;
     long long size = 0, mtimeNs = 0;
 };
 
 // The files a frame is computed from that exist: the input (unless it is replaced in place),
-// deep inputs, the camera sidecar, the environment map.
+// deep inputs, the camera sidecar, the environment map; each once.
 std::vector<std::string> filesReadBy(const FrameJob& job);
 std::vector<FileStamp> stampsOf(const std::vector<std::string>& files);
 

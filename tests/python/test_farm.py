@@ -291,6 +291,15 @@ def test_one_job_per_directory(sequence):
                                     f"{sequence}/out/ao.####.exr (its summary and script); give "
                                     "out/other.####.exr a directory of its own")
     assert farm(*first, "--radius", "0.25", env=env, cwd=sequence).returncode == 0
+    # The same outputs spelled another way are the same job.
+    assert farm("slurm", "shot.####.exr", "-o", "out/ao.%04d.exr", "--frames", "1-2", env=env,
+                cwd=sequence).returncode == 0
+    # A manifest that cannot be replaced is said before sbatch runs: no job whose files are not written.
+    (sequence / "sbatch.args").unlink()
+    (sequence / "out" / "obscura_farm.json").chmod(0o444)
+    locked = farm(*first, env=env, cwd=sequence)
+    assert locked.returncode == 1 and "obscura_farm.json" in locked.stderr, locked.stderr
+    assert not (sequence / "sbatch.args").exists()
 
 
 def test_odd_paths_reach_sbatch_quoted(tmp):
@@ -347,9 +356,17 @@ def test_summary_reads_a_hand_written_manifest(sequence, tmp):
     assert s.returncode == 1, s.stderr
     summary = json.loads(s.stdout)
     assert summary["done"] == [1, 2] and summary["missing"] == [3]
-    manifest.write_text(json.dumps({"frames": [1, 2], "output": 5, "report": "ao.####.json"}))
-    bad = farm("summary", manifest.parent)
-    assert bad.returncode == 1 and bad.stderr.strip() == f"obscura: '{manifest}': \"output\" must be a string"
+    for bad_manifest, words in [({"frames": [1, 2], "output": 5, "report": "ao.####.json"}, '"output" must be a string'),
+                                ({"frames": [3000000000], "output": "ao.####.exr", "report": "ao.####.json"},
+                                 '"frames" must be a list of frame numbers'),
+                                ({"frames": "1-2000000000", "output": "ao.####.exr", "report": "ao.####.json"},
+                                 "more than 10,000,000 frames"),
+                                ({"frames": [1], "output": "ao.exr", "report": "ao.####.json"},
+                                 '"output" and "report" must be frame patterns')]:
+        manifest.write_text(json.dumps(bad_manifest))
+        bad = farm("summary", manifest.parent)
+        assert bad.returncode == 1 and bad.stderr.startswith(f"obscura: '{manifest}': "), bad.stderr
+        assert words in bad.stderr and len(bad.stderr.strip().splitlines()) == 1, bad.stderr
 
 
 def test_an_output_cut_short_is_not_done(sequence):
@@ -368,3 +385,21 @@ def test_an_output_cut_short_is_not_done(sequence):
     for task, proc in run_tasks(script, 1, sequence):
         assert proc.returncode == 0, proc.stderr
     assert json.loads(farm("summary", sequence / "out", "--json").stdout)["done"] == [1, 2]
+
+
+def test_a_linked_project_is_named_by_its_link(sequence, tmp):
+    """Submitted from a directory reached through a link: the script, logs, reports and manifest
+    name it by the link, as the nodes mount it, not by where the link leads on this host."""
+    link = tmp / "show"
+    link.symlink_to(sequence)
+    env = dict(os.environ, PWD=str(link))
+    proc = farm("slurm", "shot.####.exr", "-o", "out/ao.####.exr", "--dry-run", env=env, cwd=link)
+    assert proc.returncode == 0, proc.stderr
+    lines = proc.stdout.splitlines()
+    assert f'#SBATCH --chdir="{link}"' in lines
+    assert f'#SBATCH --output="{link}/out/obscura_farm_logs/%A_%a.log"' in lines
+    assert lines[-1].endswith(f"--report '{link}/out/ao.####.json'")
+    # A $PWD that is not this directory's plain name is not used.
+    odd = farm("slurm", "shot.####.exr", "-o", "out/ao.####.exr", "--dry-run",
+               env=dict(os.environ, PWD=f"{link}/../show"), cwd=link)
+    assert f'#SBATCH --chdir="{sequence}"' in odd.stdout.splitlines()

@@ -7,7 +7,7 @@
                                    out_dir="out", weighting="cosine")
 
 A task writes OUT/<variant>/<input file name> and its report OUT/<variant>/<name>.json, which
-records the variant and a stamp (resolved path, size, mtime) of each file the task reads: the
+records the variant and a stamp (absolute path, size, mtime) of each file the task reads: the
 input, its camera sidecar and the environment map (files_read). Two frames with one file name
 are refused before anything is written: they would write one output. A task is complete when its
 output and report exist, are newer than every file it reads, and the report records the same
@@ -98,13 +98,14 @@ def files_read(src, settings):
 
 
 def stamps(files):
-    """Each file's resolved path, size and mtime: what the report records and resume compares for
+    """Each file's absolute path, size and mtime: what the report records and resume compares for
     equality, as a newer-than test misses an input rolled back to an older version (a link
-    re-pointed to an earlier render, a copy keeping its older mtime)."""
+    re-pointed to an earlier render, a copy keeping its older mtime). Where links lead is not
+    compared: hosts that mount one project under other names resolve them differently."""
     result = []
     for f in files:
         st = os.stat(f)
-        result.append({"path": os.path.realpath(f), "size": st.st_size, "mtime_ns": st.st_mtime_ns})
+        result.append({"path": os.path.abspath(f), "size": st.st_size, "mtime_ns": st.st_mtime_ns})
     return result
 
 
