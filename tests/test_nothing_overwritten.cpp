@@ -396,6 +396,20 @@ TEST(Resume, AProjectMovedWithItsTimesIsSkipped) {
     EXPECT_NE(there.err.find("out.exr is complete; skipped"), std::string::npos) << describe(there);
 }
 
+// --resume run from another directory, the paths spelled from there: the output's record is found
+// (by its absolute path), so other settings compute the frame again.
+TEST(Resume, FindsTheRecordFromAnotherDirectory) {
+    const Workspace w(freshDir());
+    const fs::path before = fs::current_path();
+    fs::current_path(w.dir);
+    ASSERT_EQ(cli({"in.exr", "-o", "out.exr", "--radius", "0.5", "--quiet"}).exitCode, 0);
+    fs::current_path(w.dir / "sub");
+    const CliResult other = cli({"../in.exr", "-o", "../out.exr", "--radius", "0.9", "--resume"});
+    fs::current_path(before);
+    EXPECT_NE(other.err.find("../out.exr was written with other settings; computed again"), std::string::npos)
+        << describe(other);
+}
+
 // An input that holds an earlier run's AO in a part of its own (append): --resume reads the
 // settings of the part this output's run wrote, not of the first part holding an AO.
 TEST(Resume, ReadsThePartThisOutputsRunWrote) {

@@ -299,8 +299,11 @@ nlohmann::json recordedByThisOutput(const FrameJob& job, const ExrInfo& info) {
                                : nullptr;
         if (!said) continue;
         const nlohmann::json report = nlohmann::json::parse(said->value(), nullptr, false);
-        if (report.is_object() && report.value("output", "") == job.output && !comparedPart(report).is_null())
-            found = report;
+        const bool namesThisOutput =
+            report.is_object() && (report.value("output", "") == job.output ||
+                                   report.value("output_absolute", "") ==
+                                       std::filesystem::absolute(job.output).lexically_normal().string());
+        if (namesThisOutput && !comparedPart(report).is_null()) found = report;
     }
     return found;
 }

@@ -69,6 +69,9 @@ std::string frameReportJson(const FrameJob& job, const FrameReport& r) {
     j["obscura"] = OBSCURA_VERSION_STRING;
     j["input"] = job.input;
     j["output"] = job.output;
+    // The output wherever the run was started from: --resume run from another directory, with
+    // paths spelled from there, finds this record by it.
+    j["output_absolute"] = std::filesystem::absolute(job.output).lexically_normal().string();
     j["recipe"] = recipeJson(job);
     if (!r.sources.empty()) {
         j["sources"] = json::array();
