@@ -292,6 +292,7 @@ nlohmann::json comparedPart(nlohmann::json report) {
 nlohmann::json recordedByThisOutput(const FrameJob& job, const ExrInfo& info) {
     const std::string channel = aoChannelName(job.aoLayer);
     const std::vector<std::string> views = fileViews(info);
+    const std::string outputPath = recordedPath(job.output);
     nlohmann::json found;
     for (const ExrPart& part : info.parts) {
         const auto* said = holdsAo(part, channel, views)
@@ -300,9 +301,8 @@ nlohmann::json recordedByThisOutput(const FrameJob& job, const ExrInfo& info) {
         if (!said) continue;
         const nlohmann::json report = nlohmann::json::parse(said->value(), nullptr, false);
         const bool namesThisOutput =
-            report.is_object() && (report.value("output", "") == job.output ||
-                                   report.value("output_absolute", "") ==
-                                       std::filesystem::absolute(job.output).lexically_normal().string());
+            report.is_object() &&
+            (report.value("output", "") == job.output || report.value("output_absolute", "") == outputPath);
         if (namesThisOutput && !comparedPart(report).is_null()) found = report;
     }
     return found;
@@ -310,8 +310,8 @@ nlohmann::json recordedByThisOutput(const FrameJob& job, const ExrInfo& info) {
 
 // A file the output records reading (by its absolute path) that is another version now: of another
 // size or time, earlier too (a render rolled back). "" when none is.
-std::string changedSource(const nlohmann::json& recordedSources, const FrameJob& job) {
-    for (const FileStamp& now : stampsOf(filesReadBy(job)))
+std::string changedSource(const nlohmann::json& recordedSources, const std::vector<std::string>& files) {
+    for (const FileStamp& now : stampsOf(files))
         for (const nlohmann::json& then : recordedSources)
             if (then.value("file", "") == now.path &&
                 (then.value("size", -1LL) != now.size || then.value("mtime_ns", -1LL) != now.mtimeNs))
@@ -325,7 +325,8 @@ std::string staleOutputReason(const FrameJob& job, const ExrInfo& output) {
     std::error_code ec;
     const fs::file_time_type written = fs::last_write_time(job.output, ec);
     if (ec) return "";
-    for (const std::string& f : filesReadBy(job))
+    const std::vector<std::string> files = filesReadBy(job);
+    for (const std::string& f : files)
         if (fs::last_write_time(f, ec) > written && !ec) return "is older than " + f;
     try {
         const nlohmann::json then = recordedByThisOutput(job, output);
@@ -333,14 +334,14 @@ std::string staleOutputReason(const FrameJob& job, const ExrInfo& output) {
         if (comparedPart(then) != comparedPart(nlohmann::json::parse(frameReportJson(job, FrameReport{}))))
             return "was written with other settings";
         if (then.contains("sources"))
-            if (const std::string changed = changedSource(then["sources"], job); !changed.empty())
+            if (const std::string changed = changedSource(then["sources"], files); !changed.empty())
                 return "was computed from another version of " + changed;
     } catch (const nlohmann::json::exception&) {  // a header attribute of another shape: cannot tell
     }
     return "";
 }
 
-RunPlan planRun(const std::vector<std::string>& args) {
+RunPlan planRun(const std::vector<std::string>& args, bool reportByDefault) {
     std::vector<std::string> copy = args;
     std::vector<char*> argv{const_cast<char*>("obscura")};
     for (std::string& a : copy) argv.push_back(a.data());
@@ -348,6 +349,8 @@ RunPlan planRun(const std::vector<std::string>& args) {
     if (o.job.output.empty()) throw UsageError("no output: give -o OUTPUT.####.exr");
     o.job.previewPath = besideOutput(o.job.previewPath, o.job.output, ".png");
     o.reportPath = besideOutput(o.reportPath, o.job.output, ".json");
+    if (o.reportPath.empty() && reportByDefault)
+        o.reportPath = std::filesystem::path(o.job.output).replace_extension(".json").string();
     RunPlan plan;
     if (isFramePattern(o.job.input)) plan.frameList = planSequence(o).frames;
     plan.input = o.job.input;

@@ -29,7 +29,9 @@ struct RunPlan {
     int threads = 0;
     bool resume = false;
 };
-RunPlan planRun(const std::vector<std::string>& args);
+// reportByDefault: with no --report, the report a farm task is given (the output pattern with
+// .json), checked with the rest.
+RunPlan planRun(const std::vector<std::string>& args, bool reportByDefault = false);
 
 // A sequence's job (its paths frame patterns) for one frame.
 FrameJob sequenceFrame(const FrameJob& sequence, int frame);

@@ -138,7 +138,7 @@ SlurmJob parseSlurm(int argc, char** argv) {
         else if (arg == "--dry-run") job.dryRun = true;
         else job.runArgs.push_back(arg);
     }
-    job.plan = planRun(job.runArgs);
+    job.plan = planRun(job.runArgs, /*reportByDefault*/ true);
     if (job.plan.input.empty()) throw UsageError("farm slurm: no input sequence (see obscura farm --help)");
     if (!isFramePattern(job.plan.input) || !isFramePattern(job.plan.output))
         throw UsageError("farm slurm: INPUT and -o must be sequences (shot.####.exr or shot.%04d.exr)");
@@ -151,14 +151,8 @@ SlurmJob parseSlurm(int argc, char** argv) {
         throw UsageError("farm slurm: --report must be a pattern too (e.g. out.####.json)");
     const std::string output = absolutePath(job.plan.output);
     job.dir = fs::path(output).parent_path().string();
-    job.report = job.plan.report.empty() ? fs::path(output).replace_extension(".json").string()
-                                         : absolutePath(job.plan.report);
+    job.report = absolutePath(job.plan.report);
     job.frames = job.plan.frameList;
-    if (job.plan.report.empty()) {  // the tasks' command line, with the report they are given, checked
-        std::vector<std::string> task = job.runArgs;
-        task.insert(task.end(), {"--report", job.report});
-        job.frames = planRun(task).frameList;
-    }
     job.chunks = chunkFrames(job.frames, job.chunk);
     return job;
 }

@@ -71,7 +71,7 @@ std::string frameReportJson(const FrameJob& job, const FrameReport& r) {
     j["output"] = job.output;
     // The output wherever the run was started from: --resume run from another directory, with
     // paths spelled from there, finds this record by it.
-    j["output_absolute"] = std::filesystem::absolute(job.output).lexically_normal().string();
+    j["output_absolute"] = recordedPath(job.output);
     j["recipe"] = recipeJson(job);
     if (!r.sources.empty()) {
         j["sources"] = json::array();

@@ -25,12 +25,16 @@ std::vector<std::string> filesReadBy(const FrameJob& job) {
     return files;
 }
 
+std::string recordedPath(const std::string& path) {
+    return std::filesystem::absolute(path).lexically_normal().string();
+}
+
 std::vector<FileStamp> stampsOf(const std::vector<std::string>& files) {
     std::vector<FileStamp> stamps;
     for (const std::string& f : files) {
         struct stat st {};
         if (::stat(f.c_str(), &st) != 0) continue;
-        stamps.push_back({std::filesystem::absolute(f).lexically_normal().string(), (long long)st.st_size,
+        stamps.push_back({recordedPath(f), (long long)st.st_size,
                           (long long)st.st_mtim.tv_sec * 1000000000LL + st.st_mtim.tv_nsec});
     }
     return stamps;

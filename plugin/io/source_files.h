@@ -21,6 +21,9 @@ struct FileStamp {
 // The files a frame is computed from that exist: the input (unless it is replaced in place),
 // deep inputs, the camera sidecar, the environment map; each once.
 std::vector<std::string> filesReadBy(const FrameJob& job);
+// A path as the records name it (the output_absolute and sources of a report, and what --resume
+// looks them up by): absolute, lexically normal.
+std::string recordedPath(const std::string& path);
 std::vector<FileStamp> stampsOf(const std::vector<std::string>& files);
 
 } // namespace obscura
